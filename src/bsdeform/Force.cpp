@@ -1,0 +1,182 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/Force.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "bsdeform/GaussLegendre.h"
+
+namespace bsdeform {
+
+namespace {
+void checkParam(double x, const char* name) {
+  if (!std::isfinite(x) || x < 0.0 || x > 1.0)
+    throw std::invalid_argument(std::string(name) + " must be a parameter in [0,1], got " + std::to_string(x));
+}
+void checkVector(const Eigen::Vector3d& f, const char* name) {
+  if (!f.allFinite())
+    throw std::invalid_argument(std::string(name) + " must be finite, got (" + std::to_string(f.x()) + ", " +
+                                std::to_string(f.y()) + ", " + std::to_string(f.z()) + ")");
+}
+void checkStiffness(double k) {
+  if (!std::isfinite(k) || k < 0.0)
+    throw std::invalid_argument("force stiffness bound must be finite and >= 0, got " + std::to_string(k));
+}
+
+// Adds w * f * B_k(u, v) to the load of every free k non-zero at (u, v), given the 1-D bases.
+inline void scatter(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Vector3d& wf,
+                    ControlNet& load) {
+  const int N1 = s.numFreeU(), N2 = s.numFreeV();
+  for (int a = 0; a < bu.count; ++a) {
+    const int k1 = bu.first + a;
+    if (k1 < 0 || k1 >= N1) continue;
+    for (int b = 0; b < bv.count; ++b) {
+      const int k2 = bv.first + b;
+      if (k2 < 0 || k2 >= N2) continue;
+      load.row(Eigen::Index(k1) * N2 + k2) += (bu.d[0][a] * bv.d[0][b]) * wf.transpose();
+    }
+  }
+}
+
+// Surface quantities from precomputed 1-D bases (values and first derivatives).
+SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, const LocalBasis& bv, double u, double v,
+                              unsigned dep) {
+  SurfaceSample smp;
+  smp.u = u;
+  smp.v = v;
+  smp.t = ctx.time;
+  if (!(dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))) return smp;
+  const SplineSpace& s = ctx.space;
+  const int nu = s.degreeU(), nv = s.degreeV(), cols = s.netCols();
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), prev = Eigen::Vector3d::Zero();
+  Eigen::Vector3d du = Eigen::Vector3d::Zero(), dv = Eigen::Vector3d::Zero();
+  for (int a = 0; a < bu.count; ++a) {
+    const Eigen::Index base = Eigen::Index(bu.first + a + nu) * cols + (bv.first + nv);
+    Eigen::Vector3d c0 = Eigen::Vector3d::Zero(), c1 = Eigen::Vector3d::Zero(), p0 = Eigen::Vector3d::Zero();
+    for (int b = 0; b < bv.count; ++b) {
+      const Eigen::Vector3d P = ctx.current.row(base + b).transpose();
+      c0 += bv.d[0][b] * P;
+      if (dep & kDependsOnNormal) c1 += bv.d[1][b] * P;
+      if (dep & kDependsOnVelocity) p0 += bv.d[0][b] * ctx.previous.row(base + b).transpose();
+    }
+    pos += bu.d[0][a] * c0;
+    prev += bu.d[0][a] * p0;
+    if (dep & kDependsOnNormal) {
+      du += bu.d[1][a] * c0;
+      dv += bu.d[0][a] * c1;
+    }
+  }
+  smp.position = pos;
+  if (dep & kDependsOnVelocity) smp.velocity = (pos - prev) / ctx.stepSize;
+  if (dep & kDependsOnNormal) {
+    const Eigen::Vector3d n = du.cross(dv);
+    const double len = n.norm();
+    if (len > 0.0) smp.normal = n / len;
+  }
+  return smp;
+}
+
+// Gauss points of [lo, hi] split at the knots of `basis`: (parameter, weight, span).
+struct Node1D {
+  double x, w;
+  int span;
+};
+std::vector<Node1D> splitQuadrature(const BSplineBasis1D& basis, double lo, double hi, int points) {
+  std::vector<Node1D> out;
+  if (!(hi > lo)) return out;
+  const QuadratureRule& rule = gaussLegendre(points);
+  const int spans = basis.numSpans();
+  const int s0 = basis.span(lo);
+  for (int s = s0; s < spans; ++s) {
+    const double a = std::max(lo, double(s) / spans);
+    const double b = std::min(hi, double(s + 1) / spans);
+    if (b <= a) {
+      if (double(s) / spans >= hi) break;
+      continue;
+    }
+    for (size_t q = 0; q < rule.nodes.size(); ++q) out.push_back({a + (b - a) * rule.nodes[q], (b - a) * rule.weights[q], s});
+  }
+  return out;
+}
+}  // namespace
+
+SurfaceSample sampleSurface(const LoadContext& ctx, double u, double v, unsigned dependence) {
+  LocalBasis bu, bv;
+  ctx.space.basisU().evaluate(u, 1, bu);
+  ctx.space.basisV().evaluate(v, 1, bv);
+  return sampleFromBases(ctx, bu, bv, u, v, dependence);
+}
+
+PointForce::PointForce(double u0, double v0, const Eigen::Vector3d& force)
+    : m_u(u0), m_v(v0), m_dependence(kConstant), m_stiffness(0.0) {
+  checkParam(u0, "point force u");
+  checkParam(v0, "point force v");
+  checkVector(force, "point force");
+  m_force = [force](const SurfaceSample&) { return force; };
+}
+
+PointForce::PointForce(double u0, double v0, ForceFunction force, unsigned dependence, double stiffness)
+    : m_u(u0), m_v(v0), m_force(std::move(force)), m_dependence(dependence), m_stiffness(stiffness) {
+  checkParam(u0, "point force u");
+  checkParam(v0, "point force v");
+  checkStiffness(stiffness);
+  if (!m_force) throw std::invalid_argument("point force callable is empty");
+}
+
+void PointForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  LocalBasis bu, bv;
+  ctx.space.basisU().evaluate(m_u, 1, bu);
+  ctx.space.basisV().evaluate(m_v, 1, bv);
+  const Eigen::Vector3d f = m_force(sampleFromBases(ctx, bu, bv, m_u, m_v, m_dependence));
+  scatter(ctx.space, bu, bv, f, load);
+}
+
+DistributedForce::DistributedForce(const Eigen::Vector3d& density, Rect rect)
+    : m_dependence(kConstant), m_rect(rect), m_extraPoints(0), m_stiffness(0.0) {
+  checkVector(density, "force density");
+  m_density = [density](const SurfaceSample&) { return density; };
+  checkParam(rect.u0, "region u0");
+  checkParam(rect.u1, "region u1");
+  checkParam(rect.v0, "region v0");
+  checkParam(rect.v1, "region v1");
+  if (rect.u1 < rect.u0 || rect.v1 < rect.v0)
+    throw std::invalid_argument("region must have u0 <= u1 and v0 <= v1, got [" + std::to_string(rect.u0) + ", " +
+                                std::to_string(rect.u1) + "] x [" + std::to_string(rect.v0) + ", " +
+                                std::to_string(rect.v1) + "]");
+}
+
+DistributedForce::DistributedForce(ForceFunction density, unsigned dependence, Rect rect, int extraPoints,
+                                   double stiffness)
+    : DistributedForce(Eigen::Vector3d::Zero(), rect) {
+  if (!density) throw std::invalid_argument("force density callable is empty");
+  if (extraPoints < 0 || extraPoints > 16)
+    throw std::invalid_argument("extra Gauss points must be between 0 and 16, got " + std::to_string(extraPoints));
+  checkStiffness(stiffness);
+  m_density = std::move(density);
+  m_dependence = dependence;
+  m_extraPoints = extraPoints;
+  m_stiffness = stiffness;
+}
+
+void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  const SplineSpace& s = ctx.space;
+  // n+1 points integrate f * B exactly for constant f (B is degree n per span).
+  const std::vector<Node1D> qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
+  const std::vector<Node1D> qv = splitQuadrature(s.basisV(), m_rect.v0, m_rect.v1, s.degreeV() + 1 + m_extraPoints);
+  const int order = (m_dependence & kDependsOnNormal) ? 1 : 0;
+  std::vector<LocalBasis> bv(qv.size());
+  for (size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, order, bv[j]);
+  LocalBasis bu;
+  for (const Node1D& nu : qu) {
+    s.basisU().evaluateInSpan(nu.span, nu.x, order, bu);
+    for (size_t j = 0; j < qv.size(); ++j) {
+      const Eigen::Vector3d f = m_density(sampleFromBases(ctx, bu, bv[j], nu.x, qv[j].x, m_dependence));
+      scatter(s, bu, bv[j], (nu.w * qv[j].w) * f, load);
+    }
+  }
+}
+
+}  // namespace bsdeform

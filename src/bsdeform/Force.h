@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Force.h
+/// External forces and their load vectors \f$L_k = \int f\, B_k\, du\, dv\f$ (paper §4.1–4.2;
+/// f is the force density, the paper's \f$-\nabla\mathcal{P}\f$).
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+
+#include "bsdeform/SplineSpace.h"
+
+namespace bsdeform {
+
+/// What a force may depend on. Forces depending on nothing are summed once into a constant
+/// load; all others are re-evaluated before every (sub-)step at O(N1 N2) cost.
+enum ForceDependence : unsigned {
+  kConstant = 0,
+  kDependsOnTime = 1u << 0,
+  kDependsOnPosition = 1u << 1,  ///< S(u,v)
+  kDependsOnVelocity = 1u << 2,  ///< dS/dt(u,v)
+  kDependsOnNormal = 1u << 3,    ///< unit normal at (u,v)
+};
+
+/// State of the surface at one parameter point, handed to force callables.
+/// Only the members the force asked for (its ForceDependence) are filled in.
+struct SurfaceSample {
+  double u = 0.0, v = 0.0, t = 0.0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+};
+
+/// A force callable: force (point force) or force per unit parameter area (distributed force).
+using ForceFunction = std::function<Eigen::Vector3d(const SurfaceSample&)>;
+
+/// Everything a force needs to build its load vector.
+struct LoadContext {
+  const SplineSpace& space;
+  const ControlNet& current;   ///< full net at time t
+  const ControlNet& previous;  ///< full net at t - stepSize (for velocities)
+  double stepSize;             ///< the (sub-)step between previous and current
+  double time;
+};
+
+/// Base class of all forces. Implementations add their contribution to the load of the free
+/// control points (numFree x 3, free order f = a * N2 + b).
+class Force {
+ public:
+  virtual ~Force() = default;
+  /// Bitwise OR of ForceDependence flags.
+  virtual unsigned dependence() const = 0;
+  /// load += this force's load vector.
+  virtual void addLoad(const LoadContext& ctx, ControlNet& load) const = 0;
+  /// Upper bound of the norm of d(load)/d(free control points) per coordinate (0 for forces that do
+  /// not depend on position). The explicit integrator adds it to the stiffness when it sizes
+  /// sub-steps, so stiff position-dependent forces (springs, penalties) stay stable.
+  virtual double stiffnessBound() const { return 0.0; }
+};
+
+/// Fills a SurfaceSample at (u, v) with what `dependence` asks for.
+SurfaceSample sampleSurface(const LoadContext& ctx, double u, double v, unsigned dependence);
+
+/// Force concentrated at one parameter point: \f$L_k = F\, B_k(u_0, v_0)\f$ (exact).
+class PointForce : public Force {
+ public:
+  /// Constant force F at (u0, v0). @throws std::invalid_argument for (u,v) outside [0,1]^2 or NaN
+  PointForce(double u0, double v0, const Eigen::Vector3d& force);
+  /// Force given by a callable of the surface state at (u0, v0), e.g. a spring to an anchor.
+  /// @param stiffness bound of |dF/dS| (e.g. the spring constant) for the stability estimate
+  PointForce(double u0, double v0, ForceFunction force, unsigned dependence, double stiffness = 0.0);
+
+  unsigned dependence() const override { return m_dependence; }
+  void addLoad(const LoadContext& ctx, ControlNet& load) const override;
+  double stiffnessBound() const override { return m_stiffness; }
+  double u() const { return m_u; }
+  double v() const { return m_v; }
+
+ private:
+  double m_u, m_v;
+  ForceFunction m_force;
+  unsigned m_dependence;
+  double m_stiffness;
+};
+
+/// A rectangle [u0,u1] x [v0,v1] of the parameter square.
+struct ParamRect {
+  double u0 = 0.0, u1 = 1.0, v0 = 0.0, v1 = 1.0;
+};
+
+/// Force density on a parameter rectangle [u0,u1] x [v0,v1] (the whole square by default),
+/// integrated with Gauss–Legendre on every knot span, spans split at the rectangle's edges.
+/// A constant density is integrated exactly; smooth densities with `extraPoints` (default 2)
+/// more points than the degree needs for the basis alone.
+class DistributedForce : public Force {
+ public:
+  using Rect = ParamRect;
+  /// Constant density (uniform force when rect is the whole square).
+  explicit DistributedForce(const Eigen::Vector3d& density, Rect rect = Rect());
+  /// Density as a callable of (u, v, position, velocity, normal, t).
+  DistributedForce(ForceFunction density, unsigned dependence, Rect rect = Rect(), int extraPoints = 2,
+                   double stiffness = 0.0);
+
+  unsigned dependence() const override { return m_dependence; }
+  void addLoad(const LoadContext& ctx, ControlNet& load) const override;
+  /// stiffness per unit area times the largest Gram row sum h1 h2
+  double stiffnessBound() const override { return m_stiffness; }
+  const Rect& rect() const { return m_rect; }
+
+ private:
+  ForceFunction m_density;
+  unsigned m_dependence;
+  Rect m_rect;
+  int m_extraPoints;
+  double m_stiffness;
+};
+
+}  // namespace bsdeform

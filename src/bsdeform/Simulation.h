@@ -1,0 +1,164 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Simulation.h
+/// The dynamic model (paper eq. 11) \f$M \ddot P + C \dot P + A P = L\f$ on the free control
+/// points, integrated with the corrected explicit central-difference scheme (design.md §2, with
+/// automatic sub-stepping below the stability limit) or an unconditionally stable implicit
+/// scheme (Newmark average acceleration in three-level form, matrix factorised once).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bsdeform/Force.h"
+#include "bsdeform/SplineSpace.h"
+#include "bsdeform/StiffnessStencil.h"
+
+namespace bsdeform {
+
+enum class Integrator {
+  Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
+  Implicit,  ///< Newmark beta = 1/4, gamma = 1/2 in displacement form; one sparse Cholesky at build
+};
+
+enum class MassModel {
+  Nodal,   ///< the paper's M = m I, C = c I (mass, damping per control point)
+  Lumped,  ///< M = rho h1 h2 I, C = c h1 h2 I (mass, damping per unit parameter area)
+};
+
+/// What the elastic energy measures.
+enum class ElasticReference {
+  Rest,      ///< energy of the displacement S - S_rest: any rest net is an equilibrium
+  Absolute,  ///< the paper's energy of S itself; equal to Rest for the Greville plane
+};
+
+enum class Status {
+  Ok,
+  NonFinite,  ///< a step produced NaN or infinity; the last finite state is kept
+  Diverged,   ///< a coordinate exceeded the divergence limit; the last state is kept
+};
+
+/// Everything that defines a model. Defaults are the paper's §5 settings.
+struct ModelParameters {
+  int degreeU = 3, degreeV = 3;  ///< n1, n2 in 1..7
+  int numU = 5, numV = 5;        ///< N1, N2 free control points, >= 1
+  Weights weights;               ///< omega_10 .. omega_02
+  MassModel massModel = MassModel::Nodal;
+  double mass = 1.0;     ///< m (> 0): per control point (Nodal) or per unit area (Lumped)
+  double damping = 0.5;  ///< c (>= 0): same units convention as mass
+  double timeStep = 0.1;  ///< Delta t (> 0) of one step()
+  Integrator integrator = Integrator::Explicit;
+  ElasticReference reference = ElasticReference::Rest;
+  bool autoSubstep = true;        ///< explicit only: split Delta t to stay below the limit
+  double stabilitySafety = 0.9;   ///< sub-step <= safety * stability limit, in (0, 1]
+  double divergenceLimit = 1e6;   ///< |coordinate| > limit * (1 + max |rest coordinate|) stops
+};
+
+/// Strain energy of the displacement from the rest net, total and per weight term.
+struct StrainEnergy {
+  double total = 0.0;
+  double w10 = 0.0, w01 = 0.0, w11 = 0.0, w20 = 0.0, w02 = 0.0;
+};
+
+class Simulation {
+ public:
+  /// Rest and initial state: the Greville plane S(u,v) = (u, v, 0).
+  /// @throws std::invalid_argument naming the parameter and the value
+  explicit Simulation(const ModelParameters& params);
+  /// Rest and initial state given as a full net of (N1 + 2 n1) x (N2 + 2 n2) points.
+  Simulation(const ModelParameters& params, const ControlNet& rest);
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  const ModelParameters& parameters() const { return m_params; }
+  const SplineSpace& space() const { return m_space; }
+  const StiffnessStencil& stencil() const { return m_stencil; }
+
+  /// Forces act from the next step on. Adding or removing may change the sub-step count.
+  void addForce(std::shared_ptr<const Force> force);
+  bool removeForce(const Force* force);
+  void clearForces();
+  const std::vector<std::shared_ptr<const Force>>& forces() const { return m_forces; }
+
+  /// Advances by one Delta t (sub-steps inside). Does nothing once the status is not Ok.
+  Status step();
+  /// Advances by `steps` Delta t; stops early on failure.
+  Status advance(long steps);
+  /// Back to the rest state at t = 0, status Ok.
+  void reset();
+  /// Sets the state (e.g. read back from a file). `previous` is the net one step of size
+  /// `previousStepSize` before `current` (0: the current sub-step size); it is rescaled to the
+  /// current sub-step keeping the velocity. Fixed points must equal the rest net's.
+  /// @throws std::invalid_argument for wrong sizes, NaN, or changed fixed points
+  void setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
+                double previousStepSize = 0.0);
+
+  const ControlNet& current() const { return m_current; }
+  /// The net one sub-step before current().
+  const ControlNet& previous() const { return m_previous; }
+  const ControlNet& rest() const { return m_rest; }
+  double time() const { return m_time; }
+  long stepCount() const { return m_steps; }
+
+  /// Upper bound of lambda_max(M^-1 (A_II + force stiffness)).
+  double eigenvalueBound() const { return m_lambdaMax; }
+  /// Largest stable explicit step 2 / sqrt(lambda_max) (a lower bound of the true limit).
+  double stabilityLimit() const;
+  /// Sub-steps per step (1 for the implicit scheme).
+  int subSteps() const { return m_subSteps; }
+  double subStepSize() const { return m_params.timeStep / m_subSteps; }
+
+  Status status() const { return m_status; }
+  const std::string& statusMessage() const { return m_statusMessage; }
+
+  /// The paper's eq. 15: ||P_free - P0_free|| over the free control points.
+  double deformationNorm() const;
+  /// 1/2 v^T M v with v = (P(t) - P(t - dt_sub)) / dt_sub on the free points.
+  double kineticEnergy() const;
+  /// 1/2 D^T A_II D with D = P - P_rest, total and per weight term.
+  StrainEnergy strainEnergy() const;
+  /// Load vector L (numFree x 3, free order) of all forces at the current state and time.
+  ControlNet loadVector() const;
+  /// Static equilibrium for the current loads: solves A_II P_I = L + c0 - A_IB P_B directly.
+  /// @throws std::runtime_error if A_II is singular (all weights zero)
+  ControlNet staticSolution() const;
+
+  /// S(u, v) on the current net.
+  SurfacePoint evaluate(double u, double v, int order = 1) const { return m_space.evaluate(m_current, u, v, order); }
+
+ private:
+  struct ImplicitSolver;
+
+  void init();
+  void rebuildConstantLoad();
+  void updateSubSteps();
+  void computeLoad(double t, ControlNet& load) const;
+  bool explicitSubStep(double t);
+  bool implicitSubStep(double t);
+  void fail(Status s, std::string message);
+  double massPerPoint() const;
+  double dampingPerPoint() const;
+
+  ModelParameters m_params;
+  SplineSpace m_space;
+  StiffnessStencil m_stencil;
+  ControlNet m_rest, m_current, m_previous;
+  ControlNet m_restOffset;     ///< c0 = (A P_rest)_free for ElasticReference::Rest, else 0
+  ControlNet m_boundaryTerm;   ///< A_IB P_B
+  ControlNet m_constantLoad;   ///< constant forces + c0
+  ControlNet m_load;           ///< scratch
+  std::vector<std::shared_ptr<const Force>> m_forces;
+  bool m_hasVariableForces = false;
+  double m_stencilLambda = 0.0;
+  double m_lambdaMax = 0.0;
+  int m_subSteps = 1;
+  double m_divergenceLimit = 0.0;
+  double m_time = 0.0;
+  long m_steps = 0;
+  Status m_status = Status::Ok;
+  std::string m_statusMessage;
+  std::unique_ptr<ImplicitSolver> m_implicit;
+};
+
+}  // namespace bsdeform

@@ -1,0 +1,101 @@
+// SPDX-License-Identifier: MIT
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "bsdeform/Force.h"
+
+using namespace bsdeform;
+
+namespace {
+// int_{-inf}^{x} b^n = sum_{i>=0} b^{n+1}(x - i): the exact antiderivative of a cardinal B-spline.
+double cardinalIntegral(int n, double x) {
+  if (x >= n + 1) return 1.0;
+  double s = 0.0;
+  for (int i = 0; i <= n + 1; ++i) s += cardinalBSpline(n + 1, x - i);
+  return s;
+}
+double basisIntegral(const BSplineBasis1D& b, int k, double lo, double hi) {
+  const double h = b.spacing();
+  return h * (cardinalIntegral(b.degree(), hi / h - k) - cardinalIntegral(b.degree(), lo / h - k));
+}
+
+ControlNet loadOf(const Force& f, const SplineSpace& s, double t = 0.0) {
+  const ControlNet net = s.grevillePlane();
+  ControlNet load = ControlNet::Zero(s.numFree(), 3);
+  f.addLoad(LoadContext{s, net, net, 0.1, t}, load);
+  return load;
+}
+}  // namespace
+
+TEST_CASE("Force: a point force gives L_k = F B_k(u0, v0) exactly", "[core]") {
+  const SplineSpace s(3, 2, 6, 5);
+  const Eigen::Vector3d F(1.5, -2.0, 3.0);
+  const double u0 = 0.37, v0 = 0.61;
+  const ControlNet L = loadOf(PointForce(u0, v0, F), s);
+  const double h1 = s.basisU().spacing(), h2 = s.basisV().spacing();
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < 5; ++b) {
+      const double B = cardinalBSpline(3, u0 / h1 - a) * cardinalBSpline(2, v0 / h2 - b);
+      CHECK((L.row(a * 5 + b).transpose() - F * B).norm() < 1e-14);
+    }
+}
+
+TEST_CASE("Force: a region force is integrated exactly (knot spans split at its edges)", "[core]") {
+  for (int n : {1, 2, 3, 5}) {
+    const SplineSpace s(n, n, 7, 7);
+    const Eigen::Vector3d f(0.0, 100.0, -40.0);
+    const ParamRect r{0.4, 0.6, 0.33, 0.71};  // edges inside knot spans
+    const ControlNet L = loadOf(DistributedForce(f, r), s);
+    for (int a = 0; a < 7; ++a)
+      for (int b = 0; b < 7; ++b) {
+        const double I = basisIntegral(s.basisU(), a, r.u0, r.u1) * basisIntegral(s.basisV(), b, r.v0, r.v1);
+        INFO("degree " << n << " k = (" << a << "," << b << ")");
+        CHECK((L.row(a * 7 + b).transpose() - f * I).norm() <= 1e-13 * f.norm());
+      }
+  }
+}
+
+TEST_CASE("Force: a uniform force loads every free point with f h1 h2", "[core]") {
+  const SplineSpace s(3, 4, 5, 9);
+  const Eigen::Vector3d f(0, 0, 7);
+  const ControlNet L = loadOf(DistributedForce(f), s);
+  const double w = s.basisU().spacing() * s.basisV().spacing();
+  for (Eigen::Index i = 0; i < L.rows(); ++i) CHECK((L.row(i).transpose() - f * w).norm() < 1e-14);
+}
+
+TEST_CASE("Force: a smooth density converges with the number of Gauss points", "[core]") {
+  const SplineSpace s(3, 3, 8, 8);
+  const double pi = 3.14159265358979323846;
+  auto density = [pi](const SurfaceSample& p) {
+    return Eigen::Vector3d(50 * std::sin(p.v * pi), 50 * std::sin(p.u * pi), 200 * std::cos(p.u * pi) * std::sin(p.v * pi));
+  };
+  const ControlNet ref = loadOf(DistributedForce(density, kConstant, ParamRect{}, 12), s);
+  const ControlNet low = loadOf(DistributedForce(density, kConstant, ParamRect{}, 0), s);
+  const ControlNet mid = loadOf(DistributedForce(density, kConstant, ParamRect{}, 2), s);
+  const double eLow = (low - ref).norm(), eMid = (mid - ref).norm();
+  CHECK(eMid < eLow);
+  CHECK(eMid < 1e-6 * ref.norm());
+}
+
+TEST_CASE("Force: callables see position, velocity, normal and time as requested", "[core]") {
+  const SplineSpace s(3, 3, 4, 4);
+  ControlNet cur = s.grevillePlane(), prev = s.grevillePlane();
+  for (Eigen::Index f = 0; f < s.numFree(); ++f) {
+    cur(s.freeToNet(f), 2) += 0.5;
+    prev(s.freeToNet(f), 2) += 0.3;
+  }
+  const LoadContext ctx{s, cur, prev, 0.1, 2.5};
+  const SurfaceSample smp = sampleSurface(ctx, 0.5, 0.5, kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal);
+  const SurfacePoint ref = s.evaluate(cur, 0.5, 0.5, 1);
+  CHECK((smp.position - ref.position).norm() < 1e-14);
+  CHECK((smp.normal - ref.normal()).norm() < 1e-14);
+  CHECK(smp.velocity.z() == Approx((ref.position.z() - s.evaluate(prev, 0.5, 0.5).position.z()) / 0.1));
+  CHECK(smp.t == 2.5);
+}
+
+TEST_CASE("Force: bad force parameters are rejected with their value", "[core]") {
+  CHECK_THROWS_WITH(PointForce(1.5, 0.5, Eigen::Vector3d(0, 0, 1)), Catch::Contains("u") && Catch::Contains("1.5"));
+  CHECK_THROWS_WITH(PointForce(0.5, 0.5, Eigen::Vector3d(0, NAN, 1)), Catch::Contains("finite"));
+  CHECK_THROWS_WITH(DistributedForce(Eigen::Vector3d(0, 0, 1), ParamRect{0.6, 0.4, 0, 1}), Catch::Contains("u0 <= u1"));
+  CHECK_THROWS_WITH(DistributedForce(Eigen::Vector3d(0, 0, 1), ParamRect{0, 1, -0.1, 1}), Catch::Contains("v0"));
+}
