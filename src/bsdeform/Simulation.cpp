@@ -167,12 +167,13 @@ void Simulation::clearForces() {
   updateSubSteps();
 }
 
-void Simulation::computeLoad(double t, ControlNet& load) const {
-  load = m_constantLoad;
-  if (!m_hasVariableForces) return;
+const ControlNet& Simulation::effectiveLoad(double t) {
+  if (!m_hasVariableForces) return m_constantLoad;
+  m_load = m_constantLoad;
   const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), t};
   for (const auto& f : m_forces)
-    if (f->dependence() != kConstant) f->addLoad(ctx, load);
+    if (f->dependence() != kConstant) f->addLoad(ctx, m_load);
+  return m_load;
 }
 
 ControlNet Simulation::loadVector() const {
@@ -188,24 +189,24 @@ void Simulation::fail(Status s, std::string message) {
 }
 
 bool Simulation::explicitSubStep(double t) {
-  computeLoad(t, m_load);
+  const ControlNet& load = effectiveLoad(t);
   const double dt = subStepSize(), m = massPerPoint(), c = dampingPerPoint();
   const double g = 2.0 * m + dt * c;
   const double alpha = 2.0 * dt * dt / g, gamma = (2.0 * m - dt * c) / g;
   // The new state overwrites the previous one (same buffer); fixed points are equal in both.
-  const bool ok = m_stencil.centralDifferenceUpdate(m_current, m_previous, m_load, alpha, gamma, m_divergenceLimit);
+  const bool ok = m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit);
   m_current.swap(m_previous);
   return ok;
 }
 
 bool Simulation::implicitSubStep(double t) {
-  computeLoad(t, m_load);
+  const ControlNet& load = effectiveLoad(t);
   const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
   const ControlNet P = m_space.gatherFree(m_current);
   const ControlNet Pm = m_space.gatherFree(m_previous);
   // (M/dt^2 + C/(2dt) + A/4) P+ = R + 2M/dt^2 P - (M/dt^2 - C/(2dt)) P- - A (2P + P-)/4
   const ControlNet W = 0.25 * (2.0 * P + Pm);
-  ControlNet rhs = m_load - m_boundaryTerm + (2.0 * m / (dt * dt)) * P - (m / (dt * dt) - c / (2.0 * dt)) * Pm;
+  ControlNet rhs = load - m_boundaryTerm + (2.0 * m / (dt * dt)) * P - (m / (dt * dt) - c / (2.0 * dt)) * Pm;
   rhs -= m_implicit->Aii * W;
   const ControlNet next = m_implicit->K.solve(rhs);
   bool ok = true;

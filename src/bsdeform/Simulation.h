@@ -133,7 +133,8 @@ class Simulation {
   void init();
   void rebuildConstantLoad();
   void updateSubSteps();
-  void computeLoad(double t, ControlNet& load) const;
+  /// Constant load plus the variable forces evaluated at the current state and time t.
+  const ControlNet& effectiveLoad(double t);
   bool explicitSubStep(double t);
   bool implicitSubStep(double t);
   void fail(Status s, std::string message);

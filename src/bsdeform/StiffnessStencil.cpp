@@ -123,66 +123,102 @@ double StiffnessStencil::eigenvalueBound() const {
 
 namespace {
 
-// Accumulates acc[t] = sum_{a,b} S(a,b) q_a[m+t +- 3b] for W consecutive flattened entries.
-// q[a] points at the folded row sum P(i+a) + P(i-a) (q[0] = P(i)); offsets in doubles.
-// The summation order does not depend on W, so every caller gets bit-identical sums.
-template <int W>
-inline void stencilChunk(const double* const* q, const double* half, int ru, int rv, long m, double* acc) {
-  for (int t = 0; t < W; ++t) acc[t] = 0.0;
+// Row kernels, written with GCC/Clang vector extensions so that they vectorise for certain:
+// four doubles per vector (AVX2 in the avx2 clone, two SSE2 registers in the default one).
+// The core is compiled with -ffp-contract=off, so every clone and every chunk width rounds
+// identically and the explicit step reproduces applyFree() bit for bit.
+typedef double v4 __attribute__((vector_size(32), aligned(8), may_alias));
+typedef long long v4i __attribute__((vector_size(32)));
+
+// Helpers are forced inline so that each CPU-specific clone compiles them for its own ISA.
+#define BSDEFORM_INLINE inline __attribute__((always_inline))
+BSDEFORM_INLINE v4 load4(const double* p) { return *reinterpret_cast<const v4*>(p); }
+BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
+BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
+
+// Sum_{a,b} S(a,b) q_a[m +- 3b] for 8 consecutive flattened entries starting at m.
+// q[a] points at the folded row sum P(i+a) + P(i-a) (q[0] = P(i)).
+BSDEFORM_INLINE void stencil8(const double* const* q, const double* half, int ru, int rv, long m, v4& lo, v4& hi) {
+  lo = splat(0.0);
+  hi = splat(0.0);
   for (int a = 0; a <= ru; ++a) {
     const double* qa = q[a] + m;
     const double* sa = half + a * (rv + 1);
-    for (int t = 0; t < W; ++t) acc[t] += sa[0] * qa[t];
+    lo += splat(sa[0]) * load4(qa);
+    hi += splat(sa[0]) * load4(qa + 4);
     for (int b = 1; b <= rv; ++b) {
-      const double sab = sa[b];
+      const v4 sab = splat(sa[b]);
       const long off = 3L * b;
-      for (int t = 0; t < W; ++t) acc[t] += sab * (qa[t + off] + qa[t - off]);
+      lo += sab * (load4(qa + off) + load4(qa - off));
+      hi += sab * (load4(qa + 4 + off) + load4(qa + 4 - off));
     }
   }
 }
 
-// Row kernels. Compiled for AVX2 as well as the baseline ISA where the compiler supports
-// function multiversioning; the choice is made once per process from the CPU. The build is
-// ISO C++ (no FP contraction, no reassociation), so all variants round identically.
+// The same sum for a single entry, in the same order (used for the row's last < 8 entries).
+BSDEFORM_INLINE double stencil1(const double* const* q, const double* half, int ru, int rv, long m) {
+  double acc = 0.0;
+  for (int a = 0; a <= ru; ++a) {
+    const double* qa = q[a] + m;
+    const double* sa = half + a * (rv + 1);
+    acc += sa[0] * qa[0];
+    for (int b = 1; b <= rv; ++b) acc += sa[b] * (qa[3L * b] + qa[-3L * b]);
+  }
+  return acc;
+}
+
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define BSDEFORM_MULTIVERSION __attribute__((target_clones("arch=haswell", "default")))
+#define BSDEFORM_MULTIVERSION __attribute__((target_clones("avx2", "default")))
 #else
 #define BSDEFORM_MULTIVERSION
 #endif
 
-// out[f] = (A P)(m) for the free entries m in [mBegin, mEnd) of one net row.
+// dst = up + down over one net row.
+BSDEFORM_MULTIVERSION
+void addRows(const double* __restrict up, const double* __restrict down, double* __restrict dst, long len) {
+  for (long m = 0; m < len; ++m) dst[m] = up[m] + down[m];
+}
+
+// out[m - mBegin] = (A P)(m) for the free entries m in [mBegin, mEnd) of one net row.
 BSDEFORM_MULTIVERSION
 void applyRow(const double* const* q, const double* half, int ru, int rv, long mBegin, long mEnd, double* out) {
-  constexpr int W = 8;
   long m = mBegin;
-  for (; m + W <= mEnd; m += W) stencilChunk<W>(q, half, ru, rv, m, out + (m - mBegin));
-  for (; m < mEnd; ++m) stencilChunk<1>(q, half, ru, rv, m, out + (m - mBegin));
+  for (; m + 8 <= mEnd; m += 8) {
+    v4 lo, hi;
+    stencil8(q, half, ru, rv, m, lo, hi);
+    store4(out + (m - mBegin), lo);
+    store4(out + (m - mBegin) + 4, hi);
+  }
+  for (; m < mEnd; ++m) out[m - mBegin] = stencil1(q, half, ru, rv, m);
 }
 
 // Increment form of the central-difference update (beta - gamma = 1):
-// P_new = P + alpha (L - A P) + gamma (P - P_old), written over P_old.
+// P_new = P + alpha (L - A P) + gamma (P - P_old), written over P_old. Returns false if a new
+// value is NaN or beyond +-limit.
 BSDEFORM_MULTIVERSION
 bool updateRow(const double* const* q, const double* half, int ru, int rv, long mBegin, long mEnd,
                const double* prow, double* oldrow, const double* lrow, double alpha, double gamma, double limit) {
-  constexpr int W = 8;
-  bool ok = true;
+  const v4 va = splat(alpha), vg = splat(gamma), vlim = splat(limit), vnlim = splat(-limit);
+  v4i inRange = {-1, -1, -1, -1};
   long m = mBegin;
-  double acc[W];
-  for (; m + W <= mEnd; m += W) {
-    stencilChunk<W>(q, half, ru, rv, m, acc);
-    const long f = m - mBegin;
-    for (int t = 0; t < W; ++t) {
-      const double x = prow[m + t] + alpha * (lrow[f + t] - acc[t]) + gamma * (prow[m + t] - oldrow[m + t]);
-      oldrow[m + t] = x;
-      ok &= (std::abs(x) <= limit);
+  for (; m + 8 <= mEnd; m += 8) {
+    v4 acc[2];
+    stencil8(q, half, ru, rv, m, acc[0], acc[1]);
+    for (int h = 0; h < 2; ++h) {
+      const long k = m + 4 * h;
+      const v4 p = load4(prow + k);
+      const v4 x = p + va * (load4(lrow + (k - mBegin)) - acc[h]) + vg * (p - load4(oldrow + k));
+      store4(oldrow + k, x);
+      inRange &= (x <= vlim) & (x >= vnlim);  // false for NaN
     }
   }
+  bool ok = inRange[0] && inRange[1] && inRange[2] && inRange[3];
   for (; m < mEnd; ++m) {
-    stencilChunk<1>(q, half, ru, rv, m, acc);
-    const long f = m - mBegin;
-    const double x = prow[m] + alpha * (lrow[f] - acc[0]) + gamma * (prow[m] - oldrow[m]);
+    const double acc = stencil1(q, half, ru, rv, m);
+    const double p = prow[m];
+    const double x = p + alpha * (lrow[m - mBegin] - acc) + gamma * (p - oldrow[m]);
     oldrow[m] = x;
-    ok &= (std::abs(x) <= limit);
+    ok &= (x <= limit && x >= -limit);
   }
   return ok;
 }
@@ -203,9 +239,7 @@ void StiffnessStencil::forEachFreeRow(const ControlNet& net, RowFunction&& fn) c
     q[0] = P + i * rowLen;
     for (int r = 1; r <= m_ru; ++r) {
       double* dst = qbuf.data() + (r - 1) * rowLen;
-      const double* up = P + (i + r) * rowLen;
-      const double* dn = P + (i - r) * rowLen;
-      for (long m = 0; m < rowLen; ++m) dst[m] = up[m] + dn[m];
+      addRows(P + (i + r) * rowLen, P + (i - r) * rowLen, dst, rowLen);
       q[r] = dst;
     }
     fn(a, i * rowLen, q);

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: MIT
+// Cost of one explicit central-difference step (design.md §4):
+//   ExplicitStep/<N>      the product: the fused stencil kernel of bsdeform::Simulation
+//   SparseMatrixStep/<N>  the baseline a user would write: the same update with an Eigen
+//                         SparseMatrix product A_II P_I + A_IB P_B
+//   StreamBound/<N>       the same memory traffic without the stencil: the bandwidth bound
+// N is the number of free control points per side (N^2 in all), bicubic, paper weights.
+// Counters: points/s = free control points updated per second.
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Sparse>
+#include <memory>
+
+#include "bsdeform/Simulation.h"
+
+namespace {
+
+bsdeform::ModelParameters params(int N) {
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  p.autoSubstep = false;  // measure exactly one update per step
+  p.timeStep = 1e-4;
+  return p;
+}
+
+void ExplicitStep(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  bsdeform::Simulation sim(params(N));
+  sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  for (auto _ : state) {
+    sim.step();
+    benchmark::DoNotOptimize(sim.current().data());
+  }
+  if (sim.status() != bsdeform::Status::Ok) state.SkipWithError("simulation diverged");
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The same step with an assembled sparse matrix: A = [A_II A_IB] over all net points, so one
+// sparse product gives (A P)_free, then the diagonal central-difference update.
+void SparseMatrixStep(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const bsdeform::ModelParameters p = params(N);
+  bsdeform::Simulation sim(p);
+  const bsdeform::SplineSpace& s = sim.space();
+  const int n1 = s.degreeU(), n2 = s.degreeV();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(size_t(s.numFree()) * (2 * n1 + 1) * (2 * n2 + 1));
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b < N; ++b)
+      for (int d1 = -n1; d1 <= n1; ++d1)
+        for (int d2 = -n2; d2 <= n2; ++d2)
+          t.emplace_back(a * N + b, int(s.netIndex(a + d1, b + d2)), sim.stencil().coefficient(d1, d2));
+  Eigen::SparseMatrix<double, Eigen::RowMajor> A(s.numFree(), s.netSize());
+  A.setFromTriplets(t.begin(), t.end());
+  t.clear();
+  t.shrink_to_fit();
+  Eigen::MatrixXd net = sim.rest();  // all points, column-major N x 3
+  Eigen::MatrixXd P = s.gatherFree(sim.rest()), Pold = P, Pnew(P.rows(), 3);
+  const Eigen::MatrixXd L = sim.loadVector();
+  const double dt = p.timeStep, m = p.mass, c = p.damping, g = 2 * m + dt * c;
+  const double alpha = 2 * dt * dt / g, beta = 4 * m / g, gamma = (2 * m - dt * c) / g;
+  std::vector<Eigen::Index> freeRows(s.numFree());
+  for (Eigen::Index f = 0; f < s.numFree(); ++f) freeRows[f] = s.freeToNet(f);
+  for (auto _ : state) {
+    Pnew.noalias() = alpha * (L - A * net) + beta * P - gamma * Pold;
+    Pold.swap(P);
+    P.swap(Pnew);
+    for (Eigen::Index f = 0; f < s.numFree(); ++f) net.row(freeRows[f]) = P.row(f);
+    benchmark::DoNotOptimize(net.data());
+  }
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The memory traffic of ExplicitStep without its arithmetic: the same arrays (current net,
+// previous net rewritten in place, load) streamed once with the update minus the stencil.
+// Its time is this machine's bandwidth bound for the explicit step.
+void StreamBound(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  bsdeform::Simulation sim(params(N));
+  const bsdeform::SplineSpace& s = sim.space();
+  Eigen::Matrix<double, Eigen::Dynamic, 1> P = Eigen::Map<const Eigen::VectorXd>(sim.rest().data(), sim.rest().size());
+  Eigen::Matrix<double, Eigen::Dynamic, 1> Pold = P;
+  const Eigen::VectorXd L = Eigen::VectorXd::Constant(3 * s.numFree(), 1e-9);
+  const long cols3 = 3L * s.netCols(), free3 = 3L * s.numFreeV();
+  for (auto _ : state) {
+    for (int a = 0; a < N; ++a) {
+      const long row = (a + s.degreeU()) * cols3 + 3L * s.degreeV();
+      Pold.segment(row, free3) = P.segment(row, free3) + 1e-3 * (L.segment(3L * a * N, free3)) +
+                                 0.5 * (P.segment(row, free3) - Pold.segment(row, free3));
+    }
+    P.swap(Pold);
+    benchmark::DoNotOptimize(P.data());
+  }
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["bytes/s"] = benchmark::Counter(4.0 * 24.0 * N * N, benchmark::Counter::kIsIterationInvariantRate,
+                                                 benchmark::Counter::kIs1024);
+}
+
+}  // namespace
+
+BENCHMARK(ExplicitStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(SparseMatrixStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(StreamBound)->Arg(256)->Arg(1024)->Unit(benchmark::kMicrosecond);
+
+BENCHMARK_MAIN();
