@@ -89,7 +89,8 @@ class Simulation {
   void reset();
   /// Sets the state (e.g. read back from a file). `previous` is the net one step of size
   /// `previousStepSize` before `current` (0: the current sub-step size); it is rescaled to the
-  /// current sub-step keeping the velocity. Fixed points must equal the rest net's.
+  /// current sub-step keeping the velocity. Fixed points must equal the rest net's to 1e-12
+  /// (relative); they are then set to the rest values exactly.
   /// @throws std::invalid_argument for wrong sizes, NaN, or changed fixed points
   void setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
                 double previousStepSize = 0.0);

@@ -1,0 +1,549 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+#include <Inventor/SbTime.h>
+#include <Inventor/SoPickedPoint.h>
+#include <Inventor/SoPrimitiveVertex.h>
+#include <Inventor/actions/SoGLRenderAction.h>
+#include <Inventor/actions/SoRayPickAction.h>
+#include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/bundles/SoMaterialBundle.h>
+#include <Inventor/elements/SoComplexityElement.h>
+#include <Inventor/errors/SoDebugError.h>
+#include <Inventor/misc/SoNotification.h>
+#include <Inventor/sensors/SoTimerSensor.h>
+#include <Inventor/system/gl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoForceField.h"
+
+SO_NODE_SOURCE(SoBSplineDeformSurface);
+
+void SoBSplineDeformSurface::initClass() {
+  // Idempotent (Coin asserts on a second init). Also initialises SoForceField, so that Coin's
+  // dynamic loader, which calls only this function for a surface, knows the engine too.
+  SoForceField::initClass();
+  if (getClassTypeId() != SoType::badType()) return;
+  SO_NODE_INIT_CLASS(SoBSplineDeformSurface, SoShape, "Shape");
+}
+
+SoBSplineDeformSurface::SoBSplineDeformSurface() {
+  SO_NODE_CONSTRUCTOR(SoBSplineDeformSurface);
+  SO_NODE_ADD_FIELD(numUControlPoints, (5));
+  SO_NODE_ADD_FIELD(numVControlPoints, (5));
+  SO_NODE_ADD_FIELD(uDegree, (3));
+  SO_NODE_ADD_FIELD(vDegree, (3));
+  SO_NODE_ADD_FIELD(w10, (0.1));
+  SO_NODE_ADD_FIELD(w01, (0.1));
+  SO_NODE_ADD_FIELD(w11, (0.01));
+  SO_NODE_ADD_FIELD(w20, (0.01));
+  SO_NODE_ADD_FIELD(w02, (0.01));
+  SO_NODE_ADD_FIELD(massModel, (NODAL));
+  SO_NODE_ADD_FIELD(mass, (1.0));
+  SO_NODE_ADD_FIELD(damping, (0.5));
+  SO_NODE_ADD_FIELD(timeStep, (0.1));
+  SO_NODE_ADD_FIELD(integrator, (EXPLICIT));
+  SO_NODE_ADD_FIELD(reference, (REST));
+  SO_NODE_ADD_FIELD(on, (TRUE));
+  SO_NODE_ADD_FIELD(speed, (1.0f));
+  SO_NODE_ADD_FIELD(reset, ());
+  SO_NODE_ADD_FIELD(restNet, (SbVec3d(0, 0, 0)));
+  SO_NODE_ADD_FIELD(controlNet, (SbVec3d(0, 0, 0)));
+  SO_NODE_ADD_FIELD(previousNet, (SbVec3d(0, 0, 0)));
+  SO_NODE_ADD_FIELD(simulationTime, (0.0));
+  SO_NODE_ADD_FIELD(stepCount, (0));
+  SO_NODE_ADD_FIELD(forces, (nullptr));
+  SO_NODE_DEFINE_ENUM_VALUE(MassModel, NODAL);
+  SO_NODE_DEFINE_ENUM_VALUE(MassModel, LUMPED);
+  SO_NODE_SET_SF_ENUM_TYPE(massModel, MassModel);
+  SO_NODE_DEFINE_ENUM_VALUE(Integrator, EXPLICIT);
+  SO_NODE_DEFINE_ENUM_VALUE(Integrator, IMPLICIT);
+  SO_NODE_SET_SF_ENUM_TYPE(integrator, Integrator);
+  SO_NODE_DEFINE_ENUM_VALUE(Reference, REST);
+  SO_NODE_DEFINE_ENUM_VALUE(Reference, ABSOLUTE);
+  SO_NODE_SET_SF_ENUM_TYPE(reference, Reference);
+  // Empty multi-fields mean "derived" (plane / rest / current); start empty and default.
+  for (SoMFVec3d* f : {&restNet, &controlNet, &previousNet}) {
+    f->setNum(0);
+    f->setDefault(TRUE);
+  }
+  forces.setNum(0);
+  forces.setDefault(TRUE);
+
+  m_timer = new SoTimerSensor(timerCallback, this);
+  m_timer->setInterval(SbTime(1.0 / 60.0));
+  updateTimer();
+}
+
+SoBSplineDeformSurface::~SoBSplineDeformSurface() {
+  if (m_timer->isScheduled()) m_timer->unschedule();
+  delete m_timer;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fields -> simulation
+
+void SoBSplineDeformSurface::warn(const std::string& message) {
+  if (message == m_lastWarning) return;  // once per distinct problem
+  m_lastWarning = message;
+  const SbName name = getName();
+  SoDebugError::postWarning("SoBSplineDeformSurface", "node '%s': %s",
+                            name.getLength() ? name.getString() : "<unnamed>", message.c_str());
+}
+
+namespace {
+// Coin writes doubles with 16 significant digits but its reader is off by up to a few ulps
+// (0.05 reads as 0.050000000000000010), so write(read(text)) would drift. Snapping every value
+// read to the correctly rounded double of its 15-digit form recovers what was written (up to
+// 5e-16 relative) and makes the text a fixed point: write -> read -> write is identical.
+double snap15(double x) {
+  if (!std::isfinite(x)) return x;
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.15g", x);
+  return std::strtod(buf, nullptr);
+}
+
+bsdeform::ControlNet toNet(const SoMFVec3d& f) {
+  bsdeform::ControlNet net(f.getNum(), 3);
+  const SbVec3d* v = f.getValues(0);
+  for (int i = 0; i < f.getNum(); ++i) net.row(i) << v[i][0], v[i][1], v[i][2];
+  return net;
+}
+
+void fromNet(const bsdeform::ControlNet& net, SoMFVec3d& f) {
+  f.setNum(int(net.rows()));
+  SbVec3d* v = f.startEditing();
+  for (Eigen::Index i = 0; i < net.rows(); ++i) v[i].setValue(snap15(net(i, 0)), snap15(net(i, 1)), snap15(net(i, 2)));
+  f.finishEditing();
+}
+
+std::string num(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+}  // namespace
+
+bool SoBSplineDeformSurface::rebuildSimulation() {
+  std::string error;
+  auto check = [&](bool ok, const std::string& msg) {
+    if (!ok && error.empty()) error = msg;
+  };
+  const int nu = uDegree.getValue(), nv = vDegree.getValue();
+  const int Nu = numUControlPoints.getValue(), Nv = numVControlPoints.getValue();
+  check(nu >= 1 && nu <= 7, "field 'uDegree' must be 1..7, got " + std::to_string(nu));
+  check(nv >= 1 && nv <= 7, "field 'vDegree' must be 1..7, got " + std::to_string(nv));
+  check(Nu >= 1 && Nu <= 4096, "field 'numUControlPoints' must be 1..4096, got " + std::to_string(Nu));
+  check(Nv >= 1 && Nv <= 4096, "field 'numVControlPoints' must be 1..4096, got " + std::to_string(Nv));
+  const struct {
+    const SoSFDouble* f;
+    const char* name;
+    bool strict;
+  } positives[] = {{&w10, "w10", false},   {&w01, "w01", false},     {&w11, "w11", false}, {&w20, "w20", false},
+                   {&w02, "w02", false},   {&mass, "mass", true},    {&damping, "damping", false},
+                   {&timeStep, "timeStep", true}};
+  for (const auto& p : positives) {
+    const double x = p.f->getValue();
+    const bool ok = std::isfinite(x) && (p.strict ? x > 0.0 : x >= 0.0);
+    check(ok, std::string("field '") + p.name + "' must be finite and " + (p.strict ? "> 0" : ">= 0") + ", got " +
+                  num(x));
+  }
+  check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED,
+        "field 'massModel' has an unknown value " + std::to_string(massModel.getValue()));
+  check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT,
+        "field 'integrator' has an unknown value " + std::to_string(integrator.getValue()));
+  check(reference.getValue() == REST || reference.getValue() == ABSOLUTE,
+        "field 'reference' has an unknown value " + std::to_string(reference.getValue()));
+  const long expected = long(Nu + 2 * nu) * (Nv + 2 * nv);
+  for (const auto& net : {std::make_pair(&restNet, "restNet"), std::make_pair(&controlNet, "controlNet"),
+                          std::make_pair(&previousNet, "previousNet")}) {
+    const int n = net.first->getNum();
+    check(n == 0 || n == expected, std::string("field '") + net.second + "' must be empty or have " +
+                                       std::to_string(expected) + " points ((numU + 2 uDegree)(numV + 2 vDegree)), got " +
+                                       std::to_string(n));
+  }
+  if (!error.empty()) {
+    warn(error + "; keeping the last valid state");
+    return false;
+  }
+
+  bsdeform::ModelParameters p;
+  p.degreeU = nu;
+  p.degreeV = nv;
+  p.numU = Nu;
+  p.numV = Nv;
+  p.weights = bsdeform::Weights{w10.getValue(), w01.getValue(), w11.getValue(), w20.getValue(), w02.getValue()};
+  p.massModel = massModel.getValue() == LUMPED ? bsdeform::MassModel::Lumped : bsdeform::MassModel::Nodal;
+  p.mass = mass.getValue();
+  p.damping = damping.getValue();
+  p.timeStep = timeStep.getValue();
+  p.integrator = integrator.getValue() == IMPLICIT ? bsdeform::Integrator::Implicit : bsdeform::Integrator::Explicit;
+  p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
+  try {
+    std::unique_ptr<bsdeform::Simulation> sim = restNet.getNum() ? std::make_unique<bsdeform::Simulation>(p, toNet(restNet))
+                                                                 : std::make_unique<bsdeform::Simulation>(p);
+    if (m_stateDirty && controlNet.getNum()) {
+      const bsdeform::ControlNet cur = toNet(controlNet);
+      const bsdeform::ControlNet prev = previousNet.getNum() ? toNet(previousNet) : cur;
+      sim->setState(cur, prev, simulationTime.getValue(), stepCount.getValue());
+    } else if (!m_stateDirty && m_sim && m_sim->current().rows() == sim->current().rows() &&
+               m_sim->rest() == sim->rest()) {
+      // a live edit of the model: keep the motion going from where it is
+      sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize());
+    }
+    m_sim = std::move(sim);
+  } catch (const std::exception& e) {
+    warn(std::string(e.what()) + "; keeping the last valid state");
+    return false;
+  }
+  m_forceSlots.clear();  // forces are rebuilt for the new simulation (mass density may differ)
+  m_lastWarning.clear();
+  return true;
+}
+
+void SoBSplineDeformSurface::ensureSimulation() {
+  if (m_modelDirty || m_stateDirty || !m_sim) {
+    if (!rebuildSimulation() && !m_sim) m_sim = std::make_unique<bsdeform::Simulation>(bsdeform::ModelParameters());
+    m_modelDirty = m_stateDirty = false;
+    m_tess.valid = false;
+  }
+}
+
+const bsdeform::Simulation& SoBSplineDeformSurface::simulation() {
+  ensureSimulation();
+  return *m_sim;
+}
+
+void SoBSplineDeformSurface::updateForces() {
+  const bsdeform::Simulation& sim = *m_sim;
+  SoForceField::SurfaceInfo info;
+  const double area = sim.space().basisU().spacing() * sim.space().basisV().spacing();
+  info.massDensity = sim.parameters().massModel == bsdeform::MassModel::Nodal ? sim.parameters().mass / area
+                                                                               : sim.parameters().mass;
+  bool changed = int(m_forceSlots.size()) != forces.getNum();
+  m_forceSlots.resize(forces.getNum());
+  for (int i = 0; i < forces.getNum(); ++i) {
+    SoEngine* e = forces[i];
+    ForceSlot& slot = m_forceSlots[i];
+    if (!e || !e->isOfType(SoForceField::getClassTypeId())) {
+      if (slot.engine != e) {
+        if (e) warn("field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
+                    ", not an SoForceField; ignored");
+        slot = ForceSlot{e, -1, nullptr};
+        changed = true;
+      }
+      continue;
+    }
+    auto* ff = static_cast<SoForceField*>(e);
+    // Reading every input evaluates connections (e.g. magnitude driven by an engine), which
+    // bumps the revision if a value changed.
+    for (SoField* f : {static_cast<SoField*>(&ff->magnitude), static_cast<SoField*>(&ff->force),
+                       static_cast<SoField*>(&ff->on), static_cast<SoField*>(&ff->anchor)})
+      f->evaluate();
+    if (slot.engine == ff && slot.revision == ff->getRevision()) continue;
+    std::string error;
+    auto force = ff->makeForce(info, error);
+    slot.engine = ff;
+    slot.revision = ff->getRevision();
+    changed = true;
+    if (!error.empty()) {
+      const SbName name = ff->getName();
+      warn("SoForceField '" + std::string(name.getLength() ? name.getString() : "<unnamed>") + "': " + error +
+           "; keeping its previous force");
+      continue;  // keep slot.force
+    }
+    slot.force = std::move(force);
+  }
+  if (!changed) return;
+  m_sim->clearForces();
+  for (const ForceSlot& s : m_forceSlots)
+    if (s.force) m_sim->addForce(s.force);
+  for (const auto& f : m_transient) m_sim->addForce(f);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Time
+
+bool SoBSplineDeformSurface::stepSimulation(int steps) {
+  ensureSimulation();
+  updateForces();
+  bool ok = true;
+  if (steps > 0) {
+    const bsdeform::Status st = m_sim->advance(steps);
+    if (st != bsdeform::Status::Ok) {
+      warn("simulation stopped: " + m_sim->statusMessage());
+      ok = false;
+    }
+    m_tess.valid = false;
+    touch();
+  }
+  return ok;
+}
+
+int SoBSplineDeformSurface::advanceRealTime(double seconds) {
+  ensureSimulation();
+  const double sp = speed.getValue();
+  if (!(seconds > 0.0) || !(sp > 0.0) || m_sim->status() != bsdeform::Status::Ok) return 0;
+  // A slow frame is not made up with an avalanche of steps: at most a quarter second per call.
+  m_timeBudget += std::min(seconds, 0.25) * sp;
+  const double dt = m_sim->parameters().timeStep;
+  const int steps = static_cast<int>(std::floor(m_timeBudget / dt + 1e-9));
+  m_timeBudget = std::max(0.0, m_timeBudget - steps * dt);
+  if (steps > 0) stepSimulation(steps);
+  return steps;
+}
+
+void SoBSplineDeformSurface::resetSimulation() {
+  ensureSimulation();
+  m_sim->reset();
+  m_timeBudget = 0.0;
+  m_lastWarning.clear();
+  m_tess.valid = false;
+  touch();
+}
+
+void SoBSplineDeformSurface::addTransientForce(std::shared_ptr<const bsdeform::Force> force) {
+  ensureSimulation();
+  m_transient.push_back(force);
+  m_sim->addForce(std::move(force));
+}
+
+void SoBSplineDeformSurface::removeTransientForce(const bsdeform::Force* force) {
+  auto it = std::find_if(m_transient.begin(), m_transient.end(), [force](const auto& f) { return f.get() == force; });
+  if (it == m_transient.end()) return;
+  m_transient.erase(it);
+  if (m_sim) m_sim->removeForce(force);
+}
+
+void SoBSplineDeformSurface::updateTimer() {
+  if (on.getValue()) {
+    if (!m_timer->isScheduled()) {
+      m_lastTick = -1.0;
+      m_timer->schedule();
+    }
+  } else if (m_timer->isScheduled()) {
+    m_timer->unschedule();
+  }
+}
+
+void SoBSplineDeformSurface::timerCallback(void* data, SoSensor*) {
+  auto* self = static_cast<SoBSplineDeformSurface*>(data);
+  const double now = SbTime::getTimeOfDay().getValue();
+  if (self->m_lastTick >= 0.0) self->advanceRealTime(now - self->m_lastTick);
+  self->m_lastTick = now;
+}
+
+void SoBSplineDeformSurface::notify(SoNotList* list) {
+  SoField* f = list->getLastField();
+  if (f && !m_syncing) {
+    if (f == &controlNet || f == &previousNet || f == &simulationTime || f == &stepCount) {
+      m_stateDirty = true;
+    } else if (f == &reset) {
+      if (m_sim) {
+        m_sim->reset();
+        m_timeBudget = 0.0;
+      }
+      m_tess.valid = false;
+    } else if (f == &on || f == &speed) {
+      updateTimer();
+    } else if (f == &forces) {
+      // slots are compared with the field on the next step
+    } else {
+      m_modelDirty = true;
+    }
+  }
+  inherited::notify(list);
+}
+
+// ---------------------------------------------------------------------------------------------
+// File I/O
+
+void SoBSplineDeformSurface::syncStateFields() {
+  ensureSimulation();
+  m_syncing = true;
+  const bsdeform::Simulation& s = *m_sim;
+  const bool atRest = s.stepCount() == 0 && s.time() == 0.0 && s.current() == s.rest() && s.previous() == s.rest();
+  if (atRest) {
+    controlNet.setNum(0);
+    previousNet.setNum(0);
+    simulationTime.setValue(0.0);
+    stepCount.setValue(0);
+    for (SoField* f : {static_cast<SoField*>(&controlNet), static_cast<SoField*>(&previousNet),
+                       static_cast<SoField*>(&simulationTime), static_cast<SoField*>(&stepCount)})
+      f->setDefault(TRUE);
+  } else {
+    fromNet(s.current(), controlNet);
+    fromNet(s.previous(), previousNet);
+    simulationTime.setValue(snap15(s.time()));
+    stepCount.setValue(int(s.stepCount()));
+  }
+  m_syncing = false;
+}
+
+
+SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
+  const SbBool ok = inherited::readInstance(in, flags);
+  for (SoSFDouble* f : {&w10, &w01, &w11, &w20, &w02, &mass, &damping, &timeStep, &simulationTime}) {
+    if (f->isDefault()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    f->setValue(snap15(f->getValue()));
+    f->enableNotify(notify);
+  }
+  for (SoMFVec3d* f : {&restNet, &controlNet, &previousNet}) {
+    if (!f->getNum()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    SbVec3d* v = f->startEditing();
+    for (int i = 0; i < f->getNum(); ++i) v[i].setValue(snap15(v[i][0]), snap15(v[i][1]), snap15(v[i][2]));
+    f->finishEditing();
+    f->enableNotify(notify);
+  }
+  m_modelDirty = m_stateDirty = true;
+  return ok;
+}
+
+void SoBSplineDeformSurface::write(SoWriteAction* action) {
+  syncStateFields();
+  inherited::write(action);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Geometry
+
+int SoBSplineDeformSurface::segmentsFor(float complexity, int spans) const {
+  const float c = std::max(0.0f, std::min(1.0f, complexity));
+  const int wanted = static_cast<int>(std::lround(spans * (0.5 + 3.5 * c)));
+  const int cap = static_cast<int>(64 + 448 * c);
+  return std::max(4, std::min(wanted, cap));
+}
+
+void SoBSplineDeformSurface::tessellate(SoState* state) {
+  ensureSimulation();
+  const bsdeform::SplineSpace& sp = m_sim->space();
+  const float complexity = state ? SoComplexityElement::get(state) : 0.5f;
+  const int segU = segmentsFor(complexity, sp.basisU().numSpans());
+  const int segV = segmentsFor(complexity, sp.basisV().numSpans());
+  if (m_tess.valid && m_tess.segU == segU && m_tess.segV == segV) return;
+
+  const bsdeform::ControlNet& net = m_sim->current();
+  const int cols = sp.netCols(), n1 = sp.degreeU(), n2 = sp.degreeV();
+  const int nvU = segU + 1, nvV = segV + 1;
+  m_tess.vertices.resize(size_t(nvU) * nvV * 3);
+  m_tess.normals.resize(m_tess.vertices.size());
+  m_tess.texCoords.resize(size_t(nvU) * nvV * 2);
+  // v-direction bases are the same for every row of vertices
+  std::vector<bsdeform::LocalBasis> bv(nvV);
+  for (int j = 0; j < nvV; ++j) sp.basisV().evaluate(double(j) / segV, 1, bv[j]);
+  // Tensor evaluation: first the u-combination of the net rows (curves in v), then v.
+  std::vector<double> c0(size_t(cols) * 3), c1(size_t(cols) * 3);
+  bsdeform::LocalBasis bu;
+  for (int i = 0; i < nvU; ++i) {
+    const double u = double(i) / segU;
+    sp.basisU().evaluate(u, 1, bu);
+    std::fill(c0.begin(), c0.end(), 0.0);
+    std::fill(c1.begin(), c1.end(), 0.0);
+    for (int a = 0; a < bu.count; ++a) {
+      const double* row = net.data() + size_t(bu.first + a + n1) * cols * 3;
+      const double b0 = bu.d[0][a], b1 = bu.d[1][a];
+      for (int m = 0; m < cols * 3; ++m) {
+        c0[m] += b0 * row[m];
+        c1[m] += b1 * row[m];
+      }
+    }
+    for (int j = 0; j < nvV; ++j) {
+      double p[3] = {0, 0, 0}, du[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+      const bsdeform::LocalBasis& b = bv[j];
+      for (int k = 0; k < b.count; ++k) {
+        const size_t m = size_t(b.first + k + n2) * 3;
+        for (int c = 0; c < 3; ++c) {
+          p[c] += b.d[0][k] * c0[m + c];
+          du[c] += b.d[0][k] * c1[m + c];
+          dv[c] += b.d[1][k] * c0[m + c];
+        }
+      }
+      double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
+      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+      const size_t vi = size_t(i) * nvV + j;
+      for (int c = 0; c < 3; ++c) {
+        m_tess.vertices[vi * 3 + c] = float(p[c]);
+        m_tess.normals[vi * 3 + c] = float(len > 0 ? n[c] / len : (c == 2 ? 1.0 : 0.0));
+      }
+      m_tess.texCoords[vi * 2] = float(u);
+      m_tess.texCoords[vi * 2 + 1] = float(double(j) / segV);
+    }
+  }
+  if (m_tess.segU != segU || m_tess.segV != segV || m_tess.indices.empty()) {
+    m_tess.indices.clear();
+    m_tess.indices.reserve(size_t(segU) * segV * 6);
+    for (int i = 0; i < segU; ++i)
+      for (int j = 0; j < segV; ++j) {
+        const unsigned a = unsigned(i * nvV + j), b = unsigned((i + 1) * nvV + j);
+        // counter-clockwise seen from the side du x dv points to
+        m_tess.indices.insert(m_tess.indices.end(), {a, b, b + 1, a, b + 1, a + 1});
+      }
+  }
+  m_tess.segU = segU;
+  m_tess.segV = segV;
+  m_tess.valid = true;
+}
+
+void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
+  if (!shouldGLRender(action)) return;
+  tessellate(action->getState());
+  SoMaterialBundle mb(action);
+  mb.sendFirst();
+  glEnableClientState(GL_VERTEX_ARRAY);
+  glEnableClientState(GL_NORMAL_ARRAY);
+  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+  glVertexPointer(3, GL_FLOAT, 0, m_tess.vertices.data());
+  glNormalPointer(GL_FLOAT, 0, m_tess.normals.data());
+  glTexCoordPointer(2, GL_FLOAT, 0, m_tess.texCoords.data());
+  glDrawElements(GL_TRIANGLES, GLsizei(m_tess.indices.size()), GL_UNSIGNED_INT, m_tess.indices.data());
+  glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+  glDisableClientState(GL_NORMAL_ARRAY);
+  glDisableClientState(GL_VERTEX_ARRAY);
+}
+
+void SoBSplineDeformSurface::rayPick(SoRayPickAction* action) {
+  if (!shouldRayPick(action)) return;
+  inherited::rayPick(action);  // through generatePrimitives(): (u, v) arrive as texture coordinates
+}
+
+void SoBSplineDeformSurface::generatePrimitives(SoAction* action) {
+  tessellate(action->getState());
+  SoPrimitiveVertex pv;
+  beginShape(action, TRIANGLES);
+  for (unsigned idx : m_tess.indices) {
+    const float* p = &m_tess.vertices[size_t(idx) * 3];
+    const float* n = &m_tess.normals[size_t(idx) * 3];
+    const float* t = &m_tess.texCoords[size_t(idx) * 2];
+    pv.setPoint(SbVec3f(p[0], p[1], p[2]));
+    pv.setNormal(SbVec3f(n[0], n[1], n[2]));
+    pv.setTextureCoords(SbVec4f(t[0], t[1], 0.0f, 1.0f));
+    shapeVertex(&pv);
+  }
+  endShape();
+}
+
+void SoBSplineDeformSurface::computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) {
+  tessellate(action->getState());
+  box.makeEmpty();
+  for (size_t i = 0; i + 2 < m_tess.vertices.size(); i += 3)
+    box.extendBy(SbVec3f(m_tess.vertices[i], m_tess.vertices[i + 1], m_tess.vertices[i + 2]));
+  center = box.getCenter();
+}
+
+bool SoBSplineDeformSurface::pickedParameter(const SoPickedPoint* pp, float& u, float& v) {
+  if (!pp || !pp->getPath() || !pp->getPath()->getTail()->isOfType(getClassTypeId())) return false;
+  const SbVec4f t = pp->getTextureCoords();
+  u = std::max(0.0f, std::min(1.0f, t[0]));
+  v = std::max(0.0f, std::min(1.0f, t[1]));
+  return true;
+}

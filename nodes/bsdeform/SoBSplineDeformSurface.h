@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file SoBSplineDeformSurface.h
+/// A shape node that owns, animates and draws one B-spline finite-element surface
+/// (bsdeform::Simulation). Its fields hold everything needed to rebuild the simulation,
+/// including the current state, so a running scene written to .iv resumes where it was.
+///
+/// \code
+/// #Inventor V2.1 ascii
+/// SoBSplineDeformSurface {
+///   numUControlPoints 6  numVControlPoints 6
+///   forces [ SoForceField { type UNIFORM force 0 0 20 } ]
+/// }
+/// \endcode
+///
+/// FILE FORMAT/DEFAULTS (paper symbols in brackets):
+/// \code
+/// SoBSplineDeformSurface {
+///   numUControlPoints 5   numVControlPoints 5     # [N1, N2] free control points, >= 1
+///   uDegree 3             vDegree 3               # [n1, n2] B-spline degree, 1..7
+///   w10 0.1  w01 0.1  w11 0.01  w20 0.01  w02 0.01 # [omega] energy weights, >= 0
+///   massModel NODAL       # NODAL: M = m I (per point) | LUMPED: M = m h1 h2 I (per area)
+///   mass 1                # [m] > 0
+///   damping 0.5           # [c] >= 0, same convention as mass
+///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
+///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark)
+///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
+///   on TRUE               # animate with the real-time clock
+///   speed 1               # simulated seconds per real second
+///   reset                 # trigger: back to the rest state
+///   restNet [ ]           # (N1+2n1)(N2+2n2) points, u-major; empty: the plane (u, v, 0)
+///   controlNet [ ]        # current state; empty: the rest net
+///   previousNet [ ]       # state one sub-step earlier; empty: controlNet (at rest)
+///   simulationTime 0      # [t] simulated time of controlNet
+///   stepCount 0           # steps taken
+///   forces [ ]            # SoForceField engines acting on the surface
+/// }
+/// \endcode
+
+#include <Inventor/fields/SoMFEngine.h>
+#include <Inventor/fields/SoMFVec3d.h>
+#include <Inventor/fields/SoSFBool.h>
+#include <Inventor/fields/SoSFDouble.h>
+#include <Inventor/fields/SoSFEnum.h>
+#include <Inventor/fields/SoSFFloat.h>
+#include <Inventor/fields/SoSFInt32.h>
+#include <Inventor/fields/SoSFTrigger.h>
+#include <Inventor/nodes/SoShape.h>
+#include <Inventor/nodes/SoSubNode.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace bsdeform {
+class Simulation;
+class Force;
+}  // namespace bsdeform
+
+class SoTimerSensor;
+class SoSensor;
+class SoPickedPoint;
+
+class SoBSplineDeformSurface : public SoShape {
+  using inherited = SoShape;
+  SO_NODE_HEADER(SoBSplineDeformSurface);
+
+ public:
+  enum MassModel { NODAL, LUMPED };
+  enum Integrator { EXPLICIT, IMPLICIT };
+  enum Reference { REST, ABSOLUTE };
+
+  static void initClass();
+  SoBSplineDeformSurface();
+
+  SoSFInt32 numUControlPoints;  ///< N1 free control points along u; 5
+  SoSFInt32 numVControlPoints;  ///< N2 free control points along v; 5
+  SoSFInt32 uDegree;            ///< n1, 1..7; 3
+  SoSFInt32 vDegree;            ///< n2, 1..7; 3
+  SoSFDouble w10;               ///< omega_10 stretching along u; 0.1
+  SoSFDouble w01;               ///< omega_01 stretching along v; 0.1
+  SoSFDouble w11;               ///< omega_11 twist; 0.01
+  SoSFDouble w20;               ///< omega_20 bending along u; 0.01
+  SoSFDouble w02;               ///< omega_02 bending along v; 0.01
+  SoSFEnum massModel;           ///< NODAL or LUMPED; NODAL
+  SoSFDouble mass;              ///< m: per control point (NODAL) or per unit area (LUMPED); 1
+  SoSFDouble damping;           ///< c, same convention; 0.5
+  SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
+  SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
+  SoSFEnum reference;           ///< REST or ABSOLUTE; REST
+  SoSFBool on;                  ///< animate with the clock; TRUE
+  SoSFFloat speed;              ///< simulated seconds per real second; 1
+  SoSFTrigger reset;            ///< back to the rest state
+  SoMFVec3d restNet;            ///< rest net, empty for the plane S = (u, v, 0)
+  SoMFVec3d controlNet;         ///< current net (state), empty for the rest net
+  SoMFVec3d previousNet;        ///< net one sub-step before (state), empty for controlNet
+  SoSFDouble simulationTime;    ///< simulated time of controlNet; 0
+  SoSFInt32 stepCount;          ///< steps taken; 0
+  SoMFEngine forces;            ///< SoForceField engines acting on this surface
+
+  /// The simulation built from the fields (rebuilt lazily after field changes); never null.
+  const bsdeform::Simulation& simulation();
+  /// Advances by `steps` steps of Delta t now, whatever `on` says. Returns false on blow-up.
+  bool stepSimulation(int steps = 1);
+  /// Advances by `seconds` of real time (times `speed`) in whole steps of Delta t, keeping the
+  /// remainder for the next call. This is what the clock calls. Returns the steps taken.
+  int advanceRealTime(double seconds);
+  /// Back to the rest state (same as touching `reset`).
+  void resetSimulation();
+  /// Adds / removes a force that is not part of the scene (not written to file), e.g. the
+  /// viewer's mouse spring.
+  void addTransientForce(std::shared_ptr<const bsdeform::Force> force);
+  void removeTransientForce(const bsdeform::Force* force);
+  /// Writes the simulation state into controlNet, previousNet, simulationTime, stepCount.
+  void syncStateFields();
+  /// (u, v) of a picked point on this surface, from its texture coordinates.
+  static bool pickedParameter(const SoPickedPoint* pp, float& u, float& v);
+  /// The last warning (empty if the fields are valid).
+  const std::string& lastWarning() const { return m_lastWarning; }
+
+  void GLRender(SoGLRenderAction* action) override;
+  void rayPick(SoRayPickAction* action) override;
+  void write(SoWriteAction* action) override;
+
+ protected:
+  ~SoBSplineDeformSurface() override;
+  void notify(SoNotList* list) override;
+  SbBool readInstance(SoInput* in, unsigned short flags) override;
+  void generatePrimitives(SoAction* action) override;
+  void computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) override;
+
+ private:
+  struct Tessellation {
+    int segU = 0, segV = 0;
+    std::vector<float> vertices, normals, texCoords;
+    std::vector<unsigned> indices;
+    bool valid = false;
+  };
+
+  void ensureSimulation();
+  bool rebuildSimulation();
+  void updateForces();
+  void warn(const std::string& message);
+  void updateTimer();
+  static void timerCallback(void* data, SoSensor*);
+  void tessellate(SoState* state);
+  int segmentsFor(float complexity, int spans) const;
+
+  std::unique_ptr<bsdeform::Simulation> m_sim;
+  bool m_modelDirty = true;
+  bool m_stateDirty = true;
+  bool m_syncing = false;
+  struct ForceSlot {
+    void* engine = nullptr;
+    int revision = -1;
+    std::shared_ptr<const bsdeform::Force> force;
+  };
+  std::vector<ForceSlot> m_forceSlots;
+  std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
+  std::string m_lastWarning;
+  Tessellation m_tess;
+  SoTimerSensor* m_timer = nullptr;
+  double m_lastTick = -1.0;
+  double m_timeBudget = 0.0;
+};

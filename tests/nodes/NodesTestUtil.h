@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+#include <Inventor/SoDB.h>
+#include <Inventor/SoInput.h>
+#include <Inventor/SoOutput.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/errors/SoDebugError.h>
+#include <Inventor/errors/SoReadError.h>
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <string>
+#include <vector>
+
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace testutil {
+
+/// Initialises Coin and our nodes once and collects Coin warnings and errors.
+struct Coin {
+  std::vector<std::string> messages;
+  static Coin& get() {
+    static Coin c;
+    return c;
+  }
+
+ private:
+  Coin() {
+    bsdeform::disableDynamicNodeLoading();
+    bsdeform::initNodes();
+    SoDebugError::setHandlerCallback(
+        [](const SoError* e, void* data) { static_cast<Coin*>(data)->messages.push_back(e->getDebugString().getString()); },
+        this);
+    SoReadError::setHandlerCallback(
+        [](const SoError* e, void* data) { static_cast<Coin*>(data)->messages.push_back(e->getDebugString().getString()); },
+        this);
+  }
+};
+
+/// Reads a scene from a string (null on failure). The result is ref'ed.
+inline SoSeparator* read(const std::string& text) {
+  Coin::get();
+  SoInput in;
+  in.setBuffer(text.data(), text.size());
+  SoSeparator* root = SoDB::readAll(&in);
+  if (root) root->ref();
+  return root;
+}
+
+inline std::string write(SoNode* root) {
+  SoOutput out;
+  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
+  SoWriteAction wa(&out);
+  wa.apply(root);
+  void* buf = nullptr;
+  size_t size = 0;
+  out.getBuffer(buf, size);
+  return std::string(static_cast<char*>(buf), size);
+}
+
+/// The last object DEF'ed with `name` (engines included).
+template <typename T>
+T* named(const char* name) {
+  return static_cast<T*>(SoBase::getNamedBase(SbName(name), T::getClassTypeId()));
+}
+
+template <typename T>
+T* find(SoNode* root) {
+  SoSearchAction sa;
+  sa.setType(T::getClassTypeId());
+  sa.setInterest(SoSearchAction::FIRST);
+  sa.apply(root);
+  return sa.getPath() ? static_cast<T*>(sa.getPath()->getTail()) : nullptr;
+}
+
+}  // namespace testutil

@@ -1,0 +1,294 @@
+// SPDX-License-Identifier: MIT
+#include <Inventor/SbViewportRegion.h>
+#include <Inventor/SoPickedPoint.h>
+#include <Inventor/actions/SoCallbackAction.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/actions/SoRayPickAction.h>
+#include <Inventor/engines/SoCalculator.h>
+#include <Inventor/nodes/SoComplexity.h>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+
+#include "NodesTestUtil.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoForceField.h"
+
+using testutil::Coin;
+
+namespace {
+const char* kScene = R"IV(#Inventor V2.1 ascii
+Separator {
+  DEF Surf SoBSplineDeformSurface {
+    numUControlPoints 7 numVControlPoints 6 uDegree 3 vDegree 2
+    w10 0.2 w01 0.15 w11 0.02 w20 0.03 w02 0.01
+    massModel NODAL mass 1.5 damping 0.8 timeStep 0.05 integrator EXPLICIT reference REST
+    on FALSE speed 2
+    forces [ DEF F1 SoForceField { type REGION force 0 0 1 magnitude 40 regionMin 0.3 0.2 regionMax 0.7 0.6 },
+             DEF F2 SoForceField { type EXPRESSION expression [ "0", "5*sin(u*pi)", "10*cos(v*pi)*sin(u*pi)" ] },
+             DEF F3 SoForceField { type POINT point 0.25 0.75 force 1 -2 3 } ]
+  }
+}
+)IV";
+
+int countTriangles(SoNode* root) {
+  int count = 0;
+  SoCallbackAction ca;
+  ca.addTriangleCallback(
+      SoBSplineDeformSurface::getClassTypeId(),
+      [](void* data, SoCallbackAction*, const SoPrimitiveVertex*, const SoPrimitiveVertex*, const SoPrimitiveVertex*) {
+        ++*static_cast<int*>(data);
+      },
+      &count);
+  ca.apply(root);
+  return count;
+}
+}  // namespace
+
+TEST_CASE("SoBSplineDeformSurface: a scene reads without warnings and write-read-write is identical", "[nodes]") {
+  Coin::get().messages.clear();
+  SoSeparator* root = testutil::read(kScene);
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  REQUIRE(s);
+  CHECK(s->numUControlPoints.getValue() == 7);
+  CHECK(s->vDegree.getValue() == 2);
+  CHECK(s->w11.getValue() == 0.02);
+  CHECK(s->forces.getNum() == 3);
+  CHECK(s->simulation().parameters().numU == 7);
+  CHECK(s->simulation().forces().size() == 0);  // built on the first step
+  s->stepSimulation(3);
+  CHECK(s->simulation().forces().size() == 3);
+  CHECK(s->simulation().stepCount() == 3);
+  const std::string w1 = testutil::write(root);
+  SoSeparator* again = testutil::read(w1);
+  REQUIRE(again);
+  const std::string w2 = testutil::write(again);
+  CHECK(w1 == w2);
+  CHECK(Coin::get().messages.empty());
+  // the state survives the trip
+  auto* s2 = testutil::find<SoBSplineDeformSurface>(again);
+  CHECK(s2->simulation().stepCount() == 3);
+  CHECK((s2->simulation().current() - s->simulation().current()).cwiseAbs().maxCoeff() < 1e-14);
+  root->unref();
+  again->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: resuming from a saved file follows the uninterrupted trajectory", "[nodes]") {
+  for (const char* integ : {"EXPLICIT", "IMPLICIT"}) {
+    std::string scene = kScene;
+    scene.replace(scene.find("EXPLICIT"), 8, integ);
+    SoSeparator* a = testutil::read(scene);
+    REQUIRE(a);
+    auto* sa = testutil::find<SoBSplineDeformSurface>(a);
+    sa->stepSimulation(40);
+    SoSeparator* b = testutil::read(testutil::write(a));  // save, reload
+    REQUIRE(b);
+    auto* sb = testutil::find<SoBSplineDeformSurface>(b);
+    sa->stepSimulation(60);
+    sb->stepSimulation(60);
+    INFO(integ);
+    CHECK(sb->simulation().time() == Approx(sa->simulation().time()));
+    CHECK(sa->simulation().deformationNorm() > 0.01);
+    CHECK((sb->simulation().current() - sa->simulation().current()).cwiseAbs().maxCoeff() < 1e-12);
+    a->unref();
+    b->unref();
+  }
+}
+
+TEST_CASE("SoBSplineDeformSurface: bounding box, triangle count and SoComplexity", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
+  REQUIRE(root);
+  SoGetBoundingBoxAction bba(SbViewportRegion(100, 100));
+  bba.apply(root);
+  const SbBox3f box = bba.getBoundingBox();
+  CHECK(box.getMin()[0] == Approx(0.0).margin(1e-6));
+  CHECK(box.getMax()[1] == Approx(1.0).margin(1e-6));
+  CHECK(box.getMax()[2] == Approx(0.0).margin(1e-6));
+  // default complexity 0.5: round(8 spans * 2.25) = 18 segments per side
+  CHECK(countTriangles(root) == 2 * 18 * 18);
+  auto* cx = new SoComplexity;
+  cx->value = 1.0f;
+  root->insertChild(cx, 0);
+  CHECK(countTriangles(root) == 2 * 32 * 32);  // 8 spans * 4
+  cx->value = 0.0f;
+  CHECK(countTriangles(root) == 2 * 4 * 4);
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: picking reports the (u, v) under the ray", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
+  REQUIRE(root);
+  for (auto uv : {SbVec2f(0.3f, 0.7f), SbVec2f(0.81f, 0.12f)}) {
+    SoRayPickAction rp(SbViewportRegion(100, 100));
+    rp.setRay(SbVec3f(uv[0], uv[1], 5.0f), SbVec3f(0, 0, -1));
+    rp.apply(root);
+    const SoPickedPoint* pp = rp.getPickedPoint();
+    REQUIRE(pp);
+    float u = -1, v = -1;
+    REQUIRE(SoBSplineDeformSurface::pickedParameter(pp, u, v));
+    CHECK(u == Approx(uv[0]).margin(1e-5));  // the rest surface is S(u,v) = (u, v, 0)
+    CHECK(v == Approx(uv[1]).margin(1e-5));
+  }
+  root->unref();
+}
+
+TEST_CASE("SoForceField: a uniform force settles to the core solver's static deflection", "[nodes]") {
+  SoSeparator* root = testutil::read(R"(#Inventor V2.1 ascii
+Separator { SoBSplineDeformSurface { numUControlPoints 6 numVControlPoints 6 damping 2 on FALSE
+  forces SoForceField { type UNIFORM force 0 0 1 magnitude 20 } } })");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  s->stepSimulation(3000);
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = 6;
+  p.damping = 2;
+  bsdeform::Simulation ref(p);
+  ref.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 20)));
+  const bsdeform::ControlNet eq = ref.staticSolution();
+  CHECK((s->simulation().current() - eq).cwiseAbs().maxCoeff() < 1e-8);
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() > 1.0);
+  root->unref();
+}
+
+TEST_CASE("SoForceField: every force type moves the surface the expected way", "[nodes]") {
+  struct Case {
+    const char* force;
+    double dz;  // expected sign of the centre's z displacement (0: check x instead)
+  } cases[] = {
+      {"type UNIFORM force 0 0 -1 magnitude 5", -1},
+      {"type POINT point 0.5 0.5 force 0 0 1 magnitude 0.5", +1},
+      {"type REGION force 0 0 1 magnitude 30 regionMin 0.4 0.4 regionMax 0.6 0.6", +1},
+      {"type EXPRESSION expression [ \"0\", \"0\", \"-10*sin(u*pi)*sin(v*pi)\" ]", -1},
+      {"type GRAVITY force 0 0 -9.81", -1},
+      {"type SPRING point 0.5 0.5 anchor 0.5 0.5 2 stiffness 2", +1},
+      {"type PRESSURE magnitude 3", +1},
+      {"type PLANE_COLLISION center 0 0 0.2 normal 0 0 1 stiffness 50", +1},
+      {"type SPHERE_COLLISION center 0.5 0.5 -0.2 radius 0.4 stiffness 50", +1},
+  };
+  for (const Case& c : cases) {
+    const std::string scene = std::string("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { numUControlPoints 8 "
+                                          "numVControlPoints 8 damping 2 on FALSE forces SoForceField { ") +
+                              c.force + " } } }";
+    Coin::get().messages.clear();
+    SoSeparator* root = testutil::read(scene);
+    REQUIRE(root);
+    auto* s = testutil::find<SoBSplineDeformSurface>(root);
+    s->stepSimulation(200);
+    INFO(c.force);
+    CHECK(Coin::get().messages.empty());
+    CHECK(s->simulation().status() == bsdeform::Status::Ok);
+    const double z = s->simulation().evaluate(0.5, 0.5).position.z();
+    CHECK(z * c.dz > 1e-3);
+    root->unref();
+  }
+  // drag only damps: with an initial push it slows the surface down faster than without
+  auto kinetic = [](const char* extra) {
+    const std::string scene = std::string("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { damping 0 on FALSE "
+                                          "forces [ DEF P SoForceField { type UNIFORM force 0 0 10 } ") +
+                              extra + " ] } }";
+    SoSeparator* root = testutil::read(scene);
+    auto* s = testutil::find<SoBSplineDeformSurface>(root);
+    s->stepSimulation(10);
+    testutil::named<SoForceField>("P")->on = FALSE;
+    s->stepSimulation(30);
+    const double k = s->simulation().kineticEnergy() + s->simulation().strainEnergy().total;
+    root->unref();
+    return k;
+  };
+  CHECK(kinetic(", SoForceField { type DRAG coefficient 50 }") < 0.5 * kinetic(""));
+}
+
+TEST_CASE("SoForceField: field changes and engine connections take effect on the next step", "[nodes]") {
+  SoSeparator* root = testutil::read(R"(#Inventor V2.1 ascii
+Separator {
+  SoBSplineDeformSurface { on FALSE damping 3
+    forces DEF F SoForceField { type UNIFORM force 0 0 1
+      magnitude 0 = DEF C Calculator { a 0 expression "oa = a * 2" } . oa } } })");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  s->stepSimulation(20);
+  CHECK(s->simulation().deformationNorm() == 0.0);
+  auto* calc = testutil::named<SoCalculator>("C");
+  REQUIRE(calc);
+  calc->a.setValue(5.0f);  // magnitude becomes 10 through the connection
+  s->stepSimulation(20);
+  const double n1 = s->simulation().deformationNorm();
+  CHECK(n1 > 0.0);
+  auto* f = testutil::named<SoForceField>("F");
+  REQUIRE(f);
+  f->force.setValue(0, 0, -1);  // flip: moves back down
+  s->stepSimulation(200);
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() < 0.0);
+  // writing keeps the connection
+  const std::string text = testutil::write(root);
+  CHECK(text.find("DEF C Calculator") != std::string::npos);
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: bad values warn once, name node and field, and keep the last state", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF Bad SoBSplineDeformSurface { on FALSE "
+                                     "forces DEF G SoForceField { type UNIFORM force 0 0 5 } } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  s->stepSimulation(10);
+  const bsdeform::ControlNet before = s->simulation().current();
+  Coin::get().messages.clear();
+  s->uDegree = 0;
+  s->stepSimulation(1);
+  REQUIRE(Coin::get().messages.size() == 1);
+  CHECK(Coin::get().messages[0].find("'Bad'") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("uDegree") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("got 0") != std::string::npos);
+  CHECK(s->simulation().parameters().degreeU == 3);
+  CHECK(s->simulation().stepCount() == 11);  // still running on the last valid model
+  s->stepSimulation(1);
+  CHECK(Coin::get().messages.size() == 1);  // not repeated
+  for (auto set : {+[](SoBSplineDeformSurface* n) { n->timeStep = -1.0; }, +[](SoBSplineDeformSurface* n) { n->mass = NAN; },
+                   +[](SoBSplineDeformSurface* n) { n->numVControlPoints = 0; }}) {
+    s->uDegree = 3;
+    s->stepSimulation(1);
+    Coin::get().messages.clear();
+    set(s);
+    s->stepSimulation(1);
+    CHECK(Coin::get().messages.size() == 1);
+  }
+  // an expression that does not parse: warning with its position, the old force stays
+  s->timeStep = 0.1;
+  s->mass = 1.0;
+  s->numVControlPoints = 5;
+  s->stepSimulation(1);
+  Coin::get().messages.clear();
+  auto* g = testutil::named<SoForceField>("G");
+  g->type = SoForceField::EXPRESSION;
+  g->expression.set1Value(2, "3*sin(u*pi");
+  s->stepSimulation(1);
+  REQUIRE(Coin::get().messages.size() == 1);
+  CHECK(Coin::get().messages[0].find("expression") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("position") != std::string::npos);
+  CHECK(s->simulation().forces().size() == 1);
+  (void)before;
+  root->unref();
+  // a scene with a bad enum still loads the rest
+  Coin::get().messages.clear();
+  SoSeparator* r2 = testutil::read("#Inventor V2.1 ascii\nSeparator { Cube {} SoBSplineDeformSurface { integrator BOGUS } }");
+  CHECK(r2 == nullptr);
+  CHECK(!Coin::get().messages.empty());
+}
+
+TEST_CASE("SoBSplineDeformSurface: real time advances in whole steps, scaled by speed, with on and reset", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE timeStep 0.1 "
+                                     "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK(s->advanceRealTime(0.25) == 2);  // 0.25 s: two whole steps, 0.05 s kept
+  CHECK(s->advanceRealTime(0.05) == 1);  // 0.05 + 0.05 = one more
+  CHECK(s->simulation().stepCount() == 3);
+  s->speed = 2.0f;
+  CHECK(s->advanceRealTime(0.2) == 4);
+  CHECK(s->advanceRealTime(10.0) == 5);  // a stalled frame is capped at 0.25 s
+  CHECK(s->simulation().time() == Approx(1.2));
+  s->reset.touch();
+  CHECK(s->simulation().stepCount() == 0);
+  CHECK(s->simulation().deformationNorm() == 0.0);
+  root->unref();
+}
