@@ -9,7 +9,7 @@ BSDEFORM_BUILD="${BSDEFORM_BUILD:-$BSDEFORM_ROOT/build}"
 BSDEFORM_PACKAGES=(
   cmake g++ make ccache pkg-config
   libeigen3-dev catch2 libbenchmark-dev
-  libcoin-dev libmuparser-dev libgl-dev libegl-dev
+  libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
 )
 
 bsdeform_install_packages() {
