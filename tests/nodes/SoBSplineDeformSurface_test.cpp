@@ -5,6 +5,8 @@
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/actions/SoRayPickAction.h>
 #include <Inventor/engines/SoCalculator.h>
+#include <Inventor/SbTime.h>
+#include <Inventor/sensors/SoSensorManager.h>
 #include <Inventor/nodes/SoComplexity.h>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -269,11 +271,108 @@ TEST_CASE("SoBSplineDeformSurface: bad values warn once, name node and field, an
   CHECK(s->simulation().forces().size() == 1);
   (void)before;
   root->unref();
-  // a scene with a bad enum still loads the rest
+  // a scene with a bad value still loads the rest; the node warns and draws the default model
   Coin::get().messages.clear();
-  SoSeparator* r2 = testutil::read("#Inventor V2.1 ascii\nSeparator { Cube {} SoBSplineDeformSurface { integrator BOGUS } }");
-  CHECK(r2 == nullptr);
-  CHECK(!Coin::get().messages.empty());
+  SoSeparator* r2 = testutil::read("#Inventor V2.1 ascii\nSeparator { Cube {} DEF B2 SoBSplineDeformSurface { "
+                                   "uDegree 0 timeStep -1 } Sphere {} }");
+  REQUIRE(r2);
+  CHECK(r2->getNumChildren() == 3);
+  SoGetBoundingBoxAction bba(SbViewportRegion(100, 100));
+  bba.apply(r2);  // computeBBox of the bad node: no throw, a warning
+  REQUIRE(Coin::get().messages.size() == 1);
+  CHECK(Coin::get().messages[0].find("'B2'") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("uDegree") != std::string::npos);
+  r2->unref();
+  // an unknown enumeration name is a Coin parse error of the file, naming the field
+  Coin::get().messages.clear();
+  CHECK(testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { integrator BOGUS } }") == nullptr);
+  REQUIRE(!Coin::get().messages.empty());
+  CHECK(Coin::get().messages[0].find("BOGUS") != std::string::npos);
+}
+
+TEST_CASE("SoBSplineDeformSurface: every field of both classes round-trips with non-default values", "[nodes]") {
+  // a non-planar rest net for numU = numV = 2, degrees (2, 1): (2 + 4) x (2 + 2) = 24 points
+  std::string rest;
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 4; ++j)
+      rest += std::to_string(0.25 * i - 0.5) + " " + std::to_string(j / 3.0) + " " + std::to_string(0.1 * i * j) + ", ";
+  const std::string scene = "#Inventor V2.1 ascii\nSeparator { DEF S SoBSplineDeformSurface {\n"
+      "numUControlPoints 2 numVControlPoints 2 uDegree 2 vDegree 1 w10 0.3 w01 0.4 w11 0.05 w20 0.06 w02 0.07\n"
+      "massModel LUMPED mass 30 damping 2.5 timeStep 0.02 integrator IMPLICIT reference ABSOLUTE on FALSE speed 0.5\n"
+      "restNet [ " + rest + " ]\n"
+      "forces [ SoForceField { type SPRING on FALSE force 1 2 3 magnitude 2 point 0.1 0.9 regionMin 0.1 0.2 "
+      "regionMax 0.8 0.9 expression [ \"u\", \"v\", \"t\" ] anchor 1 2 3 center 4 5 6 normal 0 1 0 radius 0.5 "
+      "stiffness 7 coefficient 8 } ] } }";
+  Coin::get().messages.clear();
+  SoSeparator* a = testutil::read(scene);
+  REQUIRE(a);
+  auto* s = testutil::find<SoBSplineDeformSurface>(a);
+  s->stepSimulation(5);
+  CHECK(Coin::get().messages.empty());
+  const std::string w1 = testutil::write(a);
+  SoSeparator* b = testutil::read(w1);
+  REQUIRE(b);
+  CHECK(testutil::write(b) == w1);
+  auto* t = testutil::find<SoBSplineDeformSurface>(b);
+  const bsdeform::ModelParameters& p = t->simulation().parameters();
+  CHECK(p.degreeU == 2);
+  CHECK(p.degreeV == 1);
+  CHECK(p.weights.w02 == 0.07);
+  CHECK(p.massModel == bsdeform::MassModel::Lumped);
+  CHECK(p.mass == 30.0);
+  CHECK(p.timeStep == 0.02);
+  CHECK(p.integrator == bsdeform::Integrator::Implicit);
+  CHECK(p.reference == bsdeform::ElasticReference::Absolute);
+  CHECK(t->speed.getValue() == 0.5f);
+  CHECK(t->simulation().rest()(23, 2) == Approx(0.1 * 5 * 3));
+  CHECK(t->simulation().stepCount() == 5);
+  auto* f = static_cast<SoForceField*>(t->forces[0]);
+  CHECK(f->type.getValue() == SoForceField::SPRING);
+  CHECK(f->on.getValue() == FALSE);
+  CHECK(f->expression[2] == "t");
+  CHECK(f->coefficient.getValue() == 8.0f);
+  CHECK(f->normal.getValue() == SbVec3f(0, 1, 0));
+  for (const char* word : {"regionMin", "regionMax", "anchor", "center", "radius", "stiffness", "magnitude", "point"})
+    CHECK(w1.find(word) != std::string::npos);
+  a->unref();
+  b->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: Coin's timer queue animates the node; transient forces act", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { timeStep 0.01 speed 1 "
+                                     "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  // what any Coin viewer does: process the timer queue as time passes
+  for (int i = 0; i < 6; ++i) {
+    const SbTime until = SbTime::getTimeOfDay() + SbTime(0.03);
+    while (SbTime::getTimeOfDay() < until) {
+    }
+    SoDB::getSensorManager()->processTimerQueue();
+  }
+  const long steps = s->simulation().stepCount();
+  CHECK(steps >= 10);   // ~0.15 s of real time at 0.01 s per step
+  CHECK(steps <= 40);
+  s->on = FALSE;        // pauses
+  const SbTime until = SbTime::getTimeOfDay() + SbTime(0.05);
+  while (SbTime::getTimeOfDay() < until) {
+  }
+  SoDB::getSensorManager()->processTimerQueue();
+  CHECK(s->simulation().stepCount() == steps);
+  // a transient spring (the viewer's mouse drag) pulls a point towards its anchor
+  s->resetSimulation();
+  auto spring = std::make_shared<bsdeform::PointForce>(
+      0.3, 0.3, [](const bsdeform::SurfaceSample& p) { return Eigen::Vector3d(5.0 * (Eigen::Vector3d(0.3, 0.3, -1) - p.position)); },
+      bsdeform::kDependsOnPosition, 5.0);
+  s->addTransientForce(spring);
+  s->stepSimulation(300);
+  const double z = s->simulation().evaluate(0.3, 0.3).position.z();
+  s->removeTransientForce(spring.get());
+  s->stepSimulation(600);
+  const double zAfter = s->simulation().evaluate(0.3, 0.3).position.z();
+  CHECK(z < zAfter);  // pulled down while held, back up under the uniform force when released
+  CHECK(testutil::write(root).find("PointForce") == std::string::npos);
+  root->unref();
 }
 
 TEST_CASE("SoBSplineDeformSurface: real time advances in whole steps, scaled by speed, with on and reset", "[nodes]") {

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: MIT
+// Time per frame of SoBSplineDeformSurface drawn offscreen (800 x 600, EGL pbuffer, Mesa
+// llvmpipe, read-back included), default complexity, for N x N free control points.
+//   DrawStatic/<N>    the same deformed surface redrawn (tessellation cached)
+//   DrawAnimated/<N>  one simulation step + re-tessellation + draw per frame
+#include <Inventor/SbViewportRegion.h>
+#include <Inventor/SoDB.h>
+#include <Inventor/SoInput.h>
+#include <Inventor/SoOffscreenRenderer.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/nodes/SoDirectionalLight.h>
+#include <Inventor/nodes/SoPerspectiveCamera.h>
+#include <Inventor/nodes/SoSeparator.h>
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace {
+
+struct Scene {
+  SoSeparator* root = nullptr;
+  SoBSplineDeformSurface* surface = nullptr;
+};
+
+Scene makeScene(int N) {
+  bsdeform::disableDynamicNodeLoading();
+  bsdeform::initNodes();
+  const std::string text = "#Inventor V2.1 ascii\nSeparator { PerspectiveCamera { position 0.5 -1.2 1.6 "
+                           "orientation 1 0 0 0.65 } DirectionalLight {} Material { diffuseColor 0.9 0.5 0.2 } "
+                           "SoBSplineDeformSurface { on FALSE damping 1 numUControlPoints " +
+                           std::to_string(N) + " numVControlPoints " + std::to_string(N) +
+                           " forces SoForceField { type REGION force 0 0 1 magnitude 60 } } }";
+  SoInput in;
+  in.setBuffer(text.data(), text.size());
+  Scene s;
+  s.root = SoDB::readAll(&in);
+  s.root->ref();
+  SoSearchAction sa;
+  sa.setType(SoBSplineDeformSurface::getClassTypeId());
+  sa.apply(s.root);
+  s.surface = static_cast<SoBSplineDeformSurface*>(sa.getPath()->getTail());
+  s.surface->stepSimulation(20);
+  return s;
+}
+
+void draw(benchmark::State& state, bool animate) {
+  std::string error;
+  if (!bsdeform::installEglOffscreenContexts(&error)) {
+    state.SkipWithError(error.c_str());
+    return;
+  }
+  Scene s = makeScene(static_cast<int>(state.range(0)));
+  SoOffscreenRenderer renderer(SbViewportRegion(800, 600));
+  renderer.render(s.root);  // context creation and first-frame set-up are not measured
+  for (auto _ : state) {
+    if (animate) s.surface->stepSimulation(1);
+    renderer.render(s.root);
+    benchmark::DoNotOptimize(renderer.getBuffer());
+  }
+  state.counters["frames/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+  s.root->unref();
+}
+
+void DrawStatic(benchmark::State& state) { draw(state, false); }
+void DrawAnimated(benchmark::State& state) { draw(state, true); }
+
+}  // namespace
+
+BENCHMARK(DrawStatic)->Arg(16)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(DrawAnimated)->Arg(16)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+BENCHMARK_MAIN();
