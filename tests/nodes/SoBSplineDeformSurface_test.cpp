@@ -390,4 +390,40 @@ TEST_CASE("SoBSplineDeformSurface: real time advances in whole steps, scaled by 
   CHECK(s->simulation().stepCount() == 0);
   CHECK(s->simulation().deformationNorm() == 0.0);
   root->unref();
+  // In a file a trigger is driven by a connection (Coin ignores a bare `reset` when reading):
+  // here a Calculator output; any change of it resets the surface.
+  SoSeparator* wired = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE "
+                                      "reset = DEF R Calculator { a 0 expression \"oa = a\" } . oa "
+                                      "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  REQUIRE(wired);
+  auto* w = testutil::find<SoBSplineDeformSurface>(wired);
+  w->stepSimulation(5);
+  CHECK(w->simulation().stepCount() == 5);
+  testutil::named<SoCalculator>("R")->a.setValue(1.0f);
+  CHECK(w->simulation().stepCount() == 0);
+  CHECK(w->simulation().deformationNorm() == 0.0);
+  wired->unref();
+}
+
+TEST_CASE("SoForceField: one force field (DEF/USE) acts on two surfaces", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF A SoBSplineDeformSurface { on FALSE "
+                                     "forces DEF Shared SoForceField { type UNIFORM force 0 0 4 } } "
+                                     "DEF B SoBSplineDeformSurface { on FALSE numUControlPoints 7 forces USE Shared } }");
+  REQUIRE(root);
+  auto* a = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("A"));
+  auto* b = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("B"));
+  REQUIRE((a && b));
+  CHECK(a->forces[0] == b->forces[0]);
+  a->stepSimulation(10);
+  b->stepSimulation(10);
+  CHECK(a->simulation().evaluate(0.5, 0.5).position.z() > 0.0);
+  CHECK(b->simulation().evaluate(0.5, 0.5).position.z() > 0.0);
+  testutil::named<SoForceField>("Shared")->force.setValue(0, 0, -40);  // both feel the change
+  a->stepSimulation(100);
+  b->stepSimulation(100);
+  CHECK(a->simulation().evaluate(0.5, 0.5).position.z() < 0.0);
+  CHECK(b->simulation().evaluate(0.5, 0.5).position.z() < 0.0);
+  const std::string text = testutil::write(root);
+  CHECK(text.find("USE Shared") != std::string::npos);
+  root->unref();
 }
