@@ -243,11 +243,6 @@ void SoBSplineDeformSurface::updateForces() {
       continue;
     }
     auto* ff = static_cast<SoForceField*>(e);
-    // Reading every input evaluates connections (e.g. magnitude driven by an engine), which
-    // bumps the revision if a value changed.
-    for (SoField* f : {static_cast<SoField*>(&ff->magnitude), static_cast<SoField*>(&ff->force),
-                       static_cast<SoField*>(&ff->on), static_cast<SoField*>(&ff->anchor)})
-      f->evaluate();
     if (slot.engine == ff && slot.revision == ff->getRevision()) continue;
     std::string error;
     auto force = ff->makeForce(info, error);
