@@ -1,0 +1,534 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-run: step an .iv scene without a window and write results, plots and images.
+// See `bsdeform-run --help` and README.md. Exit codes: 0 success, 2 bad input (usage, files,
+// names, values, output paths), 3 a simulation blew up (outputs up to that point are written),
+// 1 an unexpected internal error.
+#include <Inventor/SoDB.h>
+#include <Inventor/SoInput.h>
+#include <Inventor/SoOutput.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/errors/SoDebugError.h>
+#include <Inventor/errors/SoReadError.h>
+#include <Inventor/nodes/SoSeparator.h>
+#include <unistd.h>
+
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QDir>
+#include <QElapsedTimer>
+#include <QFileInfo>
+#include <QProcess>
+#include <QSaveFile>
+#include <QThread>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "Plot.h"
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace {
+
+enum ExitCode { kOk = 0, kInternal = 1, kBadInput = 2, kBlowUp = 3 };
+
+struct Failure {
+  ExitCode code;
+  QString message;
+};
+
+QStringList g_coinMessages;
+
+void collectCoinMessage(const SoError* e, void*) { g_coinMessages << QString::fromUtf8(e->getDebugString().getString()); }
+
+QString num(double x) { return QString::number(x, 'g', 17); }
+
+struct Surface {
+  QString name;
+  SoBSplineDeformSurface* node = nullptr;
+  QString csv;
+  QVector<double> t, norm, kinetic, strain;
+  bool failed = false;
+};
+
+struct Options {
+  QString scene;
+  long steps = 100;
+  double until = -1.0;
+  QString outDir;
+  bool overwrite = false;
+  int pngEvery = 0;
+  QVector<double> pngAt;
+  int width = 640, height = 480;
+  QStringList sets;
+  QString sweep;
+  bool plot = false;
+  bool quiet = false;
+  bool resultOnly = false;  // internal: a sweep child prints RESULT lines and writes nothing
+};
+
+// ------------------------------------------------------------------------------------------
+
+Failure loadScene(const QString& path, SoSeparator*& root) {
+  if (!QFileInfo(path).isFile()) return {kBadInput, QStringLiteral("cannot open scene '%1': no such file").arg(path)};
+  SoInput in;
+  if (!in.openFile(QFile::encodeName(path).constData()))
+    return {kBadInput, QStringLiteral("cannot open scene '%1'").arg(path)};
+  g_coinMessages.clear();
+  root = SoDB::readAll(&in);
+  if (!root)
+    return {kBadInput, QStringLiteral("cannot read scene '%1': %2").arg(path, g_coinMessages.join(QStringLiteral("; ")))};
+  root->ref();
+  return {kOk, {}};
+}
+
+// NAME.field=value -> sets the field of the object DEF'ed as NAME.
+Failure applySet(const QString& spec) {
+  const int eq = spec.indexOf(QLatin1Char('='));
+  const int dot = eq > 0 ? spec.lastIndexOf(QLatin1Char('.'), eq) : -1;
+  if (eq <= 0 || dot <= 0 || dot + 1 >= eq)
+    return {kBadInput, QStringLiteral("--set '%1': expected NAME.field=value").arg(spec)};
+  const QString name = spec.left(dot), field = spec.mid(dot + 1, eq - dot - 1), value = spec.mid(eq + 1);
+  SoBase* base = SoBase::getNamedBase(SbName(name.toUtf8().constData()), SoFieldContainer::getClassTypeId());
+  if (!base) return {kBadInput, QStringLiteral("--set '%1': no node or engine is DEF'ed as '%2' in the scene").arg(spec, name)};
+  auto* fc = static_cast<SoFieldContainer*>(base);
+  SoField* f = fc->getField(SbName(field.toUtf8().constData()));
+  if (!f) return {kBadInput, QStringLiteral("--set '%1': '%2' has no field '%3'").arg(spec, name, field)};
+  g_coinMessages.clear();
+  if (!f->set(value.toUtf8().constData()))
+    return {kBadInput, QStringLiteral("--set '%1': '%2' is not a valid value for field %3.%4 (%5)")
+                           .arg(spec, value, name, field, QString::fromLatin1(f->getTypeId().getName().getString()))};
+  return {kOk, {}};
+}
+
+QVector<Surface> findSurfaces(SoNode* root) {
+  SoSearchAction sa;
+  sa.setType(SoBSplineDeformSurface::getClassTypeId());
+  sa.setInterest(SoSearchAction::ALL);
+  sa.apply(root);
+  QVector<Surface> out;
+  std::map<SoNode*, bool> seen;
+  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
+    auto* node = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
+    if (seen[node]) continue;  // the same node USEd twice is one surface
+    seen[node] = true;
+    Surface s;
+    s.node = node;
+    const SbName n = node->getName();
+    s.name = n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("surface%1").arg(out.size());
+    out.push_back(s);
+  }
+  return out;
+}
+
+void record(Surface& s) {
+  const bsdeform::Simulation& sim = s.node->simulation();
+  const bsdeform::StrainEnergy e = sim.strainEnergy();
+  if (s.csv.isEmpty())
+    s.csv = QStringLiteral("time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps\n");
+  s.csv += QStringList{num(sim.time()), QString::number(sim.stepCount()), num(sim.deformationNorm()), num(sim.kineticEnergy()),
+                       num(e.total), num(e.w10), num(e.w01), num(e.w11), num(e.w20), num(e.w02),
+                       QString::number(sim.subSteps())}
+               .join(QLatin1Char(',')) +
+           QLatin1Char('\n');
+  s.t << sim.time();
+  s.norm << sim.deformationNorm();
+  s.kinetic << sim.kineticEnergy();
+  s.strain << e.total;
+}
+
+bool writeText(const QString& path, const QByteArray& data, QString& error) {
+  QSaveFile f(path);
+  if (!f.open(QIODevice::WriteOnly) || f.write(data) != data.size() || !f.commit()) {
+    error = QStringLiteral("cannot write '%1': %2").arg(path, f.errorString());
+    return false;
+  }
+  return true;
+}
+
+bool writeScene(SoNode* root, const QString& path, QString& error) {
+  SoOutput out;
+  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
+  SoWriteAction wa(&out);
+  wa.apply(root);
+  void* buf = nullptr;
+  size_t size = 0;
+  out.getBuffer(buf, size);
+  return writeText(path, QByteArray(static_cast<const char*>(buf), int(size)), error);
+}
+
+Failure prepareOutDir(const Options& o) {
+  QDir dir(o.outDir);
+  if (dir.exists() && !dir.isEmpty() && !o.overwrite)
+    return {kBadInput, QStringLiteral("output directory '%1' is not empty; nothing was written (use --overwrite to replace "
+                                      "its files)").arg(o.outDir)};
+  if (!QDir().mkpath(o.outDir)) return {kBadInput, QStringLiteral("cannot create output directory '%1'").arg(o.outDir)};
+  QFile probe(dir.filePath(QStringLiteral(".bsdeform-write-test")));
+  if (!probe.open(QIODevice::WriteOnly)) return {kBadInput, QStringLiteral("output directory '%1' is not writable").arg(o.outDir)};
+  probe.close();
+  probe.remove();
+  return {kOk, {}};
+}
+
+void progress(const Options& o, long frame, long frames, double t) {
+  static bool tty = isatty(STDERR_FILENO);
+  if (!tty || o.quiet || o.resultOnly || frames <= 0) return;
+  static int last = -1;
+  const int pct = int(100.0 * frame / frames);
+  if (pct == last && frame != frames) return;
+  last = pct;
+  const int filled = pct / 4;
+  std::fprintf(stderr, "\r[%s%s] %3d%%  t = %.4g", std::string(filled, '#').c_str(), std::string(25 - filled, '.').c_str(),
+               pct, t);
+  if (frame == frames) std::fprintf(stderr, "\n");
+}
+
+// ------------------------------------------------------------------------------------------
+// One run of the scene (possibly a sweep child).
+
+Failure runScene(const Options& o) {
+  SoSeparator* root = nullptr;
+  Failure f = loadScene(o.scene, root);
+  if (f.code != kOk) return f;
+  for (const QString& s : o.sets) {
+    f = applySet(s);
+    if (f.code != kOk) return f;
+  }
+  QVector<Surface> surfaces = findSurfaces(root);
+  if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
+  // Build every model and force now: bad values show up as warnings before anything runs.
+  g_coinMessages.clear();
+  double dtMin = INFINITY;
+  for (Surface& s : surfaces) {
+    s.node->on = FALSE;  // the runner drives time itself
+    s.node->stepSimulation(0);
+    dtMin = std::min(dtMin, s.node->simulation().parameters().timeStep);
+  }
+  if (!g_coinMessages.isEmpty())
+    return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, g_coinMessages.join(QStringLiteral("; ")))};
+
+  const long frames = o.until >= 0 ? long(std::llround(o.until / dtMin)) : o.steps;
+  if (!o.resultOnly) {
+    f = prepareOutDir(o);
+    if (f.code != kOk) return f;
+  }
+  QDir out(o.outDir);
+  QStringList written;
+  QString error;
+  auto image = [&](long frame) -> Failure {
+    bsdeform::Image img;
+    std::string err;
+    if (!bsdeform::renderOffscreen(root, o.width, o.height, img, err))
+      return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
+    const QString path = out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
+    if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err))
+      return {kBadInput, QString::fromStdString(err)};
+    written << path;
+    return {kOk, {}};
+  };
+  QVector<long> imageFrames;
+  for (double t : o.pngAt) imageFrames << long(std::llround(t / dtMin));
+
+  QElapsedTimer timer;
+  timer.start();
+  bool blewUp = false;
+  for (Surface& s : surfaces) record(s);
+  for (long frame = 0; frame <= frames; ++frame) {
+    if (frame > 0) {
+      const double globalTime = frame * dtMin;
+      for (Surface& s : surfaces) {
+        if (s.failed) continue;
+        const double dt = s.node->simulation().parameters().timeStep;
+        while (!s.failed && s.node->simulation().time() + 0.5 * dt <= globalTime) {
+          if (!s.node->stepSimulation(1)) {
+            s.failed = blewUp = true;
+          }
+          record(s);
+        }
+      }
+    }
+    if (!o.resultOnly && ((o.pngEvery > 0 && frame % o.pngEvery == 0) || imageFrames.contains(frame))) {
+      f = image(frame);
+      if (f.code != kOk) return f;
+    }
+    progress(o, frame, frames, frame * dtMin);
+    if (blewUp) break;
+  }
+  const double seconds = timer.elapsed() / 1000.0;
+
+  if (o.resultOnly) {
+    for (const Surface& s : surfaces) {
+      const bsdeform::Simulation& sim = s.node->simulation();
+      std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", s.name.toUtf8().constData(), num(sim.deformationNorm()).toUtf8().constData(),
+                  num(sim.kineticEnergy()).toUtf8().constData(), num(sim.strainEnergy().total).toUtf8().constData(),
+                  sim.status() == bsdeform::Status::Ok ? "ok" : "blew-up");
+    }
+    root->unref();
+    return {blewUp ? kBlowUp : kOk, {}};
+  }
+
+  for (const Surface& s : surfaces) {
+    const QString path = out.filePath(s.name + QStringLiteral(".csv"));
+    if (!writeText(path, s.csv.toUtf8(), error)) return {kBadInput, error};
+    written << path;
+    if (o.plot) {
+      const QString plotPath = out.filePath(s.name + QStringLiteral("_history.png"));
+      QString perr;
+      if (!bsdeform::writePlotPng(plotPath, s.name + QStringLiteral(": deformation over time"), QStringLiteral("time"),
+                                  QStringLiteral("value"),
+                                  {{QStringLiteral("norm (eq. 15)"), s.t, s.norm},
+                                   {QStringLiteral("kinetic energy"), s.t, s.kinetic},
+                                   {QStringLiteral("strain energy"), s.t, s.strain}},
+                                  800, 500, perr))
+        return {kBadInput, perr};
+      written << plotPath;
+    }
+  }
+  const QString ivPath = out.filePath(QStringLiteral("final.iv"));
+  if (!writeScene(root, ivPath, error)) return {kBadInput, error};
+  written << ivPath;
+
+  if (!o.quiet) {
+    std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", o.scene.toUtf8().constData(), frames, dtMin, seconds);
+    for (const Surface& s : surfaces) {
+      const bsdeform::Simulation& sim = s.node->simulation();
+      const bsdeform::ModelParameters& p = sim.parameters();
+      std::printf("  %-14s %dx%d deg (%d,%d) dt %.4g: t = %.6g, steps %ld, norm %.6g, kinetic %.6g, strain %.6g, "
+                  "limit %.4g, sub-steps %d, %s\n",
+                  s.name.toUtf8().constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
+                  sim.deformationNorm(), sim.kineticEnergy(), sim.strainEnergy().total, sim.stabilityLimit(), sim.subSteps(),
+                  sim.status() == bsdeform::Status::Ok ? "ok" : sim.statusMessage().c_str());
+    }
+    for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
+  }
+  root->unref();
+  if (blewUp) {
+    QStringList msgs;
+    for (const Surface& s : surfaces)
+      if (s.failed) msgs << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+    return {kBlowUp, msgs.join(QStringLiteral("; "))};
+  }
+  return {kOk, {}};
+}
+
+}  // namespace
+
+namespace {
+
+// --sweep NAME.field=v1,v2,...: one child process per value, in parallel over the cores.
+Failure runSweep(const Options& o, const QStringList& passThrough) {
+  const int eq = o.sweep.indexOf(QLatin1Char('='));
+  if (eq <= 0) return {kBadInput, QStringLiteral("--sweep '%1': expected NAME.field=v1,v2,...").arg(o.sweep)};
+  const QString target = o.sweep.left(eq);
+  const QStringList values = o.sweep.mid(eq + 1).split(QLatin1Char(','), Qt::SkipEmptyParts);
+  if (values.isEmpty()) return {kBadInput, QStringLiteral("--sweep '%1': no values").arg(o.sweep)};
+  // Validate names and every value in this process first: bad input is reported before any run.
+  {
+    SoSeparator* root = nullptr;
+    Failure f = loadScene(o.scene, root);
+    if (f.code != kOk) return f;
+    for (const QString& s : o.sets + QStringList{})
+      if ((f = applySet(s)).code != kOk) return f;
+    for (const QString& v : values)
+      if ((f = applySet(target + QLatin1Char('=') + v)).code != kOk) return f;
+    root->unref();
+  }
+  Failure f = prepareOutDir(o);
+  if (f.code != kOk) return f;
+
+  struct Row {
+    QString value, surface, norm, kinetic, strain, status;
+  };
+  QVector<QVector<Row>> rows(values.size());
+  QVector<QString> errors(values.size());
+  const int parallel = std::max(1, QThread::idealThreadCount());
+  int next = 0, running = 0;
+  QVector<QProcess*> procs(values.size(), nullptr);
+  const QString self = QCoreApplication::applicationFilePath();
+  auto start = [&](int i) {
+    auto* p = new QProcess;
+    p->setProcessChannelMode(QProcess::SeparateChannels);
+    QStringList args = passThrough;
+    args << QStringLiteral("--set") << target + QLatin1Char('=') + values[i] << QStringLiteral("--result-only");
+    p->start(self, args);
+    procs[i] = p;
+    ++running;
+  };
+  int done = 0;
+  while (done < values.size()) {
+    while (running < parallel && next < values.size()) start(next++);
+    for (int i = 0; i < values.size(); ++i) {
+      QProcess* p = procs[i];
+      if (!p || !p->waitForFinished(20)) continue;
+      const QStringList lines = QString::fromUtf8(p->readAllStandardOutput()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
+      for (const QString& line : lines) {
+        const QStringList c = line.split(QLatin1Char('\t'));
+        if (c.size() == 6 && c[0] == QLatin1String("RESULT")) rows[i].push_back({values[i], c[1], c[2], c[3], c[4], c[5]});
+      }
+      if (p->exitCode() != kOk && p->exitCode() != kBlowUp)
+        errors[i] = QStringLiteral("run with %1=%2 failed: %3")
+                        .arg(target, values[i], QString::fromUtf8(p->readAllStandardError()).trimmed());
+      delete p;
+      procs[i] = nullptr;
+      --running;
+      ++done;
+      progress(o, done, values.size(), done);
+    }
+  }
+  QStringList errs;
+  for (const QString& e : errors)
+    if (!e.isEmpty()) errs << e;
+  if (!errs.isEmpty()) return {kInternal, errs.join(QStringLiteral("; "))};
+
+  QString csv = QStringLiteral("value,surface,norm,kinetic,strain,status\n");
+  std::map<QString, bsdeform::PlotSeries> bySurface;
+  bool numeric = true;
+  for (const auto& rs : rows)
+    for (const Row& r : rs) {
+      csv += QStringList{r.value, r.surface, r.norm, r.kinetic, r.strain, r.status}.join(QLatin1Char(',')) + QLatin1Char('\n');
+      bool ok = false;
+      const double x = r.value.toDouble(&ok);
+      numeric &= ok;
+      auto& s = bySurface[r.surface];
+      s.name = r.surface;
+      s.x << x;
+      s.y << r.norm.toDouble();
+    }
+  QDir out(o.outDir);
+  QString error;
+  if (!writeText(out.filePath(QStringLiteral("sweep.csv")), csv.toUtf8(), error)) return {kBadInput, error};
+  QStringList written{out.filePath(QStringLiteral("sweep.csv"))};
+  if (numeric) {
+    QVector<bsdeform::PlotSeries> series;
+    for (auto& kv : bySurface) series << kv.second;
+    if (!bsdeform::writePlotPng(out.filePath(QStringLiteral("sweep.png")),
+                                QStringLiteral("Deformation norm (eq. 15) against %1").arg(target), target,
+                                QStringLiteral("final norm ||P - P0||"), series, 800, 500, error))
+      return {kBadInput, error};
+    written << out.filePath(QStringLiteral("sweep.png"));
+  }
+  if (!o.quiet) {
+    std::printf("bsdeform-run: sweep of %s over %d value(s), %d in parallel\n", target.toUtf8().constData(), int(values.size()),
+                parallel);
+    std::printf("%s", csv.toUtf8().constData());
+    for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
+  }
+  return {kOk, {}};
+}
+
+QVector<double> parseList(const QString& text, bool& ok) {
+  QVector<double> v;
+  ok = true;
+  for (const QString& s : text.split(QLatin1Char(','), Qt::SkipEmptyParts)) {
+    bool good = false;
+    v << s.toDouble(&good);
+    ok &= good && std::isfinite(v.back()) && v.back() >= 0.0;
+  }
+  return v;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // No windows are ever shown: plots render on Qt's offscreen platform, images through EGL.
+  if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  QApplication app(argc, argv);
+  QApplication::setApplicationName(QStringLiteral("bsdeform-run"));
+  QCommandLineParser parser;
+  parser.setApplicationDescription(QStringLiteral(
+      "Steps the SoBSplineDeformSurface nodes of an .iv scene without a window and writes, into the output\n"
+      "directory: one CSV history per surface (time, step, norm eq. 15, kinetic energy, strain energy and its\n"
+      "terms, sub-steps), the final scene with its state (final.iv, reloadable and resumable), PNG images and\n"
+      "plots on request. Steps count on the surface with the smallest time step.\n"
+      "Exit codes: 0 success, 2 bad input, 3 a simulation blew up, 1 internal error."));
+  parser.addHelpOption();
+  parser.addPositionalArgument(QStringLiteral("scene"), QStringLiteral("the .iv scene"));
+  const QCommandLineOption steps({QStringLiteral("n"), QStringLiteral("steps")}, QStringLiteral("number of steps (default 100)"),
+                                 QStringLiteral("N"));
+  const QCommandLineOption until({QStringLiteral("t"), QStringLiteral("until")}, QStringLiteral("run until simulated time T"),
+                                 QStringLiteral("T"));
+  const QCommandLineOption outDir({QStringLiteral("o"), QStringLiteral("out")},
+                                  QStringLiteral("output directory (default: <scene name>.out); must be empty or new"),
+                                  QStringLiteral("DIR"));
+  const QCommandLineOption overwrite(QStringLiteral("overwrite"), QStringLiteral("allow replacing files in a non-empty output directory"));
+  const QCommandLineOption pngEvery(QStringLiteral("png-every"), QStringLiteral("write an image every K steps (0: none)"),
+                                    QStringLiteral("K"));
+  const QCommandLineOption pngAt(QStringLiteral("png-at"), QStringLiteral("write images at these simulated times"),
+                                 QStringLiteral("t1,t2,..."));
+  const QCommandLineOption size(QStringLiteral("size"), QStringLiteral("image size (default 640x480)"), QStringLiteral("WxH"));
+  const QCommandLineOption set(QStringLiteral("set"), QStringLiteral("override a field: NAME is a DEF name (repeatable)"),
+                               QStringLiteral("NAME.field=value"));
+  const QCommandLineOption sweep(QStringLiteral("sweep"),
+                                 QStringLiteral("run once per value (in parallel) and write sweep.csv and sweep.png"),
+                                 QStringLiteral("NAME.field=v1,v2,..."));
+  const QCommandLineOption plot(QStringLiteral("plot"), QStringLiteral("also write a history plot PNG per surface"));
+  const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
+  QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
+  resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
+  parser.addOptions({steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, quiet, resultOnly});
+  parser.process(app);
+
+  auto fail = [](const Failure& f) {
+    if (!f.message.isEmpty()) std::fprintf(stderr, "bsdeform-run: %s\n", f.message.toUtf8().constData());
+    return int(f.code);
+  };
+  if (parser.positionalArguments().size() != 1)
+    return fail({kBadInput, QStringLiteral("expected exactly one scene file (see --help)")});
+  Options o;
+  o.scene = parser.positionalArguments().first();
+  bool ok = true;
+  if (parser.isSet(steps)) {
+    o.steps = parser.value(steps).toLong(&ok);
+    if (!ok || o.steps < 0) return fail({kBadInput, QStringLiteral("--steps '%1' is not a count >= 0").arg(parser.value(steps))});
+  }
+  if (parser.isSet(until)) {
+    o.until = parser.value(until).toDouble(&ok);
+    if (!ok || !(o.until >= 0) || !std::isfinite(o.until))
+      return fail({kBadInput, QStringLiteral("--until '%1' is not a time >= 0").arg(parser.value(until))});
+    if (parser.isSet(steps)) return fail({kBadInput, QStringLiteral("give --steps or --until, not both")});
+  }
+  o.outDir = parser.isSet(outDir) ? parser.value(outDir) : QFileInfo(o.scene).completeBaseName() + QStringLiteral(".out");
+  o.overwrite = parser.isSet(overwrite);
+  if (parser.isSet(pngEvery)) {
+    o.pngEvery = parser.value(pngEvery).toInt(&ok);
+    if (!ok || o.pngEvery < 0) return fail({kBadInput, QStringLiteral("--png-every '%1' is not a count >= 0").arg(parser.value(pngEvery))});
+  }
+  if (parser.isSet(pngAt)) {
+    o.pngAt = parseList(parser.value(pngAt), ok);
+    if (!ok) return fail({kBadInput, QStringLiteral("--png-at '%1' is not a list of times >= 0").arg(parser.value(pngAt))});
+  }
+  if (parser.isSet(size)) {
+    const QStringList wh = parser.value(size).split(QLatin1Char('x'));
+    bool okW = false, okH = false;
+    if (wh.size() == 2) o.width = wh[0].toInt(&okW), o.height = wh[1].toInt(&okH);
+    if (!okW || !okH || o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
+      return fail({kBadInput, QStringLiteral("--size '%1' is not WxH within 1..8192").arg(parser.value(size))});
+  }
+  o.sets = parser.values(set);
+  o.sweep = parser.value(sweep);
+  o.plot = parser.isSet(plot);
+  o.quiet = parser.isSet(quiet);
+  o.resultOnly = parser.isSet(resultOnly);
+
+  bsdeform::disableDynamicNodeLoading();
+  bsdeform::initNodes();
+  SoDebugError::setHandlerCallback(collectCoinMessage, nullptr);
+  SoReadError::setHandlerCallback(collectCoinMessage, nullptr);
+  try {
+    if (!o.sweep.isEmpty()) {
+      // children get the same run options, without the output and sweep ones
+      QStringList pass{o.scene};
+      if (parser.isSet(steps)) pass << QStringLiteral("--steps") << QString::number(o.steps);
+      if (parser.isSet(until)) pass << QStringLiteral("--until") << num(o.until);
+      for (const QString& s : o.sets) pass << QStringLiteral("--set") << s;
+      return fail(runSweep(o, pass));
+    }
+    return fail(runScene(o));
+  } catch (const std::exception& e) {
+    return fail({kInternal, QStringLiteral("internal error: %1").arg(QString::fromUtf8(e.what()))});
+  }
+}
