@@ -154,6 +154,8 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
   root->ref();
   if (!hasCamera(scene)) {
     auto* camera = new SoPerspectiveCamera;
+    // a three-quarter view from the -y side, looking down at the (u, v) plane
+    camera->orientation.setValue(SbRotation(SbVec3f(0, 0, -1), SbVec3f(0.0f, 0.73f, -0.68f)));
     root->addChild(camera);
     root->addChild(new SoDirectionalLight);  // headlight: follows the camera's direction
     root->addChild(scene);

@@ -52,10 +52,13 @@ class Force {
   virtual unsigned dependence() const = 0;
   /// load += this force's load vector.
   virtual void addLoad(const LoadContext& ctx, ControlNet& load) const = 0;
-  /// Upper bound of the norm of d(load)/d(free control points) per coordinate (0 for forces that do
-  /// not depend on position). The explicit integrator adds it to the stiffness when it sizes
-  /// sub-steps, so stiff position-dependent forces (springs, penalties) stay stable.
-  virtual double stiffnessBound() const { return 0.0; }
+  /// Upper bound of the norm of d(load)/d(free control points) per coordinate on `space` (0 for
+  /// forces that do not depend on position). The explicit integrator adds it to the stiffness
+  /// when it sizes sub-steps, so stiff position-dependent forces (springs, penalties) stay stable.
+  virtual double stiffnessBound(const SplineSpace& space) const {
+    (void)space;
+    return 0.0;
+  }
 };
 
 /// Fills a SurfaceSample at (u, v) with what `dependence` asks for.
@@ -72,7 +75,8 @@ class PointForce : public Force {
 
   unsigned dependence() const override { return m_dependence; }
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
-  double stiffnessBound() const override { return m_stiffness; }
+  /// k sum_k B_k(u0,v0)^2 <= k
+  double stiffnessBound(const SplineSpace&) const override { return m_stiffness; }
   double u() const { return m_u; }
   double v() const { return m_v; }
 
@@ -103,8 +107,11 @@ class DistributedForce : public Force {
 
   unsigned dependence() const override { return m_dependence; }
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
-  /// stiffness per unit area times the largest Gram row sum h1 h2
-  double stiffnessBound() const override { return m_stiffness; }
+  /// k ||Gram|| <= k h1 h2 (the largest row sum of the B-spline Gram matrix), k being the
+  /// stiffness per unit area given at construction
+  double stiffnessBound(const SplineSpace& space) const override {
+    return m_stiffness * space.basisU().spacing() * space.basisV().spacing();
+  }
   const Rect& rect() const { return m_rect; }
 
  private:

@@ -128,7 +128,7 @@ void Simulation::rebuildConstantLoad() {
 
 void Simulation::updateSubSteps() {
   double forceStiffness = 0.0;
-  for (const auto& f : m_forces) forceStiffness += f->stiffnessBound();
+  for (const auto& f : m_forces) forceStiffness += f->stiffnessBound(m_space);
   m_lambdaMax = (m_stencilLambda + forceStiffness) / massPerPoint();
   const double oldStep = subStepSize();
   int n = 1;

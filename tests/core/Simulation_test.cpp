@@ -7,6 +7,7 @@
 #include <random>
 
 #include "bsdeform/Simulation.h"
+#include "bsdeform/StiffnessStencil.h"
 
 using namespace bsdeform;
 
@@ -306,4 +307,34 @@ TEST_CASE("Simulation: invalid parameters throw with the parameter and the value
   ControlNet moved = sim.rest();
   moved(0, 2) = 1.0;  // a fixed point
   CHECK_THROWS_WITH(sim.setState(moved, moved, 0.0, 0), Catch::Contains("fixed control point"));
+}
+
+TEST_CASE("Simulation: a stiff penalty force is included in the stability limit, safely and sharply", "[core]") {
+  // elastic foundation f = -k z per unit area: its load Jacobian is -k times the Gram matrix
+  ModelParameters p = paperParams(10);
+  const double k = 2e4;
+  Simulation sim(p);
+  const double limitAlone = sim.stabilityLimit();
+  sim.addForce(std::make_shared<DistributedForce>(
+      [k](const SurfaceSample& s) { return Eigen::Vector3d(0, 0, -k * s.position.z()); }, kDependsOnPosition, ParamRect{}, 2, k));
+  const SplineSpace& s = sim.space();
+  const std::vector<double> g0 = cardinalGram(3, 0);
+  const int N = p.numU;
+  Eigen::MatrixXd K = Eigen::MatrixXd(sim.stencil().interiorMatrix());
+  const double area = s.basisU().spacing() * s.basisV().spacing();
+  for (int a = 0; a < N; ++a)
+    for (int b = 0; b < N; ++b)
+      for (int c = 0; c < N; ++c)
+        for (int d = 0; d < N; ++d) {
+          const int d1 = std::abs(a - c), d2 = std::abs(b - d);
+          if (d1 <= 3 && d2 <= 3) K(a * N + b, c * N + d) += k * area * g0[d1] * g0[d2];
+        }
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(K, Eigen::EigenvaluesOnly);
+  const double trueLimit = 2.0 / std::sqrt(eig.eigenvalues().maxCoeff() / p.mass);
+  INFO("limit " << sim.stabilityLimit() << ", true " << trueLimit << ", without the force " << limitAlone);
+  CHECK(sim.stabilityLimit() <= trueLimit);
+  CHECK(sim.stabilityLimit() >= 0.5 * trueLimit);
+  CHECK(sim.stabilityLimit() < 0.5 * limitAlone);
+  sim.advance(200);
+  CHECK(sim.status() == Status::Ok);
 }

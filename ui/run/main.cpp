@@ -10,6 +10,7 @@
 #include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
+#include <Inventor/fields/SoSFTime.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <unistd.h>
 
@@ -190,7 +191,13 @@ void progress(const Options& o, long frame, long frames, double t) {
 // ------------------------------------------------------------------------------------------
 // One run of the scene (possibly a sweep child).
 
+// Coin's real-time clock follows simulated time in the runner: engines driven by realTime
+// (ElapsedTime, TimeCounter, ...) then animate deterministically, in step with the surfaces.
+SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
+
 Failure runScene(const Options& o) {
+  SoDB::enableRealTimeSensor(FALSE);
+  realTimeField()->setValue(SbTime(0.0));  // before reading: engines start their clocks at 0
   SoSeparator* root = nullptr;
   Failure f = loadScene(o.scene, root);
   if (f.code != kOk) return f;
@@ -240,6 +247,7 @@ Failure runScene(const Options& o) {
   for (long frame = 0; frame <= frames; ++frame) {
     if (frame > 0) {
       const double globalTime = frame * dtMin;
+      realTimeField()->setValue(SbTime(globalTime));
       for (Surface& s : surfaces) {
         if (s.failed) continue;
         const double dt = s.node->simulation().parameters().timeStep;
