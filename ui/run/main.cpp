@@ -209,16 +209,17 @@ Failure runScene(const Options& o) {
   if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
   // Build every model and force now: bad values show up as warnings before anything runs.
   g_coinMessages.clear();
-  double dtMin = INFINITY;
+  double dtMin = INFINITY, t0 = INFINITY;
   for (Surface& s : surfaces) {
     s.node->on = FALSE;  // the runner drives time itself
     s.node->stepSimulation(0);
     dtMin = std::min(dtMin, s.node->simulation().parameters().timeStep);
+    t0 = std::min(t0, s.node->simulation().time());  // a resumed scene continues from its time
   }
   if (!g_coinMessages.isEmpty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, g_coinMessages.join(QStringLiteral("; ")))};
 
-  const long frames = o.until >= 0 ? long(std::llround(o.until / dtMin)) : o.steps;
+  const long frames = o.until >= 0 ? std::max(0L, long(std::llround((o.until - t0) / dtMin))) : o.steps;
   if (!o.resultOnly) {
     f = prepareOutDir(o);
     if (f.code != kOk) return f;
@@ -238,15 +239,16 @@ Failure runScene(const Options& o) {
     return {kOk, {}};
   };
   QVector<long> imageFrames;
-  for (double t : o.pngAt) imageFrames << long(std::llround(t / dtMin));
+  for (double t : o.pngAt) imageFrames << long(std::llround((t - t0) / dtMin));
 
   QElapsedTimer timer;
   timer.start();
   bool blewUp = false;
+  realTimeField()->setValue(SbTime(t0));
   for (Surface& s : surfaces) record(s);
   for (long frame = 0; frame <= frames; ++frame) {
     if (frame > 0) {
-      const double globalTime = frame * dtMin;
+      const double globalTime = t0 + frame * dtMin;
       realTimeField()->setValue(SbTime(globalTime));
       for (Surface& s : surfaces) {
         if (s.failed) continue;
@@ -263,7 +265,7 @@ Failure runScene(const Options& o) {
       f = image(frame);
       if (f.code != kOk) return f;
     }
-    progress(o, frame, frames, frame * dtMin);
+    progress(o, frame, frames, t0 + frame * dtMin);
     if (blewUp) break;
   }
   const double seconds = timer.elapsed() / 1000.0;
@@ -313,13 +315,11 @@ Failure runScene(const Options& o) {
     }
     for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
   }
-  root->unref();
-  if (blewUp) {
-    QStringList msgs;
-    for (const Surface& s : surfaces)
-      if (s.failed) msgs << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
-    return {kBlowUp, msgs.join(QStringLiteral("; "))};
-  }
+  QStringList blowUps;
+  for (const Surface& s : surfaces)
+    if (s.failed) blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+  root->unref();  // the surfaces are gone after this
+  if (blewUp) return {kBlowUp, blowUps.join(QStringLiteral("; "))};
   return {kOk, {}};
 }
 
@@ -457,7 +457,7 @@ int main(int argc, char** argv) {
   parser.addPositionalArgument(QStringLiteral("scene"), QStringLiteral("the .iv scene"));
   const QCommandLineOption steps({QStringLiteral("n"), QStringLiteral("steps")}, QStringLiteral("number of steps (default 100)"),
                                  QStringLiteral("N"));
-  const QCommandLineOption until({QStringLiteral("t"), QStringLiteral("until")}, QStringLiteral("run until simulated time T"),
+  const QCommandLineOption until({QStringLiteral("t"), QStringLiteral("until")}, QStringLiteral("run until simulated time T (a resumed scene starts at its own time)"),
                                  QStringLiteral("T"));
   const QCommandLineOption outDir({QStringLiteral("o"), QStringLiteral("out")},
                                   QStringLiteral("output directory (default: <scene name>.out); must be empty or new"),

@@ -1,0 +1,267 @@
+// SPDX-License-Identifier: MIT
+// Every scene in scenes/ and the headless runner bsdeform-run (run as a separate process).
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <dirent.h>
+#include <fstream>
+#include <sstream>
+
+#include "../nodes/NodesTestUtil.h"
+#include <Inventor/SbTime.h>
+#include <Inventor/fields/SoSFTime.h>
+
+#include "bsdeform/Simulation.h"
+
+using testutil::Coin;
+
+namespace {
+
+std::vector<std::string> sceneFiles() {
+  std::vector<std::string> out;
+  DIR* d = opendir(BSDEFORM_SCENES_DIR);
+  REQUIRE(d);
+  while (dirent* e = readdir(d)) {
+    const std::string n = e->d_name;
+    if (n.size() > 3 && n.substr(n.size() - 3) == ".iv") out.push_back(std::string(BSDEFORM_SCENES_DIR) + "/" + n);
+  }
+  closedir(d);
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+std::vector<SoBSplineDeformSurface*> surfaces(SoNode* root) {
+  SoSearchAction sa;
+  sa.setType(SoBSplineDeformSurface::getClassTypeId());
+  sa.setInterest(SoSearchAction::ALL);
+  sa.apply(root);
+  std::vector<SoBSplineDeformSurface*> out;
+  for (int i = 0; i < sa.getPaths().getLength(); ++i)
+    out.push_back(static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail()));
+  return out;
+}
+
+struct TempDir {
+  std::string path;
+  TempDir() {
+    char tmpl[] = "/tmp/bsdeform-scenes-XXXXXX";
+    path = mkdtemp(tmpl);
+  }
+  ~TempDir() { std::system(("rm -rf '" + path + "'").c_str()); }
+};
+
+struct Run {
+  int code;
+  std::string out, err;
+};
+
+// Runs bsdeform-run with `args` (already shell-quoted where needed).
+Run run(const std::string& args, const std::string& dir) {
+  const std::string cmd = "cd '" + dir + "' && '" BSDEFORM_RUN "' " + args + " > stdout.txt 2> stderr.txt";
+  const int status = std::system(cmd.c_str());
+  Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir + "/stdout.txt"), slurp(dir + "/stderr.txt")};
+  std::remove((dir + "/stdout.txt").c_str());
+  std::remove((dir + "/stderr.txt").c_str());
+  return r;
+}
+
+std::string scene(const char* name) { return std::string("'" BSDEFORM_SCENES_DIR "/") + name + "'"; }
+
+}  // namespace
+
+TEST_CASE("Scenes: every scene loads without warnings and runs with finite results", "[scenes]") {
+  const auto files = sceneFiles();
+  REQUIRE(files.size() >= 14);
+  // drive Coin's real-time clock with simulated time, as bsdeform-run does, so that scenes with
+  // time-driven engines move too
+  Coin::get();
+  auto* realTime = static_cast<SoSFTime*>(SoDB::getGlobalField("realTime"));
+  SoDB::enableRealTimeSensor(FALSE);
+  for (const std::string& f : files) {
+    INFO(f);
+    Coin::get().messages.clear();
+    realTime->setValue(SbTime(0.0));
+    SoSeparator* root = testutil::read(slurp(f));
+    REQUIRE(root);
+    const auto surfs = surfaces(root);
+    REQUIRE(!surfs.empty());
+    for (SoBSplineDeformSurface* s : surfs) {
+      for (int i = 0; i < 20; ++i) {
+        realTime->setValue(SbTime(s->simulation().time() + s->simulation().parameters().timeStep));
+        REQUIRE(s->stepSimulation(1));
+      }
+      const bsdeform::Simulation& sim = s->simulation();
+      CHECK(sim.status() == bsdeform::Status::Ok);
+      CHECK(sim.current().allFinite());
+      CHECK(std::isfinite(sim.deformationNorm()));
+      CHECK(sim.deformationNorm() > 0.0);  // every scene has a force that moves its surfaces
+    }
+    CHECK(Coin::get().messages.empty());
+    root->unref();
+  }
+}
+
+TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", "[scenes]") {
+  for (const std::string& f : sceneFiles()) {
+    INFO(f);
+    SoSeparator* a = testutil::read(slurp(f));
+    REQUIRE(a);
+    for (auto* s : surfaces(a)) s->stepSimulation(10);
+    SoSeparator* b = testutil::read(testutil::write(a));
+    REQUIRE(b);
+    const auto sa = surfaces(a), sb = surfaces(b);
+    REQUIRE(sa.size() == sb.size());
+    for (size_t i = 0; i < sa.size(); ++i) {
+      sa[i]->stepSimulation(10);
+      sb[i]->stepSimulation(10);
+      const double diff = (sa[i]->simulation().current() - sb[i]->simulation().current()).cwiseAbs().maxCoeff();
+      const double scale = 1.0 + sa[i]->simulation().current().cwiseAbs().maxCoeff();
+      CHECK(diff <= 1e-12 * scale);
+    }
+    a->unref();
+    b->unref();
+  }
+}
+
+TEST_CASE("bsdeform-run: CSV columns, final scene and identical output for the same command", "[scenes]") {
+  TempDir dir;
+  const Run r1 = run(scene("paper_fig7_sinusoidal.iv") + " --steps 15 -o one --plot --png-at 1", dir.path);
+  REQUIRE(r1.code == 0);
+  const Run r2 = run(scene("paper_fig7_sinusoidal.iv") + " --steps 15 -o two", dir.path);
+  REQUIRE(r2.code == 0);
+  const std::string csv = slurp(dir.path + "/one/Surface.csv");
+  CHECK(csv == slurp(dir.path + "/two/Surface.csv"));
+  std::istringstream lines(csv);
+  std::string header, line;
+  std::getline(lines, header);
+  CHECK(header == "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    CHECK(std::count(line.begin(), line.end(), ',') == 10);
+  }
+  CHECK(rows == 16);  // t = 0 and 15 steps
+  CHECK(r1.out.find("Surface") != std::string::npos);
+  CHECK(!slurp(dir.path + "/one/Surface_history.png").empty());
+  CHECK(!slurp(dir.path + "/one/frame_000010.png").empty());
+  // the final scene resumes: 15 + 5 steps from final.iv equal 20 steps from the start
+  const Run r3 = run("one/final.iv --steps 5 -o three", dir.path);
+  const Run r4 = run(scene("paper_fig7_sinusoidal.iv") + " --steps 20 -o four", dir.path);
+  REQUIRE((r3.code == 0 && r4.code == 0));
+  const std::string last3 = slurp(dir.path + "/three/Surface.csv"), last4 = slurp(dir.path + "/four/Surface.csv");
+  auto lastNorm = [](const std::string& c) {
+    const std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
+    return std::stod(l.substr(l.find(',', l.find(',') + 1) + 1));
+  };
+  CHECK(lastNorm(last3) == Approx(lastNorm(last4)).epsilon(1e-10));
+}
+
+TEST_CASE("bsdeform-run: an engine-animated force repeats exactly and does animate", "[scenes]") {
+  TempDir dir;
+  REQUIRE(run(scene("animated_force.iv") + " --until 6 -o a", dir.path).code == 0);
+  REQUIRE(run(scene("animated_force.iv") + " --until 6 -o b", dir.path).code == 0);
+  const std::string csv = slurp(dir.path + "/a/Drum.csv");
+  CHECK(csv == slurp(dir.path + "/b/Drum.csv"));
+  // with magnitude 40 sin(2t) the surface goes up and comes back: the norm rises, falls, rises
+  std::vector<double> norm;
+  std::istringstream lines(csv);
+  std::string line;
+  std::getline(lines, line);
+  while (std::getline(lines, line)) norm.push_back(std::stod(line.substr(line.find(',', line.find(',') + 1) + 1)));
+  const size_t peak = size_t(std::max_element(norm.begin(), norm.begin() + 30) - norm.begin());
+  CHECK(norm[peak] > 0.01);
+  CHECK(*std::min_element(norm.begin() + long(peak), norm.end()) < 0.5 * norm[peak]);
+}
+
+TEST_CASE("bsdeform-run: --set changes a field and --sweep writes one row per value", "[scenes]") {
+  TempDir dir;
+  REQUIRE(run(scene("paper_sec7_central_square.iv") + " --until 1 -o base", dir.path).code == 0);
+  REQUIRE(run(scene("paper_sec7_central_square.iv") + " --until 1 --set Surface.w10=25 -o stiff", dir.path).code == 0);
+  CHECK(slurp(dir.path + "/stiff/final.iv").find("w10 25") != std::string::npos);
+  CHECK(slurp(dir.path + "/base/Surface.csv") != slurp(dir.path + "/stiff/Surface.csv"));
+  const Run sw = run(scene("paper_sec7_central_square.iv") + " --until 1 --sweep Surface.w10=0,1,10,100 -o sweep", dir.path);
+  REQUIRE(sw.code == 0);
+  std::istringstream lines(slurp(dir.path + "/sweep/sweep.csv"));
+  std::string line;
+  std::getline(lines, line);
+  CHECK(line == "value,surface,norm,kinetic,strain,status");
+  std::vector<double> norms;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> c;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) c.push_back(cell);
+    REQUIRE(c.size() == 6);
+    CHECK(c[1] == "Surface");
+    CHECK(c[5] == "ok");
+    norms.push_back(std::stod(c[2]));
+  }
+  REQUIRE(norms.size() == 4);
+  // a stiffer membrane deforms less (the paper's section 7 claims the opposite; docs/math.md)
+  CHECK(norms[0] > norms[1]);
+  CHECK(norms[1] > norms[2]);
+  CHECK(norms[2] > norms[3]);
+  CHECK(!slurp(dir.path + "/sweep/sweep.png").empty());
+}
+
+TEST_CASE("bsdeform-run: bad input gives a clear message, exit code 2, and overwrites nothing", "[scenes]") {
+  TempDir dir;
+  Run r = run("missing.iv", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("missing.iv") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --set Nobody.w10=1 -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("Nobody") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --set Surface.w10=soft -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("soft") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --set Surface.uDegree=9 -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("uDegree") != std::string::npos);
+  CHECK(r.err.find("9") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --set Surface.nosuchfield=1 -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("nosuchfield") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --sweep Surface.w10=1,oops -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("oops") != std::string::npos);
+  r = run(scene("paper_fig2_point_force.iv") + " --steps -3", dir.path);
+  CHECK(r.code == 2);
+  r = run(scene("paper_fig2_point_force.iv") + " -o /proc/forbidden", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("/proc/forbidden") != std::string::npos);
+  // an existing result is not overwritten
+  REQUIRE(run(scene("paper_fig2_point_force.iv") + " --steps 3 -o keep", dir.path).code == 0);
+  const std::string before = slurp(dir.path + "/keep/Surface.csv");
+  r = run(scene("paper_fig2_point_force.iv") + " --steps 7 -o keep", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("keep") != std::string::npos);
+  CHECK(slurp(dir.path + "/keep/Surface.csv") == before);
+  CHECK(run(scene("paper_fig2_point_force.iv") + " --steps 7 -o keep --overwrite", dir.path).code == 0);
+  CHECK(slurp(dir.path + "/keep/Surface.csv") != before);
+}
+
+TEST_CASE("bsdeform-run: a simulation that blows up exits with 3 and says so", "[scenes]") {
+  TempDir dir;
+  // an expression force proportional to -z has no declared stiffness, so a large factor makes
+  // the explicit scheme unstable; the runner reports it instead of writing garbage
+  const Run r = run(scene("paper_fig2_point_force.iv") +
+                        " --set 'Push.type=EXPRESSION' --set 'Push.expression=[\"0\", \"0\", \"-1e7*z + 1\"]' --steps 200 -o boom",
+                    dir.path);
+  CHECK(r.code == 3);
+  CHECK(r.err.find("Surface") != std::string::npos);
+  CHECK((r.err.find("diverged") != std::string::npos || r.err.find("non-finite") != std::string::npos));
+  const std::string csv = slurp(dir.path + "/boom/Surface.csv");
+  CHECK(csv.find("nan") == std::string::npos);
+  CHECK(csv.find("inf") == std::string::npos);
+}
