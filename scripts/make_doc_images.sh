@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Regenerates docs/img/*.png (one picture per scene) and the section 7 sweeps (docs/sweep_*.csv,
+# docs/img/sweep_*.png) with bsdeform-run. Run after ./scripts/run.sh or ./scripts/test.sh.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+run="${BSDEFORM_BUILD:-$root/build}/ui/bsdeform-run"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$root/docs/img"
+
+# scene : simulated time of the picture
+shots="paper_fig2_point_force:2 paper_fig3_opposite_point_forces:2 paper_fig4_oblique_uniform:2
+paper_fig5_uniform_200:2 paper_fig6_sinusoidal_degree4:2 paper_fig7_sinusoidal:2
+paper_sec7_central_square:1 paper_fig9_fig12_vertical_square:1 paper_fig10_fig13_oblique_square:1
+region_load:2.5 composed_scene:3 drape_over_sphere:4 pressure_bulge:3 animated_force:1.5 nonplanar_rest:3"
+for shot in $shots; do
+  name="${shot%%:*}"; t="${shot##*:}"
+  "$run" "$root/scenes/$name.iv" --until "$t" --png-at "$t" --size 360x270 -o "$work/$name" -q
+  cp "$work/$name"/frame_*.png "$root/docs/img/$name.png"
+  echo "docs/img/$name.png  <-  bsdeform-run scenes/$name.iv --until $t --png-at $t --size 360x270"
+done
+
+# Section 7: the paper's values of omega10 and omega01, t = 1, the other weight 0.1
+values="0,0.0001,0.001,0.01,0.1,0.3,0.5,1,2,5,7,10,25,50,75,100,150,200"
+for w in w10 w01; do
+  "$run" "$root/scenes/paper_sec7_central_square.iv" --until 1 --sweep "Surface.$w=$values" -o "$work/sweep_$w" -q
+  cp "$work/sweep_$w/sweep.csv" "$root/docs/sweep_$w.csv"
+  cp "$work/sweep_$w/sweep.png" "$root/docs/img/sweep_$w.png"
+  echo "docs/sweep_$w.csv, docs/img/sweep_$w.png  <-  bsdeform-run scenes/paper_sec7_central_square.iv --until 1 --sweep Surface.$w=$values"
+done
