@@ -10,7 +10,8 @@ BSDEFORM_PACKAGES=(
   cmake g++ make ccache pkg-config
   libeigen3-dev catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
-  qtbase5-dev libqt5charts5-dev fonts-dejavu-core
+  qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core
+  libsoqt520-dev xvfb xauth
 )
 
 bsdeform_install_packages() {

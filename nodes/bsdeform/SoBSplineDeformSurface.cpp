@@ -413,8 +413,11 @@ void SoBSplineDeformSurface::write(SoWriteAction* action) {
 // Geometry
 
 int SoBSplineDeformSurface::segmentsFor(float complexity, int spans) const {
+  // Per-vertex normals are exact, so 1.5 segments per knot span (default complexity 0.5) look
+  // smooth; small nets get at least 64 c segments, large ones at most 64 + 448 c.
   const float c = std::max(0.0f, std::min(1.0f, complexity));
-  const int wanted = static_cast<int>(std::lround(spans * (0.5 + 3.5 * c)));
+  const double perSpan = spans * (0.5 + 2.0 * c);
+  const int wanted = static_cast<int>(std::lround(std::max(perSpan, 64.0 * c)));
   const int cap = static_cast<int>(64 + 448 * c);
   return std::max(4, std::min(wanted, cap));
 }
@@ -537,8 +540,31 @@ void SoBSplineDeformSurface::computeBBox(SoAction* action, SbBox3f& box, SbVec3f
 
 bool SoBSplineDeformSurface::pickedParameter(const SoPickedPoint* pp, float& u, float& v) {
   if (!pp || !pp->getPath() || !pp->getPath()->getTail()->isOfType(getClassTypeId())) return false;
-  const SbVec4f t = pp->getTextureCoords();
-  u = std::max(0.0f, std::min(1.0f, t[0]));
-  v = std::max(0.0f, std::min(1.0f, t[1]));
+  static_cast<SoBSplineDeformSurface*>(pp->getPath()->getTail())->closestParameter(pp->getObjectPoint(), u, v);
   return true;
+}
+
+void SoBSplineDeformSurface::closestParameter(const SbVec3f& p, float& u, float& v) {
+  if (!m_tess.valid) tessellate(nullptr);
+  const Eigen::Vector3d target(p[0], p[1], p[2]);
+  size_t best = 0;
+  double bestDist = INFINITY;
+  for (size_t i = 0; i + 2 < m_tess.vertices.size(); i += 3) {
+    const double d = (Eigen::Vector3d(m_tess.vertices[i], m_tess.vertices[i + 1], m_tess.vertices[i + 2]) - target).squaredNorm();
+    if (d < bestDist) bestDist = d, best = i / 3;
+  }
+  double uu = m_tess.texCoords[best * 2], vv = m_tess.texCoords[best * 2 + 1];
+  for (int iter = 0; iter < 12; ++iter) {
+    const bsdeform::SurfacePoint sp = m_sim->evaluate(uu, vv, 1);
+    const Eigen::Vector3d r = sp.position - target;
+    const double a = sp.du.dot(sp.du), b = sp.du.dot(sp.dv), c = sp.dv.dot(sp.dv);
+    const double g1 = sp.du.dot(r), g2 = sp.dv.dot(r), det = a * c - b * b;
+    if (!(det > 1e-300)) break;
+    const double du = -(c * g1 - b * g2) / det, dv = -(a * g2 - b * g1) / det;
+    uu = std::max(0.0, std::min(1.0, uu + du));
+    vv = std::max(0.0, std::min(1.0, vv + dv));
+    if (std::abs(du) + std::abs(dv) < 1e-10) break;
+  }
+  u = float(uu);
+  v = float(vv);
 }

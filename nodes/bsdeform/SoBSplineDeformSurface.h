@@ -113,8 +113,12 @@ class SoBSplineDeformSurface : public SoShape {
   void removeTransientForce(const bsdeform::Force* force);
   /// Writes the simulation state into controlNet, previousNet, simulationTime, stepCount.
   void syncStateFields();
-  /// (u, v) of a picked point on this surface, from its texture coordinates.
+  /// (u, v) of a picked point on a surface (false if the pick is not on one). Computed from the
+  /// picked point in object space, so texture transforms in the scene do not matter.
   static bool pickedParameter(const SoPickedPoint* pp, float& u, float& v);
+  /// (u, v) of the point of the current surface closest to `p` (object space): nearest
+  /// tessellation vertex, refined by Gauss-Newton on |S(u,v) - p|^2.
+  void closestParameter(const SbVec3f& p, float& u, float& v);
   /// The last warning (empty if the fields are valid).
   const std::string& lastWarning() const { return m_lastWarning; }
 

@@ -107,19 +107,25 @@ TEST_CASE("SoBSplineDeformSurface: bounding box, triangle count and SoComplexity
   CHECK(box.getMin()[0] == Approx(0.0).margin(1e-6));
   CHECK(box.getMax()[1] == Approx(1.0).margin(1e-6));
   CHECK(box.getMax()[2] == Approx(0.0).margin(1e-6));
-  // default complexity 0.5: round(8 spans * 2.25) = 18 segments per side
-  CHECK(countTriangles(root) == 2 * 18 * 18);
+  // default complexity 0.5: max(8 spans * 1.5, 32) = 32 segments per side
+  CHECK(countTriangles(root) == 2 * 32 * 32);
   auto* cx = new SoComplexity;
   cx->value = 1.0f;
   root->insertChild(cx, 0);
-  CHECK(countTriangles(root) == 2 * 32 * 32);  // 8 spans * 4
+  CHECK(countTriangles(root) == 2 * 64 * 64);  // max(8 spans * 2.5, 64)
   cx->value = 0.0f;
   CHECK(countTriangles(root) == 2 * 4 * 4);
+  // a large net: 1.5 segments per knot span at the default complexity
+  root->removeChild(cx);
+  testutil::find<SoBSplineDeformSurface>(root)->numUControlPoints = 61;  // 64 spans -> 96 segments
+  CHECK(countTriangles(root) == 2 * 96 * 32);
   root->unref();
 }
 
 TEST_CASE("SoBSplineDeformSurface: picking reports the (u, v) under the ray", "[nodes]") {
-  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
+  // a texture transform in the scene must not change the reported (u, v)
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { Texture2Transform { scaleFactor 8 8 } "
+                                     "SoBSplineDeformSurface { on FALSE } }");
   REQUIRE(root);
   for (auto uv : {SbVec2f(0.3f, 0.7f), SbVec2f(0.81f, 0.12f)}) {
     SoRayPickAction rp(SbViewportRegion(100, 100));
@@ -131,6 +137,22 @@ TEST_CASE("SoBSplineDeformSurface: picking reports the (u, v) under the ray", "[
     REQUIRE(SoBSplineDeformSurface::pickedParameter(pp, u, v));
     CHECK(u == Approx(uv[0]).margin(1e-5));  // the rest surface is S(u,v) = (u, v, 0)
     CHECK(v == Approx(uv[1]).margin(1e-5));
+  }
+  // on a deformed surface the (u, v) found for a point of it is where it came from
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  s->forces.setValue(nullptr);
+  auto* push = new SoForceField;
+  push->type = SoForceField::REGION;
+  push->magnitude = 80.0f;
+  push->force.setValue(0.3f, -0.2f, 1.0f);
+  s->forces.setValue(push);
+  s->stepSimulation(20);
+  for (auto uv : {SbVec2f(0.42f, 0.57f), SbVec2f(0.71f, 0.33f)}) {
+    const Eigen::Vector3d p = s->simulation().evaluate(uv[0], uv[1], 0).position;
+    float u = -1, v = -1;
+    s->closestParameter(SbVec3f(float(p.x()), float(p.y()), float(p.z())), u, v);
+    CHECK(u == Approx(uv[0]).margin(1e-4));
+    CHECK(v == Approx(uv[1]).margin(1e-4));
   }
   root->unref();
 }

@@ -1,0 +1,231 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-viewer's window driven like a user would, under xvfb-run (see tests/CMakeLists.txt).
+#include <Inventor/Qt/SoQt.h>
+#include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
+#include <Inventor/SbViewVolume.h>
+#include <Inventor/nodes/SoCamera.h>
+
+#include <QApplication>
+#include <QDir>
+#include <QFile>
+#include <QGLWidget>
+#include <QMouseEvent>
+#include <QTemporaryDir>
+#include <QTest>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <cstdlib>
+
+#include "DragTool.h"
+#include "FieldEditor.h"
+#include "MainWindow.h"
+#include "PlotPanel.h"
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+using bsdeform::MainWindow;
+
+// Q_INIT_RESOURCE must be used outside any namespace.
+static void initViewerResources() { Q_INIT_RESOURCE(viewer); }
+
+namespace {
+
+void fatal(const SbString msg, SoQt::FatalErrors, void*) {
+  // A missing GL canvas must fail the test, not open a dialog and hang (coin-notes §6).
+  std::fprintf(stderr, "SoQt fatal error: %s\n", msg.getString());
+  std::abort();
+}
+
+void ensureApp() {
+  static QApplication* app = nullptr;
+  if (app) return;
+  static int argc = 1;
+  static char name[] = "bsdeform_ui_tests";
+  static char* argv[] = {name, nullptr};
+  app = new QApplication(argc, argv);
+  QApplication::setOrganizationName(QStringLiteral("bsdeform-tests"));
+  initViewerResources();
+  bsdeform::disableDynamicNodeLoading();
+  SoQt::setFatalErrorHandler(fatal, nullptr);
+  SoQt::init(argc, argv, "bsdeform_ui_tests");
+  bsdeform::initNodes();
+}
+
+QString scenePath(const char* name) { return QStringLiteral(BSDEFORM_SCENES_DIR "/") + QLatin1String(name); }
+
+std::unique_ptr<MainWindow> makeWindow(const char* scene) {
+  ensureApp();
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  REQUIRE(w->openScene(scenePath(scene)));
+  w->show();
+  REQUIRE(QTest::qWaitForWindowExposed(w.get()));
+  return w;
+}
+
+SoBSplineDeformSurface* firstSurface(MainWindow& w) {
+  REQUIRE(!w.document().surfaces().isEmpty());
+  return w.document().surfaces().first();
+}
+
+// Pixel position of a world point in the 3D view.
+QPoint toScreen(MainWindow& w, const SbVec3f& world) {
+  SoQtExaminerViewer* v = w.viewer();
+  const SbViewportRegion vp = v->getViewportRegion();
+  const SbViewVolume vv = v->getCamera()->getViewVolume(vp.getViewportAspectRatio());
+  SbVec3f s;
+  vv.projectToScreen(world, s);
+  const QSize size = v->getGLWidget()->size();
+  return QPoint(int(s[0] * size.width()), int((1.0f - s[1]) * size.height()));
+}
+
+double nonBackgroundFraction(const QImage& img) {
+  const QRgb bg = img.pixel(2, 2);
+  long n = 0;
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) n += img.pixel(x, y) != bg;
+  return double(n) / (img.width() * img.height());
+}
+
+}  // namespace
+
+TEST_CASE("Viewer: plays a scene, time advances and the frame buffer shows the surface", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->setPlaying(true);
+  QTest::qWait(1500);
+  CHECK(s->simulation().time() > 0.5);  // ~1.5 s of real time at speed 1
+  CHECK(s->simulation().time() < 3.0);
+  CHECK(w->framesDrawn() > 5);
+  const QImage shot = w->screenshot();
+  REQUIRE(!shot.isNull());
+  CHECK(nonBackgroundFraction(shot) > 0.05);
+  // the orange surface is there (not a black or empty view)
+  long orange = 0;
+  for (int y = 0; y < shot.height(); y += 2)
+    for (int x = 0; x < shot.width(); x += 2) {
+      const QColor c = shot.pixelColor(x, y);
+      orange += c.red() > 120 && c.red() > c.blue() + 60;
+    }
+  CHECK(orange > 500);
+  shot.save(QStringLiteral("viewer_screenshot.png"));
+  // a screenshot at another size goes through the offscreen renderer with the same camera
+  const QImage big = w->screenshot(QSize(320, 200));
+  REQUIRE(big.size() == QSize(320, 200));
+  CHECK(nonBackgroundFraction(big) > 0.05);
+  CHECK(w->plotPanel().sampleCount() > 3);
+}
+
+TEST_CASE("Viewer: step advances by one time step and reset returns to t = 0", "[ui]") {
+  auto w = makeWindow("paper_fig7_sinusoidal.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->pause();
+  const double t0 = s->simulation().time();
+  const long n0 = s->simulation().stepCount();
+  w->step();
+  CHECK(s->simulation().time() == Approx(t0 + 0.1));
+  CHECK(s->simulation().stepCount() == n0 + 1);
+  w->step();
+  w->step();
+  CHECK(s->simulation().stepCount() == n0 + 3);
+  CHECK(!w->isPlaying());
+  QTest::qWait(300);
+  CHECK(s->simulation().stepCount() == n0 + 3);  // paused
+  w->reset();
+  CHECK(s->simulation().time() == 0.0);
+  CHECK(s->simulation().deformationNorm() == 0.0);
+}
+
+TEST_CASE("Viewer: a mouse drag on the surface pulls it toward the cursor", "[ui]") {
+  auto w = makeWindow("paper_fig2_point_force.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->reset();
+  w->setPlaying(true);
+  w->setDragMode(true);
+  QWidget* gl = w->viewer()->getGLWidget();
+  const Eigen::Vector3d start = s->simulation().evaluate(0.5, 0.5, 0).position;
+  const QPoint p0 = toScreen(*w, SbVec3f(float(start.x()), float(start.y()), float(start.z())));
+  QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, p0);
+  QTest::qWait(50);
+  REQUIRE(w->dragTool().isDragging());
+  const SbVec2f uv = w->dragTool().pickedParameter();
+  CHECK(uv[0] == Approx(0.5).margin(0.03));
+  CHECK(uv[1] == Approx(0.5).margin(0.03));
+  // move the cursor up-right in steps with the button held
+  for (int i = 1; i <= 10; ++i) {
+    const QPoint p = p0 + QPoint(6 * i, -8 * i);
+    QMouseEvent move(QEvent::MouseMove, p, gl->mapToGlobal(p), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(gl, &move);
+    QTest::qWait(20);
+  }
+  const SbVec3f anchor = w->dragTool().anchorWorld();
+  QTest::qWait(1500);
+  const Eigen::Vector3d now = s->simulation().evaluate(uv[0], uv[1], 0).position;
+  const Eigen::Vector3d a(anchor[0], anchor[1], anchor[2]);
+  INFO("start " << start.transpose() << " now " << now.transpose() << " anchor " << a.transpose());
+  CHECK((now - start).norm() > 0.05);
+  CHECK((now - start).dot(a - start) > 0.0);             // toward the cursor
+  CHECK((a - now).norm() < (a - start).norm());           // closer than before
+  CHECK(s->simulation().forces().size() == size_t(s->forces.getNum()) + 1);  // the scene's and the spring
+  QTest::mouseRelease(gl, Qt::LeftButton, Qt::NoModifier, p0 + QPoint(60, -80));
+  QTest::qWait(50);
+  CHECK(!w->dragTool().isDragging());
+  CHECK(s->simulation().forces().size() == size_t(s->forces.getNum()));
+}
+
+TEST_CASE("Viewer: a bad file shows the error and keeps the current scene", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  SoBSplineDeformSurface* before = firstSurface(*w);
+  QTemporaryDir dir;
+  const QString bad = dir.filePath(QStringLiteral("broken.iv"));
+  QFile f(bad);
+  REQUIRE(f.open(QIODevice::WriteOnly));
+  f.write("#Inventor V2.1 ascii\nSeparator {\n  SoBSplineDeformSurface { integrator SIDEWAYS }\n}\n");
+  f.close();
+  CHECK(!w->openScene(bad));
+  CHECK(w->lastError().contains(QStringLiteral("broken.iv")));
+  CHECK(w->lastError().contains(QStringLiteral("line")));
+  CHECK(w->lastError().contains(QStringLiteral("SIDEWAYS")));
+  CHECK(w->document().path() == scenePath("region_load.iv"));
+  CHECK(firstSurface(*w) == before);
+  CHECK(!w->openScene(dir.filePath(QStringLiteral("missing.iv"))));
+  CHECK(w->lastError().contains(QStringLiteral("missing.iv")));
+  CHECK(firstSurface(*w) == before);
+}
+
+TEST_CASE("Viewer: Save As then reload gives the same state, mesh export, field editor", "[ui]") {
+  auto w = makeWindow("paper_fig6_sinusoidal_degree4.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->pause();
+  for (int i = 0; i < 7; ++i) w->step();
+  const bsdeform::ControlNet net = s->simulation().current();
+  const double t = s->simulation().time();
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("saved.iv"));
+  REQUIRE(w->saveSceneAs(path));
+  REQUIRE(w->openScene(path));
+  SoBSplineDeformSurface* r = firstSurface(*w);
+  CHECK(r != s);
+  CHECK(r->simulation().time() == Approx(t));
+  CHECK((r->simulation().current() - net).cwiseAbs().maxCoeff() < 1e-12);
+  // OBJ and STL of the surface
+  REQUIRE(w->exportMesh(dir.filePath(QStringLiteral("mesh.obj"))));
+  REQUIRE(w->exportMesh(dir.filePath(QStringLiteral("mesh.stl"))));
+  QFile obj(dir.filePath(QStringLiteral("mesh.obj")));
+  REQUIRE(obj.open(QIODevice::ReadOnly));
+  int faces = 0;
+  while (!obj.atEnd()) faces += obj.readLine().startsWith("f ");
+  QFile stl(dir.filePath(QStringLiteral("mesh.stl")));
+  REQUIRE(stl.open(QIODevice::ReadOnly));
+  const QByteArray bin = stl.readAll();
+  REQUIRE(bin.size() > 84);
+  quint32 triangles = 0;
+  std::memcpy(&triangles, bin.constData() + 80, 4);
+  CHECK(faces > 100);
+  CHECK(int(triangles) == faces);
+  CHECK(bin.size() == 84 + 50 * faces);
+  CHECK(!w->exportMesh(dir.filePath(QStringLiteral("mesh.xyz"))));
+  // the field editor is bound to the selected surface
+  CHECK(w->fieldEditor().container() == r);
+}

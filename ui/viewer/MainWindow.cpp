@@ -1,0 +1,529 @@
+// SPDX-License-Identifier: MIT
+#include "MainWindow.h"
+
+#include <Inventor/Qt/SoQt.h>
+#include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
+#include <Inventor/SbViewportRegion.h>
+#include <Inventor/actions/SoGLRenderAction.h>
+#include <Inventor/nodes/SoCallback.h>
+#include <Inventor/nodes/SoCamera.h>
+#include <Inventor/nodes/SoDirectionalLight.h>
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <QAction>
+#include <cstdio>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QDragEnterEvent>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QGLWidget>
+#include <QHeaderView>
+#include <QInputDialog>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QSaveFile>
+#include <QScrollArea>
+#include <QSettings>
+#include <QSplitter>
+#include <QStatusBar>
+#include <QTimer>
+#include <QToolBar>
+#include <QTreeWidget>
+#include <QVBoxLayout>
+
+#include "DragTool.h"
+#include "FieldEditor.h"
+#include "PlotPanel.h"
+#include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
+
+namespace bsdeform {
+
+namespace {
+constexpr int kMaxRecent = 8;
+const char* kRecentKey = "recentFiles";
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
+  setWindowTitle(tr("bsdeform viewer"));
+  setAcceptDrops(true);
+  m_wrapper = new SoSeparator;
+  m_wrapper->ref();
+  m_frameCounter = new SoCallback;
+  m_frameCounter->ref();  // it outlives every scene shown in the wrapper
+  m_frameCounter->setCallback(countFrame, this);
+
+  auto* central = new QWidget(this);
+  auto* layout = new QVBoxLayout(central);
+  layout->setContentsMargins(0, 0, 0, 0);
+  setCentralWidget(central);
+  m_viewer = new SoQtExaminerViewer(central);
+  layout->addWidget(m_viewer->getWidget());
+  m_viewer->setSceneGraph(m_wrapper);
+
+  createActions();
+  createDocks();
+  createStatusBar();
+  updateRecentMenu();
+  resize(1200, 800);
+
+  m_timer = new QTimer(this);
+  connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
+  m_timer->start(100);
+  m_rateClock.start();
+}
+
+MainWindow::~MainWindow() {
+  m_drag->release();
+  m_viewer->setSceneGraph(nullptr);
+  delete m_viewer;
+  m_wrapper->unref();
+  m_frameCounter->unref();
+}
+
+void MainWindow::countFrame(void* data, SoAction* action) {
+  if (action->isOfType(SoGLRenderAction::getClassTypeId())) ++static_cast<MainWindow*>(data)->m_frames;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+void MainWindow::createActions() {
+  QMenu* file = menuBar()->addMenu(tr("&File"));
+  QAction* a = file->addAction(tr("&Open..."), this, &MainWindow::open);
+  a->setShortcut(QKeySequence::Open);
+  m_recentMenu = file->addMenu(tr("Open &Recent"));
+  a = file->addAction(tr("Re&load"), this, &MainWindow::reload);
+  a->setShortcut(QKeySequence::Refresh);
+  a = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
+  a->setShortcut(QKeySequence::SaveAs);
+  file->addSeparator();
+  file->addAction(tr("&Export Mesh (OBJ, STL)..."), this, &MainWindow::exportMeshDialog);
+  a = file->addAction(tr("Save &Screenshot..."), this, &MainWindow::screenshotDialog);
+  a->setShortcut(QKeySequence(tr("Ctrl+P")));
+  file->addSeparator();
+  a = file->addAction(tr("&Quit"), this, &QWidget::close);
+  a->setShortcut(QKeySequence::Quit);
+
+  QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
+  QToolBar* bar = addToolBar(tr("Simulation"));
+  bar->setObjectName(QStringLiteral("simulationToolBar"));
+  m_playAction = new QAction(tr("Play"), this);
+  m_playAction->setCheckable(true);
+  m_playAction->setShortcut(QKeySequence(Qt::Key_Space));
+  m_playAction->setShortcutContext(Qt::ApplicationShortcut);
+  m_playAction->setToolTip(tr("Play / pause (Space)"));
+  connect(m_playAction, &QAction::triggered, this, [this](bool on) { setPlaying(on); });
+  QAction* stepAction = new QAction(tr("Step"), this);
+  stepAction->setShortcut(QKeySequence(tr("S")));
+  stepAction->setToolTip(tr("One time step (S)"));
+  connect(stepAction, &QAction::triggered, this, &MainWindow::step);
+  QAction* resetAction = new QAction(tr("Reset"), this);
+  resetAction->setShortcut(QKeySequence(tr("R")));
+  resetAction->setToolTip(tr("Back to the rest state (R)"));
+  connect(resetAction, &QAction::triggered, this, &MainWindow::reset);
+  m_dragAction = new QAction(tr("Drag"), this);
+  m_dragAction->setCheckable(true);
+  m_dragAction->setShortcut(QKeySequence(tr("D")));
+  m_dragAction->setToolTip(tr("Drag mode: press on a surface and pull (D); off: camera mode"));
+  connect(m_dragAction, &QAction::toggled, this, &MainWindow::setDragMode);
+  for (QAction* act : {m_playAction, stepAction, resetAction, m_dragAction}) {
+    sim->addAction(act);
+    bar->addAction(act);
+  }
+  bar->addSeparator();
+  bar->addWidget(new QLabel(tr(" speed ")));
+  m_speed = new QDoubleSpinBox;
+  m_speed->setRange(0.01, 100.0);
+  m_speed->setDecimals(2);
+  m_speed->setValue(1.0);
+  m_speed->setSuffix(tr(" x"));
+  m_speed->setToolTip(tr("Simulated seconds per real second"));
+  connect(m_speed, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double v) {
+    for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(v);
+  });
+  bar->addWidget(m_speed);
+}
+
+void MainWindow::createDocks() {
+  auto* sceneDock = new QDockWidget(tr("Scene"), this);
+  sceneDock->setObjectName(QStringLiteral("sceneDock"));
+  auto* split = new QSplitter(Qt::Vertical);
+  m_tree = new QTreeWidget;
+  m_tree->setHeaderHidden(true);
+  connect(m_tree, &QTreeWidget::itemSelectionChanged, this, &MainWindow::selectionChanged);
+  m_editor = new FieldEditor;
+  connect(m_editor, &FieldEditor::rejected, this, [this](const QString& m) { statusBar()->showMessage(m, 5000); });
+  auto* scroll = new QScrollArea;
+  scroll->setWidget(m_editor);
+  scroll->setWidgetResizable(true);
+  split->addWidget(m_tree);
+  split->addWidget(scroll);
+  split->setStretchFactor(1, 3);
+  sceneDock->setWidget(split);
+  addDockWidget(Qt::RightDockWidgetArea, sceneDock);
+
+  auto* plotDock = new QDockWidget(tr("Plots"), this);
+  plotDock->setObjectName(QStringLiteral("plotDock"));
+  m_plots = new PlotPanel;
+  connect(m_plots, &PlotPanel::failed, this, [this](const QString& m) { reportError(tr("Export failed"), m); });
+  plotDock->setWidget(m_plots);
+  addDockWidget(Qt::BottomDockWidgetArea, plotDock);
+}
+
+void MainWindow::createStatusBar() {
+  m_timeLabel = new QLabel;
+  m_rateLabel = new QLabel;
+  m_modelLabel = new QLabel;
+  m_stateLabel = new QLabel;
+  for (QLabel* l : {m_timeLabel, m_rateLabel, m_modelLabel, m_stateLabel}) statusBar()->addPermanentWidget(l);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files
+
+void MainWindow::reportError(const QString& title, const QString& message) {
+  m_lastError = message;
+  statusBar()->showMessage(title + QStringLiteral(": ") + message.section(QLatin1Char('\n'), 0, 0), 10000);
+  if (m_interactive)
+    QMessageBox::warning(this, title, message);
+  else
+    std::fprintf(stderr, "bsdeform-viewer: %s: %s\n", title.toUtf8().constData(), message.toUtf8().constData());
+}
+
+bool MainWindow::openScene(const QString& path) {
+  QString error;
+  m_drag->release();
+  if (!m_doc->load(path, error)) {
+    reportError(tr("Cannot open scene"), error);
+    return false;
+  }
+  m_lastError.clear();
+  addRecent(QFileInfo(path).absoluteFilePath());
+  showScene();
+  return true;
+}
+
+void MainWindow::openDefaultScene() {
+  QFile f(QStringLiteral(":/default.iv"));
+  QString error;
+  if (!f.open(QIODevice::ReadOnly) || !m_doc->loadFromText(f.readAll(), tr("default scene"), error)) {
+    reportError(tr("Cannot open the default scene"), error);
+    return;
+  }
+  showScene();
+}
+
+void MainWindow::showScene() {
+  m_wrapper->removeAllChildren();
+  m_wrapper->addChild(m_frameCounter);
+  m_wrapper->addChild(m_drag->node());
+  m_wrapper->addChild(m_doc->root());
+  m_viewer->setSceneGraph(m_wrapper);
+  m_viewer->viewAll();
+  setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
+  m_frames = m_lastFrames = 0;
+  m_lastSteps = 0;
+  m_selectedSurface = -1;
+  populateScenePanel();
+  m_playAction->setChecked(isPlaying());
+}
+
+void MainWindow::open() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), QString(), tr("Inventor scenes (*.iv);;All files (*)"));
+  if (!path.isEmpty()) openScene(path);
+}
+
+void MainWindow::reload() {
+  if (m_doc->path().isEmpty())
+    openDefaultScene();
+  else
+    openScene(m_doc->path());
+}
+
+bool MainWindow::saveSceneAs(const QString& path) {
+  QString error;
+  if (!m_doc->save(path, error)) {
+    reportError(tr("Cannot save scene"), error);
+    return false;
+  }
+  addRecent(QFileInfo(path).absoluteFilePath());
+  statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
+  return true;
+}
+
+void MainWindow::saveAs() {
+  // QFileDialog asks before replacing an existing file; the file is written atomically.
+  QString path = QFileDialog::getSaveFileName(this, tr("Save scene as"), m_doc->path(), tr("Inventor scenes (*.iv)"));
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");
+  saveSceneAs(path);
+}
+
+bool MainWindow::exportMesh(const QString& path) {
+  if (m_doc->surfaces().isEmpty()) {
+    reportError(tr("Export failed"), tr("the scene has no surface"));
+    return false;
+  }
+  SoBSplineDeformSurface* s = m_doc->surfaces()[std::max(0, m_selectedSurface)];
+  QString error;
+  if (!m_doc->exportMesh(s, path, error)) {
+    reportError(tr("Export failed"), error);
+    return false;
+  }
+  statusBar()->showMessage(tr("Exported %1 to %2").arg(m_doc->nameOf(s), path), 5000);
+  return true;
+}
+
+void MainWindow::exportMeshDialog() {
+  QString filter;
+  QString path = QFileDialog::getSaveFileName(this, tr("Export mesh of the selected surface"), QString(),
+                                              tr("Wavefront OBJ (*.obj);;STL (*.stl)"), &filter);
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) path += filter.contains(QLatin1String("stl")) ? QStringLiteral(".stl") : QStringLiteral(".obj");
+  exportMesh(path);
+}
+
+QImage MainWindow::screenshot(const QSize& size) {
+  auto* gl = qobject_cast<QGLWidget*>(m_viewer->getGLWidget());
+  const QSize viewSize = gl ? gl->size() : QSize();
+  if (gl && (!size.isValid() || size == viewSize)) {
+    m_viewer->render();
+    return gl->grabFrameBuffer();
+  }
+  // another size: the same camera and headlight, rendered offscreen (EGL)
+  SoSeparator* root = new SoSeparator;
+  root->ref();
+  SoCamera* cam = m_viewer->getCamera();
+  if (cam) {
+    root->addChild(cam->copy());
+    auto* light = new SoDirectionalLight;
+    SbVec3f dir;
+    cam->orientation.getValue().multVec(SbVec3f(0, 0, -1), dir);
+    light->direction = dir;
+    root->addChild(light);
+  }
+  root->addChild(m_doc->root());
+  if (gl) gl->doneCurrent();  // EGL cannot make its context current while SoQt's GLX one is
+  Image img;
+  std::string error;
+  QImage out;
+  const SbColor bg = m_viewer->getBackgroundColor();
+  if (renderOffscreen(root, size.width(), size.height(), img, error, bg)) {
+    out = QImage(img.rgb.data(), img.width, img.height, img.width * 3, QImage::Format_RGB888).copy();
+  } else {
+    reportError(tr("Screenshot failed"), QString::fromStdString(error));
+  }
+  root->unref();
+  return out;
+}
+
+bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
+  const QImage img = screenshot(size);
+  if (img.isNull()) return false;
+  QSaveFile f(path);
+  if (!f.open(QIODevice::WriteOnly) || !img.save(&f, "PNG") || !f.commit()) {
+    reportError(tr("Screenshot failed"), tr("cannot write %1: %2").arg(path, f.errorString()));
+    return false;
+  }
+  statusBar()->showMessage(tr("Saved %1 (%2 x %3)").arg(path).arg(img.width()).arg(img.height()), 5000);
+  return true;
+}
+
+void MainWindow::screenshotDialog() {
+  QString path = QFileDialog::getSaveFileName(this, tr("Save screenshot"), QString(), tr("PNG images (*.png)"));
+  if (path.isEmpty()) return;
+  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
+  const QSize view = m_viewer->getGLWidget()->size();
+  bool ok = false;
+  const QString text = QInputDialog::getText(this, tr("Screenshot size"), tr("Width x height in pixels:"), QLineEdit::Normal,
+                                             QStringLiteral("%1x%2").arg(view.width()).arg(view.height()), &ok);
+  if (!ok) return;
+  const QStringList wh = text.split(QLatin1Char('x'));
+  const int w = wh.size() == 2 ? wh[0].trimmed().toInt() : 0, h = wh.size() == 2 ? wh[1].trimmed().toInt() : 0;
+  if (w < 1 || h < 1 || w > 8192 || h > 8192) {
+    reportError(tr("Screenshot"), tr("'%1' is not a size WxH within 1..8192").arg(text));
+    return;
+  }
+  saveScreenshot(path, QSize(w, h));
+}
+
+void MainWindow::addRecent(const QString& path) {
+  QSettings settings;
+  QStringList recent = settings.value(kRecentKey).toStringList();
+  recent.removeAll(path);
+  recent.prepend(path);
+  while (recent.size() > kMaxRecent) recent.removeLast();
+  settings.setValue(kRecentKey, recent);
+  updateRecentMenu();
+}
+
+void MainWindow::updateRecentMenu() {
+  m_recentMenu->clear();
+  const QStringList recent = QSettings().value(kRecentKey).toStringList();
+  for (const QString& path : recent)
+    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openScene(path); })->setToolTip(path);
+  m_recentMenu->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
+  for (const QUrl& url : e->mimeData()->urls())
+    if (url.isLocalFile() && url.toLocalFile().endsWith(QLatin1String(".iv"), Qt::CaseInsensitive)) {
+      e->acceptProposedAction();
+      return;
+    }
+}
+
+void MainWindow::dropEvent(QDropEvent* e) {
+  for (const QUrl& url : e->mimeData()->urls())
+    if (url.isLocalFile()) {
+      openScene(url.toLocalFile());
+      return;
+    }
+}
+
+void MainWindow::closeEvent(QCloseEvent* e) {
+  m_timer->stop();
+  QMainWindow::closeEvent(e);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Simulation controls
+
+bool MainWindow::isPlaying() const {
+  for (SoBSplineDeformSurface* s : m_doc->surfaces())
+    if (s->on.getValue()) return true;
+  return false;
+}
+
+void MainWindow::setPlaying(bool on) {
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->on = on;
+  m_playAction->setChecked(on);
+  m_playAction->setText(on ? tr("Pause") : tr("Play"));
+}
+
+void MainWindow::setSpeed(double speed) { m_speed->setValue(speed); }
+
+void MainWindow::play() { setPlaying(true); }
+void MainWindow::pause() { setPlaying(false); }
+
+void MainWindow::step() {
+  setPlaying(false);
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->stepSimulation(1);
+  tick();
+}
+
+void MainWindow::reset() {
+  m_drag->release();
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->resetSimulation();
+  tick();
+}
+
+void MainWindow::setDragMode(bool on) {
+  m_drag->setEnabled(on);
+  m_viewer->setViewing(!on);  // in drag mode mouse events reach the scene, not the camera
+  if (m_dragAction->isChecked() != on) m_dragAction->setChecked(on);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Scene panel
+
+void MainWindow::populateScenePanel() {
+  m_tree->clear();
+  auto* surfaces = new QTreeWidgetItem(m_tree, {tr("Surfaces")});
+  for (int i = 0; i < m_doc->surfaces().size(); ++i) {
+    auto* item = new QTreeWidgetItem(surfaces, {m_doc->nameOf(m_doc->surfaces()[i])});
+    item->setData(0, Qt::UserRole, i);
+  }
+  auto* forces = new QTreeWidgetItem(m_tree, {tr("Force fields")});
+  for (int i = 0; i < m_doc->forceFields().size(); ++i) {
+    SoForceField* f = m_doc->forceFields()[i];
+    SbName type;
+    f->type.getEnum(f->type.getValue(), type);
+    auto* item = new QTreeWidgetItem(forces, {QStringLiteral("%1 (%2)").arg(m_doc->nameOf(f), QString::fromLatin1(type.getString()))});
+    item->setData(0, Qt::UserRole, -1 - i);
+  }
+  m_tree->expandAll();
+  if (!m_doc->surfaces().isEmpty()) selectSurface(0);
+}
+
+void MainWindow::selectSurface(int index) {
+  QTreeWidgetItem* surfaces = m_tree->topLevelItem(0);
+  if (surfaces && index >= 0 && index < surfaces->childCount()) m_tree->setCurrentItem(surfaces->child(index));
+}
+
+void MainWindow::selectionChanged() {
+  const QList<QTreeWidgetItem*> sel = m_tree->selectedItems();
+  if (sel.isEmpty() || !sel.first()->data(0, Qt::UserRole).isValid()) return;
+  const int code = sel.first()->data(0, Qt::UserRole).toInt();
+  if (code >= 0) {
+    SoBSplineDeformSurface* s = m_doc->surfaces()[code];
+    m_selectedSurface = code;
+    m_editor->setContainer(s, m_doc->nameOf(s));
+    m_plots->setSurface(s, m_doc->nameOf(s));
+    m_lastSteps = s->simulation().stepCount();
+  } else {
+    SoForceField* f = m_doc->forceFields()[-1 - code];
+    m_editor->setContainer(f, m_doc->nameOf(f));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Periodic updates (10 Hz)
+
+void MainWindow::tick() {
+  m_drag->update();
+  m_plots->sample();
+  if (++m_ticks % 10 == 0) m_editor->refresh();
+  updateStatus();
+}
+
+void MainWindow::updateStatus() {
+  const double dt = m_rateClock.elapsed() / 1000.0;
+  SoBSplineDeformSurface* s = m_doc->surfaces().isEmpty() ? nullptr : m_doc->surfaces()[std::max(0, m_selectedSurface)];
+  const long steps = s ? s->simulation().stepCount() : 0;
+  if (dt >= 1.0) {
+    m_fps = (m_frames - m_lastFrames) / dt;
+    m_stepsPerSecond = std::max(0L, steps - m_lastSteps) / dt;
+    m_lastFrames = m_frames;
+    m_lastSteps = steps;
+    m_rateClock.restart();
+  }
+  m_rateLabel->setText(tr("%1 steps/s  %2 frames/s").arg(m_stepsPerSecond, 0, 'f', 1).arg(m_fps, 0, 'f', 1));
+  if (!s) {
+    m_timeLabel->clear();
+    m_modelLabel->clear();
+    m_stateLabel->clear();
+    return;
+  }
+  const Simulation& sim = s->simulation();
+  const ModelParameters& p = sim.parameters();
+  m_timeLabel->setText(tr("t = %1 s").arg(sim.time(), 0, 'f', 3));
+  m_modelLabel->setText(tr("%1 control points (%2 DOFs)  dt %3  limit %4  sub-steps %5")
+                            .arg(p.numU * p.numV)
+                            .arg(3 * p.numU * p.numV)
+                            .arg(p.timeStep)
+                            .arg(sim.stabilityLimit(), 0, 'g', 4)
+                            .arg(sim.subSteps()));
+  if (sim.status() != Status::Ok) {
+    m_stateLabel->setText(tr("<b style='color:#c00'>STOPPED: blew up</b>"));
+    m_stateLabel->setToolTip(QString::fromStdString(sim.statusMessage()));
+  } else if (!s->lastWarning().empty()) {
+    m_stateLabel->setText(tr("<b style='color:#b60'>warning</b>"));
+    m_stateLabel->setToolTip(QString::fromStdString(s->lastWarning()));
+  } else {
+    m_stateLabel->setText(isPlaying() ? tr("running") : tr("paused"));
+    m_stateLabel->setToolTip(QString());
+  }
+  if (m_playAction->isChecked() != isPlaying()) setPlaying(isPlaying());
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file MainWindow.h
+/// bsdeform-viewer's main window: an SoQtExaminerViewer with file handling, simulation
+/// controls, a scene panel with a field editor, live plots and mouse dragging.
+
+#include <QElapsedTimer>
+#include <QImage>
+#include <QMainWindow>
+#include <memory>
+
+#include "SceneDocument.h"
+
+class QAction;
+class QDoubleSpinBox;
+class QLabel;
+class QMenu;
+class QTimer;
+class QTreeWidget;
+class QTreeWidgetItem;
+class SoQtExaminerViewer;
+class SoSeparator;
+class SoCallback;
+class SoAction;
+
+namespace bsdeform {
+class DragTool;
+class FieldEditor;
+class PlotPanel;
+
+class MainWindow : public QMainWindow {
+  Q_OBJECT
+ public:
+  explicit MainWindow(QWidget* parent = nullptr);
+  ~MainWindow() override;
+
+  /// Opens a scene file; on failure reports Coin's reason and keeps the current scene.
+  bool openScene(const QString& path);
+  /// Shows the built-in default scene.
+  void openDefaultScene();
+  /// Writes the scene with its state (used by Save As).
+  bool saveSceneAs(const QString& path);
+  /// Screenshot of the 3D view; at the view's size from the frame buffer, otherwise rendered
+  /// offscreen with the same camera.
+  QImage screenshot(const QSize& size = QSize());
+  bool saveScreenshot(const QString& path, const QSize& size = QSize());
+  bool exportMesh(const QString& path);
+
+  /// Tests and batch measurement: errors go to lastError() and the status bar, no dialogs.
+  void setInteractive(bool on) { m_interactive = on; }
+  const QString& lastError() const { return m_lastError; }
+  SceneDocument& document() { return *m_doc; }
+  SoQtExaminerViewer* viewer() const { return m_viewer; }
+  DragTool& dragTool() { return *m_drag; }
+  PlotPanel& plotPanel() { return *m_plots; }
+  FieldEditor& fieldEditor() { return *m_editor; }
+  /// Frames drawn since the scene was opened.
+  long framesDrawn() const { return m_frames; }
+  void setPlaying(bool on);
+  bool isPlaying() const;
+  void setDragMode(bool on);
+  void setSpeed(double speed);
+  void selectSurface(int index);
+
+ public slots:
+  void open();
+  void reload();
+  void saveAs();
+  void exportMeshDialog();
+  void screenshotDialog();
+  void play();
+  void pause();
+  void step();
+  void reset();
+
+ protected:
+  void dragEnterEvent(QDragEnterEvent* e) override;
+  void dropEvent(QDropEvent* e) override;
+  void closeEvent(QCloseEvent* e) override;
+
+ private:
+  void createActions();
+  void createDocks();
+  void createStatusBar();
+  void showScene();
+  void populateScenePanel();
+  void selectionChanged();
+  void tick();
+  void updateStatus();
+  void reportError(const QString& title, const QString& message);
+  void addRecent(const QString& path);
+  void updateRecentMenu();
+  static void countFrame(void* data, SoAction* action);
+
+  std::unique_ptr<SceneDocument> m_doc;
+  std::unique_ptr<DragTool> m_drag;
+  SoQtExaminerViewer* m_viewer = nullptr;
+  SoSeparator* m_wrapper = nullptr;
+  SoCallback* m_frameCounter = nullptr;
+  QTreeWidget* m_tree = nullptr;
+  FieldEditor* m_editor = nullptr;
+  PlotPanel* m_plots = nullptr;
+  QTimer* m_timer = nullptr;
+  QAction* m_playAction = nullptr;
+  QAction* m_dragAction = nullptr;
+  QMenu* m_recentMenu = nullptr;
+  QDoubleSpinBox* m_speed = nullptr;
+  QLabel* m_timeLabel = nullptr;
+  QLabel* m_rateLabel = nullptr;
+  QLabel* m_modelLabel = nullptr;
+  QLabel* m_stateLabel = nullptr;
+  bool m_interactive = true;
+  QString m_lastError;
+  long m_frames = 0;
+  long m_lastFrames = 0, m_lastSteps = 0;
+  QElapsedTimer m_rateClock;
+  double m_fps = 0.0, m_stepsPerSecond = 0.0;
+  int m_ticks = 0;
+  int m_selectedSurface = -1;
+};
+
+}  // namespace bsdeform

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#include "PlotPanel.h"
+
+#include <QFileDialog>
+#include <QHBoxLayout>
+#include <QPushButton>
+#include <QSaveFile>
+#include <QVBoxLayout>
+#include <QtCharts/QChart>
+#include <QtCharts/QChartView>
+#include <QtCharts/QLineSeries>
+#include <QtCharts/QValueAxis>
+#include <algorithm>
+
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace bsdeform {
+
+namespace {
+constexpr int kMaxSamples = 4000;  // older samples are dropped so plotting stays cheap
+}
+
+PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
+  using namespace QtCharts;
+  auto* chart = new QChart;
+  m_axisX = new QValueAxis;
+  m_axisY = new QValueAxis;
+  m_axisX->setTitleText(tr("time"));
+  chart->addAxis(m_axisX, Qt::AlignBottom);
+  chart->addAxis(m_axisY, Qt::AlignLeft);
+  const char* names[3] = {"norm (eq. 15)", "kinetic energy", "strain energy"};
+  for (int i = 0; i < 3; ++i) {
+    m_series[i] = new QLineSeries;
+    m_series[i]->setName(tr(names[i]));
+    chart->addSeries(m_series[i]);
+    m_series[i]->attachAxis(m_axisX);
+    m_series[i]->attachAxis(m_axisY);
+  }
+  chart->setMargins(QMargins(2, 2, 2, 2));
+  m_view = new QChartView(chart);
+  m_view->setRenderHint(QPainter::Antialiasing);
+  m_view->setMinimumHeight(180);
+  auto* png = new QPushButton(tr("Export PNG..."));
+  auto* csv = new QPushButton(tr("Export CSV..."));
+  auto* buttons = new QHBoxLayout;
+  buttons->addStretch();
+  buttons->addWidget(png);
+  buttons->addWidget(csv);
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(m_view);
+  layout->addLayout(buttons);
+  connect(png, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export plot"), QString(), tr("PNG images (*.png)"));
+    QString error;
+    if (!path.isEmpty() && !exportPng(path, error)) emit failed(error);
+  });
+  connect(csv, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(this, tr("Export history"), QString(), tr("CSV files (*.csv)"));
+    QString error;
+    if (!path.isEmpty() && !exportCsv(path, error)) emit failed(error);
+  });
+}
+
+void PlotPanel::clearHistory() {
+  m_t.clear();
+  m_norm.clear();
+  m_kinetic.clear();
+  m_strain.clear();
+  for (auto* s : m_series) s->clear();
+}
+
+void PlotPanel::setSurface(SoBSplineDeformSurface* surface, const QString& name) {
+  m_surface = surface;
+  m_view->chart()->setTitle(surface ? name : QString());
+  clearHistory();
+  sample();
+}
+
+void PlotPanel::sample() {
+  if (!m_surface) return;
+  const Simulation& sim = m_surface->simulation();
+  const double t = sim.time();
+  if (!m_t.isEmpty() && t < m_t.back()) clearHistory();  // reset
+  if (!m_t.isEmpty() && t == m_t.back()) return;
+  const double values[3] = {sim.deformationNorm(), sim.kineticEnergy(), sim.strainEnergy().total};
+  m_t << t;
+  m_norm << values[0];
+  m_kinetic << values[1];
+  m_strain << values[2];
+  for (int i = 0; i < 3; ++i) {
+    if (m_series[i]->count() >= kMaxSamples) m_series[i]->removePoints(0, m_series[i]->count() - kMaxSamples + 1);
+    m_series[i]->append(t, values[i]);
+  }
+  const int first = std::max(0, m_t.size() - kMaxSamples);
+  double lo = 0.0, hi = 1e-12;
+  for (int i = first; i < m_t.size(); ++i)
+    for (double v : {m_norm[i], m_kinetic[i], m_strain[i]}) {
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  m_axisX->setRange(m_t[first], std::max(m_t.back(), m_t[first] + 1e-9));
+  m_axisY->setRange(lo, hi * 1.05);
+}
+
+bool PlotPanel::exportCsv(const QString& path, QString& error) const {
+  QByteArray text = "time,norm,kinetic,strain\n";
+  for (int i = 0; i < m_t.size(); ++i)
+    text += QByteArray::number(m_t[i], 'g', 17) + ',' + QByteArray::number(m_norm[i], 'g', 17) + ',' +
+            QByteArray::number(m_kinetic[i], 'g', 17) + ',' + QByteArray::number(m_strain[i], 'g', 17) + '\n';
+  QSaveFile f(path);
+  if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size() || !f.commit()) {
+    error = tr("cannot write %1: %2").arg(path, f.errorString());
+    return false;
+  }
+  return true;
+}
+
+bool PlotPanel::exportPng(const QString& path, QString& error) {
+  QSaveFile f(path);
+  if (!f.open(QIODevice::WriteOnly) || !m_view->grab().save(&f, "PNG") || !f.commit()) {
+    error = tr("cannot write %1: %2").arg(path, f.errorString());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: MIT
+#include "SceneDocument.h"
+
+#include <Inventor/SoDB.h>
+#include <Inventor/SoInput.h>
+#include <Inventor/SoOutput.h>
+#include <Inventor/SoPrimitiveVertex.h>
+#include <Inventor/actions/SoCallbackAction.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/errors/SoReadError.h>
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <QFile>
+#include <QFileInfo>
+#include <QSaveFile>
+#include <QTextStream>
+#include <cstring>
+
+#include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
+
+namespace bsdeform {
+
+namespace {
+QStringList* g_readErrors = nullptr;
+void collectReadError(const SoError* e, void*) {
+  if (g_readErrors) *g_readErrors << QString::fromUtf8(e->getDebugString().getString());
+}
+
+// Reads with Coin, capturing its read errors into `error`.
+SoSeparator* readScene(SoInput& in, QString& error) {
+  QStringList errors;
+  g_readErrors = &errors;
+  void* oldData = nullptr;
+  SoErrorCB* old = SoReadError::getHandlerCallback();
+  oldData = SoReadError::getHandlerData();
+  SoReadError::setHandlerCallback(collectReadError, nullptr);
+  SoSeparator* root = SoDB::readAll(&in);
+  SoReadError::setHandlerCallback(old, oldData);
+  g_readErrors = nullptr;
+  if (!root) error = errors.isEmpty() ? QStringLiteral("not an Inventor file") : errors.join(QLatin1Char('\n'));
+  return root;
+}
+}  // namespace
+
+SceneDocument::SceneDocument() = default;
+
+SceneDocument::~SceneDocument() {
+  if (m_root) m_root->unref();
+}
+
+void SceneDocument::adopt(SoSeparator* root, const QString& path) {
+  root->ref();
+  if (m_root) m_root->unref();
+  m_root = root;
+  m_path = path;
+  m_surfaces.clear();
+  m_forceFields.clear();
+  SoSearchAction sa;
+  sa.setType(SoBSplineDeformSurface::getClassTypeId());
+  sa.setInterest(SoSearchAction::ALL);
+  sa.apply(root);
+  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
+    auto* s = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
+    if (m_surfaces.contains(s)) continue;
+    m_surfaces << s;
+    for (int k = 0; k < s->forces.getNum(); ++k) {
+      SoEngine* e = s->forces[k];
+      if (e && e->isOfType(SoForceField::getClassTypeId()) && !m_forceFields.contains(static_cast<SoForceField*>(e)))
+        m_forceFields << static_cast<SoForceField*>(e);
+    }
+  }
+}
+
+bool SceneDocument::load(const QString& path, QString& error) {
+  if (!QFileInfo(path).isFile()) {
+    error = QStringLiteral("%1: no such file").arg(path);
+    return false;
+  }
+  SoInput in;
+  if (!in.openFile(QFile::encodeName(path).constData())) {
+    error = QStringLiteral("%1: cannot be opened").arg(path);
+    return false;
+  }
+  QString why;
+  SoSeparator* root = readScene(in, why);
+  if (!root) {
+    error = QStringLiteral("%1 could not be read:\n%2").arg(path, why);
+    return false;
+  }
+  adopt(root, path);
+  return true;
+}
+
+bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QString& error) {
+  SoInput in;
+  in.setBuffer(text.constData(), size_t(text.size()));
+  QString why;
+  SoSeparator* root = readScene(in, why);
+  if (!root) {
+    error = QStringLiteral("%1 could not be read:\n%2").arg(name, why);
+    return false;
+  }
+  adopt(root, QString());
+  return true;
+}
+
+QByteArray SceneDocument::toText() const {
+  if (!m_root) return {};
+  SoOutput out;
+  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
+  SoWriteAction wa(&out);
+  wa.apply(m_root);
+  void* buf = nullptr;
+  size_t size = 0;
+  out.getBuffer(buf, size);
+  return QByteArray(static_cast<const char*>(buf), int(size));
+}
+
+bool SceneDocument::save(const QString& path, QString& error) const {
+  QSaveFile f(path);
+  const QByteArray text = toText();
+  if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size() || !f.commit()) {
+    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
+    return false;
+  }
+  return true;
+}
+
+QString SceneDocument::nameOf(SoBSplineDeformSurface* s) const {
+  const SbName n = s->getName();
+  return n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("Surface %1").arg(m_surfaces.indexOf(s) + 1);
+}
+
+QString SceneDocument::nameOf(SoForceField* f) const {
+  const SbName n = f->getName();
+  return n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("Force %1").arg(m_forceFields.indexOf(f) + 1);
+}
+
+namespace {
+struct Mesh {
+  QVector<SbVec3f> p, n;
+  QVector<SbVec2f> uv;
+};
+
+void collectTriangle(void* data, SoCallbackAction* action, const SoPrimitiveVertex* a, const SoPrimitiveVertex* b,
+                     const SoPrimitiveVertex* c) {
+  auto* mesh = static_cast<Mesh*>(data);
+  const SbMatrix& m = action->getModelMatrix();
+  SbMatrix normalMatrix = m.inverse().transpose();
+  for (const SoPrimitiveVertex* v : {a, b, c}) {
+    SbVec3f p, n;
+    m.multVecMatrix(v->getPoint(), p);
+    normalMatrix.multDirMatrix(v->getNormal(), n);
+    n.normalize();
+    mesh->p << p;
+    mesh->n << n;
+    mesh->uv << SbVec2f(v->getTextureCoords()[0], v->getTextureCoords()[1]);
+  }
+}
+}  // namespace
+
+bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {
+  if (!m_root || !m_surfaces.contains(surface)) {
+    error = QStringLiteral("no surface to export");
+    return false;
+  }
+  SoSearchAction sa;
+  sa.setNode(surface);
+  sa.apply(m_root);
+  if (!sa.getPath()) {
+    error = QStringLiteral("the surface is not in the scene");
+    return false;
+  }
+  Mesh mesh;
+  SoCallbackAction ca;
+  ca.addTriangleCallback(SoBSplineDeformSurface::getClassTypeId(), collectTriangle, &mesh);
+  ca.apply(sa.getPath());
+  const QString ext = QFileInfo(path).suffix().toLower();
+  QSaveFile f(path);
+  if (!f.open(QIODevice::WriteOnly)) {
+    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
+    return false;
+  }
+  if (ext == QLatin1String("obj")) {
+    QTextStream out(&f);
+    out.setRealNumberPrecision(9);
+    out << "# " << nameOf(surface) << ", exported by bsdeform-viewer (world coordinates)\n";
+    for (const SbVec3f& p : mesh.p) out << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+    for (const SbVec2f& t : mesh.uv) out << "vt " << t[0] << ' ' << t[1] << '\n';
+    for (const SbVec3f& n : mesh.n) out << "vn " << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
+    for (int i = 0; i + 2 < mesh.p.size(); i += 3)
+      out << "f " << i + 1 << '/' << i + 1 << '/' << i + 1 << ' ' << i + 2 << '/' << i + 2 << '/' << i + 2 << ' ' << i + 3
+          << '/' << i + 3 << '/' << i + 3 << '\n';
+    out.flush();
+  } else if (ext == QLatin1String("stl")) {
+    QByteArray header(80, ' ');
+    const QByteArray title = "bsdeform-viewer " + nameOf(surface).toUtf8();
+    std::memcpy(header.data(), title.constData(), size_t(std::min(80, title.size())));
+    f.write(header);
+    const quint32 count = quint32(mesh.p.size() / 3);
+    f.write(reinterpret_cast<const char*>(&count), 4);  // STL is little-endian, as is this machine
+    for (int i = 0; i + 2 < mesh.p.size(); i += 3) {
+      SbVec3f n = (mesh.p[i + 1] - mesh.p[i]).cross(mesh.p[i + 2] - mesh.p[i]);
+      n.normalize();
+      float rec[12] = {n[0], n[1], n[2]};
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) rec[3 + 3 * k + c] = mesh.p[i + k][c];
+      f.write(reinterpret_cast<const char*>(rec), sizeof rec);
+      const quint16 attr = 0;
+      f.write(reinterpret_cast<const char*>(&attr), 2);
+    }
+  } else {
+    f.cancelWriting();
+    error = QStringLiteral("%1: unknown mesh format '%2' (use .obj or .stl)").arg(path, ext);
+    return false;
+  }
+  if (!f.commit()) {
+    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file SceneDocument.h
+/// The scene the viewer shows: reading (with Coin's error message), writing with the simulation
+/// state (atomically), the surfaces and force fields it contains, and mesh export.
+
+#include <QString>
+#include <QVector>
+
+class SoSeparator;
+class SoBSplineDeformSurface;
+class SoForceField;
+class SoNode;
+
+namespace bsdeform {
+
+class SceneDocument {
+ public:
+  SceneDocument();
+  ~SceneDocument();
+  SceneDocument(const SceneDocument&) = delete;
+  SceneDocument& operator=(const SceneDocument&) = delete;
+
+  /// Reads `path`. On failure returns false, sets `error` (Coin's reason with file and line) and
+  /// keeps the current scene.
+  bool load(const QString& path, QString& error);
+  /// Reads a scene from memory (the default scene).
+  bool loadFromText(const QByteArray& text, const QString& name, QString& error);
+  /// Writes the scene with the current simulation state to `path` atomically (QSaveFile).
+  bool save(const QString& path, QString& error) const;
+  /// The scene as .iv text, with the current state.
+  QByteArray toText() const;
+
+  SoSeparator* root() const { return m_root; }
+  const QString& path() const { return m_path; }
+  const QVector<SoBSplineDeformSurface*>& surfaces() const { return m_surfaces; }
+  const QVector<SoForceField*>& forceFields() const { return m_forceFields; }
+  /// A display name: the DEF name, or "Surface 1", "Force 2", ...
+  QString nameOf(SoBSplineDeformSurface* s) const;
+  QString nameOf(SoForceField* f) const;
+
+  /// Writes the triangles of `surface` (world coordinates, with every transform above it) as
+  /// Wavefront OBJ (positions, normals, (u, v) texture coordinates) or binary STL, chosen by
+  /// the file extension (.obj / .stl). Atomic.
+  bool exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const;
+
+ private:
+  void adopt(SoSeparator* root, const QString& path);
+
+  SoSeparator* m_root = nullptr;
+  QString m_path;
+  QVector<SoBSplineDeformSurface*> m_surfaces;
+  QVector<SoForceField*> m_forceFields;
+};
+
+}  // namespace bsdeform

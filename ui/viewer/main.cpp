@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-viewer [scene.iv] [--speed X] [--measure-fps SECONDS [--grid N]]
+#include <Inventor/Qt/SoQt.h>
+
+#include <QApplication>
+#include <QCommandLineParser>
+#include <QTimer>
+#include <cstdio>
+#include <cstdlib>
+
+#include "MainWindow.h"
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace {
+// Without a usable GL canvas SoQt's default handler opens a modal dialog and waits forever.
+void fatal(const SbString msg, SoQt::FatalErrors, void*) {
+  std::fprintf(stderr, "bsdeform-viewer: %s\n", msg.getString());
+  std::exit(1);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  QApplication app(argc, argv);
+  Q_INIT_RESOURCE(viewer);  // the default scene lives in the static viewer library's resources
+  QApplication::setOrganizationName(QStringLiteral("bsdeform"));
+  QApplication::setApplicationName(QStringLiteral("bsdeform-viewer"));
+  QCommandLineParser parser;
+  parser.setApplicationDescription(QStringLiteral("Opens, animates and lets you pull B-spline finite-element surfaces."));
+  parser.addHelpOption();
+  parser.addPositionalArgument(QStringLiteral("scene"), QStringLiteral("an .iv scene (default: the built-in scene)"), QStringLiteral("[scene.iv]"));
+  const QCommandLineOption measure(QStringLiteral("measure-fps"),
+                                   QStringLiteral("play for SECONDS, print frames/s and steps/s, quit"), QStringLiteral("SECONDS"));
+  const QCommandLineOption grid(QStringLiteral("grid"), QStringLiteral("with --measure-fps: set every surface to N x N control points"),
+                                QStringLiteral("N"));
+  const QCommandLineOption speed(QStringLiteral("speed"), QStringLiteral("simulated seconds per real second (default 1)"),
+                                 QStringLiteral("X"));
+  parser.addOptions({measure, grid, speed});
+  parser.process(app);
+
+  bsdeform::disableDynamicNodeLoading();  // an untrusted .iv must not make Coin load libraries
+  SoQt::setFatalErrorHandler(fatal, nullptr);
+  SoQt::init(argc, argv, "bsdeform-viewer");
+  bsdeform::initNodes();
+
+  bsdeform::MainWindow window;
+  if (parser.isSet(measure)) window.setInteractive(false);
+  const QStringList args = parser.positionalArguments();
+  if (!args.isEmpty()) {
+    if (!window.openScene(args.first())) window.openDefaultScene();
+  } else {
+    window.openDefaultScene();
+  }
+  if (parser.isSet(speed)) window.setSpeed(parser.value(speed).toDouble());
+  if (parser.isSet(measure)) {
+    if (parser.isSet(grid))
+      for (SoBSplineDeformSurface* s : window.document().surfaces()) {
+        s->numUControlPoints = parser.value(grid).toInt();
+        s->numVControlPoints = parser.value(grid).toInt();
+      }
+    window.show();
+    window.setPlaying(true);
+    const int ms = int(parser.value(measure).toDouble() * 1000);
+    long frames0 = 0, steps0 = 0;
+    QTimer::singleShot(1000, [&] {  // after a warm-up second
+      frames0 = window.framesDrawn();
+      steps0 = window.document().surfaces().isEmpty() ? 0 : window.document().surfaces()[0]->simulation().stepCount();
+    });
+    QTimer::singleShot(1000 + ms, [&] {
+      const double s = ms / 1000.0;
+      auto* surf = window.document().surfaces().isEmpty() ? nullptr : window.document().surfaces()[0];
+      std::printf("frames/s %.1f  steps/s %.1f  (%s)\n", (window.framesDrawn() - frames0) / s,
+                  surf ? (surf->simulation().stepCount() - steps0) / s : 0.0,
+                  surf ? QStringLiteral("%1x%2 control points, %3 sub-steps")
+                             .arg(surf->simulation().parameters().numU)
+                             .arg(surf->simulation().parameters().numV)
+                             .arg(surf->simulation().subSteps())
+                             .toUtf8()
+                             .constData()
+                       : "no surface");
+      QApplication::quit();
+    });
+    return app.exec();
+  }
+  window.show();
+  return app.exec();
+}
