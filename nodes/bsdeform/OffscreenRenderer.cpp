@@ -116,12 +116,12 @@ void destruct(void* data) {
   delete ctx;
 }
 
-bool hasCamera(SoNode* scene) {
+SoCamera* findCamera(SoNode* scene) {
   SoSearchAction sa;
   sa.setType(SoCamera::getClassTypeId());
   sa.setInterest(SoSearchAction::FIRST);
   sa.apply(scene);
-  return sa.getPath() != nullptr;
+  return sa.getPath() ? static_cast<SoCamera*>(sa.getPath()->getTail()) : nullptr;
 }
 
 }  // namespace
@@ -152,16 +152,22 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
   const SbViewportRegion viewport{short(width), short(height)};
   SoSeparator* root = new SoSeparator;
   root->ref();
-  if (!hasCamera(scene)) {
+  auto* headlight = new SoDirectionalLight;  // as every viewer has, along the view direction
+  if (findCamera(scene)) {
+    // traversed before the scene's camera, the light is placed in eye space: -z is the view
+    headlight->direction.setValue(0, 0, -1);
+    root->addChild(headlight);
+    root->addChild(scene);
+  } else {
     auto* camera = new SoPerspectiveCamera;
     // a three-quarter view from the -y side, looking down at the (u, v) plane
-    camera->orientation.setValue(SbRotation(SbVec3f(0, 0, -1), SbVec3f(0.0f, 0.73f, -0.68f)));
+    const SbVec3f view(0.0f, 0.73f, -0.68f);
+    camera->orientation.setValue(SbRotation(SbVec3f(0, 0, -1), view));
+    headlight->direction = view;  // after the camera: world space
     root->addChild(camera);
-    root->addChild(new SoDirectionalLight);  // headlight: follows the camera's direction
+    root->addChild(headlight);
     root->addChild(scene);
     camera->viewAll(scene, viewport);
-  } else {
-    root->addChild(scene);
   }
   SoOffscreenRenderer renderer(viewport);
   renderer.setComponents(SoOffscreenRenderer::RGB);

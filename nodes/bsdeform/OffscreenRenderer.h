@@ -25,8 +25,9 @@ struct Image {
 /// reason when no EGL display or context can be made.
 bool installEglOffscreenContexts(std::string* error = nullptr);
 
-/// Renders `scene` at width x height. When the scene has no camera, a perspective camera with a
-/// three-quarter view from the -y side that frames the whole scene, and a headlight, are added. Returns false with a
+/// Renders `scene` at width x height with a headlight along the view direction (as a viewer
+/// does). When the scene has no camera, a perspective camera with a three-quarter view from the
+/// -y side that frames the whole scene is added. Returns false with a
 /// reason on failure.
 bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::string& error,
                      const SbColor& background = SbColor(0.18f, 0.2f, 0.24f));

@@ -110,6 +110,9 @@ TEST_CASE("Viewer: plays a scene, time advances and the frame buffer shows the s
     }
   CHECK(orange > 500);
   shot.save(QStringLiteral("viewer_screenshot.png"));
+  const QImage window = w->windowScreenshot();
+  CHECK(window.size() == w->size());
+  window.save(QStringLiteral("viewer_window.png"));  // the README picture
   // a screenshot at another size goes through the offscreen renderer with the same camera
   const QImage big = w->screenshot(QSize(320, 200));
   REQUIRE(big.size() == QSize(320, 200));

@@ -27,6 +27,7 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QPainter>
 #include <QSaveFile>
 #include <QScrollArea>
 #include <QSettings>
@@ -67,6 +68,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   setCentralWidget(central);
   m_viewer = new SoQtExaminerViewer(central);
   layout->addWidget(m_viewer->getWidget());
+  m_viewer->setBackgroundColor(SbColor(0.18f, 0.2f, 0.24f));
   m_viewer->setSceneGraph(m_wrapper);
 
   createActions();
@@ -324,6 +326,17 @@ QImage MainWindow::screenshot(const QSize& size) {
   }
   root->unref();
   return out;
+}
+
+QImage MainWindow::windowScreenshot() {
+  QImage window = grab().toImage();
+  QWidget* glw = m_viewer->getGLWidget();
+  if (auto* gl = qobject_cast<QGLWidget*>(glw)) {
+    m_viewer->render();
+    QPainter painter(&window);
+    painter.drawImage(glw->mapTo(this, QPoint(0, 0)), gl->grabFrameBuffer());
+  }
+  return window;
 }
 
 bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {

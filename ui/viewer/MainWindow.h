@@ -44,6 +44,8 @@ class MainWindow : public QMainWindow {
   /// offscreen with the same camera.
   QImage screenshot(const QSize& size = QSize());
   bool saveScreenshot(const QString& path, const QSize& size = QSize());
+  /// The whole window including the 3D view (QWidget::grab() leaves the GL area black).
+  QImage windowScreenshot();
   bool exportMesh(const QString& path);
 
   /// Tests and batch measurement: errors go to lastError() and the status bar, no dialogs.

@@ -27,6 +27,8 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   m_axisX = new QValueAxis;
   m_axisY = new QValueAxis;
   m_axisX->setTitleText(tr("time"));
+  m_axisX->setLabelFormat(QStringLiteral("%.3g"));
+  m_axisY->setLabelFormat(QStringLiteral("%.3g"));
   chart->addAxis(m_axisX, Qt::AlignBottom);
   chart->addAxis(m_axisY, Qt::AlignLeft);
   const char* names[3] = {"norm (eq. 15)", "kinetic energy", "strain energy"};
@@ -40,7 +42,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   chart->setMargins(QMargins(2, 2, 2, 2));
   m_view = new QChartView(chart);
   m_view->setRenderHint(QPainter::Antialiasing);
-  m_view->setMinimumHeight(180);
+  m_view->setMinimumHeight(240);
   auto* png = new QPushButton(tr("Export PNG..."));
   auto* csv = new QPushButton(tr("Export CSV..."));
   auto* buttons = new QHBoxLayout;
