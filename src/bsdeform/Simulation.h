@@ -104,6 +104,8 @@ class Simulation {
 
   /// Upper bound of lambda_max(M^-1 (A_II + force stiffness)).
   double eigenvalueBound() const { return m_lambdaMax; }
+  /// Upper bound of lambda_max(A_II) alone (stiffness units), computed once at build.
+  double stiffnessEigenvalueBound() const { return m_stencilLambda; }
   /// Largest stable explicit step 2 / sqrt(lambda_max) (a lower bound of the true limit).
   double stabilityLimit() const;
   /// Sub-steps per step (1 for the implicit scheme).

@@ -339,7 +339,7 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
     SoSeparator* root = nullptr;
     Failure f = loadScene(o.scene, root);
     if (f.code != kOk) return f;
-    for (const QString& s : o.sets + QStringList{})
+    for (const QString& s : o.sets)
       if ((f = applySet(s)).code != kOk) return f;
     for (const QString& v : values)
       if ((f = applySet(target + QLatin1Char('=') + v)).code != kOk) return f;

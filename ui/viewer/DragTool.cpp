@@ -93,7 +93,7 @@ void DragTool::handle(SoEventCallback* cb) {
     m_anchorLocal = std::make_shared<Eigen::Vector3d>(local[0], local[1], local[2]);
     // Stiff enough to dominate the surface's own stiffness at that point (the stability
     // estimate includes it, so the explicit scheme sub-steps accordingly).
-    const double k = m_surface->simulation().stencil().eigenvalueBound();
+    const double k = m_surface->simulation().stiffnessEigenvalueBound();
     auto anchor = m_anchorLocal;
     m_force = std::make_shared<PointForce>(
         u, v, [anchor, k](const SurfaceSample& s) { return Eigen::Vector3d(k * (*anchor - s.position)); },

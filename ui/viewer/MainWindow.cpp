@@ -536,7 +536,10 @@ void MainWindow::updateStatus() {
     m_stateLabel->setText(isPlaying() ? tr("running") : tr("paused"));
     m_stateLabel->setToolTip(QString());
   }
-  if (m_playAction->isChecked() != isPlaying()) setPlaying(isPlaying());
+  // follow changes made elsewhere (field editor, a file's `on`) without touching the surfaces
+  const bool playing = isPlaying();
+  m_playAction->setChecked(playing);
+  m_playAction->setText(playing ? tr("Pause") : tr("Play"));
 }
 
 }  // namespace bsdeform
