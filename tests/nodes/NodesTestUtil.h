@@ -2,9 +2,7 @@
 #pragma once
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
-#include <Inventor/SoOutput.h>
 #include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/nodes/SoSeparator.h>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "bsdeform/NodesInit.h"
+#include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace testutil {
@@ -48,16 +47,7 @@ inline SoSeparator* read(const std::string& text) {
   return root;
 }
 
-inline std::string write(SoNode* root) {
-  SoOutput out;
-  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
-  SoWriteAction wa(&out);
-  wa.apply(root);
-  void* buf = nullptr;
-  size_t size = 0;
-  out.getBuffer(buf, size);
-  return std::string(static_cast<char*>(buf), size);
-}
+inline std::string write(SoNode* root) { return bsdeform::sceneToText(root); }
 
 /// The last object DEF'ed with `name` (engines included).
 template <typename T>

@@ -5,9 +5,7 @@
 // 1 an unexpected internal error.
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
-#include <Inventor/SoOutput.h>
 #include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/fields/SoSFTime.h>
@@ -30,6 +28,7 @@
 #include "Plot.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -152,14 +151,7 @@ bool writeText(const QString& path, const QByteArray& data, QString& error) {
 }
 
 bool writeScene(SoNode* root, const QString& path, QString& error) {
-  SoOutput out;
-  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
-  SoWriteAction wa(&out);
-  wa.apply(root);
-  void* buf = nullptr;
-  size_t size = 0;
-  out.getBuffer(buf, size);
-  return writeText(path, QByteArray(static_cast<const char*>(buf), int(size)), error);
+  return writeText(path, QByteArray::fromStdString(bsdeform::sceneToText(root)), error);
 }
 
 Failure prepareOutDir(const Options& o) {

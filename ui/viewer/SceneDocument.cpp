@@ -3,11 +3,9 @@
 
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
-#include <Inventor/SoOutput.h>
 #include <Inventor/SoPrimitiveVertex.h>
 #include <Inventor/actions/SoCallbackAction.h>
 #include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/nodes/SoSeparator.h>
 
@@ -17,6 +15,7 @@
 #include <QTextStream>
 #include <cstring>
 
+#include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 
@@ -107,15 +106,7 @@ bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QS
 }
 
 QByteArray SceneDocument::toText() const {
-  if (!m_root) return {};
-  SoOutput out;
-  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return realloc(p, n); });
-  SoWriteAction wa(&out);
-  wa.apply(m_root);
-  void* buf = nullptr;
-  size_t size = 0;
-  out.getBuffer(buf, size);
-  return QByteArray(static_cast<const char*>(buf), int(size));
+  return m_root ? QByteArray::fromStdString(sceneToText(m_root)) : QByteArray();
 }
 
 bool SceneDocument::save(const QString& path, QString& error) const {
