@@ -5,7 +5,6 @@
 #include <Inventor/SoPickedPoint.h>
 #include <Inventor/SoPrimitiveVertex.h>
 #include <Inventor/actions/SoGLRenderAction.h>
-#include <Inventor/actions/SoRayPickAction.h>
 #include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/bundles/SoMaterialBundle.h>
 #include <Inventor/elements/SoComplexityElement.h>
@@ -507,11 +506,6 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
   glDisableClientState(GL_TEXTURE_COORD_ARRAY);
   glDisableClientState(GL_NORMAL_ARRAY);
   glDisableClientState(GL_VERTEX_ARRAY);
-}
-
-void SoBSplineDeformSurface::rayPick(SoRayPickAction* action) {
-  if (!shouldRayPick(action)) return;
-  inherited::rayPick(action);  // through generatePrimitives(): (u, v) arrive as texture coordinates
 }
 
 void SoBSplineDeformSurface::generatePrimitives(SoAction* action) {

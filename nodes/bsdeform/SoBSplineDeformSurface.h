@@ -123,7 +123,6 @@ class SoBSplineDeformSurface : public SoShape {
   const std::string& lastWarning() const { return m_lastWarning; }
 
   void GLRender(SoGLRenderAction* action) override;
-  void rayPick(SoRayPickAction* action) override;
   void write(SoWriteAction* action) override;
 
  protected:
