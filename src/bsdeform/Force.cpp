@@ -49,33 +49,12 @@ SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, cons
   smp.v = v;
   smp.t = ctx.time;
   if (!(dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))) return smp;
-  const SplineSpace& s = ctx.space;
-  const int nu = s.degreeU(), nv = s.degreeV(), cols = s.netCols();
-  Eigen::Vector3d pos = Eigen::Vector3d::Zero(), prev = Eigen::Vector3d::Zero();
-  Eigen::Vector3d du = Eigen::Vector3d::Zero(), dv = Eigen::Vector3d::Zero();
-  for (int a = 0; a < bu.count; ++a) {
-    const Eigen::Index base = Eigen::Index(bu.first + a + nu) * cols + (bv.first + nv);
-    Eigen::Vector3d c0 = Eigen::Vector3d::Zero(), c1 = Eigen::Vector3d::Zero(), p0 = Eigen::Vector3d::Zero();
-    for (int b = 0; b < bv.count; ++b) {
-      const Eigen::Vector3d P = ctx.current.row(base + b).transpose();
-      c0 += bv.d[0][b] * P;
-      if (dep & kDependsOnNormal) c1 += bv.d[1][b] * P;
-      if (dep & kDependsOnVelocity) p0 += bv.d[0][b] * ctx.previous.row(base + b).transpose();
-    }
-    pos += bu.d[0][a] * c0;
-    prev += bu.d[0][a] * p0;
-    if (dep & kDependsOnNormal) {
-      du += bu.d[1][a] * c0;
-      dv += bu.d[0][a] * c1;
-    }
-  }
-  smp.position = pos;
-  if (dep & kDependsOnVelocity) smp.velocity = (pos - prev) / ctx.stepSize;
-  if (dep & kDependsOnNormal) {
-    const Eigen::Vector3d n = du.cross(dv);
-    const double len = n.norm();
-    if (len > 0.0) smp.normal = n / len;
-  }
+  const int order = (dep & kDependsOnNormal) ? 1 : 0;
+  const SurfacePoint now = ctx.space.evaluate(ctx.current, bu, bv, order);
+  smp.position = now.position;
+  if (dep & kDependsOnVelocity)
+    smp.velocity = (now.position - ctx.space.evaluate(ctx.previous, bu, bv, 0).position) / ctx.stepSize;
+  if (dep & kDependsOnNormal) smp.normal = now.normal();
   return smp;
 }
 

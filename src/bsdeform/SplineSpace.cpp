@@ -56,6 +56,10 @@ SurfacePoint SplineSpace::evaluate(const ControlNet& net, double u, double v, in
   LocalBasis bu, bv;
   m_u.evaluate(u, order, bu);
   m_v.evaluate(v, order, bv);
+  return evaluate(net, bu, bv, order);
+}
+
+SurfacePoint SplineSpace::evaluate(const ControlNet& net, const LocalBasis& bu, const LocalBasis& bv, int order) const {
   SurfacePoint p;
   const int nu = degreeU(), nv = degreeV();
   for (int a = 0; a < bu.count; ++a) {

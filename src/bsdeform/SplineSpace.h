@@ -73,6 +73,9 @@ class SplineSpace {
 
   /// S(u,v) (eq. 9) and derivatives up to `order` (0, 1 or 2) from a full net.
   SurfacePoint evaluate(const ControlNet& net, double u, double v, int order = 1) const;
+  /// Same, with the 1-D bases at (u, v) already evaluated (to at least `order`), e.g. shared
+  /// by many quadrature points.
+  SurfacePoint evaluate(const ControlNet& net, const LocalBasis& bu, const LocalBasis& bv, int order) const;
 
  private:
   BSplineBasis1D m_u;
