@@ -44,28 +44,28 @@ void SparseMatrixStep(benchmark::State& state) {
   const bsdeform::SplineSpace& s = sim.space();
   const int n1 = s.degreeU(), n2 = s.degreeV();
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(size_t(s.numFree()) * (2 * n1 + 1) * (2 * n2 + 1));
+  t.reserve(size_t(s.numMoving()) * (2 * n1 + 1) * (2 * n2 + 1));
   for (int a = 0; a < N; ++a)
     for (int b = 0; b < N; ++b)
       for (int d1 = -n1; d1 <= n1; ++d1)
         for (int d2 = -n2; d2 <= n2; ++d2)
           t.emplace_back(a * N + b, int(s.netIndex(a + d1, b + d2)), sim.stencil().coefficient(d1, d2));
-  Eigen::SparseMatrix<double, Eigen::RowMajor> A(s.numFree(), s.netSize());
+  Eigen::SparseMatrix<double, Eigen::RowMajor> A(s.numMoving(), s.netSize());
   A.setFromTriplets(t.begin(), t.end());
   t.clear();
   t.shrink_to_fit();
   Eigen::MatrixXd net = sim.rest();  // all points, column-major N x 3
-  Eigen::MatrixXd P = s.gatherFree(sim.rest()), Pold = P, Pnew(P.rows(), 3);
+  Eigen::MatrixXd P = s.gatherMoving(sim.rest()), Pold = P, Pnew(P.rows(), 3);
   const Eigen::MatrixXd L = sim.loadVector();
   const double dt = p.timeStep, m = p.mass, c = p.damping, g = 2 * m + dt * c;
   const double alpha = 2 * dt * dt / g, beta = 4 * m / g, gamma = (2 * m - dt * c) / g;
-  std::vector<Eigen::Index> freeRows(s.numFree());
-  for (Eigen::Index f = 0; f < s.numFree(); ++f) freeRows[f] = s.freeToNet(f);
+  std::vector<Eigen::Index> freeRows(s.numMoving());
+  for (Eigen::Index f = 0; f < s.numMoving(); ++f) freeRows[f] = s.movingToNet(f);
   for (auto _ : state) {
     Pnew.noalias() = alpha * (L - A * net) + beta * P - gamma * Pold;
     Pold.swap(P);
     P.swap(Pnew);
-    for (Eigen::Index f = 0; f < s.numFree(); ++f) net.row(freeRows[f]) = P.row(f);
+    for (Eigen::Index f = 0; f < s.numMoving(); ++f) net.row(freeRows[f]) = P.row(f);
     benchmark::DoNotOptimize(net.data());
   }
   state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
@@ -80,8 +80,8 @@ void StreamBound(benchmark::State& state) {
   const bsdeform::SplineSpace& s = sim.space();
   Eigen::Matrix<double, Eigen::Dynamic, 1> P = Eigen::Map<const Eigen::VectorXd>(sim.rest().data(), sim.rest().size());
   Eigen::Matrix<double, Eigen::Dynamic, 1> Pold = P;
-  const Eigen::VectorXd L = Eigen::VectorXd::Constant(3 * s.numFree(), 1e-9);
-  const long cols3 = 3L * s.netCols(), free3 = 3L * s.numFreeV();
+  const Eigen::VectorXd L = Eigen::VectorXd::Constant(3 * s.numMoving(), 1e-9);
+  const long cols3 = 3L * s.netCols(), free3 = 3L * s.numV();
   for (auto _ : state) {
     for (int a = 0; a < N; ++a) {
       const long row = (a + s.degreeU()) * cols3 + 3L * s.degreeV();

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file SceneText.h
-/// A scene graph as .iv text (what SoWriteAction writes), e.g. to save it atomically.
+/// A scene graph as .iv text (what SoWriteAction writes), e.g. to save it atomically, with
+/// doubles written so that Coin's own reader gets them back.
 
 #include <string>
 
@@ -11,5 +12,21 @@ namespace bsdeform {
 
 /// Writes `root` (with every surface's current state) as ASCII Inventor text.
 std::string sceneToText(SoNode* root);
+
+/// The double of the 15-significant-digit decimal form of x (x itself if not finite). The
+/// nodes snap every double they read and every state value they write to it, so that
+/// write -> read -> write is a fixed point.
+double snap15(double x);
+
+/// What Coin 4.0's ASCII reader (SoInput_FileInfo::readReal) computes for `text`: it adds
+/// the fraction digit by digit with a running factor 0.1 and scales by pow(10, exponent), so
+/// it is off by up to a few ulps (0.000983542385712959 reads 3 ulps high).
+/// @return false if `text` is not a number in Coin's syntax
+bool coinReadReal(const char* text, double& value);
+
+/// Text for x that Coin reads back to within a snap15() of x: the 15-digit decimal form when
+/// Coin's reader recovers it (checked with coinReadReal), otherwise the integer-mantissa form
+/// ("983542385712959e-18", whose only rounding is one product), locale-independent.
+std::string coinDoubleText(double x);
 
 }  // namespace bsdeform

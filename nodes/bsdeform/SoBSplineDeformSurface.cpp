@@ -19,8 +19,11 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoForceField.h"
+
+using bsdeform::snap15;
 
 SO_NODE_SOURCE(SoBSplineDeformSurface);
 
@@ -49,6 +52,12 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(timeStep, (0.1));
   SO_NODE_ADD_FIELD(integrator, (EXPLICIT));
   SO_NODE_ADD_FIELD(reference, (REST));
+  SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
+  SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
+  SO_NODE_ADD_FIELD(boundaryVMin, (CLAMPED));
+  SO_NODE_ADD_FIELD(boundaryVMax, (CLAMPED));
+  SO_NODE_ADD_FIELD(pins, (SbVec2d(0, 0)));
+  SO_NODE_ADD_FIELD(start, (SECOND_ORDER));
   SO_NODE_ADD_FIELD(on, (TRUE));
   SO_NODE_ADD_FIELD(speed, (1.0f));
   SO_NODE_ADD_FIELD(reset, ());
@@ -67,6 +76,18 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_DEFINE_ENUM_VALUE(Reference, REST);
   SO_NODE_DEFINE_ENUM_VALUE(Reference, ABSOLUTE);
   SO_NODE_SET_SF_ENUM_TYPE(reference, Reference);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, CLAMPED);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, FREE);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, PERIODIC);
+  SO_NODE_SET_SF_ENUM_TYPE(boundaryUMin, Boundary);
+  SO_NODE_SET_SF_ENUM_TYPE(boundaryUMax, Boundary);
+  SO_NODE_SET_SF_ENUM_TYPE(boundaryVMin, Boundary);
+  SO_NODE_SET_SF_ENUM_TYPE(boundaryVMax, Boundary);
+  SO_NODE_DEFINE_ENUM_VALUE(Start, PAPER);
+  SO_NODE_DEFINE_ENUM_VALUE(Start, SECOND_ORDER);
+  SO_NODE_SET_SF_ENUM_TYPE(start, Start);
+  pins.setNum(0);
+  pins.setDefault(TRUE);
   // Empty multi-fields mean "derived" (plane / rest / current); start empty and default.
   for (SoMFVec3d* f : {&restNet, &controlNet, &previousNet}) {
     f->setNum(0);
@@ -97,17 +118,11 @@ void SoBSplineDeformSurface::warn(const std::string& message) {
 }
 
 namespace {
-// Coin writes doubles with 16 significant digits but its reader is off by up to a few ulps
-// (0.05 reads as 0.050000000000000010), so write(read(text)) would drift. Snapping every value
-// read to the correctly rounded double of its 15-digit form recovers what was written (up to
-// 5e-16 relative) and makes the text a fixed point: write -> read -> write is identical.
-double snap15(double x) {
-  if (!std::isfinite(x)) return x;
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.15g", x);
-  return std::strtod(buf, nullptr);
-}
-
+// Coin's reader is off by up to a few ulps (0.05 reads as 0.050000000000000010), so
+// write(read(text)) would drift. Snapping every value read to the correctly rounded double of
+// its 15-digit form (snap15, SceneText.h) recovers what was written (up to 5e-16 relative), and
+// sceneToText writes doubles in a form Coin reads back to within that snap: write -> read ->
+// write is a fixed point.
 bsdeform::ControlNet toNet(const SoMFVec3d& f) {
   bsdeform::ControlNet net(f.getNum(), 3);
   const SbVec3d* v = f.getValues(0);
@@ -161,6 +176,18 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
         "field 'integrator' has an unknown value " + std::to_string(integrator.getValue()));
   check(reference.getValue() == REST || reference.getValue() == ABSOLUTE,
         "field 'reference' has an unknown value " + std::to_string(reference.getValue()));
+  check(start.getValue() == PAPER || start.getValue() == SECOND_ORDER,
+        "field 'start' has an unknown value " + std::to_string(start.getValue()));
+  const std::pair<const SoSFEnum*, const char*> sides[] = {
+      {&boundaryUMin, "boundaryUMin"}, {&boundaryUMax, "boundaryUMax"}, {&boundaryVMin, "boundaryVMin"}, {&boundaryVMax, "boundaryVMax"}};
+  for (const auto& side : sides)
+    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= PERIODIC,
+          std::string("field '") + side.second + "' has an unknown value " + std::to_string(side.first->getValue()));
+  for (int i = 0; i < pins.getNum(); ++i) {
+    const SbVec2d q = pins[i];
+    check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0,
+          "field 'pins' [" + std::to_string(i) + "] (" + num(q[0]) + ", " + num(q[1]) + ") must lie in [0,1]^2");
+  }
   const long expected = long(Nu + 2 * nu) * (Nv + 2 * nv);
   for (const auto& net : {std::make_pair(&restNet, "restNet"), std::make_pair(&controlNet, "controlNet"),
                           std::make_pair(&previousNet, "previousNet")}) {
@@ -186,17 +213,34 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   p.timeStep = timeStep.getValue();
   p.integrator = integrator.getValue() == IMPLICIT ? bsdeform::Integrator::Implicit : bsdeform::Integrator::Explicit;
   p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
+  p.start = start.getValue() == PAPER ? bsdeform::StartRule::Paper : bsdeform::StartRule::SecondOrder;
+  auto side = [](const SoSFEnum& f) {
+    return f.getValue() == FREE ? bsdeform::Boundary::Free
+                                : f.getValue() == PERIODIC ? bsdeform::Boundary::Periodic : bsdeform::Boundary::Clamped;
+  };
+  p.boundaries = {side(boundaryUMin), side(boundaryUMax), side(boundaryVMin), side(boundaryVMax)};
+  for (int i = 0; i < pins.getNum(); ++i) p.pins.emplace_back(pins[i][0], pins[i][1]);
+  if (restNet.getNum() == 0 && (p.boundaries.uMin == bsdeform::Boundary::Periodic || p.boundaries.vMin == bsdeform::Boundary::Periodic)) {
+    warn(std::string("field '") + (p.boundaries.uMin == bsdeform::Boundary::Periodic ? "boundaryUMin" : "boundaryVMin") +
+         "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that closes (or a "
+         "rest shape); keeping the last valid state");
+    return false;
+  }
   try {
     std::unique_ptr<bsdeform::Simulation> sim = restNet.getNum() ? std::make_unique<bsdeform::Simulation>(p, toNet(restNet))
                                                                  : std::make_unique<bsdeform::Simulation>(p);
     if (m_stateDirty && controlNet.getNum()) {
       const bsdeform::ControlNet cur = toNet(controlNet);
-      const bsdeform::ControlNet prev = previousNet.getNum() ? toNet(previousNet) : cur;
-      sim->setState(cur, prev, simulationTime.getValue(), stepCount.getValue());
+      if (previousNet.getNum())
+        sim->setState(cur, toNet(previousNet), simulationTime.getValue(), stepCount.getValue());
+      else  // released from rest at controlNet
+        sim->setState(cur, simulationTime.getValue(), stepCount.getValue());
     } else if (!m_stateDirty && m_sim && m_sim->current().rows() == sim->current().rows() &&
                m_sim->rest() == sim->rest()) {
-      // a live edit of the model: keep the motion going from where it is
-      sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize());
+      // a live edit of the model: keep the motion going from where it is (newly held points,
+      // e.g. a pin added, go back to their rest positions)
+      sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
+                    bsdeform::HeldPoints::Reset);
     }
     m_sim = std::move(sim);
   } catch (const std::exception& e) {
@@ -205,6 +249,10 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   }
   m_forceSlots.clear();  // forces are rebuilt for the new simulation (mass density may differ)
   m_lastWarning.clear();
+  const double seam = m_sim->seamMismatch();
+  if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff()))
+    warn("the last n layers of a periodic direction differ from the first n (by up to " + num(seam) +
+         ") in 'restNet', 'controlNet' or 'previousNet'; the first were used");
   return true;
 }
 

@@ -25,6 +25,12 @@
 ///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
 ///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
+///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
+///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
+///   boundaryVMin CLAMPED  #   a rest net that closes: the last n layers repeat the first n)
+///   boundaryVMax CLAMPED  # sides u = 1, v = 0, v = 1 alike
+///   pins [ ]              # (u, v) in [0,1]^2: each holds the control points of its knot span
+///   start SECOND_ORDER    # SECOND_ORDER: P(-dt) = P(0) + dt^2/2 a(0) | PAPER: P(-dt) = P(0)
 ///   on TRUE               # animate with the real-time clock
 ///   speed 1               # simulated seconds per real second
 ///   reset                 # trigger: back to the rest state
@@ -38,6 +44,7 @@
 /// \endcode
 
 #include <Inventor/fields/SoMFEngine.h>
+#include <Inventor/fields/SoMFVec2d.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
@@ -69,6 +76,8 @@ class SoBSplineDeformSurface : public SoShape {
   enum MassModel { NODAL, LUMPED };
   enum Integrator { EXPLICIT, IMPLICIT };
   enum Reference { REST, ABSOLUTE };
+  enum Boundary { CLAMPED, FREE, PERIODIC };
+  enum Start { PAPER, SECOND_ORDER };
 
   static void initClass();
   SoBSplineDeformSurface();
@@ -88,6 +97,12 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
   SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
+  SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE or PERIODIC; CLAMPED
+  SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED
+  SoSFEnum boundaryVMin;        ///< side v = 0; CLAMPED
+  SoSFEnum boundaryVMax;        ///< side v = 1; CLAMPED
+  SoMFVec2d pins;               ///< pinned parameter points (u, v); empty
+  SoSFEnum start;               ///< SECOND_ORDER (consistent release from rest) or PAPER; SECOND_ORDER
   SoSFBool on;                  ///< animate with the clock; TRUE
   SoSFFloat speed;              ///< simulated seconds per real second; 1
   SoSFTrigger reset;            ///< back to the rest state

@@ -26,17 +26,18 @@ void checkStiffness(double k) {
     throw std::invalid_argument("force stiffness bound must be finite and >= 0, got " + std::to_string(k));
 }
 
-// Adds w * f * B_k(u, v) to the load of every free k non-zero at (u, v), given the 1-D bases.
+// Adds w * f * B_k(u, v) to the load of the moving point of every B-spline k non-zero at
+// (u, v) (a periodic copy loads the point it repeats), given the 1-D bases.
 inline void scatter(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Vector3d& wf,
                     ControlNet& load) {
-  const int N1 = s.numFreeU(), N2 = s.numFreeV();
+  const int firstU = s.movingU().first, firstV = s.movingV().first, width = s.movingV().count;
   for (int a = 0; a < bu.count; ++a) {
-    const int k1 = bu.first + a;
-    if (k1 < 0 || k1 >= N1) continue;
+    const int i = s.movingLayerU(bu.first + a + s.degreeU());
+    if (i < 0) continue;
     for (int b = 0; b < bv.count; ++b) {
-      const int k2 = bv.first + b;
-      if (k2 < 0 || k2 >= N2) continue;
-      load.row(Eigen::Index(k1) * N2 + k2) += (bu.d[0][a] * bv.d[0][b]) * wf.transpose();
+      const int j = s.movingLayerV(bv.first + b + s.degreeV());
+      if (j < 0) continue;
+      load.row(Eigen::Index(i - firstU) * width + (j - firstV)) += (bu.d[0][a] * bv.d[0][b]) * wf.transpose();
     }
   }
 }
@@ -111,6 +112,30 @@ void PointForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   ctx.space.basisV().evaluate(m_v, 1, bv);
   const Eigen::Vector3d f = m_force(sampleFromBases(ctx, bu, bv, m_u, m_v, m_dependence));
   scatter(ctx.space, bu, bv, f, load);
+}
+
+double PointForce::eigenvalueBound(const MassContext& ctx) const {
+  if (m_stiffness == 0.0) return 0.0;
+  const SplineSpace& s = ctx.space;
+  LocalBasis bu, bv;
+  s.basisU().evaluate(m_u, 0, bu);
+  s.basisV().evaluate(m_v, 0, bv);
+  // beta per moving point (net layers i, j): periodic copies of one point add up
+  std::vector<std::pair<std::pair<int, int>, double>> beta;
+  for (int a = 0; a < bu.count; ++a) {
+    const int i = s.movingLayerU(bu.first + a + s.degreeU());
+    if (i < 0) continue;
+    for (int b = 0; b < bv.count; ++b) {
+      const int j = s.movingLayerV(bv.first + b + s.degreeV());
+      if (j < 0) continue;
+      auto it = std::find_if(beta.begin(), beta.end(), [&](const auto& e) { return e.first == std::make_pair(i, j); });
+      if (it == beta.end()) it = beta.insert(beta.end(), {{i, j}, 0.0});
+      it->second += bu.d[0][a] * bv.d[0][b];
+    }
+  }
+  double sum = 0.0;
+  for (const auto& e : beta) sum += e.second * e.second / ctx.massAt(e.first.first, e.first.second);
+  return m_stiffness * sum;
 }
 
 DistributedForce::DistributedForce(const Eigen::Vector3d& density, Rect rect)

@@ -43,8 +43,16 @@ struct LoadContext {
   double time;
 };
 
-/// Base class of all forces. Implementations add their contribution to the load of the free
-/// control points (numFree x 3, free order f = a * N2 + b).
+/// What a force needs to bound its share of \f$\lambda_{max}(M^{-1} K)\f$, K being the
+/// Jacobian of its load with respect to the moving control points.
+struct MassContext {
+  const SplineSpace& space;
+  double interiorMass;                     ///< mass of a moving point whose B-spline lies inside
+  std::function<double(int, int)> massAt;  ///< mass of moving net point (i, j) (net layers)
+};
+
+/// Base class of all forces. Implementations add their contribution to the load of the moving
+/// control points (numMoving x 3, order of SplineSpace::movingToNet).
 class Force {
  public:
   virtual ~Force() = default;
@@ -52,11 +60,12 @@ class Force {
   virtual unsigned dependence() const = 0;
   /// load += this force's load vector.
   virtual void addLoad(const LoadContext& ctx, ControlNet& load) const = 0;
-  /// Upper bound of the norm of d(load)/d(free control points) per coordinate on `space` (0 for
-  /// forces that do not depend on position). The explicit integrator adds it to the stiffness
-  /// when it sizes sub-steps, so stiff position-dependent forces (springs, penalties) stay stable.
-  virtual double stiffnessBound(const SplineSpace& space) const {
-    (void)space;
+  /// Upper bound of \f$\lambda_{max}(M^{-1} K)\f$ for this force's load Jacobian K (0 for
+  /// forces that do not depend on position). The explicit integrator adds it to the elastic
+  /// bound when it sizes sub-steps, so stiff position-dependent forces (springs, penalties)
+  /// stay stable.
+  virtual double eigenvalueBound(const MassContext& ctx) const {
+    (void)ctx;
     return 0.0;
   }
 };
@@ -75,8 +84,9 @@ class PointForce : public Force {
 
   unsigned dependence() const override { return m_dependence; }
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
-  /// k sum_k B_k(u0,v0)^2 <= k
-  double stiffnessBound(const SplineSpace&) const override { return m_stiffness; }
+  /// K = k beta beta^T (beta_m: the B-splines at (u0, v0) of moving point m), so
+  /// \f$\lambda(M^{-1}K) = k \sum_m \beta_m^2 / m_m\f$ (exact)
+  double eigenvalueBound(const MassContext& ctx) const override;
   double u() const { return m_u; }
   double v() const { return m_v; }
 
@@ -107,10 +117,11 @@ class DistributedForce : public Force {
 
   unsigned dependence() const override { return m_dependence; }
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
-  /// k ||Gram|| <= k h1 h2 (the largest row sum of the B-spline Gram matrix), k being the
-  /// stiffness per unit area given at construction
-  double stiffnessBound(const SplineSpace& space) const override {
-    return m_stiffness * space.basisU().spacing() * space.basisV().spacing();
+  /// K <= k G (G the Gram matrix over [0,1]^2, k the stiffness per unit area given at
+  /// construction); Gershgorin on M^-1 k G: row m sums to k r_m / m_m <= k h1 h2 / m_interior,
+  /// since r_m <= h1 h2 (NODAL) and m_m = rho r_m (LUMPED)
+  double eigenvalueBound(const MassContext& ctx) const override {
+    return m_stiffness * ctx.space.basisU().spacing() * ctx.space.basisV().spacing() / ctx.interiorMass;
   }
   const Rect& rect() const { return m_rect; }
 

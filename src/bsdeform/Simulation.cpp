@@ -39,6 +39,11 @@ const ModelParameters& validated(const ModelParameters& p) {
           "divergenceLimit must be finite and > 0, got " + num(p.divergenceLimit));
   const long long points = static_cast<long long>(p.numU) * p.numV;
   require(points <= (1LL << 28), "numU * numV must be at most 2^28, got " + std::to_string(points));
+  for (size_t i = 0; i < p.pins.size(); ++i) {
+    const Eigen::Vector2d& q = p.pins[i];
+    require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,
+            "pin " + std::to_string(i) + " (" + num(q.x()) + ", " + num(q.y()) + ") must lie in [0,1]^2");
+  }
   return p;
 }
 
@@ -55,18 +60,22 @@ void requireNet(const SplineSpace& s, const ControlNet& net, const char* name) {
 
 Simulation::Simulation(const ModelParameters& params)
     : m_params(validated(params)),
-      m_space(params.degreeU, params.degreeV, params.numU, params.numV),
+      m_space(params.degreeU, params.degreeV, params.numU, params.numV, params.boundaries),
       m_stencil(m_space, params.weights) {
+  require(!m_space.periodicU() && !m_space.periodicV(),
+          std::string("a PERIODIC direction (") + (m_space.periodicU() ? "u" : "v") +
+              ") needs a rest net that closes; the plane does not");
   m_rest = m_space.grevillePlane();
   init();
 }
 
 Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
     : m_params(validated(params)),
-      m_space(params.degreeU, params.degreeV, params.numU, params.numV),
+      m_space(params.degreeU, params.degreeV, params.numU, params.numV, params.boundaries),
       m_stencil(m_space, params.weights) {
   requireNet(m_space, rest, "rest net");
   m_rest = rest;
+  m_seamMismatch = m_space.closePeriodic(m_rest);
   init();
 }
 
@@ -78,6 +87,18 @@ double Simulation::massPerPoint() const {
              : m_params.mass * m_space.basisU().spacing() * m_space.basisV().spacing();
 }
 
+double Simulation::massAt(int i, int j) const {
+  if (m_params.massModel == MassModel::Nodal) return m_params.mass;
+  const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
+  return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
+}
+
+bool Simulation::isPinned(int i, int j) const { return m_pinMask[size_t(i) * m_space.netCols() + j] != 0; }
+
+void Simulation::holdPins(ControlNet& net) const {
+  for (Eigen::Index r : m_pinned) net.row(r) = m_rest.row(r);
+}
+
 double Simulation::dampingPerPoint() const {
   return m_params.massModel == MassModel::Nodal
              ? m_params.damping
@@ -85,33 +106,91 @@ double Simulation::dampingPerPoint() const {
 }
 
 void Simulation::init() {
+  // Pins: the (n1+1)(n2+1) B-splines of the knot span that contains (u, v), through the moving
+  // point each stands for (held already if it lies in a clamped layer).
+  m_pinMask.assign(size_t(m_space.netSize()), 0);
+  m_pinned.clear();
+  for (const Eigen::Vector2d& pin : m_params.pins) {
+    const int su = m_space.basisU().span(pin.x()), sv = m_space.basisV().span(pin.y());
+    for (int k1 = su - m_space.degreeU(); k1 <= su; ++k1)
+      for (int k2 = sv - m_space.degreeV(); k2 <= sv; ++k2) {
+        const Eigen::Index m = m_space.movingIndex(k1, k2);
+        if (m < 0) continue;
+        const Eigen::Index r = m_space.movingToNet(m);
+        if (!m_pinMask[size_t(r)]) m_pinned.push_back(r);
+        m_pinMask[size_t(r)] = 1;
+      }
+  }
+
   m_current = m_rest;
   m_previous = m_rest;
+  m_startPending = true;
   m_divergenceLimit = m_params.divergenceLimit * (1.0 + m_rest.cwiseAbs().maxCoeff());
 
-  ControlNet fixedOnly = m_rest;
-  for (Eigen::Index f = 0; f < m_space.numFree(); ++f) fixedOnly.row(m_space.freeToNet(f)).setZero();
-  m_stencil.applyFree(fixedOnly, m_boundaryTerm);
+  // A_IB P_B: the coupling to every held point (clamped layers and pins).
+  ControlNet heldOnly = m_rest;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    if (!m_pinMask[size_t(r)]) heldOnly.row(r).setZero();
+  }
+  m_space.refreshPeriodicCopies(heldOnly);
+  m_stencil.applyMoving(heldOnly, m_boundaryTerm);
   if (m_params.reference == ElasticReference::Rest)
-    m_stencil.applyFree(m_rest, m_restOffset);
+    m_stencil.applyMoving(m_rest, m_restOffset);
   else
-    m_restOffset = ControlNet::Zero(m_space.numFree(), 3);
+    m_restOffset = ControlNet::Zero(m_space.numMoving(), 3);
 
   m_stencilLambda = m_stencil.eigenvalueBound();
+  // With NODAL mass, or LUMPED mass where every row sum is the interior one, M is a multiple of
+  // the identity and the symbol bound holds; a FREE side makes the lumped edge masses smaller.
+  const Boundaries& bc = m_space.boundaries();
+  const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
+                       bc.vMax == Boundary::Free;
+  m_elasticLambda = (m_params.massModel == MassModel::Lumped && anyFree)
+                        ? m_stencil.elementEigenvalueBound() / m_params.mass
+                        : m_stencilLambda / massPerPoint();
+  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree);
+  if (m_uniformMass) {
+    m_massMoving.resize(0);
+  } else {
+    m_massMoving.resize(m_space.numMoving());
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+      const Eigen::Index r = m_space.movingToNet(f);
+      m_massMoving[f] = massAt(int(r / m_space.netCols()), int(r % m_space.netCols()));
+    }
+  }
   if (m_params.integrator == Integrator::Implicit) {
     m_implicit = std::make_unique<ImplicitSolver>();
-    m_implicit->Aii = m_stencil.interiorMatrix();
+    m_implicit->Aii = activeMatrix();
     const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
     Eigen::SparseMatrix<double> K = 0.25 * m_implicit->Aii;
     Eigen::SparseMatrix<double> D(K.rows(), K.cols());
     D.setIdentity();
-    K += (m / (dt * dt) + c / (2.0 * dt)) * D;
+    if (m_uniformMass) {
+      K += (m / (dt * dt) + c / (2.0 * dt)) * D;
+    } else {
+      // M/dt^2 + C/(2dt) per point: the lumped mass (and damping) is smaller next to a free edge
+      const double perMass = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
+      for (Eigen::Index f = 0; f < D.rows(); ++f) D.coeffRef(f, f) = m_massMoving[f] * perMass;
+      K += D;
+    }
     m_implicit->K.compute(K);
     if (m_implicit->K.info() != Eigen::Success)
       throw std::runtime_error("implicit integrator: factorisation of the system matrix failed");
   }
   rebuildConstantLoad();
   updateSubSteps();
+}
+
+Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
+  Eigen::SparseMatrix<double> A = m_stencil.movingMatrix();
+  if (!m_pinned.empty()) {
+    // pinned rows and columns leave the system (their coupling is in m_boundaryTerm)
+    std::vector<char> pinned(size_t(m_space.numMoving()), 0);
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+    A.prune([&](Eigen::Index r, Eigen::Index c, double) { return !pinned[size_t(r)] && !pinned[size_t(c)]; });
+  }
+  return A;
 }
 
 void Simulation::rebuildConstantLoad() {
@@ -127,9 +206,10 @@ void Simulation::rebuildConstantLoad() {
 }
 
 void Simulation::updateSubSteps() {
-  double forceStiffness = 0.0;
-  for (const auto& f : m_forces) forceStiffness += f->stiffnessBound(m_space);
-  m_lambdaMax = (m_stencilLambda + forceStiffness) / massPerPoint();
+  const MassContext mc{m_space, massPerPoint(), [this](int i, int j) { return massAt(i, j); }};
+  double forceLambda = 0.0;
+  for (const auto& f : m_forces) forceLambda += f->eigenvalueBound(mc);
+  m_lambdaMax = m_elasticLambda + forceLambda;
   const double oldStep = subStepSize();
   int n = 1;
   if (m_params.integrator == Integrator::Explicit && m_params.autoSubstep && m_lambdaMax > 0.0) {
@@ -177,7 +257,7 @@ const ControlNet& Simulation::effectiveLoad(double t) {
 }
 
 ControlNet Simulation::loadVector() const {
-  ControlNet load = ControlNet::Zero(m_space.numFree(), 3);
+  ControlNet load = ControlNet::Zero(m_space.numMoving(), 3);
   const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
   for (const auto& f : m_forces) f->addLoad(ctx, load);
   return load;
@@ -188,13 +268,38 @@ void Simulation::fail(Status s, std::string message) {
   m_statusMessage = std::move(message);
 }
 
+void Simulation::applyStartRule() {
+  m_startPending = false;
+  if (m_params.start != StartRule::SecondOrder) return;
+  // P(-delta) = P(0) + delta^2/2 a(0), a(0) = M^-1 (L - (A P(0) - c0)), the velocity being zero:
+  // the Taylor expansion of a release from rest, exact to O(delta^3).
+  const ControlNet& load = effectiveLoad(m_time);
+  ControlNet elastic;
+  m_stencil.applyMoving(m_current, elastic);
+  const double delta = subStepSize();
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    if (m_pinMask[size_t(r)]) continue;
+    const double m = m_uniformMass ? massPerPoint() : m_massMoving[f];
+    m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta / m) * (load.row(f) - elastic.row(f));
+  }
+  m_space.refreshPeriodicCopies(m_previous);
+}
+
 bool Simulation::explicitSubStep(double t) {
   const ControlNet& load = effectiveLoad(t);
   const double dt = subStepSize(), m = massPerPoint(), c = dampingPerPoint();
   const double g = 2.0 * m + dt * c;
   const double alpha = 2.0 * dt * dt / g, gamma = (2.0 * m - dt * c) / g;
-  // The new state overwrites the previous one (same buffer); fixed points are equal in both.
-  const bool ok = m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit);
+  // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
+  // ratio s (damping scales alike, so gamma does not change).
+  std::function<double(int, int)> scale;
+  if (!m_uniformMass) scale = [this, m](int i, int j) { return m / massAt(i, j); };
+  // The new state overwrites the previous one (same buffer); held points are equal in both.
+  const bool ok =
+      m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit, scale);
+  holdPins(m_previous);
+  m_space.refreshPeriodicCopies(m_previous);
   m_current.swap(m_previous);
   return ok;
 }
@@ -202,22 +307,34 @@ bool Simulation::explicitSubStep(double t) {
 bool Simulation::implicitSubStep(double t) {
   const ControlNet& load = effectiveLoad(t);
   const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
-  const ControlNet P = m_space.gatherFree(m_current);
-  const ControlNet Pm = m_space.gatherFree(m_previous);
+  const ControlNet P = m_space.gatherMoving(m_current);
+  const ControlNet Pm = m_space.gatherMoving(m_previous);
   // (M/dt^2 + C/(2dt) + A/4) P+ = R + 2M/dt^2 P - (M/dt^2 - C/(2dt)) P- - A (2P + P-)/4
   const ControlNet W = 0.25 * (2.0 * P + Pm);
-  ControlNet rhs = load - m_boundaryTerm + (2.0 * m / (dt * dt)) * P - (m / (dt * dt) - c / (2.0 * dt)) * Pm;
+  ControlNet rhs;
+  if (m_uniformMass) {
+    rhs = load - m_boundaryTerm + (2.0 * m / (dt * dt)) * P - (m / (dt * dt) - c / (2.0 * dt)) * Pm;
+  } else {
+    const double cm = c / m;
+    rhs = load - m_boundaryTerm +
+          (m_massMoving.asDiagonal() * ((2.0 / (dt * dt)) * P - (1.0 / (dt * dt) - cm / (2.0 * dt)) * Pm));
+  }
   rhs -= m_implicit->Aii * W;
   const ControlNet next = m_implicit->K.solve(rhs);
   bool ok = true;
   for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= m_divergenceLimit;
-  m_space.scatterFree(next, m_previous);
+  m_space.scatterMoving(next, m_previous);
+  if (!m_pinned.empty()) {
+    holdPins(m_previous);
+    m_space.refreshPeriodicCopies(m_previous);
+  }
   m_current.swap(m_previous);
   return ok;
 }
 
 Status Simulation::step() {
   if (m_status != Status::Ok) return m_status;
+  if (m_startPending) applyStartRule();
   const double dt = subStepSize();
   for (int s = 0; s < m_subSteps; ++s) {
     const double t = m_time + s * dt;
@@ -253,35 +370,41 @@ void Simulation::reset() {
   m_steps = 0;
   m_status = Status::Ok;
   m_statusMessage.clear();
+  m_startPending = true;
 }
 
 void Simulation::setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
-                          double previousStepSize) {
+                          double previousStepSize, HeldPoints held) {
   requireNet(m_space, current, "current net");
   requireNet(m_space, previous, "previous net");
   require(std::isfinite(time), "time must be finite, got " + num(time));
   require(steps >= 0, "step count must be >= 0, got " + std::to_string(steps));
   require(std::isfinite(previousStepSize) && previousStepSize >= 0.0,
           "previous step size must be finite and >= 0, got " + num(previousStepSize));
-  // Fixed points must be the rest net's. A state read back from text differs from the computed
+  ControlNet cur = current, prev = previous;
+  const double seam = std::max(m_space.closePeriodic(cur), m_space.closePeriodic(prev));
+  // Held points must be the rest net's. A state read back from text differs from the computed
   // rest in the last digits, so they are compared to 1e-12 and then restored exactly.
   for (int i = 0; i < m_space.netRows(); ++i)
     for (int j = 0; j < m_space.netCols(); ++j) {
-      if (m_space.isFree(i, j)) continue;
+      const int mi = m_space.movingLayerU(i), mj = m_space.movingLayerV(j);
+      const bool isHeld = mi < 0 || mj < 0 || m_pinMask[size_t(mi) * m_space.netCols() + mj];
+      if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
-      const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
-      require((current.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol &&
-                  (previous.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol,
-              "fixed control point (" + std::to_string(i - m_space.degreeU()) + ", " +
-                  std::to_string(j - m_space.degreeV()) + ") of the state differs from the rest net");
+      if (held == HeldPoints::Check) {
+        const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
+        require((cur.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol &&
+                    (prev.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol,
+                std::string(mi < 0 || mj < 0 ? "clamped" : "pinned") + " control point (" +
+                    std::to_string(i - m_space.degreeU()) + ", " + std::to_string(j - m_space.degreeV()) +
+                    ") of the state differs from the rest net");
+      }
+      cur.row(r) = m_rest.row(r);
+      prev.row(r) = m_rest.row(r);
     }
-  m_current = m_rest;
-  m_previous = m_rest;
-  for (Eigen::Index f = 0; f < m_space.numFree(); ++f) {
-    const Eigen::Index r = m_space.freeToNet(f);
-    m_current.row(r) = current.row(r);
-    m_previous.row(r) = previous.row(r);
-  }
+  m_seamMismatch = std::max(m_seamMismatch, seam);
+  m_current = std::move(cur);
+  m_previous = std::move(prev);
   const double h = subStepSize();
   if (previousStepSize > 0.0 && previousStepSize != h)
     m_previous = m_current - (m_current - m_previous) * (h / previousStepSize);
@@ -289,34 +412,48 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   m_steps = steps;
   m_status = Status::Ok;
   m_statusMessage.clear();
+  m_startPending = false;
+}
+
+void Simulation::setState(const ControlNet& current, double time, long steps, HeldPoints held) {
+  setState(current, current, time, steps, 0.0, held);
+  m_startPending = true;
 }
 
 double Simulation::deformationNorm() const {
   double sum = 0.0;
-  for (Eigen::Index f = 0; f < m_space.numFree(); ++f) {
-    const Eigen::Index r = m_space.freeToNet(f);
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
     sum += (m_current.row(r) - m_rest.row(r)).squaredNorm();
   }
   return std::sqrt(sum);
 }
 
 double Simulation::kineticEnergy() const {
-  double sum = 0.0;
-  for (Eigen::Index f = 0; f < m_space.numFree(); ++f) {
-    const Eigen::Index r = m_space.freeToNet(f);
-    sum += (m_current.row(r) - m_previous.row(r)).squaredNorm();
-  }
   const double dt = subStepSize();
-  return 0.5 * massPerPoint() * sum / (dt * dt);
+  if (m_uniformMass) {
+    double sum = 0.0;
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+      const Eigen::Index r = m_space.movingToNet(f);
+      sum += (m_current.row(r) - m_previous.row(r)).squaredNorm();
+    }
+    return 0.5 * massPerPoint() * sum / (dt * dt);
+  }
+  double sum = 0.0;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    sum += m_massMoving[f] * (m_current.row(r) - m_previous.row(r)).squaredNorm();
+  }
+  return 0.5 * sum / (dt * dt);
 }
 
 StrainEnergy Simulation::strainEnergy() const {
-  const ControlNet D = m_current - m_rest;  // fixed points: exactly zero
-  const ControlNet Df = m_space.gatherFree(D);
+  const ControlNet D = m_current - m_rest;  // held points: exactly zero
+  const ControlNet Dm = m_space.gatherMoving(D);
   auto energy = [&](const Weights& w) {
     ControlNet AD;
-    StiffnessStencil(m_space, w).applyFree(D, AD);
-    return 0.5 * Df.cwiseProduct(AD).sum();
+    StiffnessStencil(m_space, w).applyMoving(D, AD);
+    return 0.5 * Dm.cwiseProduct(AD).sum();
   };
   const Weights& w = m_params.weights;
   StrainEnergy e;
@@ -330,17 +467,25 @@ StrainEnergy Simulation::strainEnergy() const {
 }
 
 ControlNet Simulation::staticSolution() const {
-  const Eigen::SparseMatrix<double> A = m_implicit ? m_implicit->Aii : m_stencil.interiorMatrix();
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-  if (solver.info() != Eigen::Success) throw std::runtime_error("static solve: A_II is singular (all weights zero?)");
+  Eigen::SparseMatrix<double> A = m_implicit ? m_implicit->Aii : activeMatrix();
   ControlNet rhs = loadVector() + m_restOffset - m_boundaryTerm;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    if (!m_pinMask[size_t(r)]) continue;
+    A.coeffRef(f, f) = 1.0;  // a pinned point stays at rest
+    rhs.row(f) = m_rest.row(r);
+  }
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
+  if (solver.info() != Eigen::Success)
+    throw std::runtime_error("static solve: A_II is singular (all weights zero, or nothing holds the surface?)");
   ControlNet x = solver.solve(rhs);
   // LDLT of a singular PSD matrix can "succeed" with a zero pivot; check the residual.
   const double res = (A * x - rhs).norm(), scale = rhs.norm() + 1e-300;
   if (!x.allFinite() || res > 1e-8 * scale + 1e-12)
-    throw std::runtime_error("static solve: A_II is singular (all weights zero?), residual " + num(res));
+    throw std::runtime_error("static solve: A_II is singular (all weights zero, or nothing holds the surface?), residual " +
+                             num(res));
   ControlNet net = m_rest;
-  m_space.scatterFree(x, net);
+  m_space.scatterMoving(x, net);
   return net;
 }
 

@@ -32,16 +32,27 @@ enum class ElasticReference {
   Absolute,  ///< the paper's energy of S itself; equal to Rest for the Greville plane
 };
 
+/// How the scheme starts from a state at rest (the net one (sub-)step delta before t = 0).
+enum class StartRule {
+  Paper,        ///< P(-delta) = P(0): the paper's start, first order against a release from rest
+  SecondOrder,  ///< P(-delta) = P(0) + delta^2/2 M^-1 (L - (A P(0) - c0)): consistent to O(delta^3)
+};
+
 enum class Status {
   Ok,
   NonFinite,  ///< a step produced NaN or infinity; the last finite state is kept
   Diverged,   ///< a coordinate exceeded the divergence limit; the last state is kept
 };
 
-/// Everything that defines a model. Defaults are the paper's §5 settings.
+/// Everything that defines a model. Defaults are the paper's §5 settings, except the start.
 struct ModelParameters {
   int degreeU = 3, degreeV = 3;  ///< n1, n2 in 1..7
-  int numU = 5, numV = 5;        ///< N1, N2 free control points, >= 1
+  int numU = 5, numV = 5;        ///< N1, N2 inner control points, 1..65536, N1 N2 <= 2^28
+  Boundaries boundaries;         ///< each side CLAMPED (the paper), FREE or PERIODIC
+  /// Pinned parameter points (u, v) in [0,1]^2: each holds the (n1+1)(n2+1) control points of
+  /// the knot span containing it (spans half-open, the last closed at 1), so S(u, v) stays at
+  /// its rest position.
+  std::vector<Eigen::Vector2d> pins;
   Weights weights;               ///< omega_10 .. omega_02
   MassModel massModel = MassModel::Nodal;
   double mass = 1.0;     ///< m (> 0): per control point (Nodal) or per unit area (Lumped)
@@ -49,6 +60,7 @@ struct ModelParameters {
   double timeStep = 0.1;  ///< Delta t (> 0) of one step()
   Integrator integrator = Integrator::Explicit;
   ElasticReference reference = ElasticReference::Rest;
+  StartRule start = StartRule::SecondOrder;
   bool autoSubstep = true;        ///< explicit only: split Delta t to stay below the limit
   double stabilitySafety = 0.9;   ///< sub-step <= safety * stability limit, in (0, 1]
   double divergenceLimit = 1e6;   ///< |coordinate| > limit * (1 + max |rest coordinate|) stops
@@ -60,12 +72,20 @@ struct StrainEnergy {
   double w10 = 0.0, w01 = 0.0, w11 = 0.0, w20 = 0.0, w02 = 0.0;
 };
 
+/// What setState() does with held points (clamped layers, pins) that differ from the rest net.
+enum class HeldPoints {
+  Check,  ///< they must equal the rest net's to 1e-12 (relative), else std::invalid_argument
+  Reset,  ///< they are set to the rest net's (a model edit that holds new points)
+};
+
 class Simulation {
  public:
   /// Rest and initial state: the Greville plane S(u,v) = (u, v, 0).
-  /// @throws std::invalid_argument naming the parameter and the value
+  /// @throws std::invalid_argument naming the parameter and the value, also for a periodic
+  ///         direction (the plane does not close: give a rest net)
   explicit Simulation(const ModelParameters& params);
-  /// Rest and initial state given as a full net of (N1 + 2 n1) x (N2 + 2 n2) points.
+  /// Rest and initial state given as a full net of (N1 + 2 n1) x (N2 + 2 n2) points. In a
+  /// periodic direction the last n layers are set from the first n (see seamMismatch()).
   Simulation(const ModelParameters& params, const ControlNet& rest);
   ~Simulation();
   Simulation(const Simulation&) = delete;
@@ -89,11 +109,16 @@ class Simulation {
   void reset();
   /// Sets the state (e.g. read back from a file). `previous` is the net one step of size
   /// `previousStepSize` before `current` (0: the current sub-step size); it is rescaled to the
-  /// current sub-step keeping the velocity. Fixed points must equal the rest net's to 1e-12
-  /// (relative); they are then set to the rest values exactly.
-  /// @throws std::invalid_argument for wrong sizes, NaN, or changed fixed points
+  /// current sub-step keeping the velocity. Held points (clamped layers, pins) are set to the
+  /// rest values exactly, after the check `held` asks for. Periodic copies: the first n layers win.
+  /// @throws std::invalid_argument for wrong sizes, NaN, or (Check) changed held points
   void setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
-                double previousStepSize = 0.0);
+                double previousStepSize = 0.0, HeldPoints held = HeldPoints::Check);
+  /// Sets the state released from rest at `current` (velocity zero; the start rule applies).
+  void setState(const ControlNet& current, double time, long steps, HeldPoints held = HeldPoints::Check);
+  /// Largest coordinate difference between the first and last n layers of a periodic direction
+  /// in the nets given to the constructor and setState() (the first were used); 0 if none.
+  double seamMismatch() const { return m_seamMismatch; }
 
   const ControlNet& current() const { return m_current; }
   /// The net one sub-step before current().
@@ -106,6 +131,8 @@ class Simulation {
   double eigenvalueBound() const { return m_lambdaMax; }
   /// Upper bound of lambda_max(A_II) alone (stiffness units), computed once at build.
   double stiffnessEigenvalueBound() const { return m_stencilLambda; }
+  /// Upper bound of lambda_max(M^-1 A_II) alone, computed once at build.
+  double elasticEigenvalueBound() const { return m_elasticLambda; }
   /// Largest stable explicit step 2 / sqrt(lambda_max) (a lower bound of the true limit).
   double stabilityLimit() const;
   /// Sub-steps per step (1 for the implicit scheme).
@@ -115,17 +142,28 @@ class Simulation {
   Status status() const { return m_status; }
   const std::string& statusMessage() const { return m_statusMessage; }
 
-  /// The paper's eq. 15: ||P_free - P0_free|| over the free control points.
+  /// The paper's eq. 15: ||P_I - P0_I|| over the moving control points (each periodic point once).
   double deformationNorm() const;
-  /// 1/2 v^T M v with v = (P(t) - P(t - dt_sub)) / dt_sub on the free points.
+  /// 1/2 v^T M v with v = (P(t) - P(t - dt_sub)) / dt_sub on the moving points.
   double kineticEnergy() const;
   /// 1/2 D^T A_II D with D = P - P_rest, total and per weight term.
   StrainEnergy strainEnergy() const;
-  /// Load vector L (numFree x 3, free order) of all forces at the current state and time.
+  /// Load vector L (numMoving x 3, order of SplineSpace::movingToNet) of all forces at the
+  /// current state and time.
   ControlNet loadVector() const;
-  /// Static equilibrium for the current loads: solves A_II P_I = L + c0 - A_IB P_B directly.
-  /// @throws std::runtime_error if A_II is singular (all weights zero)
+  /// Static equilibrium for the current loads: solves A_II P_I = L + c0 - A_IB P_B directly
+  /// (pinned points held).
+  /// @throws std::runtime_error if A_II is singular (all weights zero, or a free surface with
+  ///         nothing holding it)
   ControlNet staticSolution() const;
+
+  /// Mass of moving net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
+  /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge).
+  double massAt(int i, int j) const;
+  /// Whether moving net point (i, j) is held by a pin.
+  bool isPinned(int i, int j) const;
+  /// Net rows of the points held by pins (moving points only).
+  const std::vector<Eigen::Index>& pinnedRows() const { return m_pinned; }
 
   /// S(u, v) on the current net.
   SurfacePoint evaluate(double u, double v, int order = 1) const { return m_space.evaluate(m_current, u, v, order); }
@@ -134,6 +172,10 @@ class Simulation {
   struct ImplicitSolver;
 
   void init();
+  void applyStartRule();
+  void holdPins(ControlNet& net) const;
+  /// A_II without the pinned rows and columns.
+  Eigen::SparseMatrix<double> activeMatrix() const;
   void rebuildConstantLoad();
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
@@ -152,9 +194,16 @@ class Simulation {
   ControlNet m_boundaryTerm;   ///< A_IB P_B
   ControlNet m_constantLoad;   ///< constant forces + c0
   ControlNet m_load;           ///< scratch
+  std::vector<Eigen::Index> m_pinned;  ///< net rows held by pins
+  std::vector<char> m_pinMask;         ///< per net row
+  double m_seamMismatch = 0.0;
+  bool m_uniformMass = true;      ///< every moving point has massPerPoint() (else m_massMoving)
+  Eigen::VectorXd m_massMoving;   ///< per moving point, when not uniform
+  bool m_startPending = true;  ///< the start rule is applied at the next step
   std::vector<std::shared_ptr<const Force>> m_forces;
   bool m_hasVariableForces = false;
   double m_stencilLambda = 0.0;
+  double m_elasticLambda = 0.0;
   double m_lambdaMax = 0.0;
   int m_subSteps = 1;
   double m_divergenceLimit = 0.0;

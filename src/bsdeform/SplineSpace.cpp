@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SplineSpace.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -28,28 +29,108 @@ BSplineBasis1D makeBasis(int degree, int numFree, const char* degreeName, const 
 }
 }  // namespace
 
-SplineSpace::SplineSpace(int degreeU, int degreeV, int numFreeU, int numFreeV)
-    : m_u(makeBasis(degreeU, numFreeU, "degreeU", "numU")), m_v(makeBasis(degreeV, numFreeV, "degreeV", "numV")) {}
+const char* boundaryName(Boundary b) {
+  switch (b) {
+    case Boundary::Clamped: return "CLAMPED";
+    case Boundary::Free: return "FREE";
+    case Boundary::Periodic: return "PERIODIC";
+  }
+  return "?";
+}
+
+namespace {
+LayerRange movingLayers(const BSplineBasis1D& basis, Boundary lo, Boundary hi, const char* loName, const char* hiName) {
+  if ((lo == Boundary::Periodic) != (hi == Boundary::Periodic))
+    throw std::invalid_argument(std::string(lo == Boundary::Periodic ? loName : hiName) +
+                                " is PERIODIC but " + (lo == Boundary::Periodic ? hiName : loName) + " is " +
+                                boundaryName(lo == Boundary::Periodic ? hi : lo) +
+                                ": a periodic direction needs PERIODIC on both sides");
+  const int n = basis.degree(), N = basis.numFree();
+  if (lo == Boundary::Periodic) return {n, N + n};
+  const int first = lo == Boundary::Free ? 0 : n;
+  const int last = hi == Boundary::Free ? N + 2 * n : N + n;
+  return {first, last - first};
+}
+
+int movingLayer(const LayerRange& r, bool periodic, int n, int layer) {
+  if (periodic && layer < n) layer += r.count;  // copy layer k = -n..-1 stands for k + (N+n)
+  return r.contains(layer) ? layer : -1;
+}
+}  // namespace
+
+SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Boundaries& b)
+    : m_u(makeBasis(degreeU, numU, "degreeU", "numU")),
+      m_v(makeBasis(degreeV, numV, "degreeV", "numV")),
+      m_boundaries(b),
+      m_movingU(movingLayers(m_u, b.uMin, b.uMax, "boundaryUMin", "boundaryUMax")),
+      m_movingV(movingLayers(m_v, b.vMin, b.vMax, "boundaryVMin", "boundaryVMax")) {}
+
+int SplineSpace::movingLayerU(int i) const { return movingLayer(m_movingU, periodicU(), degreeU(), i); }
+int SplineSpace::movingLayerV(int j) const { return movingLayer(m_movingV, periodicV(), degreeV(), j); }
+
+Eigen::Index SplineSpace::movingIndex(int k1, int k2) const {
+  const int i = movingLayerU(k1 + degreeU()), j = movingLayerV(k2 + degreeV());
+  if (i < 0 || j < 0) return -1;
+  return Eigen::Index(i - m_movingU.first) * m_movingV.count + (j - m_movingV.first);
+}
 
 double SplineSpace::grevilleU(int k1) const { return (k1 + 0.5 * (degreeU() + 1)) * m_u.spacing(); }
 double SplineSpace::grevilleV(int k2) const { return (k2 + 0.5 * (degreeV() + 1)) * m_v.spacing(); }
 
 ControlNet SplineSpace::grevillePlane() const {
   ControlNet net(netSize(), 3);
-  for (int k1 = -degreeU(); k1 < numFreeU() + degreeU(); ++k1)
-    for (int k2 = -degreeV(); k2 < numFreeV() + degreeV(); ++k2)
+  for (int k1 = -degreeU(); k1 < numU() + degreeU(); ++k1)
+    for (int k2 = -degreeV(); k2 < numV() + degreeV(); ++k2)
       net.row(netIndex(k1, k2)) << grevilleU(k1), grevilleV(k2), 0.0;
   return net;
 }
 
-ControlNet SplineSpace::gatherFree(const ControlNet& net) const {
-  ControlNet f(numFree(), 3);
-  for (Eigen::Index i = 0; i < numFree(); ++i) f.row(i) = net.row(freeToNet(i));
+ControlNet SplineSpace::gatherMoving(const ControlNet& net) const {
+  ControlNet f(numMoving(), 3);
+  for (Eigen::Index i = 0; i < numMoving(); ++i) f.row(i) = net.row(movingToNet(i));
   return f;
 }
 
-void SplineSpace::scatterFree(const ControlNet& freePoints, ControlNet& net) const {
-  for (Eigen::Index i = 0; i < numFree(); ++i) net.row(freeToNet(i)) = freePoints.row(i);
+void SplineSpace::scatterMoving(const ControlNet& movingPoints, ControlNet& net) const {
+  for (Eigen::Index i = 0; i < numMoving(); ++i) net.row(movingToNet(i)) = movingPoints.row(i);
+  refreshPeriodicCopies(net);
+}
+
+void SplineSpace::refreshPeriodicCopies(ControlNet& net) const {
+  const int rows = netRows(), cols = netCols();
+  if (periodicU()) {
+    const int n = degreeU(), shift = m_movingU.count;
+    for (int i = 0; i < n; ++i) net.middleRows(Eigen::Index(i) * cols, cols) = net.middleRows(Eigen::Index(i + shift) * cols, cols);
+  }
+  if (periodicV()) {
+    const int n = degreeV(), shift = m_movingV.count;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < n; ++j) net.row(Eigen::Index(i) * cols + j) = net.row(Eigen::Index(i) * cols + j + shift);
+  }
+}
+
+double SplineSpace::closePeriodic(ControlNet& net) const {
+  const int rows = netRows(), cols = netCols();
+  double diff = 0.0;
+  if (periodicU()) {
+    const int n = degreeU(), shift = m_movingU.count;
+    for (int i = 0; i < n; ++i) {
+      auto first = net.middleRows(Eigen::Index(i) * cols, cols);
+      auto last = net.middleRows(Eigen::Index(i + shift) * cols, cols);
+      diff = std::max(diff, (first - last).cwiseAbs().maxCoeff());
+      last = first;
+    }
+  }
+  if (periodicV()) {
+    const int n = degreeV(), shift = m_movingV.count;
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < n; ++j) {
+        const Eigen::Index a = Eigen::Index(i) * cols + j;
+        diff = std::max(diff, (net.row(a) - net.row(a + shift)).cwiseAbs().maxCoeff());
+        net.row(a + shift) = net.row(a);
+      }
+  }
+  return diff;
 }
 
 SurfacePoint SplineSpace::evaluate(const ControlNet& net, double u, double v, int order) const {

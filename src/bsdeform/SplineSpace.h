@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file SplineSpace.h
-/// The discretisation of [0,1]^2 (paper §4.2): degree (n1, n2), N1 x N2 free control points,
+/// The discretisation of [0,1]^2 (paper §4.2): degree (n1, n2), N1 x N2 inner control points,
 /// h_i = 1/(N_i + n_i) (erratum, see docs/math.md), the full control net of
-/// (N1 + 2 n1) x (N2 + 2 n2) points indexed by the paper's k = (k1, k2), and surface evaluation
+/// (N1 + 2 n1) x (N2 + 2 n2) points indexed by the paper's k = (k1, k2), the boundary condition
+/// of each side of the parameter square (which control points move), and surface evaluation
 /// (eq. 9) with derivatives.
 
 #include <Eigen/Core>
@@ -30,35 +31,84 @@ struct SurfacePoint {
   Eigen::Vector3d normal() const;
 };
 
+/// Condition on one side of the parameter square. The knot grid never depends on it.
+enum class Boundary {
+  Clamped,   ///< the n outer layers of control points are held (the paper)
+  Free,      ///< the outer layers move; natural boundary condition (energy over [0,1]^2 only)
+  Periodic,  ///< k and k + (N+n) are one control point; must be set on both sides of a direction
+};
+
+/// The four sides: uMin is u = 0, uMax is u = 1, vMin is v = 0, vMax is v = 1.
+struct Boundaries {
+  Boundary uMin = Boundary::Clamped, uMax = Boundary::Clamped;
+  Boundary vMin = Boundary::Clamped, vMax = Boundary::Clamped;
+  bool allClamped() const {
+    return uMin == Boundary::Clamped && uMax == Boundary::Clamped && vMin == Boundary::Clamped &&
+           vMax == Boundary::Clamped;
+  }
+};
+
+/// "CLAMPED", "FREE" or "PERIODIC".
+const char* boundaryName(Boundary b);
+
+/// The moving net layers of one direction: net layers first .. first + count - 1.
+///  - both sides clamped: the N inner layers, [n, N+n);
+///  - a free side adds its n outer layers ([0, ...) or [..., N+2n));
+///  - periodic: the N+n distinct layers [n, N+2n); layers [0, n) are copies of [N+n, N+2n).
+struct LayerRange {
+  int first = 0;
+  int count = 0;
+  bool contains(int layer) const { return layer >= first && layer < first + count; }
+};
+
 class SplineSpace {
  public:
-  /// @throws std::invalid_argument naming the parameter for degrees outside 1..7 or N < 1
-  SplineSpace(int degreeU, int degreeV, int numFreeU, int numFreeV);
+  /// @throws std::invalid_argument naming the parameter for degrees outside 1..7, N < 1,
+  ///         N > 65536, or PERIODIC on only one side of a direction
+  SplineSpace(int degreeU, int degreeV, int numU, int numV, const Boundaries& boundaries = Boundaries());
 
   const BSplineBasis1D& basisU() const { return m_u; }
   const BSplineBasis1D& basisV() const { return m_v; }
   int degreeU() const { return m_u.degree(); }
   int degreeV() const { return m_v.degree(); }
-  int numFreeU() const { return m_u.numFree(); }
-  int numFreeV() const { return m_v.numFree(); }
+  /// N1, N2: the inner control points (the paper's free points, whose B-splines lie inside).
+  int numU() const { return m_u.numFree(); }
+  int numV() const { return m_v.numFree(); }
   /// Net rows (u direction): N1 + 2 n1; columns (v direction): N2 + 2 n2.
   int netRows() const { return m_u.numTotal(); }
   int netCols() const { return m_v.numTotal(); }
   Eigen::Index netSize() const { return Eigen::Index(netRows()) * netCols(); }
-  Eigen::Index numFree() const { return Eigen::Index(numFreeU()) * numFreeV(); }
+
+  const Boundaries& boundaries() const { return m_boundaries; }
+  bool periodicU() const { return m_boundaries.uMin == Boundary::Periodic; }
+  bool periodicV() const { return m_boundaries.vMin == Boundary::Periodic; }
+  /// Moving layers of each direction (see LayerRange).
+  const LayerRange& movingU() const { return m_movingU; }
+  const LayerRange& movingV() const { return m_movingV; }
+  /// Number of moving control points (the unknowns): movingU().count * movingV().count.
+  /// All sides clamped: N1 N2, the paper's free points.
+  Eigen::Index numMoving() const { return Eigen::Index(m_movingU.count) * m_movingV.count; }
 
   /// Row of the control point with paper index (k1, k2), k in -n .. N+n-1.
   Eigen::Index netIndex(int k1, int k2) const {
     return Eigen::Index(k1 + degreeU()) * netCols() + (k2 + degreeV());
   }
-  /// Whether net point (i, j) (0-based net coordinates) is one of the N1 x N2 free points.
-  bool isFree(int i, int j) const {
-    return i >= degreeU() && i < degreeU() + numFreeU() && j >= degreeV() && j < degreeV() + numFreeV();
+  /// Whether net point (i, j) (0-based net layers) is a moving point (not held by a clamped side
+  /// and not a periodic copy). Pins are not known here: see Simulation.
+  bool isMoving(int i, int j) const { return m_movingU.contains(i) && m_movingV.contains(j); }
+  /// Row in the full net of moving point number f (f = a * movingV().count + b, a along u);
+  /// with all sides clamped this is the paper's order of the free points.
+  Eigen::Index movingToNet(Eigen::Index f) const {
+    const Eigen::Index w = m_movingV.count;
+    return Eigen::Index(m_movingU.first + f / w) * netCols() + (m_movingV.first + f % w);
   }
-  /// Row of free point number f (f = a * N2 + b, a along u) in the full net.
-  Eigen::Index freeToNet(Eigen::Index f) const {
-    return netIndex(int(f / numFreeV()), int(f % numFreeV()));
-  }
+  /// Moving-point number of B-spline (k1, k2) (its own control point, or the one it is a
+  /// periodic copy of), or -1 if that control point is held.
+  Eigen::Index movingIndex(int k1, int k2) const;
+  /// The moving net layer that net layer i (0-based) stands for: itself, or for a periodic copy
+  /// layer the layer it copies; -1 if layer i is held (clamped side).
+  int movingLayerU(int i) const;
+  int movingLayerV(int j) const;
 
   /// Greville abscissa of function k: xi_k = (k + (n+1)/2) h.
   double grevilleU(int k1) const;
@@ -66,10 +116,15 @@ class SplineSpace {
   /// The net with every point at its Greville abscissae: S(u,v) = (u, v, 0) exactly.
   ControlNet grevillePlane() const;
 
-  /// Free points of a full net, as an N1*N2 x 3 matrix (free order f = a * N2 + b).
-  ControlNet gatherFree(const ControlNet& net) const;
-  /// Writes free points back into a full net.
-  void scatterFree(const ControlNet& freePoints, ControlNet& net) const;
+  /// Moving points of a full net, as a numMoving() x 3 matrix (order of movingToNet).
+  ControlNet gatherMoving(const ControlNet& net) const;
+  /// Writes moving points back into a full net and refreshes its periodic copies.
+  void scatterMoving(const ControlNet& movingPoints, ControlNet& net) const;
+  /// Periodic directions: sets the copy layers [0, n) from the layers they repeat, [N+n, N+2n).
+  void refreshPeriodicCopies(ControlNet& net) const;
+  /// Periodic directions, for nets read from outside (where the first n layers win): sets the
+  /// last n layers from the first n. Returns the largest coordinate difference found before.
+  double closePeriodic(ControlNet& net) const;
 
   /// S(u,v) (eq. 9) and derivatives up to `order` (0, 1 or 2) from a full net.
   SurfacePoint evaluate(const ControlNet& net, double u, double v, int order = 1) const;
@@ -80,6 +135,8 @@ class SplineSpace {
  private:
   BSplineBasis1D m_u;
   BSplineBasis1D m_v;
+  Boundaries m_boundaries;
+  LayerRange m_movingU, m_movingV;
 };
 
 }  // namespace bsdeform

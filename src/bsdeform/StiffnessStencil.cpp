@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/StiffnessStencil.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -28,6 +29,53 @@ std::vector<double> cardinalGram(int degree, int order) {
   return g;
 }
 
+GramRows1D::GramRows1D(const BSplineBasis1D& basis, bool periodic)
+    : m_n(basis.degree()), m_numInner(basis.numFree()), m_periodic(periodic) {
+  const int n = m_n, N = m_numInner, M = N + n;  // M knot spans of width h cover [0,1]
+  const int types = periodic ? 1 : 2 * n + 1;
+  const double h = basis.spacing();
+  const QuadratureRule& rule = gaussLegendre(n + 1);
+  for (int p = 0; p < 3; ++p) {
+    m_rows[p].assign(size_t(types) * (2 * n + 1), 0.0);
+    const std::vector<double> g = cardinalGram(n, p);
+    const double scale = std::pow(h, 1 - 2 * p);
+    for (int d = -n; d <= n; ++d) m_rows[p][size_t(d + n)] = scale * g[size_t(std::abs(d))];
+    // Truncated rows, in cardinal coordinates x = u/h on [0, M]: function k is b^n(x - k).
+    for (int t = 1; t < types; ++t) {
+      const int k = t <= n ? t - 1 - n : N + (t - 1 - n);
+      for (int d = -n; d <= n; ++d) {
+        const int j = k + d;
+        if (j < -n || j > M - 1) continue;  // not a B-spline of the index set
+        double sum = 0.0;
+        // the product's support [max(k,j), min(k,j)+n+1) cut to [0, M)
+        const int lo = std::max({k, j, 0}), hi = std::min(std::min(k, j) + n + 1, M);
+        for (int span = lo; span < hi; ++span)
+          for (size_t q = 0; q < rule.nodes.size(); ++q) {
+            const double x = span + rule.nodes[q];
+            sum += rule.weights[q] * cardinalBSplineDerivative(n, p, x - k) * cardinalBSplineDerivative(n, p, x - j);
+          }
+        m_rows[p][size_t(t) * (2 * n + 1) + (d + n)] = scale * sum;
+      }
+    }
+  }
+  m_rowSum.assign(size_t(types), h);
+  for (int t = 1; t < types; ++t) {
+    const int k = t <= n ? t - 1 - n : N + (t - 1 - n);
+    double sum = 0.0;
+    for (int span = std::max(k, 0); span < std::min(k + n + 1, M); ++span)
+      for (size_t q = 0; q < rule.nodes.size(); ++q)
+        sum += rule.weights[q] * cardinalBSpline(n, span + rule.nodes[q] - k);
+    m_rowSum[size_t(t)] = h * sum;
+  }
+}
+
+int GramRows1D::rowType(int layer) const {
+  if (m_periodic) return 0;
+  if (layer < m_n) return 1 + layer;
+  if (layer >= m_numInner + m_n) return 1 + m_n + (layer - m_numInner - m_n);
+  return 0;
+}
+
 namespace {
 void checkWeight(double w, const char* name) {
   if (!std::isfinite(w) || w < 0.0)
@@ -36,7 +84,12 @@ void checkWeight(double w, const char* name) {
 }  // namespace
 
 StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
-    : m_space(&space), m_ru(space.degreeU()), m_rv(space.degreeV()) {
+    : m_space(&space),
+      m_weights(w),
+      m_ru(space.degreeU()),
+      m_rv(space.degreeV()),
+      m_gu(space.basisU(), space.periodicU()),
+      m_gv(space.basisV(), space.periodicV()) {
   checkWeight(w.w10, "w10");
   checkWeight(w.w01, "w01");
   checkWeight(w.w11, "w11");
@@ -57,6 +110,66 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
       m_half[size_t(a) * (m_rv + 1) + b] = w.w10 * Gu[1][a] * Gv[0][b] + w.w01 * Gu[0][a] * Gv[1][b] +
                                            2.0 * w.w11 * Gu[1][a] * Gv[1][b] + w.w20 * Gu[2][a] * Gv[0][b] +
                                            w.w02 * Gu[0][a] * Gv[2][b];
+
+  // Interior rows / columns: the moving layers of Toeplitz type (k = 0..N-1; all of a
+  // periodic direction).
+  m_rowsInterior = space.periodicU() ? space.movingU() : LayerRange{m_ru, space.numU()};
+  m_colsInterior = space.periodicV() ? space.movingV() : LayerRange{m_rv, space.numV()};
+
+  // Band: every moving point with a truncated row in u or in v, with one coefficient table per
+  // pair of row types: C(d1, d2) = sum over terms w G_u^p(type_u, d1) G_v^q(type_v, d2).
+  const LayerRange mu = space.movingU(), mv = space.movingV();
+  const int typesV = 2 * m_rv + 1, width = (2 * m_ru + 1) * (2 * m_rv + 1);
+  std::vector<int> tableOf(size_t(2 * m_ru + 1) * typesV, -1);
+  for (int i = mu.first; i < mu.first + mu.count; ++i)
+    for (int j = mv.first; j < mv.first + mv.count; ++j) {
+      const int tu = m_gu.rowType(i), tv = m_gv.rowType(j);
+      if (tu == 0 && tv == 0) continue;
+      int& t = tableOf[size_t(tu) * typesV + tv];
+      if (t < 0) {
+        t = int(m_tables.size());
+        std::vector<double> c(size_t(width), 0.0);
+        for (int d1 = -m_ru; d1 <= m_ru; ++d1)
+          for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
+            auto G = [&](const GramRows1D& g, int p, int type, int d) { return g.entry(p, type, d); };
+            c[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] =
+                w.w10 * G(m_gu, 1, tu, d1) * G(m_gv, 0, tv, d2) + w.w01 * G(m_gu, 0, tu, d1) * G(m_gv, 1, tv, d2) +
+                2.0 * w.w11 * G(m_gu, 1, tu, d1) * G(m_gv, 1, tv, d2) +
+                w.w20 * G(m_gu, 2, tu, d1) * G(m_gv, 0, tv, d2) + w.w02 * G(m_gu, 0, tu, d1) * G(m_gv, 2, tv, d2);
+          }
+        m_tables.push_back(std::move(c));
+      }
+      m_band.push_back({i, j, t, Eigen::Index(i - mu.first) * mv.count + (j - mv.first)});
+    }
+}
+
+int StiffnessStencil::neighbourU(int l) const {
+  const SplineSpace& s = *m_space;
+  if (s.periodicU() && l >= s.netRows()) return l - s.movingU().count;
+  return (l >= 0 && l < s.netRows()) ? l : -1;
+}
+
+int StiffnessStencil::neighbourV(int l) const {
+  const SplineSpace& s = *m_space;
+  if (s.periodicV() && l >= s.netCols()) return l - s.movingV().count;
+  return (l >= 0 && l < s.netCols()) ? l : -1;
+}
+
+Eigen::RowVector3d StiffnessStencil::bandRow(const ControlNet& net, const BandPoint& b) const {
+  const std::vector<double>& c = m_tables[size_t(b.table)];
+  Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
+  const Eigen::Index cols = m_space->netCols();
+  for (int d1 = -m_ru; d1 <= m_ru; ++d1) {
+    const int i = neighbourU(b.i + d1);
+    if (i < 0) continue;
+    const double* row = c.data() + size_t(d1 + m_ru) * (2 * m_rv + 1);
+    for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
+      const int j = neighbourV(b.j + d2);
+      if (j < 0 || row[d2 + m_rv] == 0.0) continue;
+      acc += row[d2 + m_rv] * net.row(Eigen::Index(i) * cols + j);
+    }
+  }
+  return acc;
 }
 
 double StiffnessStencil::coefficient(int d1, int d2) const {
@@ -66,20 +179,29 @@ double StiffnessStencil::coefficient(int d1, int d2) const {
   return m_half[size_t(d1) * (m_rv + 1) + d2];
 }
 
-Eigen::SparseMatrix<double> StiffnessStencil::interiorMatrix() const {
+Eigen::SparseMatrix<double> StiffnessStencil::movingMatrix() const {
   const SplineSpace& s = *m_space;
-  const int N1 = s.numFreeU(), N2 = s.numFreeV();
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  std::vector<const double*> rowTable(size_t(s.numMoving()), nullptr);
+  for (const BandPoint& b : m_band) rowTable[size_t(b.m)] = m_tables[size_t(b.table)].data();
   std::vector<Eigen::Triplet<double>> t;
-  t.reserve(size_t(s.numFree()) * (2 * m_ru + 1) * (2 * m_rv + 1));
-  for (int a = 0; a < N1; ++a)
-    for (int b = 0; b < N2; ++b)
+  t.reserve(size_t(s.numMoving()) * (2 * m_ru + 1) * (2 * m_rv + 1));
+  for (int a = 0; a < mu.count; ++a)
+    for (int b = 0; b < mv.count; ++b) {
+      const Eigen::Index row = Eigen::Index(a) * mv.count + b;
+      const double* table = rowTable[size_t(row)];
       for (int d1 = -m_ru; d1 <= m_ru; ++d1)
         for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
-          const int a2 = a + d1, b2 = b + d2;
-          if (a2 < 0 || a2 >= N1 || b2 < 0 || b2 >= N2) continue;
-          t.emplace_back(a * N2 + b, a2 * N2 + b2, coefficient(d1, d2));
+          // the neighbour's moving layer (periodic copies fold onto what they repeat)
+          const int i = neighbourU(mu.first + a + d1), j = neighbourV(mv.first + b + d2);
+          if (i < 0 || j < 0) continue;
+          const int ri = s.movingLayerU(i), rj = s.movingLayerV(j);
+          if (ri < 0 || rj < 0) continue;  // held: part of A_IB
+          const double c = table ? table[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] : coefficient(d1, d2);
+          t.emplace_back(row, Eigen::Index(ri - mu.first) * mv.count + (rj - mv.first), c);
         }
-  Eigen::SparseMatrix<double> A(s.numFree(), s.numFree());
+    }
+  Eigen::SparseMatrix<double> A(s.numMoving(), s.numMoving());
   A.setFromTriplets(t.begin(), t.end());
   return A;
 }
@@ -126,7 +248,7 @@ namespace {
 // Row kernels, written with GCC/Clang vector extensions so that they vectorise for certain:
 // four doubles per vector (AVX2 in the avx2 clone, two SSE2 registers in the default one).
 // The core is compiled with -ffp-contract=off, so every clone and every chunk width rounds
-// identically and the explicit step reproduces applyFree() bit for bit.
+// identically and the explicit step reproduces applyMoving() bit for bit.
 typedef double v4 __attribute__((vector_size(32), aligned(8), may_alias));
 typedef long long v4i __attribute__((vector_size(32)));
 
@@ -226,46 +348,117 @@ bool updateRow(const double* const* q, const double* half, int ru, int rv, long 
 }  // namespace
 
 template <typename RowFunction>
-void StiffnessStencil::forEachFreeRow(const ControlNet& net, RowFunction&& fn) const {
+void StiffnessStencil::forEachInteriorRow(const ControlNet& net, RowFunction&& fn) const {
   const SplineSpace& s = *m_space;
   const long rowLen = 3L * s.netCols();
+  // A periodic v direction reads n2 layers past the end of a row: they are the row's layers
+  // n2 .. 2 n2 - 1 again, appended to padded copies of the rows.
+  const bool padV = s.periodicV();
+  const long ghost = padV ? 3L * m_rv : 0, padLen = rowLen + ghost;
+  const int rows = s.netRows(), shiftU = s.movingU().count;
+  auto rowPtr = [&](int l) { return net.data() + long(s.periodicU() && l >= rows ? l - shiftU : l) * rowLen; };
   // Folded row sums q_a = P(i+a) + P(i-a): halves the work of the symmetric stencil.
   thread_local std::vector<double> qbuf;
-  qbuf.resize(size_t(m_ru) * rowLen);
+  qbuf.resize(size_t(m_ru + (padV ? 1 : 0)) * padLen);
   const double* q[kMaxDegree + 1];
-  const double* P = net.data();
-  for (int a = 0; a < s.numFreeU(); ++a) {
-    const long i = a + m_ru;  // net row
-    q[0] = P + i * rowLen;
+  for (int i = m_rowsInterior.first; i < m_rowsInterior.first + m_rowsInterior.count; ++i) {
+    double* buf = qbuf.data();
+    if (padV) {
+      std::copy(rowPtr(i), rowPtr(i) + rowLen, buf);
+      std::copy(buf + 3L * m_rv, buf + 3L * m_rv + ghost, buf + rowLen);
+      q[0] = buf;
+      buf += padLen;
+    } else {
+      q[0] = rowPtr(i);
+    }
     for (int r = 1; r <= m_ru; ++r) {
-      double* dst = qbuf.data() + (r - 1) * rowLen;
-      addRows(P + (i + r) * rowLen, P + (i - r) * rowLen, dst, rowLen);
+      double* dst = buf + (r - 1) * padLen;
+      addRows(rowPtr(i + r), rowPtr(i - r), dst, rowLen);
+      if (padV) std::copy(dst + 3L * m_rv, dst + 3L * m_rv + ghost, dst + rowLen);
       q[r] = dst;
     }
-    fn(a, i * rowLen, q);
+    fn(i, long(i) * rowLen, q);
   }
 }
 
-void StiffnessStencil::applyFree(const ControlNet& net, ControlNet& out) const {
+void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const {
   const SplineSpace& s = *m_space;
-  out.resize(s.numFree(), 3);
-  const int N2 = s.numFreeV();
-  const long mBegin = 3L * m_rv, mEnd = 3L * (m_rv + N2);
-  forEachFreeRow(net, [&](int a, long, const double* const* q) {
-    applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, out.data() + 3L * a * N2);
+  out.resize(s.numMoving(), 3);
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
+  forEachInteriorRow(net, [&](int i, long, const double* const* q) {
+    double* dst = out.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
+    applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
   });
+  for (const BandPoint& b : m_band) out.row(b.m) = bandRow(net, b);
 }
 
 bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
-                                               double alpha, double gamma, double limit) const {
-  const int N2 = m_space->numFreeV();
-  const long mBegin = 3L * m_rv, mEnd = 3L * (m_rv + N2);
+                                               double alpha, double gamma, double limit,
+                                               const std::function<double(int, int)>& alphaScale) const {
+  const SplineSpace& s = *m_space;
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
   bool ok = true;
-  forEachFreeRow(current, [&](int a, long rowStart, const double* const* q) {
+  forEachInteriorRow(current, [&](int i, long rowStart, const double* const* q) {
+    const double* lrow = load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
     ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart, previous.data() + rowStart,
-                    load.data() + 3L * a * N2, alpha, gamma, limit);
+                    lrow, alpha, gamma, limit);
   });
+  const Eigen::Index cols = s.netCols();
+  for (const BandPoint& b : m_band) {
+    const double a = alphaScale ? alpha * alphaScale(b.i, b.j) : alpha;
+    const Eigen::Index r = Eigen::Index(b.i) * cols + b.j;
+    const Eigen::RowVector3d p = current.row(r);
+    const Eigen::RowVector3d x = p + a * (load.row(b.m) - bandRow(current, b)) + gamma * (p - previous.row(r));
+    previous.row(r) = x;
+    ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
+  }
   return ok;
+}
+
+double StiffnessStencil::elementEigenvalueBound() const {
+  // 1-D element matrices on one knot span (cardinal coordinates x in [0,1]): the n+1 functions
+  // b^n(x - k), k = -n..0, their Gram integrals per derivative order and their integrals.
+  struct Element1D {
+    Eigen::MatrixXd G[3];
+    Eigen::VectorXd mass;
+  };
+  auto element = [](int n, double h) {
+    Element1D e;
+    const QuadratureRule& rule = gaussLegendre(n + 1);
+    for (int p = 0; p < 3; ++p) e.G[p] = Eigen::MatrixXd::Zero(n + 1, n + 1);
+    e.mass = Eigen::VectorXd::Zero(n + 1);
+    for (size_t q = 0; q < rule.nodes.size(); ++q) {
+      const double x = rule.nodes[q], wq = rule.weights[q];
+      for (int a = 0; a <= n; ++a) {
+        e.mass[a] += wq * h * cardinalBSpline(n, x + n - a);
+        for (int p = 0; p < 3; ++p)
+          for (int b = 0; b <= n; ++b)
+            e.G[p](a, b) += wq * std::pow(h, 1 - 2 * p) * cardinalBSplineDerivative(n, p, x + n - a) *
+                            cardinalBSplineDerivative(n, p, x + n - b);
+      }
+    }
+    return e;
+  };
+  const Element1D eu = element(m_ru, m_space->basisU().spacing()), ev = element(m_rv, m_space->basisV().spacing());
+  const Weights& w = m_weights;
+  auto kron = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    Eigen::MatrixXd k(a.rows() * b.rows(), a.cols() * b.cols());
+    for (Eigen::Index i = 0; i < a.rows(); ++i)
+      for (Eigen::Index j = 0; j < a.cols(); ++j) k.block(i * b.rows(), j * b.cols(), b.rows(), b.cols()) = a(i, j) * b;
+    return k;
+  };
+  const Eigen::MatrixXd A = w.w10 * kron(eu.G[1], ev.G[0]) + w.w01 * kron(eu.G[0], ev.G[1]) +
+                            2.0 * w.w11 * kron(eu.G[1], ev.G[1]) + w.w20 * kron(eu.G[2], ev.G[0]) +
+                            w.w02 * kron(eu.G[0], ev.G[2]);
+  Eigen::VectorXd r(A.rows());
+  for (Eigen::Index a = 0; a < eu.mass.size(); ++a)
+    for (Eigen::Index b = 0; b < ev.mass.size(); ++b) r[a * ev.mass.size() + b] = 1.0 / std::sqrt(eu.mass[a] * ev.mass[b]);
+  const Eigen::MatrixXd scaled = r.asDiagonal() * A * r.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled, Eigen::EigenvaluesOnly);
+  // a small relative margin covers the rounding of this 16..64-point eigenproblem
+  return eig.eigenvalues().maxCoeff() * (1.0 + 1e-10);
 }
 
 }  // namespace bsdeform

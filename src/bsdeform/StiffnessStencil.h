@@ -1,16 +1,23 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file StiffnessStencil.h
-/// The stiffness operator A of eq. 7 as an exact shift-invariant stencil.
+/// The stiffness operator A of eq. 7 for every boundary condition, exact and O(N1 N2).
 ///
-/// With h = 1/(N+n) every free B-spline has its support inside [0,1]^2, so
-/// \f$a(B_k, B_j)\f$ for a free k depends only on d = j - k (fixed j included: that is A_IB).
-/// Each weight term factorises into 1-D integrals
-/// \f$G^p(d) = \int D^p b_{k,h} D^p b_{k+d,h} = h^{1-2p} g_p(d)\f$:
-/// \f[ S(d) = \omega_{10} G_u^1 G_v^0 + \omega_{01} G_u^0 G_v^1 + 2\omega_{11} G_u^1 G_v^1
-///          + \omega_{20} G_u^2 G_v^0 + \omega_{02} G_u^0 G_v^2. \f]
+/// A is a sum of Kronecker products of 1-D Gram matrices over [0,1]:
+/// \f[ A = \omega_{10} G_u^1 \otimes G_v^0 + \omega_{01} G_u^0 \otimes G_v^1
+///        + 2\omega_{11} G_u^1 \otimes G_v^1 + \omega_{20} G_u^2 \otimes G_v^0
+///        + \omega_{02} G_u^0 \otimes G_v^2, \qquad
+///   G^p_{kj} = \int_0^1 D^p b_{k,h}\, D^p b_{j,h}\, du. \f]
+/// With h = 1/(N+n) a row k whose B-spline lies inside [0,1] (k = 0..N-1) is the whole-line
+/// value \f$h^{1-2p} g_p(j-k)\f$ (Toeplitz); only the 2n rows of the outer layers are
+/// truncated integrals (GramRows1D). A periodic direction folds k onto k mod (N+n) (circulant).
+/// So the interior is one shift-invariant 2-D stencil S(d) (the fast kernel), and the rows of
+/// the outer layers of a FREE side form a band of O(n (N1 + N2)) points with exact rows.
+/// Clamped layers are not unknowns; applying A to the full net includes their coupling
+/// (A_IB P_B).
 
 #include <Eigen/Sparse>
+#include <functional>
 #include <vector>
 
 #include "bsdeform/SplineSpace.h"
@@ -30,6 +37,29 @@ struct Weights {
 /// exact (Gauss–Legendre with n+1 points per unit span). Zero for p > n.
 std::vector<double> cardinalGram(int degree, int order);
 
+/// The exact rows of the 1-D Gram matrices \f$G^p\f$ (p = 0, 1, 2) of one direction over [0,1].
+/// Row types: 0 for the Toeplitz rows (k = 0..N-1, and every row of a periodic direction);
+/// 1..n for the layers k = -n..-1 and n+1..2n for k = N..N+n-1 (truncated integrals).
+class GramRows1D {
+ public:
+  GramRows1D(const BSplineBasis1D& basis, bool periodic);
+  int degree() const { return m_n; }
+  /// Row type of net layer i (0-based, k = i - n).
+  int rowType(int layer) const;
+  /// \f$G^p(k, k+d)\f$ for a row of type `type`, d = -n..n; zero where k+d is not a B-spline
+  /// of the index set. Scaled by \f$h^{1-2p}\f$.
+  double entry(int p, int type, int d) const { return m_rows[p][size_t(type) * (2 * m_n + 1) + (d + m_n)]; }
+  /// \f$\int_0^1 b_{k,h}\f$ for a row of type `type` (h for type 0): the lumped mass factor.
+  double rowSum(int type) const { return m_rowSum[size_t(type)]; }
+
+ private:
+  int m_n;
+  int m_numInner;
+  bool m_periodic;
+  std::vector<double> m_rows[3];
+  std::vector<double> m_rowSum;
+};
+
 class StiffnessStencil {
  public:
   /// @throws std::invalid_argument for a negative or non-finite weight (names it)
@@ -37,41 +67,78 @@ class StiffnessStencil {
 
   int radiusU() const { return m_ru; }
   int radiusV() const { return m_rv; }
-  /// \f$a(B_k, B_{k+d})\f$, zero for |d1| > n1 or |d2| > n2.
+  /// Interior stencil \f$a(B_k, B_{k+d})\f$ for a B-spline k inside [0,1]^2 (whole-line
+  /// integrals), zero for |d1| > n1 or |d2| > n2.
   double coefficient(int d1, int d2) const;
+  const GramRows1D& gramU() const { return m_gu; }
+  const GramRows1D& gramV() const { return m_gv; }
+  /// Whether some moving row is not an interior-stencil row (a FREE side exists).
+  bool hasBand() const { return !m_band.empty(); }
 
-  /// out = (A P)_free for a full net P: for every free point k, sum_d S(d) P(k+d).
-  /// `out` is resized to numFree x 3 (free order). Includes A_IB P_B when P holds fixed points.
-  void applyFree(const ControlNet& net, ControlNet& out) const;
+  /// out = (A P) on the moving points for a full net P (periodic copies in sync): for every
+  /// moving point m, the derivative of a(S, S)/2 with respect to P_m. Includes A_IB P_B when P
+  /// holds the held points. `out` is resized to numMoving x 3 (order of movingToNet).
+  void applyMoving(const ControlNet& net, ControlNet& out) const;
 
-  /// The free–free block A_II (numFree x numFree, scalar, shared by x, y, z).
-  Eigen::SparseMatrix<double> interiorMatrix() const;
+  /// The moving–moving block A_II (numMoving x numMoving, scalar, shared by x, y, z).
+  Eigen::SparseMatrix<double> movingMatrix() const;
 
-  /// Upper bound of \f$\lambda_{max}(A_{II})\f$ from the stencil's symbol (the Fourier
-  /// transform of S; A_II is a finite section of the Toeplitz operator, so its spectrum lies
-  /// below the symbol's maximum), sampled on a grid and corrected with Bernstein's inequality.
+  /// Upper bound of \f$\lambda_{max}(A_{II})\f$ from the interior stencil's symbol (the
+  /// Fourier transform of S), sampled on a grid and corrected with Bernstein's inequality.
+  /// Valid for every boundary condition: a truncated integral is at most the whole-line one, so
+  /// \f$x^T A_{II} x \le x^T T x\f$ for the Toeplitz section T, and a circulant's spectrum is
+  /// its symbol sampled.
   double eigenvalueBound() const;
   /// Gershgorin bound sum_d |S(d)| (looser, for comparison).
   double gershgorinBound() const;
+  /// Upper bound of \f$\lambda_{max}(R^{-1} A_{II})\f$ with R the lumped (row-sum) mass of
+  /// unit density, element by element: \f$A = \sum_e A_e\f$, \f$R = \sum_e R_e\f$ with
+  /// \f$R_e = \mathrm{diag}(\int_e B_k)\f$, so \f$x^TAx \le \max_e \lambda(A_e, R_e)\, x^TRx\f$.
+  /// Every knot cell has the same element matrices, so this is one small eigenproblem, valid
+  /// for every boundary condition (needed when a FREE side makes R smaller at the edges).
+  double elementEigenvalueBound() const;
 
   /// One fused explicit central-difference update of every free point (design.md §2), in
   /// increment form: P_new = P + alpha (L - (A P)_free) + gamma (P - P_old), written over
-  /// `previous`. Uses the same arithmetic as applyFree(), so L = applyFree(P) leaves a resting
+  /// `previous`. Uses the same arithmetic as applyMoving(), so L = applyMoving(P) leaves a resting
   /// P exactly unchanged.
   /// Fixed points of `previous` are left as they are (the caller keeps them equal to P's).
   /// @param[in] load numFree x 3 effective load, free order
   /// @return false if any new coordinate is not finite or exceeds `limit` in magnitude
+  /// @param[in] alphaScale if not null, alpha is multiplied by alphaScale(i, j) on the band
+  ///            points (lumped mass smaller at a free edge); interior points use alpha as is
+  /// Periodic copies of `previous` are not refreshed (the caller does, after holding pins).
   bool centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
-                               double alpha, double gamma, double limit) const;
+                               double alpha, double gamma, double limit,
+                               const std::function<double(int, int)>& alphaScale = nullptr) const;
 
  private:
+  /// A moving point outside the interior stencil's reach (a row of a FREE side's outer layers).
+  struct BandPoint {
+    int i, j;        ///< net layers
+    int table;       ///< index of its coefficient table
+    Eigen::Index m;  ///< moving-point number
+  };
+
   template <typename RowFunction>
-  void forEachFreeRow(const ControlNet& net, RowFunction&& fn) const;
+  void forEachInteriorRow(const ControlNet& net, RowFunction&& fn) const;
+  /// sum_d C(d) P(i+d1, j+d2) for a band point (d = -n..n, wrapped or skipped at the ends)
+  Eigen::RowVector3d bandRow(const ControlNet& net, const BandPoint& b) const;
+  /// Net layer of neighbour layer `l` in u / v (periodic wrap), or -1 if there is no B-spline.
+  int neighbourU(int l) const;
+  int neighbourV(int l) const;
 
   const SplineSpace* m_space;
+  Weights m_weights;
   int m_ru, m_rv;
+  GramRows1D m_gu, m_gv;
   /// Folded unique coefficients: m_half[a * (rv+1) + b] = S(±a, ±b), a = 0..ru, b = 0..rv.
   std::vector<double> m_half;
+  /// Interior rows and columns: moving layers whose rows are Toeplitz.
+  LayerRange m_rowsInterior, m_colsInterior;
+  /// Band: its points and the full (2n1+1)(2n2+1) coefficient table of each row-type pair.
+  std::vector<BandPoint> m_band;
+  std::vector<std::vector<double>> m_tables;
 };
 
 }  // namespace bsdeform

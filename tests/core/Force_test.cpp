@@ -21,7 +21,7 @@ double basisIntegral(const BSplineBasis1D& b, int k, double lo, double hi) {
 
 ControlNet loadOf(const Force& f, const SplineSpace& s, double t = 0.0) {
   const ControlNet net = s.grevillePlane();
-  ControlNet load = ControlNet::Zero(s.numFree(), 3);
+  ControlNet load = ControlNet::Zero(s.numMoving(), 3);
   f.addLoad(LoadContext{s, net, net, 0.1, t}, load);
   return load;
 }
@@ -80,9 +80,9 @@ TEST_CASE("Force: a smooth density converges with the number of Gauss points", "
 TEST_CASE("Force: callables see position, velocity, normal and time as requested", "[core]") {
   const SplineSpace s(3, 3, 4, 4);
   ControlNet cur = s.grevillePlane(), prev = s.grevillePlane();
-  for (Eigen::Index f = 0; f < s.numFree(); ++f) {
-    cur(s.freeToNet(f), 2) += 0.5;
-    prev(s.freeToNet(f), 2) += 0.3;
+  for (Eigen::Index f = 0; f < s.numMoving(); ++f) {
+    cur(s.movingToNet(f), 2) += 0.5;
+    prev(s.movingToNet(f), 2) += 0.3;
   }
   const LoadContext ctx{s, cur, prev, 0.1, 2.5};
   const SurfaceSample smp = sampleSurface(ctx, 0.5, 0.5, kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal);

@@ -79,7 +79,7 @@ TEST_CASE("Simulation: a long damped run converges to the directly solved static
     const ControlNet equilibrium = sim.staticSolution();
     // residual of A_II P = L - A_IB P_B, checked independently with the stencil on the full net
     ControlNet AP;
-    sim.stencil().applyFree(equilibrium, AP);
+    sim.stencil().applyMoving(equilibrium, AP);
     CHECK((AP - sim.loadVector()).norm() < 1e-9 * sim.loadVector().norm());
     sim.advance(4000);
     REQUIRE(sim.status() == Status::Ok);
@@ -147,7 +147,7 @@ TEST_CASE("Simulation: the reported stability limit is a safe lower bound of the
     p.massModel = mm;
     p.mass = (mm == MassModel::Nodal) ? 1.0 : 50.0;
     Simulation sim(p);
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(sim.stencil().interiorMatrix()), Eigen::EigenvaluesOnly);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(sim.stencil().movingMatrix()), Eigen::EigenvaluesOnly);
     const double m = (mm == MassModel::Nodal) ? p.mass : p.mass * sim.space().basisU().spacing() * sim.space().basisV().spacing();
     const double trueLimit = 2.0 / std::sqrt(eig.eigenvalues().maxCoeff() / m);
     CHECK(sim.stabilityLimit() <= trueLimit);
@@ -221,7 +221,7 @@ TEST_CASE("Simulation: time- and position-dependent forces are re-evaluated ever
   CHECK(z > 0.05);
   CHECK(z < 1.0);
   ControlNet AP;
-  sim.stencil().applyFree(sim.current(), AP);
+  sim.stencil().applyMoving(sim.current(), AP);
   CHECK((AP - sim.loadVector()).norm() < 1e-8);
 }
 
@@ -234,8 +234,8 @@ TEST_CASE("Simulation: energy is conserved without damping and load", "[core]") 
     p.timeStep = 0.05 * probe.stabilityLimit();
     Simulation sim(p);
     ControlNet bumped = sim.rest();
-    for (Eigen::Index f = 0; f < sim.space().numFree(); ++f) {
-      const Eigen::Index r = sim.space().freeToNet(f);
+    for (Eigen::Index f = 0; f < sim.space().numMoving(); ++f) {
+      const Eigen::Index r = sim.space().movingToNet(f);
       bumped(r, 2) = std::sin(3.14159 * bumped(r, 0)) * std::sin(3.14159 * bumped(r, 1)) * 0.2;
     }
     sim.setState(bumped, bumped, 0.0, 0);
@@ -261,8 +261,8 @@ TEST_CASE("Simulation: strain energy terms add up and match 1/2 D^T A D", "[core
   sim.advance(30);
   const StrainEnergy e = sim.strainEnergy();
   CHECK(e.total == Approx(e.w10 + e.w01 + e.w11 + e.w20 + e.w02));
-  const ControlNet D = sim.space().gatherFree(sim.current() - sim.rest());
-  const double ref = 0.5 * D.cwiseProduct(ControlNet(sim.stencil().interiorMatrix() * D)).sum();
+  const ControlNet D = sim.space().gatherMoving(sim.current() - sim.rest());
+  const double ref = 0.5 * D.cwiseProduct(ControlNet(sim.stencil().movingMatrix() * D)).sum();
   CHECK(e.total == Approx(ref).epsilon(1e-12));
   CHECK(e.w10 > 0.0);
   CHECK(e.w02 > 0.0);
@@ -306,7 +306,7 @@ TEST_CASE("Simulation: invalid parameters throw with the parameter and the value
   Simulation sim(p);
   ControlNet moved = sim.rest();
   moved(0, 2) = 1.0;  // a fixed point
-  CHECK_THROWS_WITH(sim.setState(moved, moved, 0.0, 0), Catch::Contains("fixed control point"));
+  CHECK_THROWS_WITH(sim.setState(moved, moved, 0.0, 0), Catch::Contains("clamped control point"));
 }
 
 TEST_CASE("Simulation: a stiff penalty force is included in the stability limit, safely and sharply", "[core]") {
@@ -320,7 +320,7 @@ TEST_CASE("Simulation: a stiff penalty force is included in the stability limit,
   const SplineSpace& s = sim.space();
   const std::vector<double> g0 = cardinalGram(3, 0);
   const int N = p.numU;
-  Eigen::MatrixXd K = Eigen::MatrixXd(sim.stencil().interiorMatrix());
+  Eigen::MatrixXd K = Eigen::MatrixXd(sim.stencil().movingMatrix());
   const double area = s.basisU().spacing() * s.basisV().spacing();
   for (int a = 0; a < N; ++a)
     for (int b = 0; b < N; ++b)

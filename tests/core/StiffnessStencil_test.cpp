@@ -64,10 +64,10 @@ TEST_CASE("StiffnessStencil: the stencil reproduces a brute-force quadrature ass
     const StiffnessStencil st(s, w);
     double maxErr = 0.0, maxVal = 0.0;
     // every free row against every column of the full net (A_II and A_IB)
-    for (int k1 = 0; k1 < s.numFreeU(); ++k1)
-      for (int k2 = 0; k2 < s.numFreeV(); ++k2)
-        for (int j1 = -s.degreeU(); j1 < s.numFreeU() + s.degreeU(); ++j1)
-          for (int j2 = -s.degreeV(); j2 < s.numFreeV() + s.degreeV(); ++j2) {
+    for (int k1 = 0; k1 < s.numU(); ++k1)
+      for (int k2 = 0; k2 < s.numV(); ++k2)
+        for (int j1 = -s.degreeU(); j1 < s.numU() + s.degreeU(); ++j1)
+          for (int j2 = -s.degreeV(); j2 < s.numV() + s.degreeV(); ++j2) {
             const double ref = bruteForceEntry(s, w, k1, k2, j1, j2);
             maxErr = std::max(maxErr, std::abs(st.coefficient(j1 - k1, j2 - k2) - ref));
             maxVal = std::max(maxVal, std::abs(ref));
@@ -81,26 +81,26 @@ TEST_CASE("StiffnessStencil: A_II is symmetric positive definite; constants and 
   const SplineSpace s(3, 2, 6, 7);
   const Weights w{0.3, 0.7, 0.2, 0.05, 0.11};
   const StiffnessStencil st(s, w);
-  const Eigen::MatrixXd A = Eigen::MatrixXd(st.interiorMatrix());
+  const Eigen::MatrixXd A = Eigen::MatrixXd(st.movingMatrix());
   CHECK((A - A.transpose()).norm() == 0.0);
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(A);
   CHECK(eig.eigenvalues().minCoeff() > 0.0);
   // the full operator annihilates constants and (Greville) planes: (A P)_free = 0
   ControlNet out;
   ControlNet constant = ControlNet::Constant(s.netSize(), 3, 2.5);
-  st.applyFree(constant, out);
+  st.applyMoving(constant, out);
   CHECK(out.cwiseAbs().maxCoeff() < 1e-11);
   ControlNet plane = s.grevillePlane();
-  st.applyFree(plane, out);
+  st.applyMoving(plane, out);
   CHECK(out.cwiseAbs().maxCoeff() < 1e-11);
-  // applyFree agrees with the sparse matrix on the free part
+  // applyMoving agrees with the sparse matrix on the free part
   std::mt19937 rng(1);
   std::normal_distribution<double> N01;
   ControlNet net = ControlNet::Zero(s.netSize(), 3);
-  for (Eigen::Index f = 0; f < s.numFree(); ++f)
-    net.row(s.freeToNet(f)) << N01(rng), N01(rng), N01(rng);
-  st.applyFree(net, out);
-  const ControlNet ref = st.interiorMatrix() * s.gatherFree(net);
+  for (Eigen::Index f = 0; f < s.numMoving(); ++f)
+    net.row(s.movingToNet(f)) << N01(rng), N01(rng), N01(rng);
+  st.applyMoving(net, out);
+  const ControlNet ref = st.movingMatrix() * s.gatherMoving(net);
   CHECK((out - ref).norm() < 1e-12 * ref.norm());
 }
 
@@ -108,7 +108,7 @@ TEST_CASE("StiffnessStencil: the symbol bound is an upper bound of lambda_max an
   for (int n : {1, 2, 3, 5}) {
     const SplineSpace s(n, n, 24, 24);
     const StiffnessStencil st(s, Weights{});
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(st.interiorMatrix()), Eigen::EigenvaluesOnly);
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(Eigen::MatrixXd(st.movingMatrix()), Eigen::EigenvaluesOnly);
     const double lmax = eig.eigenvalues().maxCoeff();
     INFO("degree " << n << " lambda_max " << lmax << " bound " << st.eigenvalueBound());
     CHECK(st.eigenvalueBound() >= lmax);
