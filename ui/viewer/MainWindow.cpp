@@ -28,7 +28,6 @@
 #include <QMessageBox>
 #include <QMimeData>
 #include <QPainter>
-#include <QSaveFile>
 #include <QScrollArea>
 #include <QSettings>
 #include <QSplitter>
@@ -38,6 +37,7 @@
 #include <QTreeWidget>
 #include <QVBoxLayout>
 
+#include "AtomicFile.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "PlotPanel.h"
@@ -342,9 +342,9 @@ QImage MainWindow::windowScreenshot() {
 bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
   const QImage img = screenshot(size);
   if (img.isNull()) return false;
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly) || !img.save(&f, "PNG") || !f.commit()) {
-    reportError(tr("Screenshot failed"), tr("cannot write %1: %2").arg(path, f.errorString()));
+  QString error;
+  if (!saveFileAtomically(path, [&](QIODevice& device) { return img.save(&device, "PNG"); }, error)) {
+    reportError(tr("Screenshot failed"), error);
     return false;
   }
   statusBar()->showMessage(tr("Saved %1 (%2 x %3)").arg(path).arg(img.width()).arg(img.height()), 5000);

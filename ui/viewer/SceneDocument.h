@@ -26,7 +26,8 @@ class SceneDocument {
   bool load(const QString& path, QString& error);
   /// Reads a scene from memory (the default scene).
   bool loadFromText(const QByteArray& text, const QString& name, QString& error);
-  /// Writes the scene with the current simulation state to `path` atomically (QSaveFile).
+  /// Writes the scene with the current simulation state to `path` atomically
+  /// (saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
   QByteArray toText() const;
