@@ -34,6 +34,8 @@ class SceneDocument {
 
   SoSeparator* root() const { return m_root; }
   const QString& path() const { return m_path; }
+  /// The file the scene belongs to (a restored recovery file belongs to the scene it came from).
+  void setPath(const QString& path) { m_path = path; }
   const QVector<SoBSplineDeformSurface*>& surfaces() const { return m_surfaces; }
   const QVector<SoForceField*>& forceFields() const { return m_forceFields; }
   /// A display name: the DEF name, or "Surface 1", "Force 2", ...
