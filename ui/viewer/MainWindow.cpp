@@ -86,11 +86,13 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
 
   m_autosave = new Autosave(*m_doc, this);
   connect(m_autosave, &Autosave::failed, this, [this](const QString& message) {
-    if (m_autosaveFailing)
-      statusBar()->showMessage(tr("Autosave failed: %1").arg(message), 10000);
-    else
-      reportError(tr("Autosave failed"), message);
+    // set first: the timer keeps running while the dialog is open, and must not stack dialogs
+    const bool first = !m_autosaveFailing;
     m_autosaveFailing = true;
+    if (first)
+      reportError(tr("Autosave failed"), message);
+    else
+      statusBar()->showMessage(tr("Autosave failed: %1").arg(message), 10000);
   });
   connect(m_autosave, &Autosave::saved, this, [this] { m_autosaveFailing = false; });
 }
