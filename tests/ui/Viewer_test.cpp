@@ -257,10 +257,11 @@ double timeIn(const QString& path) {
 }
 
 // Starts bsdeform-viewer with XDG_DATA_HOME = `home` (its recovery files go to
-// home/bsdeform/bsdeform-viewer/recovery) and CI=true.
+// home/bsdeform/bsdeform-viewer/recovery), its settings under `home` too, and CI=true.
 void startViewer(QProcess& p, const QString& home, const QStringList& args) {
   QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
   env.insert(QStringLiteral("XDG_DATA_HOME"), home);
+  env.insert(QStringLiteral("XDG_CONFIG_HOME"), home + QStringLiteral("/config"));  // its recent-files list
   env.insert(QStringLiteral("CI"), QStringLiteral("true"));
   p.setProcessEnvironment(env);
   p.start(QStringLiteral(BSDEFORM_VIEWER), args);
