@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Every scene in scenes/ and the headless runner bsdeform-run (run as a separate process).
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -65,9 +66,10 @@ struct Run {
   std::string out, err;
 };
 
-// Runs bsdeform-run with `args` (already shell-quoted where needed).
-Run run(const std::string& args, const std::string& dir) {
-  const std::string cmd = "cd '" + dir + "' && '" BSDEFORM_RUN "' " + args + " > stdout.txt 2> stderr.txt";
+// Runs bsdeform-run with `args` (already shell-quoted where needed); `prefix` goes before the
+// program (environment assignments, `timeout N`).
+Run run(const std::string& args, const std::string& dir, const std::string& prefix = "") {
+  const std::string cmd = "cd '" + dir + "' && " + prefix + " '" BSDEFORM_RUN "' " + args + " > stdout.txt 2> stderr.txt";
   const int status = std::system(cmd.c_str());
   Run r{WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir + "/stdout.txt"), slurp(dir + "/stderr.txt")};
   std::remove((dir + "/stdout.txt").c_str());
@@ -264,4 +266,153 @@ TEST_CASE("bsdeform-run: a simulation that blows up exits with 3 and says so", "
   const std::string csv = slurp(dir.path + "/boom/Surface.csv");
   CHECK(csv.find("nan") == std::string::npos);
   CHECK(csv.find("inf") == std::string::npos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Data loss and messages (docs/reliability.md)
+
+namespace {
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+}
+
+std::vector<std::string> listDir(const std::string& path) {
+  std::vector<std::string> out;
+  if (DIR* d = opendir(path.c_str())) {
+    while (dirent* e = readdir(d))
+      if (std::string(e->d_name) != "." && std::string(e->d_name) != "..") out.push_back(e->d_name);
+    closedir(d);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+bool exists(const std::string& path) { return access(path.c_str(), F_OK) == 0; }
+
+// A disk that is full under `dir` for the runner (tests/support/enospc_shim.c); `after` bytes
+// still fit.
+std::string fullDisk(const std::string& dir, long after = 0) {
+  return "LD_PRELOAD='" BSDEFORM_ENOSPC_SHIM "' BSDEFORM_ENOSPC_DIR='" + dir + "' BSDEFORM_ENOSPC_AFTER=" +
+         std::to_string(after);
+}
+
+const char* kSmallSurface = "SoBSplineDeformSurface { numUControlPoints 4 numVControlPoints 4 forces [ SoForceField { } ] }";
+
+}  // namespace
+
+TEST_CASE("bsdeform-run: a full disk keeps the previous outputs byte for byte and says why", "[scenes]") {
+  TempDir dir;
+  REQUIRE(run(scene("paper_fig7_sinusoidal.iv") + " --steps 3 -o keep", dir.path).code == 0);
+  const std::string csv = slurp(dir.path + "/keep/Surface.csv"), iv = slurp(dir.path + "/keep/final.iv");
+  REQUIRE(!csv.empty());
+  REQUIRE(!iv.empty());
+  const std::vector<std::string> files{"Surface.csv", "final.iv"};
+  REQUIRE(listDir(dir.path + "/keep") == files);
+
+  // nothing fits: the first file fails, both old files stay, no temporary file is left
+  Run r = run(scene("paper_fig7_sinusoidal.iv") + " --steps 7 -o keep --overwrite", dir.path, fullDisk(dir.path + "/keep"));
+  INFO(r.err);
+  CHECK(r.code == 4);
+  CHECK(r.err.find("No space left on device") != std::string::npos);
+  CHECK(r.err.find("Surface.csv") != std::string::npos);
+  CHECK(r.out.find("wrote") == std::string::npos);
+  CHECK(slurp(dir.path + "/keep/Surface.csv") == csv);
+  CHECK(slurp(dir.path + "/keep/final.iv") == iv);
+  CHECK(listDir(dir.path + "/keep") == files);
+
+  // the CSV (about 1.4 kB) fits, final.iv (about 15 kB) does not: the message names final.iv and
+  // the file already replaced; final.iv is the old one and still loads
+  r = run(scene("paper_fig7_sinusoidal.iv") + " --steps 7 -o keep --overwrite", dir.path, fullDisk(dir.path + "/keep", 4000));
+  INFO(r.err);
+  CHECK(r.code == 4);
+  CHECK(r.err.find("final.iv") != std::string::npos);
+  CHECK(r.err.find("No space left on device") != std::string::npos);
+  CHECK(r.err.find("already written") != std::string::npos);
+  const std::string newCsv = slurp(dir.path + "/keep/Surface.csv");
+  CHECK(newCsv != csv);
+  CHECK(std::count(newCsv.begin(), newCsv.end(), '\n') == 9);  // header, t = 0 and 7 steps: complete
+  CHECK(slurp(dir.path + "/keep/final.iv") == iv);
+  CHECK(listDir(dir.path + "/keep") == files);
+  SoSeparator* root = testutil::read(slurp(dir.path + "/keep/final.iv"));
+  CHECK(root);
+  if (root) root->unref();
+}
+
+TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", "[scenes]") {
+  TempDir dir;
+  REQUIRE(mkdir((dir.path + "/scene.iv").c_str(), 0755) == 0);
+  const Run r = run("scene.iv -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("scene.iv") != std::string::npos);
+  CHECK(r.err.find("is a directory") != std::string::npos);
+  CHECK(r.err.find("no such file") == std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: an unreadable scene file gives the system's reason", "[scenes]") {
+  if (geteuid() == 0) {
+    WARN("running as root: chmod 000 does not stop root from reading, so this case is not checked");
+    return;
+  }
+  TempDir dir;
+  writeFile(dir.path + "/locked.iv", slurp(BSDEFORM_SCENES_DIR "/paper_fig2_point_force.iv"));
+  REQUIRE(chmod((dir.path + "/locked.iv").c_str(), 0) == 0);
+  const Run r = run("locked.iv -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("locked.iv") != std::string::npos);
+  CHECK(r.err.find("Permission denied") != std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: a DEF name that cannot be a file name is refused before the run", "[scenes]") {
+  TempDir dir;
+  writeFile(dir.path + "/slash.iv", std::string("#Inventor V2.1 ascii\nSeparator { DEF a/b ") + kSmallSurface + " }\n");
+  // 10^6 steps: the old runner spent them all before failing to write 'a/b.csv'
+  Run r = run("slash.iv --steps 1000000 -o out", dir.path, "timeout 120");
+  INFO(r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("DEF name 'a/b'") != std::string::npos);
+  CHECK(!exists(dir.path + "/out"));  // refused before anything was created
+  // two surfaces with one name would write the same CSV
+  writeFile(dir.path + "/twins.iv", std::string("#Inventor V2.1 ascii\nSeparator { DEF S ") + kSmallSurface + " DEF S " +
+                                        kSmallSurface + " }\n");
+  r = run("twins.iv --steps 2 -o twins", dir.path);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("'S'") != std::string::npos);
+  CHECK(!exists(dir.path + "/twins"));
+}
+
+TEST_CASE("bsdeform-run: hidden files make a directory non-empty and a user's file is never deleted", "[scenes]") {
+  TempDir dir;
+  REQUIRE(mkdir((dir.path + "/hidden").c_str(), 0755) == 0);
+  writeFile(dir.path + "/hidden/.bsdeform-write-test", "precious");
+  writeFile(dir.path + "/hidden/.notes", "mine");
+  Run r = run(scene("paper_fig2_point_force.iv") + " --steps 2 -o hidden", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("not empty") != std::string::npos);
+  CHECK(!exists(dir.path + "/hidden/Surface.csv"));
+  CHECK(slurp(dir.path + "/hidden/.bsdeform-write-test") == "precious");
+  // with --overwrite the run writes its files and leaves every other file alone
+  r = run(scene("paper_fig2_point_force.iv") + " --steps 2 -o hidden --overwrite", dir.path);
+  CHECK(r.code == 0);
+  CHECK(exists(dir.path + "/hidden/Surface.csv"));
+  CHECK(slurp(dir.path + "/hidden/.bsdeform-write-test") == "precious");
+  CHECK(slurp(dir.path + "/hidden/.notes") == "mine");
+  CHECK(listDir(dir.path + "/hidden") ==
+        std::vector<std::string>{".bsdeform-write-test", ".notes", "Surface.csv", "final.iv"});
+}
+
+TEST_CASE("bsdeform-run: a sweep whose runs cannot start says so and stops", "[scenes]") {
+  TempDir dir;
+  // `timeout`: the old runner waited forever for a process that never started
+  const Run r = run(scene("paper_fig2_point_force.iv") +
+                        " --steps 2 --sweep Surface.w10=1,2,3 --sweep-program /nonexistent/bsdeform-run -o sweep",
+                    dir.path, "timeout 120");
+  INFO(r.err);
+  CHECK(r.code == 1);
+  CHECK(r.err.find("cannot start") != std::string::npos);
+  CHECK(r.err.find("/nonexistent/bsdeform-run") != std::string::npos);
+  CHECK(r.err.find("No such file or directory") != std::string::npos);
+  CHECK(!exists(dir.path + "/sweep/sweep.csv"));
 }

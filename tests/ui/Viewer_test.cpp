@@ -10,6 +10,7 @@
 #include <QFile>
 #include <QGLWidget>
 #include <QMouseEvent>
+#include <QProcess>
 #include <QTemporaryDir>
 #include <QTest>
 #include <catch2/catch.hpp>
@@ -43,6 +44,9 @@ void ensureApp() {
   static int argc = 1;
   static char name[] = "bsdeform_ui_tests";
   static char* argv[] = {name, nullptr};
+  // autosaves and settings of the windows under test stay out of the user's home
+  static QTemporaryDir home;
+  qputenv("XDG_DATA_HOME", QFile::encodeName(home.filePath(QStringLiteral("data"))));
   app = new QApplication(argc, argv);
   QApplication::setOrganizationName(QStringLiteral("bsdeform-tests"));
   initViewerResources();
@@ -231,4 +235,159 @@ TEST_CASE("Viewer: Save As then reload gives the same state, mesh export, field 
   CHECK(!w->exportMesh(dir.filePath(QStringLiteral("mesh.xyz"))));
   // the field editor is bound to the selected surface
   CHECK(w->fieldEditor().container() == r);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Autosave and crash recovery (docs/reliability.md)
+
+namespace {
+
+QStringList recoveryFiles(const QString& dir) {
+  return QDir(dir).entryList({QStringLiteral("recovery-*")}, QDir::Files | QDir::Hidden, QDir::Name);
+}
+
+double timeIn(const QString& path) {
+  bsdeform::SceneDocument doc;
+  QString error;
+  const bool loaded = doc.load(path, error);
+  INFO(error.toStdString());
+  REQUIRE(loaded);
+  REQUIRE(!doc.surfaces().isEmpty());
+  return doc.surfaces().first()->simulationTime.getValue();
+}
+
+// Starts bsdeform-viewer with XDG_DATA_HOME = `home` (its recovery files go to
+// home/bsdeform/bsdeform-viewer/recovery), its settings under `home` too, and CI=true.
+void startViewer(QProcess& p, const QString& home, const QStringList& args) {
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  env.insert(QStringLiteral("XDG_DATA_HOME"), home);
+  env.insert(QStringLiteral("XDG_CONFIG_HOME"), home + QStringLiteral("/config"));  // its recent-files list
+  env.insert(QStringLiteral("CI"), QStringLiteral("true"));
+  p.setProcessEnvironment(env);
+  p.start(QStringLiteral(BSDEFORM_VIEWER), args);
+  REQUIRE(p.waitForStarted(10000));
+}
+
+}  // namespace
+
+TEST_CASE("Viewer: autosave writes the advanced state only when it changed and removes it on save and quit", "[ui]") {
+  ensureApp();
+  QTemporaryDir dir;
+  // a paused scene: nothing changes until the test steps it
+  const QString scene = dir.filePath(QStringLiteral("paused.iv"));
+  {
+    QFile f(scene);
+    REQUIRE(f.open(QIODevice::WriteOnly));
+    f.write("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE numUControlPoints 6 "
+            "numVControlPoints 6 forces [ SoForceField { } ] } }\n");
+  }
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  const QString recovery = dir.filePath(QStringLiteral("recovery"));
+  w->autosave().setDirectory(recovery);
+  w->autosave().setInterval(100);
+  REQUIRE(w->openScene(scene));
+  w->show();
+  REQUIRE(QTest::qWaitForWindowExposed(w.get()));
+  const QString path = w->autosave().filePath();
+  CHECK(path.startsWith(recovery));
+  QTest::qWait(500);
+  CHECK(!QFile::exists(path));  // nothing changed since it was opened
+
+  for (int i = 0; i < 4; ++i) w->step();
+  REQUIRE(QTest::qWaitFor([&] { return QFile::exists(path); }, 5000));
+  CHECK(timeIn(path) == Approx(0.4));
+  CHECK(w->lastError().isEmpty());
+  // unchanged: not written again
+  const QDateTime written = QFileInfo(path).lastModified();
+  QTest::qWait(500);
+  CHECK(QFileInfo(path).lastModified() == written);
+  // advanced again: written again
+  w->step();
+  REQUIRE(QTest::qWaitFor([&] { return QFile::exists(path) && timeIn(path) > 0.45; }, 5000));
+  CHECK(timeIn(path) == Approx(0.5));
+
+  // a successful save removes it; the saved state is the new baseline
+  REQUIRE(w->saveSceneAs(dir.filePath(QStringLiteral("saved.iv"))));
+  CHECK(!QFile::exists(path));
+  QTest::qWait(400);
+  CHECK(!QFile::exists(path));
+  CHECK(recoveryFiles(recovery).isEmpty());  // the lock file went too
+
+  // a clean quit removes it
+  w->step();
+  REQUIRE(QTest::qWaitFor([&] { return QFile::exists(path); }, 5000));
+  w->close();
+  CHECK(!QFile::exists(path));
+  CHECK(recoveryFiles(recovery).isEmpty());
+}
+
+TEST_CASE("Viewer: the autosave of a viewer that was killed is offered at the next start and restored", "[ui]") {
+  ensureApp();
+  QTemporaryDir home;
+  const QString recovery = home.filePath(QStringLiteral("bsdeform/bsdeform-viewer/recovery"));
+  QProcess viewer;
+  startViewer(viewer, home.path(), {scenePath("paper_fig7_sinusoidal.iv"), QStringLiteral("--autosave-interval"), QStringLiteral("0.2")});
+  auto recoveryIv = [&] { return QDir(recovery).entryList({QStringLiteral("recovery-*.iv")}, QDir::Files); };
+  REQUIRE(QTest::qWaitFor([&] { return !recoveryIv().isEmpty(); }, 30000));
+  QTest::qWait(600);  // a few more autosaves while the scene plays
+  viewer.kill();      // SIGKILL: no chance to clean up
+  REQUIRE(viewer.waitForFinished(10000));
+  REQUIRE(recoveryIv().size() == 1);
+  const QString left = QDir(recovery).filePath(recoveryIv().first());
+  const double t = timeIn(left);
+  CHECK(t > 0.0);
+
+  auto w = makeWindow("region_load.iv");
+  w->autosave().setDirectory(recovery);
+  // Keep (what happens with CI=true or without a user): nothing changes
+  CHECK(!w->offerRecovery(bsdeform::RecoveryChoice::Keep));
+  CHECK(QFile::exists(left));
+  CHECK(w->document().path() == scenePath("region_load.iv"));
+  // Restore: the scene and its state are back, under the original file name
+  w->pause();
+  REQUIRE(w->offerRecovery(bsdeform::RecoveryChoice::Restore));
+  w->pause();
+  CHECK(w->document().path() == scenePath("paper_fig7_sinusoidal.iv"));
+  REQUIRE(!w->document().surfaces().isEmpty());
+  CHECK(w->document().surfaces().first()->simulation().time() >= t - 1e-9);
+  CHECK(w->document().surfaces().first()->simulation().time() < t + 0.25);
+  // the restored work is this viewer's recovery file now; the old one is gone
+  CHECK(!QFile::exists(left));
+  REQUIRE(QFile::exists(w->autosave().filePath()));
+  CHECK(timeIn(w->autosave().filePath()) >= t - 1e-9);
+  CHECK(!w->offerRecovery(bsdeform::RecoveryChoice::Restore));  // nothing left to offer
+}
+
+TEST_CASE("bsdeform-viewer: --restore-recovery, --discard-recovery and CI=true keeping the file", "[ui]") {
+  ensureApp();
+  QTemporaryDir home;
+  const QString recovery = home.filePath(QStringLiteral("bsdeform/bsdeform-viewer/recovery"));
+  REQUIRE(QDir().mkpath(recovery));
+  const QString orphan = recovery + QStringLiteral("/recovery-1-1.iv");  // no lock: its viewer is gone
+  auto makeOrphan = [&] {
+    QFile::remove(orphan);
+    REQUIRE(QFile::copy(scenePath("paper_fig2_point_force.iv"), orphan));
+  };
+  auto runViewer = [&](const QStringList& extra) {
+    QProcess p;
+    startViewer(p, home.path(), QStringList{QStringLiteral("--measure-fps"), QStringLiteral("0.1")} + extra);
+    REQUIRE(p.waitForFinished(60000));
+    CHECK(p.exitStatus() == QProcess::NormalExit);
+    CHECK(p.exitCode() == 0);
+    return QString::fromUtf8(p.readAllStandardError());
+  };
+  makeOrphan();
+  QString err = runViewer({});
+  INFO(err.toStdString());
+  CHECK(QFile::exists(orphan));  // nobody to ask: kept, and stderr says how to choose
+  CHECK(err.contains(QStringLiteral("--restore-recovery")));
+  err = runViewer({QStringLiteral("--restore-recovery")});
+  CHECK(err.contains(QStringLiteral("Restored")));
+  CHECK(!QFile::exists(orphan));
+  CHECK(recoveryFiles(recovery).isEmpty());  // the restoring viewer quit cleanly
+  makeOrphan();
+  err = runViewer({QStringLiteral("--discard-recovery")});
+  CHECK(!QFile::exists(orphan));
+  CHECK(recoveryFiles(recovery).isEmpty());
 }

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "Plot.h"
 
+#include "AtomicFile.h"
+
 #include <QFileInfo>
 #include <QGraphicsScene>
 #include <QImage>
 #include <QPainter>
-#include <QSaveFile>
 #include <QtCharts/QChart>
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QValueAxis>
@@ -62,12 +63,7 @@ bool writePlotPng(const QString& path, const QString& title, const QString& xLab
     painter.setRenderHint(QPainter::Antialiasing);
     scene.render(&painter, QRectF(0, 0, width, height), QRectF(0, 0, width, height));
   }
-  QSaveFile file(path);
-  if (!file.open(QIODevice::WriteOnly) || !image.save(&file, "PNG") || !file.commit()) {
-    error = QStringLiteral("cannot write '%1': %2").arg(path, file.errorString());
-    return false;
-  }
-  return true;
+  return saveFileAtomically(path, [&](QIODevice& device) { return image.save(&device, "PNG"); }, error);
 }
 
 }  // namespace bsdeform

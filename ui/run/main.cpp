@@ -2,7 +2,8 @@
 // bsdeform-run: step an .iv scene without a window and write results, plots and images.
 // See `bsdeform-run --help` and README.md. Exit codes: 0 success, 2 bad input (usage, files,
 // names, values, output paths), 3 a simulation blew up (outputs up to that point are written),
-// 1 an unexpected internal error.
+// 4 an output file could not be written (disk full, I/O error; the previous file is kept),
+// 1 an internal error (including a sweep run that could not be started).
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
 #include <Inventor/actions/SoSearchAction.h>
@@ -16,15 +17,21 @@
 #include <QCommandLineParser>
 #include <QDir>
 #include <QElapsedTimer>
+#include <QEventLoop>
 #include <QFileInfo>
 #include <QProcess>
-#include <QSaveFile>
+#include <QTemporaryFile>
 #include <QThread>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <functional>
 #include <map>
+#include <set>
 
+#include "AtomicFile.h"
 #include "Plot.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -34,7 +41,7 @@
 
 namespace {
 
-enum ExitCode { kOk = 0, kInternal = 1, kBadInput = 2, kBlowUp = 3 };
+enum ExitCode { kOk = 0, kInternal = 1, kBadInput = 2, kBlowUp = 3, kWriteFailed = 4 };
 
 struct Failure {
   ExitCode code;
@@ -69,12 +76,21 @@ struct Options {
   bool plot = false;
   bool quiet = false;
   bool resultOnly = false;  // internal: a sweep child prints RESULT lines and writes nothing
+  QString sweepProgram;     // internal: the program started per sweep value (default: this one)
 };
 
 // ------------------------------------------------------------------------------------------
 
 Failure loadScene(const QString& path, SoSeparator*& root) {
-  if (!QFileInfo(path).isFile()) return {kBadInput, QStringLiteral("cannot open scene '%1': no such file").arg(path)};
+  const QFileInfo info(path);
+  if (info.isDir()) return {kBadInput, QStringLiteral("cannot open scene '%1': it is a directory").arg(path)};
+  if (!info.exists()) return {kBadInput, QStringLiteral("cannot open scene '%1': no such file").arg(path)};
+  if (!info.isFile()) return {kBadInput, QStringLiteral("cannot open scene '%1': not a regular file").arg(path)};
+  {
+    QFile probe(path);  // Coin does not say why a file cannot be opened; the system does
+    if (!probe.open(QIODevice::ReadOnly))
+      return {kBadInput, QStringLiteral("cannot open scene '%1': %2").arg(path, probe.errorString())};
+  }
   SoInput in;
   if (!in.openFile(QFile::encodeName(path).constData()))
     return {kBadInput, QStringLiteral("cannot open scene '%1'").arg(path)};
@@ -141,30 +157,53 @@ void record(Surface& s) {
   s.strain << e.total;
 }
 
-bool writeText(const QString& path, const QByteArray& data, QString& error) {
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly) || f.write(data) != data.size() || !f.commit()) {
-    error = QStringLiteral("cannot write '%1': %2").arg(path, f.errorString());
-    return false;
-  }
-  return true;
+bool writeScene(SoNode* root, const QString& path, QString& error) {
+  return bsdeform::saveFileAtomically(path, QByteArray::fromStdString(bsdeform::sceneToText(root)), error);
 }
 
-bool writeScene(SoNode* root, const QString& path, QString& error) {
-  return writeText(path, QByteArray::fromStdString(bsdeform::sceneToText(root)), error);
+// Every output file is named after a surface: a DEF name that is not a plain file name, or two
+// surfaces with the same name, would fail or overwrite each other only after the whole run.
+Failure checkOutputNames(const QVector<Surface>& surfaces) {
+  std::set<QString> seen;
+  for (const Surface& s : surfaces) {
+    if (s.name.contains(QLatin1Char('/')) || s.name.contains(QChar(0)) || s.name == QLatin1String(".") ||
+        s.name == QLatin1String(".."))
+      return {kBadInput, QStringLiteral("surface DEF name '%1' cannot name the output file '%1.csv' (it contains '/' or is "
+                                        "'.' or '..'); rename it in the scene")
+                             .arg(s.name)};
+    if (!seen.insert(s.name).second)
+      return {kBadInput, QStringLiteral("two surfaces are named '%1': both would write '%1.csv'; give them different DEF "
+                                        "names")
+                             .arg(s.name)};
+  }
+  return {kOk, {}};
 }
 
 Failure prepareOutDir(const Options& o) {
   QDir dir(o.outDir);
-  if (dir.exists() && !dir.isEmpty() && !o.overwrite)
+  const QFileInfo info(o.outDir);
+  if (info.exists() && !info.isDir()) return {kBadInput, QStringLiteral("output path '%1' is not a directory").arg(o.outDir)};
+  // hidden files count: a directory holding only dot files is not empty
+  const QDir::Filters everything = QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden | QDir::System;
+  if (dir.exists() && !dir.isEmpty(everything) && !o.overwrite)
     return {kBadInput, QStringLiteral("output directory '%1' is not empty; nothing was written (use --overwrite to replace "
                                       "its files)").arg(o.outDir)};
-  if (!QDir().mkpath(o.outDir)) return {kBadInput, QStringLiteral("cannot create output directory '%1'").arg(o.outDir)};
-  QFile probe(dir.filePath(QStringLiteral(".bsdeform-write-test")));
-  if (!probe.open(QIODevice::WriteOnly)) return {kBadInput, QStringLiteral("output directory '%1' is not writable").arg(o.outDir)};
-  probe.close();
-  probe.remove();
+  errno = 0;
+  if (!QDir().mkpath(o.outDir)) {
+    const QString why = errno ? QString::fromLocal8Bit(std::strerror(errno)) : QStringLiteral("unknown error");
+    return {kBadInput, QStringLiteral("cannot create output directory '%1': %2").arg(o.outDir, why)};
+  }
+  // a uniquely named probe, removed again: never a name a user's file could have
+  QTemporaryFile probe(dir.filePath(QStringLiteral(".bsdeform-write-test-XXXXXX")));
+  if (!probe.open())
+    return {kBadInput, QStringLiteral("output directory '%1' is not writable: %2").arg(o.outDir, probe.errorString())};
   return {kOk, {}};
+}
+
+// A write failure after the run: which file, why, and which files were already replaced.
+Failure writeFailure(const QString& error, const QStringList& written) {
+  if (written.isEmpty()) return {kWriteFailed, error};
+  return {kWriteFailed, QStringLiteral("%1 (already written: %2)").arg(error, written.join(QStringLiteral(", ")))};
 }
 
 void progress(const Options& o, long frame, long frames, double t) {
@@ -210,6 +249,10 @@ Failure runScene(const Options& o) {
   }
   if (!g_coinMessages.isEmpty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, g_coinMessages.join(QStringLiteral("; ")))};
+  if (!o.resultOnly) {
+    f = checkOutputNames(surfaces);
+    if (f.code != kOk) return f;
+  }
 
   const long frames = o.until >= 0 ? std::max(0L, long(std::llround((o.until - t0) / dtMin))) : o.steps;
   if (!o.resultOnly) {
@@ -226,7 +269,7 @@ Failure runScene(const Options& o) {
       return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
     const QString path = out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
     if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err))
-      return {kBadInput, QString::fromStdString(err)};
+      return writeFailure(QString::fromStdString(err), written);
     written << path;
     return {kOk, {}};
   };
@@ -275,7 +318,7 @@ Failure runScene(const Options& o) {
 
   for (const Surface& s : surfaces) {
     const QString path = out.filePath(s.name + QStringLiteral(".csv"));
-    if (!writeText(path, s.csv.toUtf8(), error)) return {kBadInput, error};
+    if (!bsdeform::saveFileAtomically(path, s.csv.toUtf8(), error)) return writeFailure(error, written);
     written << path;
     if (o.plot) {
       const QString plotPath = out.filePath(s.name + QStringLiteral("_history.png"));
@@ -286,12 +329,12 @@ Failure runScene(const Options& o) {
                                    {QStringLiteral("kinetic energy"), s.t, s.kinetic},
                                    {QStringLiteral("strain energy"), s.t, s.strain}},
                                   800, 500, perr))
-        return {kBadInput, perr};
+        return writeFailure(perr, written);
       written << plotPath;
     }
   }
   const QString ivPath = out.filePath(QStringLiteral("final.iv"));
-  if (!writeScene(root, ivPath, error)) return {kBadInput, error};
+  if (!writeScene(root, ivPath, error)) return writeFailure(error, written);
   written << ivPath;
 
   if (!o.quiet) {
@@ -346,39 +389,57 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
   QVector<QVector<Row>> rows(values.size());
   QVector<QString> errors(values.size());
   const int parallel = std::max(1, QThread::idealThreadCount());
-  int next = 0, running = 0;
-  QVector<QProcess*> procs(values.size(), nullptr);
-  const QString self = QCoreApplication::applicationFilePath();
+  const QString program = o.sweepProgram.isEmpty() ? QCoreApplication::applicationFilePath() : o.sweepProgram;
+  QObject owner;  // parent of the child processes: all are gone when this function returns
+  QEventLoop loop;
+  QString startError;  // set when a child could not be started: the sweep stops
+  int next = 0, running = 0, done = 0;
+  std::function<void()> startMore;
   auto start = [&](int i) {
-    auto* p = new QProcess;
+    auto* p = new QProcess(&owner);
     p->setProcessChannelMode(QProcess::SeparateChannels);
     QStringList args = passThrough;
     args << QStringLiteral("--set") << target + QLatin1Char('=') + values[i] << QStringLiteral("--result-only");
-    p->start(self, args);
-    procs[i] = p;
-    ++running;
-  };
-  int done = 0;
-  while (done < values.size()) {
-    while (running < parallel && next < values.size()) start(next++);
-    for (int i = 0; i < values.size(); ++i) {
-      QProcess* p = procs[i];
-      if (!p || !p->waitForFinished(20)) continue;
-      const QStringList lines = QString::fromUtf8(p->readAllStandardOutput()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
-      for (const QString& line : lines) {
-        const QStringList c = line.split(QLatin1Char('\t'));
-        if (c.size() == 6 && c[0] == QLatin1String("RESULT")) rows[i].push_back({values[i], c[1], c[2], c[3], c[4], c[5]});
-      }
-      if (p->exitCode() != kOk && p->exitCode() != kBlowUp)
-        errors[i] = QStringLiteral("run with %1=%2 failed: %3")
-                        .arg(target, values[i], QString::fromUtf8(p->readAllStandardError()).trimmed());
-      delete p;
-      procs[i] = nullptr;
+    QObject::connect(p, QOverload<int, QProcess::ExitStatus>::of(&QProcess::finished), &owner,
+                     [&, i, p](int code, QProcess::ExitStatus status) {
+                       const QStringList lines =
+                           QString::fromUtf8(p->readAllStandardOutput()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
+                       for (const QString& line : lines) {
+                         const QStringList c = line.split(QLatin1Char('\t'));
+                         if (c.size() == 6 && c[0] == QLatin1String("RESULT"))
+                           rows[i].push_back({values[i], c[1], c[2], c[3], c[4], c[5]});
+                       }
+                       const QString err = QString::fromUtf8(p->readAllStandardError()).trimmed();
+                       if (status == QProcess::CrashExit)
+                         errors[i] = QStringLiteral("run with %1=%2 crashed: %3").arg(target, values[i], err);
+                       else if (code != kOk && code != kBlowUp)
+                         errors[i] = QStringLiteral("run with %1=%2 failed: %3").arg(target, values[i], err);
+                       --running;
+                       ++done;
+                       progress(o, done, values.size(), done);
+                       startMore();
+                     });
+    // A child that cannot start never finishes: without this the sweep would wait forever.
+    QObject::connect(p, &QProcess::errorOccurred, &owner, [&, i, p](QProcess::ProcessError e) {
+      if (e != QProcess::FailedToStart) return;  // crashes and exit codes arrive through finished()
+      if (startError.isEmpty())
+        startError = QStringLiteral("cannot start the run with %1=%2 ('%3'): %4").arg(target, values[i], program, p->errorString());
       --running;
       ++done;
-      progress(o, done, values.size(), done);
-    }
-  }
+      for (QProcess* other : owner.findChildren<QProcess*>())
+        if (other->state() != QProcess::NotRunning) other->kill();
+      startMore();
+    });
+    ++running;
+    p->start(program, args);
+  };
+  startMore = [&] {
+    while (startError.isEmpty() && running < parallel && next < values.size()) start(next++);
+    if (running == 0) loop.quit();
+  };
+  startMore();
+  if (running > 0) loop.exec();
+  if (!startError.isEmpty()) return {kInternal, startError};
   QStringList errs;
   for (const QString& e : errors)
     if (!e.isEmpty()) errs << e;
@@ -400,7 +461,8 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
     }
   QDir out(o.outDir);
   QString error;
-  if (!writeText(out.filePath(QStringLiteral("sweep.csv")), csv.toUtf8(), error)) return {kBadInput, error};
+  if (!bsdeform::saveFileAtomically(out.filePath(QStringLiteral("sweep.csv")), csv.toUtf8(), error))
+    return writeFailure(error, {});
   QStringList written{out.filePath(QStringLiteral("sweep.csv"))};
   if (numeric) {
     QVector<bsdeform::PlotSeries> series;
@@ -408,7 +470,7 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
     if (!bsdeform::writePlotPng(out.filePath(QStringLiteral("sweep.png")),
                                 QStringLiteral("Deformation norm (eq. 15) against %1").arg(target), target,
                                 QStringLiteral("final norm ||P - P0||"), series, 800, 500, error))
-      return {kBadInput, error};
+      return writeFailure(error, written);
     written << out.filePath(QStringLiteral("sweep.png"));
   }
   if (!o.quiet) {
@@ -444,7 +506,8 @@ int main(int argc, char** argv) {
       "directory: one CSV history per surface (time, step, norm eq. 15, kinetic energy, strain energy and its\n"
       "terms, sub-steps), the final scene with its state (final.iv, reloadable and resumable), PNG images and\n"
       "plots on request. Steps count on the surface with the smallest time step.\n"
-      "Exit codes: 0 success, 2 bad input, 3 a simulation blew up, 1 internal error."));
+      "Exit codes: 0 success, 2 bad input, 3 a simulation blew up, 4 an output file could not be written (the\n"
+      "previous file is kept), 1 internal error."));
   parser.addHelpOption();
   parser.addPositionalArgument(QStringLiteral("scene"), QStringLiteral("the .iv scene"));
   const QCommandLineOption steps({QStringLiteral("n"), QStringLiteral("steps")}, QStringLiteral("number of steps (default 100)"),
@@ -469,7 +532,11 @@ int main(int argc, char** argv) {
   const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
-  parser.addOptions({steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, quiet, resultOnly});
+  QCommandLineOption sweepProgram(QStringLiteral("sweep-program"),
+                                  QStringLiteral("internal (tests): the program started for each sweep value"),
+                                  QStringLiteral("PATH"));
+  sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
+  parser.addOptions({steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, quiet, resultOnly, sweepProgram});
   parser.process(app);
 
   auto fail = [](const Failure& f) {
@@ -513,6 +580,7 @@ int main(int argc, char** argv) {
   o.plot = parser.isSet(plot);
   o.quiet = parser.isSet(quiet);
   o.resultOnly = parser.isSet(resultOnly);
+  o.sweepProgram = parser.value(sweepProgram);
 
   bsdeform::disableDynamicNodeLoading();
   bsdeform::initNodes();

@@ -24,11 +24,12 @@
 #include <QHeaderView>
 #include <QInputDialog>
 #include <QLabel>
+#include <QLocale>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QPainter>
-#include <QSaveFile>
+#include <QPushButton>
 #include <QScrollArea>
 #include <QSettings>
 #include <QSplitter>
@@ -38,6 +39,7 @@
 #include <QTreeWidget>
 #include <QVBoxLayout>
 
+#include "AtomicFile.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "PlotPanel.h"
@@ -81,6 +83,18 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
   m_timer->start(100);
   m_rateClock.start();
+
+  m_autosave = new Autosave(*m_doc, this);
+  connect(m_autosave, &Autosave::failed, this, [this](const QString& message) {
+    // set first: the timer keeps running while the dialog is open, and must not stack dialogs
+    const bool first = !m_autosaveFailing;
+    m_autosaveFailing = true;
+    if (first)
+      reportError(tr("Autosave failed"), message);
+    else
+      statusBar()->showMessage(tr("Autosave failed: %1").arg(message), 10000);
+  });
+  connect(m_autosave, &Autosave::saved, this, [this] { m_autosaveFailing = false; });
 }
 
 MainWindow::~MainWindow() {
@@ -210,6 +224,7 @@ bool MainWindow::openScene(const QString& path) {
   m_lastError.clear();
   addRecent(QFileInfo(path).absoluteFilePath());
   showScene();
+  m_autosave->markClean();
   return true;
 }
 
@@ -221,6 +236,7 @@ void MainWindow::openDefaultScene() {
     return;
   }
   showScene();
+  m_autosave->markClean();
 }
 
 void MainWindow::showScene() {
@@ -258,6 +274,7 @@ bool MainWindow::saveSceneAs(const QString& path) {
     return false;
   }
   addRecent(QFileInfo(path).absoluteFilePath());
+  m_autosave->markClean();  // saved: the recovery file is no longer needed
   statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
   return true;
 }
@@ -342,9 +359,9 @@ QImage MainWindow::windowScreenshot() {
 bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
   const QImage img = screenshot(size);
   if (img.isNull()) return false;
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly) || !img.save(&f, "PNG") || !f.commit()) {
-    reportError(tr("Screenshot failed"), tr("cannot write %1: %2").arg(path, f.errorString()));
+  QString error;
+  if (!saveFileAtomically(path, [&](QIODevice& device) { return img.save(&device, "PNG"); }, error)) {
+    reportError(tr("Screenshot failed"), error);
     return false;
   }
   statusBar()->showMessage(tr("Saved %1 (%2 x %3)").arg(path).arg(img.width()).arg(img.height()), 5000);
@@ -405,7 +422,70 @@ void MainWindow::dropEvent(QDropEvent* e) {
 
 void MainWindow::closeEvent(QCloseEvent* e) {
   m_timer->stop();
+  m_autosave->discard();  // a clean quit
+  m_autosave->setInterval(0);
   QMainWindow::closeEvent(e);
+}
+
+bool MainWindow::offerRecovery(RecoveryChoice choice) {
+  const QVector<RecoveryFile> files = m_autosave->orphans();
+  if (files.isEmpty()) return false;
+  const RecoveryFile& newest = files.first();
+  const QString what = newest.originalPath.isEmpty() ? tr("the default scene") : newest.originalPath;
+  if (choice == RecoveryChoice::Ask && !m_interactive) choice = RecoveryChoice::Keep;
+  if (choice == RecoveryChoice::Ask) {
+    QMessageBox box(QMessageBox::Question, tr("Restore unsaved work?"),
+                    tr("bsdeform-viewer did not quit cleanly. Its autosave of %1 from %2 can be restored.")
+                        .arg(what, QLocale().toString(newest.saved, QLocale::ShortFormat)),
+                    QMessageBox::NoButton, this);
+    if (files.size() > 1) box.setInformativeText(tr("%n older recovery file(s) are in %1.", "", files.size() - 1).arg(m_autosave->directory()));
+    QPushButton* restore = box.addButton(tr("Restore"), QMessageBox::AcceptRole);
+    QPushButton* discard = box.addButton(tr("Discard"), QMessageBox::DestructiveRole);
+    box.addButton(tr("Decide Later"), QMessageBox::RejectRole);
+    box.setDefaultButton(restore);
+    box.exec();
+    choice = box.clickedButton() == restore   ? RecoveryChoice::Restore
+             : box.clickedButton() == discard ? RecoveryChoice::Discard
+                                              : RecoveryChoice::Keep;
+  }
+  switch (choice) {
+    case RecoveryChoice::Restore:
+      return restoreRecovery(newest);
+    case RecoveryChoice::Discard:
+      for (const RecoveryFile& f : files) Autosave::remove(f);
+      statusBar()->showMessage(tr("Discarded %n recovery file(s)", "", files.size()), 5000);
+      return false;
+    case RecoveryChoice::Ask:
+    case RecoveryChoice::Keep:
+      break;
+  }
+  const QString kept = tr("%n recovery file(s) kept in %1 (newest: autosave of %2); start with --restore-recovery or "
+                          "--discard-recovery", "", files.size())
+                           .arg(m_autosave->directory(), what);
+  statusBar()->showMessage(kept, 10000);
+  if (!m_interactive) std::fprintf(stderr, "bsdeform-viewer: %s\n", kept.toUtf8().constData());
+  return false;
+}
+
+bool MainWindow::restoreRecovery(const RecoveryFile& file) {
+  QString error;
+  m_drag->release();
+  if (!m_doc->load(file.path, error)) {
+    reportError(tr("Cannot restore the autosave"), error);  // the recovery file stays
+    return false;
+  }
+  m_doc->setPath(file.originalPath);
+  showScene();
+  // this viewer's own copy first, then the old file goes: the work is on disk all the time
+  if (!m_autosave->saveNow(error)) {
+    reportError(tr("Autosave failed"), error);
+  } else {
+    Autosave::remove(file);
+  }
+  const QString message = tr("Restored the autosave of %1").arg(file.originalPath.isEmpty() ? tr("the default scene") : file.originalPath);
+  statusBar()->showMessage(message, 10000);
+  if (!m_interactive) std::fprintf(stderr, "bsdeform-viewer: %s\n", message.toUtf8().constData());
+  return true;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -9,6 +9,7 @@
 #include <QMainWindow>
 #include <memory>
 
+#include "Autosave.h"
 #include "SceneDocument.h"
 
 class QAction;
@@ -27,6 +28,14 @@ namespace bsdeform {
 class DragTool;
 class FieldEditor;
 class PlotPanel;
+
+/// What to do with a recovery file left by a viewer that died.
+enum class RecoveryChoice {
+  Ask,      ///< a question box; when not interactive: Keep
+  Restore,  ///< open the newest recovery file (its scene keeps its original file name)
+  Discard,  ///< delete every recovery file
+  Keep,     ///< leave them for the next start
+};
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -47,6 +56,11 @@ class MainWindow : public QMainWindow {
   /// The whole window including the 3D view (QWidget::grab() leaves the GL area black).
   QImage windowScreenshot();
   bool exportMesh(const QString& path);
+  /// Offers the recovery files of viewers that died (newest first). Returns true when one was
+  /// restored.
+  bool offerRecovery(RecoveryChoice choice);
+  /// Opens a recovery file as the scene it came from; it becomes this viewer's recovery file.
+  bool restoreRecovery(const RecoveryFile& file);
 
   /// Tests and batch measurement: errors go to lastError() and the status bar, no dialogs.
   void setInteractive(bool on) { m_interactive = on; }
@@ -56,6 +70,7 @@ class MainWindow : public QMainWindow {
   DragTool& dragTool() { return *m_drag; }
   PlotPanel& plotPanel() { return *m_plots; }
   FieldEditor& fieldEditor() { return *m_editor; }
+  Autosave& autosave() { return *m_autosave; }
   /// Frames drawn since the scene was opened.
   long framesDrawn() const { return m_frames; }
   void setPlaying(bool on);
@@ -103,6 +118,8 @@ class MainWindow : public QMainWindow {
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
   QTimer* m_timer = nullptr;
+  Autosave* m_autosave = nullptr;
+  bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
   QAction* m_playAction = nullptr;
   QAction* m_dragAction = nullptr;
   QMenu* m_recentMenu = nullptr;

@@ -4,7 +4,6 @@
 #include <QFileDialog>
 #include <QHBoxLayout>
 #include <QPushButton>
-#include <QSaveFile>
 #include <QVBoxLayout>
 #include <QtCharts/QChart>
 #include <QtCharts/QChartView>
@@ -12,6 +11,7 @@
 #include <QtCharts/QValueAxis>
 #include <algorithm>
 
+#include "AtomicFile.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -111,21 +111,12 @@ bool PlotPanel::exportCsv(const QString& path, QString& error) const {
   for (int i = 0; i < m_t.size(); ++i)
     text += QByteArray::number(m_t[i], 'g', 17) + ',' + QByteArray::number(m_norm[i], 'g', 17) + ',' +
             QByteArray::number(m_kinetic[i], 'g', 17) + ',' + QByteArray::number(m_strain[i], 'g', 17) + '\n';
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size() || !f.commit()) {
-    error = tr("cannot write %1: %2").arg(path, f.errorString());
-    return false;
-  }
-  return true;
+  return saveFileAtomically(path, text, error);
 }
 
 bool PlotPanel::exportPng(const QString& path, QString& error) {
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly) || !m_view->grab().save(&f, "PNG") || !f.commit()) {
-    error = tr("cannot write %1: %2").arg(path, f.errorString());
-    return false;
-  }
-  return true;
+  const QPixmap image = m_view->grab();
+  return saveFileAtomically(path, [&](QIODevice& device) { return image.save(&device, "PNG"); }, error);
 }
 
 }  // namespace bsdeform

@@ -11,10 +11,10 @@
 
 #include <QFile>
 #include <QFileInfo>
-#include <QSaveFile>
 #include <QTextStream>
 #include <cstring>
 
+#include "AtomicFile.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
@@ -110,13 +110,7 @@ QByteArray SceneDocument::toText() const {
 }
 
 bool SceneDocument::save(const QString& path, QString& error) const {
-  QSaveFile f(path);
-  const QByteArray text = toText();
-  if (!f.open(QIODevice::WriteOnly) || f.write(text) != text.size() || !f.commit()) {
-    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
-    return false;
-  }
-  return true;
+  return saveFileAtomically(path, toText(), error);
 }
 
 QString SceneDocument::nameOf(SoBSplineDeformSurface* s) const {
@@ -169,12 +163,11 @@ bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& p
   ca.addTriangleCallback(SoBSplineDeformSurface::getClassTypeId(), collectTriangle, &mesh);
   ca.apply(sa.getPath());
   const QString ext = QFileInfo(path).suffix().toLower();
-  QSaveFile f(path);
-  if (!f.open(QIODevice::WriteOnly)) {
-    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
+  if (ext != QLatin1String("obj") && ext != QLatin1String("stl")) {
+    error = QStringLiteral("%1: unknown mesh format '%2' (use .obj or .stl)").arg(path, ext);
     return false;
   }
-  if (ext == QLatin1String("obj")) {
+  auto writeObj = [&](QIODevice& f) {
     QTextStream out(&f);
     out.setRealNumberPrecision(9);
     out << "# " << nameOf(surface) << ", exported by bsdeform-viewer (world coordinates)\n";
@@ -185,33 +178,29 @@ bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& p
       out << "f " << i + 1 << '/' << i + 1 << '/' << i + 1 << ' ' << i + 2 << '/' << i + 2 << '/' << i + 2 << ' ' << i + 3
           << '/' << i + 3 << '/' << i + 3 << '\n';
     out.flush();
-  } else if (ext == QLatin1String("stl")) {
+    return out.status() == QTextStream::Ok;
+  };
+  auto writeStl = [&](QIODevice& f) {
     QByteArray header(80, ' ');
     const QByteArray title = "bsdeform-viewer " + nameOf(surface).toUtf8();
     std::memcpy(header.data(), title.constData(), size_t(std::min(80, title.size())));
-    f.write(header);
+    bool ok = f.write(header) == header.size();
     const quint32 count = quint32(mesh.p.size() / 3);
-    f.write(reinterpret_cast<const char*>(&count), 4);  // STL is little-endian, as is this machine
-    for (int i = 0; i + 2 < mesh.p.size(); i += 3) {
+    ok &= f.write(reinterpret_cast<const char*>(&count), 4) == 4;  // STL is little-endian, as is this machine
+    for (int i = 0; ok && i + 2 < mesh.p.size(); i += 3) {
       SbVec3f n = (mesh.p[i + 1] - mesh.p[i]).cross(mesh.p[i + 2] - mesh.p[i]);
       n.normalize();
       float rec[12] = {n[0], n[1], n[2]};
       for (int k = 0; k < 3; ++k)
         for (int c = 0; c < 3; ++c) rec[3 + 3 * k + c] = mesh.p[i + k][c];
-      f.write(reinterpret_cast<const char*>(rec), sizeof rec);
+      ok &= f.write(reinterpret_cast<const char*>(rec), sizeof rec) == qint64(sizeof rec);
       const quint16 attr = 0;
-      f.write(reinterpret_cast<const char*>(&attr), 2);
+      ok &= f.write(reinterpret_cast<const char*>(&attr), 2) == 2;
     }
-  } else {
-    f.cancelWriting();
-    error = QStringLiteral("%1: unknown mesh format '%2' (use .obj or .stl)").arg(path, ext);
-    return false;
-  }
-  if (!f.commit()) {
-    error = QStringLiteral("cannot write %1: %2").arg(path, f.errorString());
-    return false;
-  }
-  return true;
+    return ok;
+  };
+  if (ext == QLatin1String("obj")) return saveFileAtomically(path, writeObj, error);
+  return saveFileAtomically(path, writeStl, error);
 }
 
 }  // namespace bsdeform

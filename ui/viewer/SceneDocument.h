@@ -26,13 +26,16 @@ class SceneDocument {
   bool load(const QString& path, QString& error);
   /// Reads a scene from memory (the default scene).
   bool loadFromText(const QByteArray& text, const QString& name, QString& error);
-  /// Writes the scene with the current simulation state to `path` atomically (QSaveFile).
+  /// Writes the scene with the current simulation state to `path` atomically
+  /// (saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
   QByteArray toText() const;
 
   SoSeparator* root() const { return m_root; }
   const QString& path() const { return m_path; }
+  /// The file the scene belongs to (a restored recovery file belongs to the scene it came from).
+  void setPath(const QString& path) { m_path = path; }
   const QVector<SoBSplineDeformSurface*>& surfaces() const { return m_surfaces; }
   const QVector<SoForceField*>& forceFields() const { return m_forceFields; }
   /// A display name: the DEF name, or "Surface 1", "Force 2", ...

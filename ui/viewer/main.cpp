@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
-// bsdeform-viewer [scene.iv] [--speed X] [--measure-fps SECONDS [--grid N]]
+// bsdeform-viewer [scene.iv] [--speed X] [--measure-fps SECONDS [--grid N]] [--autosave-interval SECONDS]
+//                 [--restore-recovery | --discard-recovery]
 #include <Inventor/Qt/SoQt.h>
 
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QTimer>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -36,8 +38,27 @@ int main(int argc, char** argv) {
                                 QStringLiteral("N"));
   const QCommandLineOption speed(QStringLiteral("speed"), QStringLiteral("simulated seconds per real second (default 1)"),
                                  QStringLiteral("X"));
-  parser.addOptions({measure, grid, speed});
+  const QCommandLineOption autosave(QStringLiteral("autosave-interval"),
+                                    QStringLiteral("seconds between autosaves of unsaved changes for crash recovery "
+                                                   "(default 60, 0: off)"),
+                                    QStringLiteral("SECONDS"));
+  const QCommandLineOption restore(QStringLiteral("restore-recovery"),
+                                   QStringLiteral("restore the newest autosave left by a viewer that did not quit cleanly"));
+  const QCommandLineOption discard(QStringLiteral("discard-recovery"),
+                                   QStringLiteral("delete the autosaves left by viewers that did not quit cleanly"));
+  parser.addOptions({measure, grid, speed, autosave, restore, discard});
   parser.process(app);
+  bool ok = true;
+  const double autosaveSeconds = parser.isSet(autosave) ? parser.value(autosave).toDouble(&ok) : 60.0;
+  if (!ok || !(autosaveSeconds >= 0.0) || autosaveSeconds > 24 * 3600.0) {
+    std::fprintf(stderr, "bsdeform-viewer: --autosave-interval '%s' is not a number of seconds in 0..86400\n",
+                 parser.value(autosave).toUtf8().constData());
+    return 2;
+  }
+  if (parser.isSet(restore) && parser.isSet(discard)) {
+    std::fprintf(stderr, "bsdeform-viewer: give --restore-recovery or --discard-recovery, not both\n");
+    return 2;
+  }
 
   bsdeform::disableDynamicNodeLoading();  // an untrusted .iv must not make Coin load libraries
   SoQt::setFatalErrorHandler(fatal, nullptr);
@@ -52,6 +73,19 @@ int main(int argc, char** argv) {
   } else {
     window.openDefaultScene();
   }
+  window.autosave().setInterval(int(std::lround(autosaveSeconds * 1000.0)));
+  // A viewer that died left its autosave: restore it, delete it, or ask (never in CI, where no
+  // one answers: the file is kept and a line on stderr says how to choose).
+  const QByteArray ci = qgetenv("CI");
+  const bool unattended = !ci.isEmpty() && ci != "0" && ci.toLower() != "false";
+  bsdeform::RecoveryChoice choice = bsdeform::RecoveryChoice::Ask;
+  if (parser.isSet(restore))
+    choice = bsdeform::RecoveryChoice::Restore;
+  else if (parser.isSet(discard))
+    choice = bsdeform::RecoveryChoice::Discard;
+  else if (unattended)
+    choice = bsdeform::RecoveryChoice::Keep;
+  window.offerRecovery(choice);
   if (parser.isSet(speed)) window.setSpeed(parser.value(speed).toDouble());
   if (parser.isSet(measure)) {
     if (parser.isSet(grid))

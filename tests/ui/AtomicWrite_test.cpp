@@ -1,0 +1,206 @@
+// SPDX-License-Identifier: MIT
+// Every writer of the front ends on a full disk: the previous file stays byte for byte, the
+// temporary file is gone and the message names the file and the system's reason. Runs with
+// tests/support/enospc_shim.c preloaded (tests/CMakeLists.txt); each case switches the full
+// disk on for its own directory with setenv().
+#include <QApplication>
+#include <QDir>
+#include <QFile>
+#include <QImage>
+#include <QTemporaryDir>
+#include <catch2/catch.hpp>
+#include <cstdlib>
+
+#include "AtomicFile.h"
+#include "PlotPanel.h"
+#include "Plot.h"
+#include "SceneDocument.h"
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+using bsdeform::saveFileAtomically;
+
+namespace {
+
+void ensureApp() {
+  static QApplication* app = nullptr;
+  if (app) return;
+  if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  static int argc = 1;
+  static char name[] = "bsdeform_io_tests";
+  static char* argv[] = {name, nullptr};
+  app = new QApplication(argc, argv);
+  bsdeform::disableDynamicNodeLoading();
+  bsdeform::initNodes();
+}
+
+QByteArray slurp(const QString& path) {
+  QFile f(path);
+  return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+}
+
+void put(const QString& path, const QByteArray& data) {
+  QFile f(path);
+  REQUIRE(f.open(QIODevice::WriteOnly));
+  REQUIRE(f.write(data) == data.size());
+}
+
+/// The disk under `dir` is full while this lives (after `after` more bytes).
+struct FullDisk {
+  explicit FullDisk(const QString& dir, long after = 0) {
+    INFO("tests/support/enospc_shim.c must be preloaded (LD_PRELOAD, set by CTest)");
+    REQUIRE(qgetenv("LD_PRELOAD").contains("enospc"));
+    setenv("BSDEFORM_ENOSPC_DIR", QFile::encodeName(dir).constData(), 1);
+    setenv("BSDEFORM_ENOSPC_AFTER", std::to_string(after).c_str(), 1);
+  }
+  ~FullDisk() {
+    unsetenv("BSDEFORM_ENOSPC_DIR");
+    unsetenv("BSDEFORM_ENOSPC_AFTER");
+  }
+};
+
+QStringList entries(const QString& dir) {
+  return QDir(dir).entryList(QDir::AllEntries | QDir::NoDotAndDotDot | QDir::Hidden | QDir::System, QDir::Name);
+}
+
+void checkKept(const QString& path, const QByteArray& before, const QString& error) {
+  INFO(error.toStdString());
+  CHECK(error.contains(QStringLiteral("No space left on device")));
+  CHECK(error.contains(QFileInfo(path).fileName()));
+  CHECK(slurp(path) == before);
+  CHECK(entries(QFileInfo(path).path()) == QStringList{QFileInfo(path).fileName()});  // no temporary file left
+}
+
+}  // namespace
+
+TEST_CASE("saveFileAtomically: a full disk keeps the previous file and gives the reason", "[ui]") {
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("data.csv"));
+  const QByteArray old = "time,norm\n0,0\n1,0.5\n";
+  put(path, old);
+  QString error;
+  SECTION("small contents (Qt buffers them; commit() alone reports success)") {
+    FullDisk full(dir.path());
+    CHECK(!saveFileAtomically(path, QByteArray("time,norm\n0,0\n1,0.7\n2,0.9\n"), error));
+    checkKept(path, old, error);
+  }
+  SECTION("large contents, the disk fills part-way") {
+    FullDisk full(dir.path(), 100000);
+    CHECK(!saveFileAtomically(path, QByteArray(1 << 20, 'x'), error));
+    checkKept(path, old, error);
+  }
+  SECTION("a writer function (PNG encoder)") {
+    QImage image(64, 64, QImage::Format_RGB32);
+    image.fill(Qt::red);
+    FullDisk full(dir.path());
+    CHECK(!saveFileAtomically(path, [&](QIODevice& d) { return image.save(&d, "PNG"); }, error));
+    checkKept(path, old, error);
+  }
+  SECTION("the disk has room again: the file is replaced") {
+    {
+      FullDisk full(dir.path());
+      CHECK(!saveFileAtomically(path, QByteArray("new"), error));
+    }
+    REQUIRE(saveFileAtomically(path, QByteArray("new"), error));
+    CHECK(slurp(path) == "new");
+  }
+  SECTION("a writer that fails without an I/O error") {
+    CHECK(!saveFileAtomically(path, [](QIODevice&) { return false; }, error));
+    CHECK(error.contains(QStringLiteral("data.csv")));
+    CHECK(slurp(path) == old);
+    CHECK(entries(dir.path()) == QStringList{QStringLiteral("data.csv")});
+  }
+  SECTION("a missing directory") {
+    CHECK(!saveFileAtomically(dir.filePath(QStringLiteral("nowhere/x.csv")), QByteArray("x"), error));
+    CHECK(error.contains(QStringLiteral("x.csv")));
+    CHECK(!error.contains(QStringLiteral("Unknown error")));
+  }
+}
+
+TEST_CASE("SceneDocument: Save As and mesh export on a full disk keep the user's file", "[ui]") {
+  ensureApp();
+  QTemporaryDir dir;
+  bsdeform::SceneDocument doc;
+  QString error;
+  REQUIRE(doc.load(QStringLiteral(BSDEFORM_SCENES_DIR "/paper_fig7_sinusoidal.iv"), error));
+  REQUIRE(!doc.surfaces().isEmpty());
+  SoBSplineDeformSurface* s = doc.surfaces().first();
+  s->stepSimulation(3);
+  const QString scene = dir.filePath(QStringLiteral("scene.iv"));
+  REQUIRE(doc.save(scene, error));
+  const QByteArray saved = slurp(scene);
+  REQUIRE(saved.contains("simulationTime"));
+  s->stepSimulation(5);  // new state, not yet saved
+  {
+    FullDisk full(dir.path());
+    error.clear();
+    CHECK(!doc.save(scene, error));
+    checkKept(scene, saved, error);
+  }
+  {
+    FullDisk full(dir.path(), 3000);  // room for a part of the file only
+    error.clear();
+    CHECK(!doc.save(scene, error));
+    checkKept(scene, saved, error);
+  }
+  // the kept file still loads, with the state of the first save
+  bsdeform::SceneDocument again;
+  REQUIRE(again.load(scene, error));
+  CHECK(again.surfaces().first()->simulation().time() == Approx(0.3));
+
+  for (const char* name : {"mesh.obj", "mesh.stl"}) {
+    const QString mesh = dir.filePath(QString::fromLatin1(name));
+    REQUIRE(doc.exportMesh(s, mesh, error));
+    const QByteArray before = slurp(mesh);
+    s->stepSimulation(1);
+    FullDisk full(dir.path());
+    error.clear();
+    CHECK(!doc.exportMesh(s, mesh, error));
+    INFO(error.toStdString());
+    CHECK(error.contains(QStringLiteral("No space left on device")));
+    CHECK(error.contains(QString::fromLatin1(name)));
+    CHECK(slurp(mesh) == before);
+  }
+}
+
+TEST_CASE("Plot exports on a full disk keep the previous files", "[ui]") {
+  ensureApp();
+  QTemporaryDir dir;
+  bsdeform::SceneDocument doc;
+  QString error;
+  REQUIRE(doc.load(QStringLiteral(BSDEFORM_SCENES_DIR "/paper_fig7_sinusoidal.iv"), error));
+  SoBSplineDeformSurface* s = doc.surfaces().first();
+  bsdeform::PlotPanel panel;
+  panel.resize(400, 300);
+  panel.setSurface(s, QStringLiteral("Surface"));
+  for (int i = 0; i < 5; ++i) {
+    s->stepSimulation(1);
+    panel.sample();
+  }
+  const QString csv = dir.filePath(QStringLiteral("history.csv")), png = dir.filePath(QStringLiteral("plot.png")),
+                sweep = dir.filePath(QStringLiteral("sweep.png"));
+  REQUIRE(panel.exportCsv(csv, error));
+  REQUIRE(panel.exportPng(png, error));
+  REQUIRE(bsdeform::writePlotPng(sweep, QStringLiteral("t"), QStringLiteral("x"), QStringLiteral("y"),
+                                 {{QStringLiteral("a"), {0, 1, 2}, {1, 2, 3}}}, 300, 200, error));
+  const QByteArray csvBefore = slurp(csv), pngBefore = slurp(png), sweepBefore = slurp(sweep);
+  s->stepSimulation(1);
+  panel.sample();
+  FullDisk full(dir.path());
+  error.clear();
+  CHECK(!panel.exportCsv(csv, error));
+  CHECK(error.contains(QStringLiteral("No space left on device")));
+  CHECK(slurp(csv) == csvBefore);
+  error.clear();
+  CHECK(!panel.exportPng(png, error));
+  CHECK(error.contains(QStringLiteral("No space left on device")));
+  CHECK(slurp(png) == pngBefore);
+  error.clear();
+  CHECK(!bsdeform::writePlotPng(sweep, QStringLiteral("t"), QStringLiteral("x"), QStringLiteral("y"),
+                                {{QStringLiteral("a"), {0, 1, 2}, {1, 2, 4}}}, 300, 200, error));
+  CHECK(error.contains(QStringLiteral("No space left on device")));
+  CHECK(error.contains(QStringLiteral("sweep.png")));
+  CHECK(slurp(sweep) == sweepBefore);
+  CHECK(entries(dir.path()) == QStringList({QStringLiteral("history.csv"), QStringLiteral("plot.png"), QStringLiteral("sweep.png")}));
+}
