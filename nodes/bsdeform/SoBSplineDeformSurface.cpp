@@ -8,6 +8,7 @@
 #include <Inventor/actions/SoWriteAction.h>
 #include <Inventor/bundles/SoMaterialBundle.h>
 #include <Inventor/elements/SoComplexityElement.h>
+#include <Inventor/elements/SoLazyElement.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/misc/SoNotification.h>
 #include <Inventor/sensors/SoTimerSensor.h>
@@ -20,7 +21,9 @@
 #include <sstream>
 
 #include "bsdeform/SceneText.h"
+#include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
+#include "bsdeform/Tessellation.h"
 #include "bsdeform/SoForceField.h"
 
 using bsdeform::snap15;
@@ -58,6 +61,11 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(boundaryVMax, (CLAMPED));
   SO_NODE_ADD_FIELD(pins, (SbVec2d(0, 0)));
   SO_NODE_ADD_FIELD(start, (SECOND_ORDER));
+  SO_NODE_ADD_FIELD(restShape, (PLANE));
+  SO_NODE_ADD_FIELD(radius, (0.5));
+  SO_NODE_ADD_FIELD(height, (1.0));
+  SO_NODE_ADD_FIELD(minorRadius, (0.2));
+  SO_NODE_ADD_FIELD(radii, (SbVec3d(0.6, 0.45, 0.35)));
   SO_NODE_ADD_FIELD(on, (TRUE));
   SO_NODE_ADD_FIELD(speed, (1.0f));
   SO_NODE_ADD_FIELD(reset, ());
@@ -86,6 +94,13 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_DEFINE_ENUM_VALUE(Start, PAPER);
   SO_NODE_DEFINE_ENUM_VALUE(Start, SECOND_ORDER);
   SO_NODE_SET_SF_ENUM_TYPE(start, Start);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, PLANE);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, CYLINDER);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, CONE);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, SPHERE);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, ELLIPSOID);
+  SO_NODE_DEFINE_ENUM_VALUE(Shape, TORUS);
+  SO_NODE_SET_SF_ENUM_TYPE(restShape, Shape);
   pins.setNum(0);
   pins.setDefault(TRUE);
   // Empty multi-fields mean "derived" (plane / rest / current); start empty and default.
@@ -220,15 +235,36 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   };
   p.boundaries = {side(boundaryUMin), side(boundaryUMax), side(boundaryVMin), side(boundaryVMax)};
   for (int i = 0; i < pins.getNum(); ++i) p.pins.emplace_back(pins[i][0], pins[i][1]);
-  if (restNet.getNum() == 0 && (p.boundaries.uMin == bsdeform::Boundary::Periodic || p.boundaries.vMin == bsdeform::Boundary::Periodic)) {
+  const int shapeValue = restShape.getValue();
+  check(shapeValue >= PLANE && shapeValue <= TORUS, "field 'restShape' has an unknown value " + std::to_string(shapeValue));
+  if (!error.empty()) {
+    warn(error + "; keeping the last valid state");
+    return false;
+  }
+  const auto shape = static_cast<bsdeform::ShapeKind>(shapeValue);
+  p.boundaries = bsdeform::shapeBoundaries(shape, p.boundaries);
+  bsdeform::ControlNet rest;
+  if (restNet.getNum()) {
+    rest = toNet(restNet);
+  } else if (shape != bsdeform::ShapeKind::Plane) {
+    const bsdeform::ShapeSize size{radius.getValue(), height.getValue(), minorRadius.getValue(),
+                                   Eigen::Vector3d(radii.getValue()[0], radii.getValue()[1], radii.getValue()[2])};
+    try {
+      rest = bsdeform::shapeRestNet(shape, size, bsdeform::SplineSpace(nu, nv, Nu, Nv, p.boundaries));
+    } catch (const std::exception& e) {
+      warn(std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + e.what() + "; keeping the last valid state");
+      return false;
+    }
+  }
+  if (rest.rows() == 0 && (p.boundaries.uMin == bsdeform::Boundary::Periodic || p.boundaries.vMin == bsdeform::Boundary::Periodic)) {
     warn(std::string("field '") + (p.boundaries.uMin == bsdeform::Boundary::Periodic ? "boundaryUMin" : "boundaryVMin") +
          "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that closes (or a "
          "rest shape); keeping the last valid state");
     return false;
   }
   try {
-    std::unique_ptr<bsdeform::Simulation> sim = restNet.getNum() ? std::make_unique<bsdeform::Simulation>(p, toNet(restNet))
-                                                                 : std::make_unique<bsdeform::Simulation>(p);
+    std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
+                                                            : std::make_unique<bsdeform::Simulation>(p);
     if (m_stateDirty && controlNet.getNum()) {
       const bsdeform::ControlNet cur = toNet(controlNet);
       if (previousNet.getNum())
@@ -260,7 +296,7 @@ void SoBSplineDeformSurface::ensureSimulation() {
   if (m_modelDirty || m_stateDirty || !m_sim) {
     if (!rebuildSimulation() && !m_sim) m_sim = std::make_unique<bsdeform::Simulation>(bsdeform::ModelParameters());
     m_modelDirty = m_stateDirty = false;
-    m_tess.valid = false;
+    m_tessValid = false;
   }
 }
 
@@ -324,7 +360,7 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
       warn("simulation stopped: " + m_sim->statusMessage());
       ok = false;
     }
-    m_tess.valid = false;
+    m_tessValid = false;
     touch();
   }
   return ok;
@@ -348,7 +384,7 @@ void SoBSplineDeformSurface::resetSimulation() {
   m_sim->reset();
   m_timeBudget = 0.0;
   m_lastWarning.clear();
-  m_tess.valid = false;
+  m_tessValid = false;
   touch();
 }
 
@@ -393,7 +429,7 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
         m_sim->reset();
         m_timeBudget = 0.0;
       }
-      m_tess.valid = false;
+      m_tessValid = false;
     } else if (f == &on || f == &speed) {
       updateTimer();
     } else if (f == &forces) {
@@ -433,7 +469,8 @@ void SoBSplineDeformSurface::syncStateFields() {
 
 SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
   const SbBool ok = inherited::readInstance(in, flags);
-  for (SoSFDouble* f : {&w10, &w01, &w11, &w20, &w02, &mass, &damping, &timeStep, &simulationTime}) {
+  for (SoSFDouble* f : {&w10, &w01, &w11, &w20, &w02, &mass, &damping, &timeStep, &simulationTime, &radius, &height,
+                        &minorRadius}) {
     if (f->isDefault()) continue;
     const SbBool notify = f->enableNotify(FALSE);
     f->setValue(snap15(f->getValue()));
@@ -475,73 +512,18 @@ void SoBSplineDeformSurface::tessellate(SoState* state) {
   const float complexity = state ? SoComplexityElement::get(state) : 0.5f;
   const int segU = segmentsFor(complexity, sp.basisU().numSpans());
   const int segV = segmentsFor(complexity, sp.basisV().numSpans());
-  if (m_tess.valid && m_tess.segU == segU && m_tess.segV == segV) return;
-
-  const bsdeform::ControlNet& net = m_sim->current();
-  const int cols = sp.netCols(), n1 = sp.degreeU(), n2 = sp.degreeV();
-  const int nvU = segU + 1, nvV = segV + 1;
-  m_tess.vertices.resize(size_t(nvU) * nvV * 3);
-  m_tess.normals.resize(m_tess.vertices.size());
-  m_tess.texCoords.resize(size_t(nvU) * nvV * 2);
-  // v-direction bases are the same for every row of vertices
-  std::vector<bsdeform::LocalBasis> bv(nvV);
-  for (int j = 0; j < nvV; ++j) sp.basisV().evaluate(double(j) / segV, 1, bv[j]);
-  // Tensor evaluation: first the u-combination of the net rows (curves in v), then v.
-  std::vector<double> c0(size_t(cols) * 3), c1(size_t(cols) * 3);
-  bsdeform::LocalBasis bu;
-  for (int i = 0; i < nvU; ++i) {
-    const double u = double(i) / segU;
-    sp.basisU().evaluate(u, 1, bu);
-    std::fill(c0.begin(), c0.end(), 0.0);
-    std::fill(c1.begin(), c1.end(), 0.0);
-    for (int a = 0; a < bu.count; ++a) {
-      const double* row = net.data() + size_t(bu.first + a + n1) * cols * 3;
-      const double b0 = bu.d[0][a], b1 = bu.d[1][a];
-      for (int m = 0; m < cols * 3; ++m) {
-        c0[m] += b0 * row[m];
-        c1[m] += b1 * row[m];
-      }
-    }
-    for (int j = 0; j < nvV; ++j) {
-      double p[3] = {0, 0, 0}, du[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
-      const bsdeform::LocalBasis& b = bv[j];
-      for (int k = 0; k < b.count; ++k) {
-        const size_t m = size_t(b.first + k + n2) * 3;
-        for (int c = 0; c < 3; ++c) {
-          p[c] += b.d[0][k] * c0[m + c];
-          du[c] += b.d[0][k] * c1[m + c];
-          dv[c] += b.d[1][k] * c0[m + c];
-        }
-      }
-      double n[3] = {du[1] * dv[2] - du[2] * dv[1], du[2] * dv[0] - du[0] * dv[2], du[0] * dv[1] - du[1] * dv[0]};
-      const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-      const size_t vi = size_t(i) * nvV + j;
-      for (int c = 0; c < 3; ++c) {
-        m_tess.vertices[vi * 3 + c] = float(p[c]);
-        m_tess.normals[vi * 3 + c] = float(len > 0 ? n[c] / len : (c == 2 ? 1.0 : 0.0));
-      }
-      m_tess.texCoords[vi * 2] = float(u);
-      m_tess.texCoords[vi * 2 + 1] = float(double(j) / segV);
-    }
-  }
-  if (m_tess.segU != segU || m_tess.segV != segV || m_tess.indices.empty()) {
-    m_tess.indices.clear();
-    m_tess.indices.reserve(size_t(segU) * segV * 6);
-    for (int i = 0; i < segU; ++i)
-      for (int j = 0; j < segV; ++j) {
-        const unsigned a = unsigned(i * nvV + j), b = unsigned((i + 1) * nvV + j);
-        // counter-clockwise seen from the side du x dv points to
-        m_tess.indices.insert(m_tess.indices.end(), {a, b, b + 1, a, b + 1, a + 1});
-      }
-  }
-  m_tess.segU = segU;
-  m_tess.segV = segV;
-  m_tess.valid = true;
+  if (m_tessValid && m_tess.segU == segU && m_tess.segV == segV) return;
+  bsdeform::tessellate(sp, m_sim->current(), segU, segV, m_tess);
+  m_tessValid = true;
 }
 
 void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
   if (!shouldGLRender(action)) return;
-  tessellate(action->getState());
+  SoState* state = action->getState();
+  tessellate(state);
+  // An open surface shows both sides: light the back faces too. A closed one has none to show.
+  state->push();
+  if (!isClosed()) SoLazyElement::setTwosideLighting(state, TRUE);
   SoMaterialBundle mb(action);
   mb.sendFirst();
   glEnableClientState(GL_VERTEX_ARRAY);
@@ -554,6 +536,14 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
   glDisableClientState(GL_TEXTURE_COORD_ARRAY);
   glDisableClientState(GL_NORMAL_ARRAY);
   glDisableClientState(GL_VERTEX_ARRAY);
+  state->pop();
+}
+
+bool SoBSplineDeformSurface::isClosed() {
+  ensureSimulation();
+  const bsdeform::SplineSpace& sp = m_sim->space();
+  const int shape = restShape.getValue();
+  return (sp.periodicU() && sp.periodicV()) || (sp.periodicU() && (shape == SPHERE || shape == ELLIPSOID));
 }
 
 void SoBSplineDeformSurface::generatePrimitives(SoAction* action) {
@@ -587,26 +577,8 @@ bool SoBSplineDeformSurface::pickedParameter(const SoPickedPoint* pp, float& u, 
 }
 
 void SoBSplineDeformSurface::closestParameter(const SbVec3f& p, float& u, float& v) {
-  if (!m_tess.valid) tessellate(nullptr);
-  const Eigen::Vector3d target(p[0], p[1], p[2]);
-  size_t best = 0;
-  double bestDist = INFINITY;
-  for (size_t i = 0; i + 2 < m_tess.vertices.size(); i += 3) {
-    const double d = (Eigen::Vector3d(m_tess.vertices[i], m_tess.vertices[i + 1], m_tess.vertices[i + 2]) - target).squaredNorm();
-    if (d < bestDist) bestDist = d, best = i / 3;
-  }
-  double uu = m_tess.texCoords[best * 2], vv = m_tess.texCoords[best * 2 + 1];
-  for (int iter = 0; iter < 12; ++iter) {
-    const bsdeform::SurfacePoint sp = m_sim->evaluate(uu, vv, 1);
-    const Eigen::Vector3d r = sp.position - target;
-    const double a = sp.du.dot(sp.du), b = sp.du.dot(sp.dv), c = sp.dv.dot(sp.dv);
-    const double g1 = sp.du.dot(r), g2 = sp.dv.dot(r), det = a * c - b * b;
-    if (!(det > 1e-300)) break;
-    const double du = -(c * g1 - b * g2) / det, dv = -(a * g2 - b * g1) / det;
-    uu = std::max(0.0, std::min(1.0, uu + du));
-    vv = std::max(0.0, std::min(1.0, vv + dv));
-    if (std::abs(du) + std::abs(dv) < 1e-10) break;
-  }
-  u = float(uu);
-  v = float(vv);
+  if (!m_tessValid) tessellate(nullptr);
+  const Eigen::Vector2d uv = bsdeform::closestParameter(m_sim->space(), m_sim->current(), m_tess, Eigen::Vector3d(p[0], p[1], p[2]));
+  u = float(uv.x());
+  v = float(uv.y());
 }

@@ -31,6 +31,15 @@
 ///   boundaryVMax CLAMPED  # sides u = 1, v = 0, v = 1 alike
 ///   pins [ ]              # (u, v) in [0,1]^2: each holds the control points of its knot span
 ///   start SECOND_ORDER    # SECOND_ORDER: P(-dt) = P(0) + dt^2/2 a(0) | PAPER: P(-dt) = P(0)
+///   restShape PLANE       # rest net when restNet is empty: PLANE (u, v, 0) | CYLINDER | CONE |
+///                         #   SPHERE | ELLIPSOID | TORUS, centred at the origin, axis z (u goes
+///                         #   round: u PERIODIC; SPHERE/ELLIPSOID v sides CLAMPED on the poles,
+///                         #   CONE v = 1 CLAMPED on the apex, TORUS v PERIODIC; these override
+///                         #   the boundary fields). A given restNet wins over the shape's net.
+///   radius 0.5            # R: CYLINDER, CONE base, SPHERE, TORUS (to the tube's centre)
+///   height 1              # H: CYLINDER, CONE (z from -H/2 to H/2)
+///   minorRadius 0.2       # r: TORUS tube
+///   radii 0.6 0.45 0.35   # (a, b, c): ELLIPSOID semi-axes along x, y, z
 ///   on TRUE               # animate with the real-time clock
 ///   speed 1               # simulated seconds per real second
 ///   reset                 # trigger: back to the rest state
@@ -45,6 +54,7 @@
 
 #include <Inventor/fields/SoMFEngine.h>
 #include <Inventor/fields/SoMFVec2d.h>
+#include <Inventor/fields/SoSFVec3d.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
@@ -58,6 +68,8 @@
 #include <memory>
 #include <string>
 #include <vector>
+
+#include "bsdeform/Tessellation.h"
 
 namespace bsdeform {
 class Simulation;
@@ -78,6 +90,7 @@ class SoBSplineDeformSurface : public SoShape {
   enum Reference { REST, ABSOLUTE };
   enum Boundary { CLAMPED, FREE, PERIODIC };
   enum Start { PAPER, SECOND_ORDER };
+  enum Shape { PLANE, CYLINDER, CONE, SPHERE, ELLIPSOID, TORUS };
 
   static void initClass();
   SoBSplineDeformSurface();
@@ -103,6 +116,11 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFEnum boundaryVMax;        ///< side v = 1; CLAMPED
   SoMFVec2d pins;               ///< pinned parameter points (u, v); empty
   SoSFEnum start;               ///< SECOND_ORDER (consistent release from rest) or PAPER; SECOND_ORDER
+  SoSFEnum restShape;           ///< rest net generated when restNet is empty; PLANE
+  SoSFDouble radius;            ///< R of CYLINDER, CONE (base), SPHERE, TORUS; 0.5
+  SoSFDouble height;            ///< H of CYLINDER, CONE; 1
+  SoSFDouble minorRadius;       ///< r of TORUS (tube); 0.2
+  SoSFVec3d radii;              ///< (a, b, c) of ELLIPSOID; 0.6 0.45 0.35
   SoSFBool on;                  ///< animate with the clock; TRUE
   SoSFFloat speed;              ///< simulated seconds per real second; 1
   SoSFTrigger reset;            ///< back to the rest state
@@ -132,8 +150,11 @@ class SoBSplineDeformSurface : public SoShape {
   /// picked point in object space, so texture transforms in the scene do not matter.
   static bool pickedParameter(const SoPickedPoint* pp, float& u, float& v);
   /// (u, v) of the point of the current surface closest to `p` (object space): nearest
-  /// tessellation vertex, refined by Gauss-Newton on |S(u,v) - p|^2.
+  /// tessellation vertex, refined by Gauss-Newton on |S(u,v) - p|^2 (bsdeform::closestParameter).
   void closestParameter(const SbVec3f& p, float& u, float& v);
+  /// Whether the surface is closed (periodic in both directions, or a sphere/ellipsoid): it is
+  /// then lit on one side only; open surfaces are lit on both.
+  bool isClosed();
   /// The last warning (empty if the fields are valid).
   const std::string& lastWarning() const { return m_lastWarning; }
 
@@ -148,13 +169,6 @@ class SoBSplineDeformSurface : public SoShape {
   void computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) override;
 
  private:
-  struct Tessellation {
-    int segU = 0, segV = 0;
-    std::vector<float> vertices, normals, texCoords;
-    std::vector<unsigned> indices;
-    bool valid = false;
-  };
-
   void ensureSimulation();
   bool rebuildSimulation();
   void updateForces();
@@ -176,7 +190,8 @@ class SoBSplineDeformSurface : public SoShape {
   std::vector<ForceSlot> m_forceSlots;
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
   std::string m_lastWarning;
-  Tessellation m_tess;
+  bsdeform::SurfaceGrid m_tess;
+  bool m_tessValid = false;
   SoTimerSensor* m_timer = nullptr;
   double m_lastTick = -1.0;
   double m_timeBudget = 0.0;

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Tessellation.h
+/// The surface on a regular parameter grid for drawing, export and picking: positions and
+/// normals from the basis and its first derivatives (tensor evaluation: the u-combination of
+/// net rows first, then v), texture coordinates (u, v), and the closest parameter to a point.
+
+#include <vector>
+
+#include "bsdeform/SplineSpace.h"
+
+namespace bsdeform {
+
+/// (segU + 1) x (segV + 1) vertices, vertex (i, j) at (u, v) = (i / segU, j / segV), row-major
+/// in i; two counter-clockwise triangles per cell seen from the side du x dv points to.
+struct SurfaceGrid {
+  int segU = 0, segV = 0;
+  std::vector<float> vertices;   ///< x, y, z per vertex
+  std::vector<float> normals;    ///< unit normal per vertex
+  std::vector<float> texCoords;  ///< u, v per vertex
+  std::vector<unsigned> indices;
+};
+
+/// Evaluates S and its unit normal du x dv on the grid. Where du x dv vanishes (a collapsed
+/// pole row, an apex) the normal is the normalised mean of the normals of the nearest grid row
+/// in v (for a pole: its axis). Positions and normals agree across a periodic seam (the seam's
+/// vertices are evaluated from the same control points).
+/// @pre segU, segV >= 1
+void tessellate(const SplineSpace& space, const ControlNet& net, int segU, int segV, SurfaceGrid& grid);
+
+/// (u, v) of the point of the surface closest to `p`: the nearest grid vertex, refined by
+/// Gauss-Newton on |S(u, v) - p|^2; a periodic direction wraps, the others are kept in [0,1].
+Eigen::Vector2d closestParameter(const SplineSpace& space, const ControlNet& net, const SurfaceGrid& grid,
+                                 const Eigen::Vector3d& p);
+
+}  // namespace bsdeform
