@@ -262,9 +262,14 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
          "rest shape); keeping the last valid state");
     return false;
   }
+  std::vector<ForceSlot> oldSlots;  // the last valid model's, kept if the new one fails
   try {
     std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
                                                             : std::make_unique<bsdeform::Simulation>(p);
+    // Forces first: their stiffness sets the sub-step, and a state is restored at its own
+    // sub-step (a force added afterwards would rescale the previous net as if it were older).
+    oldSlots.swap(m_forceSlots);
+    updateForces(*sim);
     if (m_stateDirty && controlNet.getNum()) {
       const bsdeform::ControlNet cur = toNet(controlNet);
       if (previousNet.getNum())
@@ -280,10 +285,10 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     }
     m_sim = std::move(sim);
   } catch (const std::exception& e) {
+    if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
     warn(std::string(e.what()) + "; keeping the last valid state");
     return false;
   }
-  m_forceSlots.clear();  // forces are rebuilt for the new simulation (mass density may differ)
   m_lastWarning.clear();
   const double seam = m_sim->seamMismatch();
   if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff()))
@@ -305,8 +310,7 @@ const bsdeform::Simulation& SoBSplineDeformSurface::simulation() {
   return *m_sim;
 }
 
-void SoBSplineDeformSurface::updateForces() {
-  const bsdeform::Simulation& sim = *m_sim;
+void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
   SoForceField::SurfaceInfo info;
   const double area = sim.space().basisU().spacing() * sim.space().basisV().spacing();
   info.massDensity = sim.parameters().massModel == bsdeform::MassModel::Nodal ? sim.parameters().mass / area
@@ -341,10 +345,10 @@ void SoBSplineDeformSurface::updateForces() {
     slot.force = std::move(force);
   }
   if (!changed) return;
-  m_sim->clearForces();
+  sim.clearForces();
   for (const ForceSlot& s : m_forceSlots)
-    if (s.force) m_sim->addForce(s.force);
-  for (const auto& f : m_transient) m_sim->addForce(f);
+    if (s.force) sim.addForce(s.force);
+  for (const auto& f : m_transient) sim.addForce(f);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -352,7 +356,7 @@ void SoBSplineDeformSurface::updateForces() {
 
 bool SoBSplineDeformSurface::stepSimulation(int steps) {
   ensureSimulation();
-  updateForces();
+  updateForces(*m_sim);
   bool ok = true;
   if (steps > 0) {
     const bsdeform::Status st = m_sim->advance(steps);

@@ -171,7 +171,7 @@ class SoBSplineDeformSurface : public SoShape {
  private:
   void ensureSimulation();
   bool rebuildSimulation();
-  void updateForces();
+  void updateForces(bsdeform::Simulation& sim);
   void warn(const std::string& message);
   void updateTimer();
   static void timerCallback(void* data, SoSensor*);

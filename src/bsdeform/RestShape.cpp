@@ -14,6 +14,10 @@ namespace bsdeform {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+// Weight of the curvature term of the profile fit: 1 removes the latitude bands a plain L2 fit
+// shows in shading (its error oscillates away from the held pole layers) for about twice the
+// geometric error (sphere R = 0.5, 16 x 16: 1.1e-2 instead of 5.9e-3).
+constexpr double kProfileSmoothing = 1.0;
 
 std::string num(double x) {
   char buf[32];
@@ -48,7 +52,8 @@ Eigen::Vector2d circlePoint(const BSplineBasis1D& basis, int k) {
 // fixed. Returns one (rho, z) per net layer.
 template <typename Target>
 std::vector<Eigen::Vector2d> fitProfile(const BSplineBasis1D& basis, const std::vector<bool>& held,
-                                        const std::vector<Eigen::Vector2d>& heldValue, Target&& target) {
+                                        const std::vector<Eigen::Vector2d>& heldValue, Target&& target,
+                                        double smoothing) {
   const int layers = basis.numTotal(), n = basis.degree();
   std::vector<int> unknown(layers, -1);
   int count = 0;
@@ -61,19 +66,26 @@ std::vector<Eigen::Vector2d> fitProfile(const BSplineBasis1D& basis, const std::
   for (int s = 0; s < basis.numSpans(); ++s)
     for (size_t q = 0; q < rule.nodes.size(); ++q) {
       const double v = (s + rule.nodes[q]) * basis.spacing(), w = rule.weights[q] * basis.spacing();
-      basis.evaluateInSpan(s, v, 0, b);
+      basis.evaluateInSpan(s, v, 2, b);
+      // smoothing * |S''|^2 (scaled by h^4, so its weight does not depend on the net size) damps
+      // the oscillation that the held pole layers start in a plain L2 fit
+      const double ws = smoothing * std::pow(basis.spacing(), 4) * w;
       Eigen::Vector2d r = target(v);
+      Eigen::Vector2d r2 = Eigen::Vector2d::Zero();
       for (int a = 0; a < b.count; ++a) {
         const int l = b.first + a + n;
-        if (held[l]) r -= b.d[0][a] * heldValue[l];
+        if (held[l]) {
+          r -= b.d[0][a] * heldValue[l];
+          r2 -= b.d[2][a] * heldValue[l];
+        }
       }
       for (int a = 0; a < b.count; ++a) {
         const int ia = unknown[b.first + a + n];
         if (ia < 0) continue;
-        rhs.row(ia) += w * b.d[0][a] * r.transpose();
+        rhs.row(ia) += w * b.d[0][a] * r.transpose() + ws * b.d[2][a] * r2.transpose();
         for (int c = 0; c < b.count; ++c) {
           const int ic = unknown[b.first + c + n];
-          if (ic >= 0) t.emplace_back(ia, ic, w * b.d[0][a] * b.d[0][c]);
+          if (ic >= 0) t.emplace_back(ia, ic, w * b.d[0][a] * b.d[0][c] + ws * b.d[2][a] * b.d[2][c]);
         }
       }
     }
@@ -185,10 +197,12 @@ ControlNet shapeRestNet(ShapeKind kind, const ShapeSize& size, const SplineSpace
       }
     }
     if (sphere)
-      profile = fitProfile(bv, held, value, [](double v) { return Eigen::Vector2d(std::sin(kPi * v), -std::cos(kPi * v)); });
+      profile = fitProfile(bv, held, value, [](double v) { return Eigen::Vector2d(std::sin(kPi * v), -std::cos(kPi * v)); },
+                           kProfileSmoothing);
     else
       profile = fitProfile(bv, held, value,
-                           [&](double v) { return Eigen::Vector2d(size.radius * (1 - v), size.height * (v - 0.5)); });
+                           [&](double v) { return Eigen::Vector2d(size.radius * (1 - v), size.height * (v - 0.5)); },
+                           kProfileSmoothing);
   }
   const Eigen::Vector3d scale =
       kind == ShapeKind::Sphere ? Eigen::Vector3d::Constant(size.radius)
