@@ -600,9 +600,11 @@ void MainWindow::updateStatus() {
   const Simulation& sim = s->simulation();
   const ModelParameters& p = sim.parameters();
   m_timeLabel->setText(tr("t = %1 s").arg(sim.time(), 0, 'f', 3));
-  m_modelLabel->setText(tr("%1 control points (%2 DOFs)  dt %3  limit %4  sub-steps %5")
-                            .arg(p.numU * p.numV)
-                            .arg(3 * p.numU * p.numV)
+  // moving points: N1 N2 when all sides are clamped, more with free or periodic sides, minus pins
+  const qlonglong moving = qlonglong(sim.space().numMoving()) - qlonglong(sim.pinnedRows().size());
+  m_modelLabel->setText(tr("%1 moving control points (%2 DOFs)  dt %3  limit %4  sub-steps %5")
+                            .arg(moving)
+                            .arg(3 * moving)
                             .arg(p.timeStep)
                             .arg(sim.stabilityLimit(), 0, 'g', 4)
                             .arg(sim.subSteps()));
