@@ -1,12 +1,152 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SoForceField.h"
 
+#include <Inventor/SoDB.h>
+#include <Inventor/engines/SoFieldConverter.h>
+#include <Inventor/fields/SoMFDouble.h>
+#include <Inventor/fields/SoMFFloat.h>
+#include <Inventor/fields/SoMFVec2d.h>
+#include <Inventor/fields/SoMFVec2f.h>
+#include <Inventor/fields/SoMFVec3d.h>
+#include <Inventor/fields/SoSFFloat.h>
+#include <Inventor/fields/SoSFShort.h>
+#include <Inventor/fields/SoSFTime.h>
+#include <Inventor/fields/SoSFVec2f.h>
 #include <muParser.h>
 
 #include <cmath>
 #include <sstream>
 
+#include "bsdeform/CoinEigen.h"
 #include "bsdeform/Force.h"
+#include "bsdeform/ForceLaws.h"
+#include "bsdeform/SceneText.h"
+
+/// Field converter into SoSFDouble and SoSFVec2d. Coin 4.0's built-in converter (SoConvertAll)
+/// knows no double field except SoSFVec3d, so without it `magnitude 0 = Calculator { } . oa`
+/// fails to connect ("no converter for MFFloat to SFDouble"). Coin creates one instance per
+/// connection (default constructor), asks for the input matching the master's type and the
+/// output matching the slave's, and later asks again with a bad type (disconnecting), which must
+/// return the same ones.
+class SoForceFieldDoubleConverter : public SoFieldConverter {
+  using inherited = SoFieldConverter;
+  SO_ENGINE_HEADER(SoForceFieldDoubleConverter);
+
+ public:
+  static void initClass();
+  SoForceFieldDoubleConverter();
+
+  SoSFFloat sfFloat;
+  SoMFFloat mfFloat;
+  SoSFTime sfTime;
+  SoSFInt32 sfInt32;
+  SoSFShort sfShort;
+  SoSFBool sfBool;
+  SoMFDouble mfDouble;
+  SoSFVec2f sfVec2f;
+  SoMFVec2f mfVec2f;
+  SoMFVec2d mfVec2d;
+  SoMFVec3d mfVec3d;
+  SoEngineOutput doubleOut;  ///< (SoSFDouble)
+  SoEngineOutput vec2dOut;   ///< (SoSFVec2d)
+  SoEngineOutput vec3dOut;   ///< (SoSFVec3d)
+
+  /// Registers the class and its conversions (those Coin does not have already).
+  static void registerConversions();
+
+ protected:
+  ~SoForceFieldDoubleConverter() override = default;
+  SoField* getInput(SoType type) override;
+  SoEngineOutput* getOutput(SoType type) override;
+  void evaluate() override;
+
+ private:
+  SoField* m_input = nullptr;
+  SoEngineOutput* m_output = nullptr;
+};
+
+SO_ENGINE_SOURCE(SoForceFieldDoubleConverter);
+
+void SoForceFieldDoubleConverter::initClass() {
+  if (getClassTypeId() != SoType::badType()) return;
+  SO_ENGINE_INIT_CLASS(SoForceFieldDoubleConverter, SoFieldConverter, "FieldConverter");
+}
+
+SoForceFieldDoubleConverter::SoForceFieldDoubleConverter() {
+  SO_ENGINE_CONSTRUCTOR(SoForceFieldDoubleConverter);
+  SO_ENGINE_ADD_INPUT(sfFloat, (0.0f));
+  SO_ENGINE_ADD_INPUT(mfFloat, (0.0f));
+  SO_ENGINE_ADD_INPUT(sfTime, (SbTime::zero()));
+  SO_ENGINE_ADD_INPUT(sfInt32, (0));
+  SO_ENGINE_ADD_INPUT(sfShort, (0));
+  SO_ENGINE_ADD_INPUT(sfBool, (FALSE));
+  SO_ENGINE_ADD_INPUT(mfDouble, (0.0));
+  SO_ENGINE_ADD_INPUT(sfVec2f, (0.0f, 0.0f));
+  SO_ENGINE_ADD_INPUT(mfVec2f, (0.0f, 0.0f));
+  SO_ENGINE_ADD_INPUT(mfVec2d, (0.0, 0.0));
+  SO_ENGINE_ADD_INPUT(mfVec3d, (0.0, 0.0, 0.0));
+  SO_ENGINE_ADD_OUTPUT(doubleOut, SoSFDouble);
+  SO_ENGINE_ADD_OUTPUT(vec2dOut, SoSFVec2d);
+  SO_ENGINE_ADD_OUTPUT(vec3dOut, SoSFVec3d);
+}
+
+SoField* SoForceFieldDoubleConverter::getInput(SoType type) {
+  for (SoField* f : std::initializer_list<SoField*>{&sfFloat, &mfFloat, &sfTime, &sfInt32, &sfShort, &sfBool,
+                                                    &mfDouble, &sfVec2f, &mfVec2f, &mfVec2d, &mfVec3d})
+    if (f->getTypeId() == type) return m_input = f;
+  return m_input;  // a bad type: the one connected
+}
+
+SoEngineOutput* SoForceFieldDoubleConverter::getOutput(SoType type) {
+  if (type == SoSFDouble::getClassTypeId()) return m_output = &doubleOut;
+  if (type == SoSFVec2d::getClassTypeId()) return m_output = &vec2dOut;
+  if (type == SoSFVec3d::getClassTypeId()) return m_output = &vec3dOut;
+  return m_output;
+}
+
+void SoForceFieldDoubleConverter::evaluate() {
+  // A multiple-value master gives its first value (as Coin's own MF -> SF conversions do);
+  // an empty one gives nothing.
+  if (m_output == &doubleOut) {
+    double x;
+    if (m_input == &sfFloat) x = sfFloat.getValue();
+    else if (m_input == &mfFloat && mfFloat.getNum()) x = mfFloat[0];
+    else if (m_input == &sfTime) x = sfTime.getValue().getValue();
+    else if (m_input == &sfInt32) x = sfInt32.getValue();
+    else if (m_input == &sfShort) x = sfShort.getValue();
+    else if (m_input == &sfBool) x = sfBool.getValue() ? 1.0 : 0.0;
+    else if (m_input == &mfDouble && mfDouble.getNum()) x = mfDouble[0];
+    else return;
+    SO_ENGINE_OUTPUT(doubleOut, SoSFDouble, setValue(x));
+  } else if (m_output == &vec2dOut) {
+    SbVec2d x;
+    if (m_input == &sfVec2f) x = SbVec2d(sfVec2f.getValue());
+    else if (m_input == &mfVec2f && mfVec2f.getNum()) x = SbVec2d(mfVec2f[0]);
+    else if (m_input == &mfVec2d && mfVec2d.getNum()) x = mfVec2d[0];
+    else return;
+    SO_ENGINE_OUTPUT(vec2dOut, SoSFVec2d, setValue(x));
+  } else if (m_output == &vec3dOut && m_input == &mfVec3d && mfVec3d.getNum()) {
+    const SbVec3d x = mfVec3d[0];
+    SO_ENGINE_OUTPUT(vec3dOut, SoSFVec3d, setValue(x));
+  }
+}
+
+void SoForceFieldDoubleConverter::registerConversions() {
+  initClass();
+  const SoType self = getClassTypeId();
+  auto add = [self](SoType from, SoType to) {
+    if (SoDB::getConverter(from, to) == SoType::badType()) SoDB::addConverter(from, to, self);
+  };
+  for (SoType from : {SoSFFloat::getClassTypeId(), SoMFFloat::getClassTypeId(), SoSFTime::getClassTypeId(),
+                      SoSFInt32::getClassTypeId(), SoSFShort::getClassTypeId(), SoSFBool::getClassTypeId(),
+                      SoMFDouble::getClassTypeId()})
+    add(from, SoSFDouble::getClassTypeId());
+  for (SoType from : {SoSFVec2f::getClassTypeId(), SoMFVec2f::getClassTypeId(), SoMFVec2d::getClassTypeId()})
+    add(from, SoSFVec2d::getClassTypeId());
+  add(SoMFVec3d::getClassTypeId(), SoSFVec3d::getClassTypeId());
+}
+
+// ---------------------------------------------------------------------------------------------
 
 SO_ENGINE_SOURCE(SoForceField);
 
@@ -15,24 +155,25 @@ void SoForceField::initClass() {
   // Coin's dynamic loader may call this.
   if (getClassTypeId() != SoType::badType()) return;
   SO_ENGINE_INIT_CLASS(SoForceField, SoEngine, "Engine");
+  SoForceFieldDoubleConverter::registerConversions();
 }
 
 SoForceField::SoForceField() {
   SO_ENGINE_CONSTRUCTOR(SoForceField);
   SO_ENGINE_ADD_INPUT(type, (UNIFORM));
   SO_ENGINE_ADD_INPUT(on, (TRUE));
-  SO_ENGINE_ADD_INPUT(force, (0.0f, 0.0f, 1.0f));
-  SO_ENGINE_ADD_INPUT(magnitude, (1.0f));
-  SO_ENGINE_ADD_INPUT(point, (0.5f, 0.5f));
-  SO_ENGINE_ADD_INPUT(regionMin, (0.4f, 0.4f));
-  SO_ENGINE_ADD_INPUT(regionMax, (0.6f, 0.6f));
+  SO_ENGINE_ADD_INPUT(force, (0.0, 0.0, 1.0));
+  SO_ENGINE_ADD_INPUT(magnitude, (1.0));
+  SO_ENGINE_ADD_INPUT(point, (0.5, 0.5));
+  SO_ENGINE_ADD_INPUT(regionMin, (0.4, 0.4));
+  SO_ENGINE_ADD_INPUT(regionMax, (0.6, 0.6));
   SO_ENGINE_ADD_INPUT(expression, (""));
-  SO_ENGINE_ADD_INPUT(anchor, (0.5f, 0.5f, 1.0f));
-  SO_ENGINE_ADD_INPUT(center, (0.0f, 0.0f, 0.0f));
-  SO_ENGINE_ADD_INPUT(normal, (0.0f, 0.0f, 1.0f));
-  SO_ENGINE_ADD_INPUT(radius, (0.25f));
-  SO_ENGINE_ADD_INPUT(stiffness, (10.0f));
-  SO_ENGINE_ADD_INPUT(coefficient, (1.0f));
+  SO_ENGINE_ADD_INPUT(anchor, (0.5, 0.5, 1.0));
+  SO_ENGINE_ADD_INPUT(center, (0.0, 0.0, 0.0));
+  SO_ENGINE_ADD_INPUT(normal, (0.0, 0.0, 1.0));
+  SO_ENGINE_ADD_INPUT(radius, (0.25));
+  SO_ENGINE_ADD_INPUT(stiffness, (10.0));
+  SO_ENGINE_ADD_INPUT(coefficient, (1.0));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, UNIFORM);
@@ -59,17 +200,31 @@ void SoForceField::inputChanged(SoField*) { ++m_revision; }
 
 void SoForceField::evaluate() { SO_ENGINE_OUTPUT(revision, SoSFInt32, setValue(m_revision)); }
 
-namespace {
-
-Eigen::Vector3d toEigen(const SbVec3f& v) { return Eigen::Vector3d(v[0], v[1], v[2]); }
-
-std::string fmt(const SbVec3f& v) {
-  std::ostringstream os;
-  os << v[0] << " " << v[1] << " " << v[2];
-  return os.str();
+SbBool SoForceField::readInstance(SoInput* in, unsigned short flags) {
+  const SbBool ok = inherited::readInstance(in, flags);
+  // Coin's reader is off by up to a few ulps (SceneText.h); snapping what was read to its
+  // 15-digit value makes `point 0.97 0.5` act at 0.97 and write -> read -> write a fixed point.
+  // Connected fields get their values from the connection.
+  using bsdeform::snap15;
+  auto quiet = [](SoField& f, auto&& set) {
+    if (f.isDefault() || f.isConnected()) return;
+    const SbBool notify = f.enableNotify(FALSE);
+    set();
+    f.enableNotify(notify);
+  };
+  for (SoSFDouble* f : {&magnitude, &radius, &stiffness, &coefficient})
+    quiet(*f, [f] { f->setValue(snap15(f->getValue())); });
+  for (SoSFVec2d* f : {&point, &regionMin, &regionMax})
+    quiet(*f, [f] { f->setValue(snap15(f->getValue()[0]), snap15(f->getValue()[1])); });
+  for (SoSFVec3d* f : {&force, &anchor, &center, &normal})
+    quiet(*f, [f] {
+      const SbVec3d v = f->getValue();
+      f->setValue(snap15(v[0]), snap15(v[1]), snap15(v[2]));
+    });
+  return ok;
 }
 
-bool finite(const SbVec3f& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+namespace {
 
 // The three component formulas, parsed once; variables bound to members.
 struct ExpressionDensity {
@@ -84,113 +239,40 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
   using namespace bsdeform;
   error.clear();
   if (!on.getValue()) return nullptr;
+  // Field values -> core classes; the core validates them and names the bad parameter.
   const double mag = magnitude.getValue();
-  if (!std::isfinite(mag)) {
-    error = "field 'magnitude' is not finite";
-    return nullptr;
-  }
-  auto requireVec = [&](const SoSFVec3f& f, const char* name) {
-    if (finite(f.getValue())) return true;
-    error = std::string("field '") + name + "' is not finite: " + fmt(f.getValue());
-    return false;
-  };
-  auto requireParam = [&](const SbVec2f& p, const char* name) {
-    for (int i = 0; i < 2; ++i)
-      if (!(p[i] >= 0.0f && p[i] <= 1.0f)) {
-        std::ostringstream os;
-        os << "field '" << name << "' must lie in [0,1]^2, got " << p[0] << " " << p[1];
-        error = os.str();
-        return false;
-      }
-    return true;
-  };
-  auto requireNonNegative = [&](const SoSFFloat& f, const char* name) {
-    if (std::isfinite(f.getValue()) && f.getValue() >= 0.0f) return true;
-    std::ostringstream os;
-    os << "field '" << name << "' must be finite and >= 0, got " << f.getValue();
-    error = os.str();
-    return false;
-  };
-
+  const Eigen::Vector3d f = toEigen(force.getValue());
+  const Eigen::Vector2d p = toEigen(point.getValue());
   try {
     switch (type.getValue()) {
       case UNIFORM:
-        if (!requireVec(force, "force")) return nullptr;
-        return std::make_shared<DistributedForce>(mag * toEigen(force.getValue()));
+        return std::make_shared<DistributedForce>(mag * f);
       case POINT:
-        if (!requireVec(force, "force") || !requireParam(point.getValue(), "point")) return nullptr;
-        return std::make_shared<PointForce>(point.getValue()[0], point.getValue()[1], mag * toEigen(force.getValue()));
+        return std::make_shared<PointForce>(p.x(), p.y(), mag * f);
       case REGION: {
-        if (!requireVec(force, "force") || !requireParam(regionMin.getValue(), "regionMin") ||
-            !requireParam(regionMax.getValue(), "regionMax"))
-          return nullptr;
-        const SbVec2f a = regionMin.getValue(), b = regionMax.getValue();
-        if (a[0] > b[0] || a[1] > b[1]) {
+        const Eigen::Vector2d a = toEigen(regionMin.getValue()), b = toEigen(regionMax.getValue());
+        return std::make_shared<DistributedForce>(mag * f, ParamRect{a.x(), b.x(), a.y(), b.y()});
+      }
+      case GRAVITY:
+        return std::make_shared<GravityForce>(info.massDensity, mag * f);
+      case SPRING:
+        return std::make_shared<SpringForce>(p.x(), p.y(), toEigen(anchor.getValue()), stiffness.getValue());
+      case DRAG:
+        return std::make_shared<DragForce>(coefficient.getValue());
+      case PRESSURE:
+        return std::make_shared<PressureForce>(mag);
+      case PLANE_COLLISION:
+        return std::make_shared<PlaneContactForce>(toEigen(center.getValue()), toEigen(normal.getValue()),
+                                                   stiffness.getValue());
+      case SPHERE_COLLISION:
+        return std::make_shared<SphereContactForce>(toEigen(center.getValue()), radius.getValue(), stiffness.getValue());
+      case EXPRESSION: {
+        if (!std::isfinite(mag)) {
           std::ostringstream os;
-          os << "fields 'regionMin' " << a[0] << " " << a[1] << " and 'regionMax' " << b[0] << " " << b[1]
-             << " do not form a rectangle (min > max)";
+          os << "field 'magnitude' must be finite, got " << mag;
           error = os.str();
           return nullptr;
         }
-        return std::make_shared<DistributedForce>(mag * toEigen(force.getValue()), ParamRect{a[0], b[0], a[1], b[1]});
-      }
-      case GRAVITY:
-        if (!requireVec(force, "force")) return nullptr;
-        return std::make_shared<DistributedForce>(info.massDensity * mag * toEigen(force.getValue()));
-      case SPRING: {
-        if (!requireVec(anchor, "anchor") || !requireParam(point.getValue(), "point") ||
-            !requireNonNegative(stiffness, "stiffness"))
-          return nullptr;
-        const Eigen::Vector3d target = toEigen(anchor.getValue());
-        const double k = stiffness.getValue();
-        return std::make_shared<PointForce>(
-            point.getValue()[0], point.getValue()[1],
-            [target, k](const SurfaceSample& s) { return Eigen::Vector3d(k * (target - s.position)); },
-            kDependsOnPosition, k);
-      }
-      case DRAG: {
-        if (!requireNonNegative(coefficient, "coefficient")) return nullptr;
-        const double c = coefficient.getValue();
-        return std::make_shared<DistributedForce>(
-            [c](const SurfaceSample& s) { return Eigen::Vector3d(-c * s.velocity); }, kDependsOnVelocity);
-      }
-      case PRESSURE:
-        return std::make_shared<DistributedForce>([mag](const SurfaceSample& s) { return Eigen::Vector3d(mag * s.normal); },
-                                                  kDependsOnNormal);
-      case PLANE_COLLISION: {
-        if (!requireVec(center, "center") || !requireVec(normal, "normal") || !requireNonNegative(stiffness, "stiffness"))
-          return nullptr;
-        Eigen::Vector3d n = toEigen(normal.getValue());
-        if (n.norm() == 0.0) {
-          error = "field 'normal' must not be the zero vector";
-          return nullptr;
-        }
-        n.normalize();
-        const Eigen::Vector3d c = toEigen(center.getValue());
-        const double k = stiffness.getValue();
-        return std::make_shared<DistributedForce>(
-            [n, c, k](const SurfaceSample& s) {
-              const double depth = -(s.position - c).dot(n);
-              return Eigen::Vector3d(depth > 0.0 ? Eigen::Vector3d(k * depth * n) : Eigen::Vector3d::Zero());
-            },
-            kDependsOnPosition, ParamRect{}, 2, k);
-      }
-      case SPHERE_COLLISION: {
-        if (!requireVec(center, "center") || !requireNonNegative(radius, "radius") ||
-            !requireNonNegative(stiffness, "stiffness"))
-          return nullptr;
-        const Eigen::Vector3d c = toEigen(center.getValue());
-        const double r = radius.getValue(), k = stiffness.getValue();
-        return std::make_shared<DistributedForce>(
-            [c, r, k](const SurfaceSample& s) {
-              const Eigen::Vector3d d = s.position - c;
-              const double len = d.norm();
-              if (len >= r || len == 0.0) return Eigen::Vector3d(Eigen::Vector3d::Zero());
-              return Eigen::Vector3d(k * (r - len) * d / len);
-            },
-            kDependsOnPosition, ParamRect{}, 2, k);
-      }
-      case EXPRESSION: {
         if (expression.getNum() != 3) {
           error = "field 'expression' needs 3 formulas (x, y, z), got " + std::to_string(expression.getNum());
           return nullptr;
@@ -198,19 +280,19 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
         auto ex = std::make_shared<ExpressionDensity>();
         static const char* names[3] = {"x", "y", "z"};
         for (int i = 0; i < 3; ++i) {
-          mu::Parser& p = ex->parser[i];
-          p.DefineConst("pi", 3.14159265358979323846);
-          p.DefineVar("u", &ex->u);
-          p.DefineVar("v", &ex->v);
-          p.DefineVar("x", &ex->x);
-          p.DefineVar("y", &ex->y);
-          p.DefineVar("z", &ex->z);
-          p.DefineVar("t", &ex->t);
+          mu::Parser& parser = ex->parser[i];
+          parser.DefineConst("pi", 3.14159265358979323846);
+          parser.DefineVar("u", &ex->u);
+          parser.DefineVar("v", &ex->v);
+          parser.DefineVar("x", &ex->x);
+          parser.DefineVar("y", &ex->y);
+          parser.DefineVar("z", &ex->z);
+          parser.DefineVar("t", &ex->t);
           const std::string text = expression[i].getString();
           try {
-            p.SetExpr(text.empty() ? "0" : text);
-            p.Eval();  // parses; unknown names and syntax errors throw here
-            for (const auto& used : p.GetUsedVar()) {
+            parser.SetExpr(text.empty() ? "0" : text);
+            parser.Eval();  // parses; unknown names and syntax errors throw here
+            for (const auto& used : parser.GetUsedVar()) {
               if (used.first == "x" || used.first == "y" || used.first == "z") ex->dependence |= kDependsOnPosition;
               if (used.first == "t") ex->dependence |= kDependsOnTime;
             }
@@ -222,23 +304,25 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
             return nullptr;
           }
         }
-        const double m = mag;
+        // The user's formula, evaluated by muParser: the one density that stays a callable.
         return std::make_shared<DistributedForce>(
-            [ex, m](const SurfaceSample& s) {
+            [ex, mag](const SurfaceSample& s) {
               ex->u = s.u;
               ex->v = s.v;
               ex->x = s.position.x();
               ex->y = s.position.y();
               ex->z = s.position.z();
               ex->t = s.t;
-              return Eigen::Vector3d(m * ex->parser[0].Eval(), m * ex->parser[1].Eval(), m * ex->parser[2].Eval());
+              return Eigen::Vector3d(mag * ex->parser[0].Eval(), mag * ex->parser[1].Eval(), mag * ex->parser[2].Eval());
             },
             ex->dependence);
       }
     }
     error = "field 'type' has an unknown value " + std::to_string(type.getValue());
   } catch (const std::exception& e) {
-    error = e.what();
+    SbName name;
+    type.getEnum(type.getValue(), name);
+    error = std::string("type ") + name.getString() + ": " + e.what();
   }
   return nullptr;
 }

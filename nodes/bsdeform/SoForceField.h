@@ -6,6 +6,8 @@
 /// A surface lists the force fields acting on it in its `forces` field; one force field can act
 /// on several surfaces (DEF/USE). Field changes — from code, from a file or through a field
 /// connection (e.g. `magnitude = ElapsedTime {} . timeOut`) — take effect on the next step.
+/// The node only converts its fields: each type maps to one core class (bsdeform/Force.h,
+/// bsdeform/ForceLaws.h), which validates the values and holds the formula.
 ///
 /// \code
 /// SoBSplineDeformSurface {
@@ -14,36 +16,55 @@
 /// }
 /// \endcode
 ///
+/// Numbers are doubles (SoSFDouble, SoSFVec2d, SoSFVec3d), read and written like the surface's:
+/// `point 0.97 0.5` acts at u = 0.97 exactly. Connections from single-precision engine outputs
+/// (SoSFFloat, SoMFFloat, SoSFTime, SoSFInt32, SoSFShort, SoSFBool -> SoSFDouble; SoSFVec2f,
+/// SoMFVec2f -> SoSFVec2d) go through a converter that initClass() registers, because Coin 4.0
+/// has none for double fields (SoSFVec3f -> SoSFVec3d it has); such values carry float precision.
+///
 /// FILE FORMAT/DEFAULTS:
 /// \code
 /// SoForceField {
 ///   type UNIFORM          # UNIFORM POINT REGION EXPRESSION GRAVITY SPRING DRAG PRESSURE
 ///                         # PLANE_COLLISION SPHERE_COLLISION
 ///   on TRUE
-///   force 0 0 1           # force density / point force / gravity acceleration (direction)
-///   magnitude 1           # scales force, expression, pressure
-///   point 0.5 0.5         # (u, v) of POINT and SPRING
-///   regionMin 0.4 0.4     # (u0, v0) of REGION
-///   regionMax 0.6 0.6     # (u1, v1) of REGION
+///   force 0 0 1           # SFVec3d: force density / point force / gravity acceleration (direction)
+///   magnitude 1           # SFDouble: scales force, expression, gravity; the PRESSURE p
+///   point 0.5 0.5         # SFVec2d: (u, v) of POINT and SPRING
+///   regionMin 0.4 0.4     # SFVec2d: (u0, v0) of REGION
+///   regionMax 0.6 0.6     # SFVec2d: (u1, v1) of REGION
 ///   expression [ "0", "0", "0" ]   # x, y, z force density in u v x y z t (muParser syntax, pi)
-///   anchor 0.5 0.5 1      # SPRING anchor
-///   center 0 0 0          # PLANE_COLLISION point on plane / SPHERE_COLLISION centre
-///   normal 0 0 1          # PLANE_COLLISION plane normal (the free side)
-///   radius 0.25           # SPHERE_COLLISION radius
-///   stiffness 10          # SPRING constant, collision penalty per unit area and depth
-///   coefficient 1         # DRAG: force density = -coefficient * velocity
+///   anchor 0.5 0.5 1      # SFVec3d: SPRING anchor
+///   center 0 0 0          # SFVec3d: PLANE_COLLISION point on plane / SPHERE_COLLISION centre
+///   normal 0 0 1          # SFVec3d: PLANE_COLLISION plane normal (the free side)
+///   radius 0.25           # SFDouble: SPHERE_COLLISION radius
+///   stiffness 10          # SFDouble: SPRING constant, collision penalty per unit area and depth
+///   coefficient 1         # SFDouble: DRAG: force density = -coefficient * velocity
 /// }
 /// \endcode
+///
+/// | type             | core class                          | arguments                                  |
+/// |------------------|-------------------------------------|--------------------------------------------|
+/// | UNIFORM          | DistributedForce                    | magnitude * force                          |
+/// | POINT            | PointForce                          | point, magnitude * force                   |
+/// | REGION           | DistributedForce                    | magnitude * force, regionMin..regionMax    |
+/// | EXPRESSION       | DistributedForce (muParser callable)| magnitude * (x, y, z formulas)             |
+/// | GRAVITY          | GravityForce                        | surface mass density, magnitude * force    |
+/// | SPRING           | SpringForce                         | point, anchor, stiffness                   |
+/// | DRAG             | DragForce                           | coefficient                                |
+/// | PRESSURE         | PressureForce                       | magnitude                                  |
+/// | PLANE_COLLISION  | PlaneContactForce                   | center, normal, stiffness                  |
+/// | SPHERE_COLLISION | SphereContactForce                  | center, radius, stiffness                  |
 
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/engines/SoSubEngine.h>
 #include <Inventor/fields/SoMFString.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFEnum.h>
-#include <Inventor/fields/SoSFFloat.h>
+#include <Inventor/fields/SoSFDouble.h>
 #include <Inventor/fields/SoSFInt32.h>
-#include <Inventor/fields/SoSFVec2f.h>
-#include <Inventor/fields/SoSFVec3f.h>
+#include <Inventor/fields/SoSFVec2d.h>
+#include <Inventor/fields/SoSFVec3d.h>
 
 #include <memory>
 #include <string>
@@ -58,16 +79,16 @@ class SoForceField : public SoEngine {
 
  public:
   enum Type {
-    UNIFORM,           ///< constant density `magnitude * force` on the whole surface
-    POINT,             ///< point force `magnitude * force` at `point`
-    REGION,            ///< constant density on the parameter rectangle regionMin..regionMax
-    EXPRESSION,        ///< density given by `expression` (three formulas) times magnitude
-    GRAVITY,           ///< mass density of the surface times acceleration `magnitude * force`
-    SPRING,            ///< `stiffness * (anchor - S(point))` at `point` (the drag of the mouse)
-    DRAG,              ///< viscous density `-coefficient * velocity`
-    PRESSURE,          ///< density `magnitude * unit normal`
-    PLANE_COLLISION,   ///< penalty `stiffness * depth * normal` below the plane (center, normal)
-    SPHERE_COLLISION,  ///< penalty pushing out of the sphere (center, radius)
+    UNIFORM,           ///< constant density `magnitude * force` on the whole surface (DistributedForce)
+    POINT,             ///< point force `magnitude * force` at `point` (PointForce)
+    REGION,            ///< constant density on the rectangle regionMin..regionMax (DistributedForce)
+    EXPRESSION,        ///< density given by `expression` (three formulas) times magnitude (DistributedForce)
+    GRAVITY,           ///< surface mass density times acceleration `magnitude * force` (GravityForce)
+    SPRING,            ///< `stiffness * (anchor - S(point))` at `point` (SpringForce)
+    DRAG,              ///< viscous density `-coefficient * velocity` (DragForce)
+    PRESSURE,          ///< density `magnitude * unit normal` (PressureForce)
+    PLANE_COLLISION,   ///< penalty `stiffness * depth * normal` below the plane (PlaneContactForce)
+    SPHERE_COLLISION,  ///< penalty pushing out of the sphere (center, radius) (SphereContactForce)
   };
 
   static void initClass();
@@ -75,18 +96,18 @@ class SoForceField : public SoEngine {
 
   SoSFEnum type;            ///< the kind of force, UNIFORM by default
   SoSFBool on;              ///< FALSE switches the force off; TRUE by default
-  SoSFVec3f force;          ///< force (density) vector or gravity acceleration; (0, 0, 1)
-  SoSFFloat magnitude;      ///< scale of force / expression / pressure; 1
-  SoSFVec2f point;          ///< (u, v) parameter point of POINT and SPRING; (0.5, 0.5)
-  SoSFVec2f regionMin;      ///< (u0, v0) of REGION; (0.4, 0.4)
-  SoSFVec2f regionMax;      ///< (u1, v1) of REGION; (0.6, 0.6)
+  SoSFVec3d force;          ///< force (density) vector or gravity acceleration; (0, 0, 1)
+  SoSFDouble magnitude;     ///< scale of force / expression / gravity; the pressure p; 1
+  SoSFVec2d point;          ///< (u, v) parameter point of POINT and SPRING; (0.5, 0.5)
+  SoSFVec2d regionMin;      ///< (u0, v0) of REGION; (0.4, 0.4)
+  SoSFVec2d regionMax;      ///< (u1, v1) of REGION; (0.6, 0.6)
   SoMFString expression;    ///< x, y, z density formulas of u v x y z t; ["0","0","0"]
-  SoSFVec3f anchor;         ///< SPRING anchor point (world units of the surface); (0.5, 0.5, 1)
-  SoSFVec3f center;         ///< plane point / sphere centre; (0, 0, 0)
-  SoSFVec3f normal;         ///< plane normal; (0, 0, 1)
-  SoSFFloat radius;         ///< sphere radius; 0.25
-  SoSFFloat stiffness;      ///< spring constant / penalty stiffness; 10
-  SoSFFloat coefficient;    ///< drag coefficient per unit area; 1
+  SoSFVec3d anchor;         ///< SPRING anchor point (world units of the surface); (0.5, 0.5, 1)
+  SoSFVec3d center;         ///< plane point / sphere centre; (0, 0, 0)
+  SoSFVec3d normal;         ///< plane normal (the free side); (0, 0, 1)
+  SoSFDouble radius;        ///< sphere radius; 0.25
+  SoSFDouble stiffness;     ///< spring constant k / penalty per unit area and depth; 10
+  SoSFDouble coefficient;   ///< drag coefficient c per unit parameter area; 1
 
   /// Revision of the input values: changes whenever an input changes (a surface rebuilds its
   /// core force when it sees a new revision).
@@ -108,6 +129,8 @@ class SoForceField : public SoEngine {
   ~SoForceField() override;
   void inputChanged(SoField* which) override;
   void evaluate() override;
+  /// Snaps the doubles read to their 15-digit value (bsdeform::snap15), as the surface does.
+  SbBool readInstance(SoInput* in, unsigned short flags) override;
 
  private:
   int m_revision = 0;

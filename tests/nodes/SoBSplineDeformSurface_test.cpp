@@ -354,7 +354,7 @@ TEST_CASE("SoBSplineDeformSurface: every field of both classes round-trips with 
   CHECK(f->on.getValue() == FALSE);
   CHECK(f->expression[2] == "t");
   CHECK(f->coefficient.getValue() == 8.0f);
-  CHECK(f->normal.getValue() == SbVec3f(0, 1, 0));
+  CHECK(f->normal.getValue() == SbVec3d(0, 1, 0));
   for (const char* word : {"regionMin", "regionMax", "anchor", "center", "radius", "stiffness", "magnitude", "point"})
     CHECK(w1.find(word) != std::string::npos);
   a->unref();
