@@ -26,20 +26,28 @@ void checkStiffness(double k) {
     throw std::invalid_argument("force stiffness bound must be finite and >= 0, got " + std::to_string(k));
 }
 
-// Adds w * f * B_k(u, v) to the load of the moving point of every B-spline k non-zero at
-// (u, v) (a periodic copy loads the point it repeats), given the 1-D bases.
-inline void scatter(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Vector3d& wf,
-                    ControlNet& load) {
-  const int firstU = s.movingU().first, firstV = s.movingV().first, width = s.movingV().count;
+// Calls fn(i, j, B_k(u, v)) for every B-spline k non-zero at (u, v), given the 1-D bases, with
+// (i, j) the net layers of the moving point it loads (a periodic copy loads the point it
+// repeats); held points are skipped.
+template <typename Fn>
+inline void forEachMovingBasis(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, Fn&& fn) {
   for (int a = 0; a < bu.count; ++a) {
     const int i = s.movingLayerU(bu.first + a + s.degreeU());
     if (i < 0) continue;
     for (int b = 0; b < bv.count; ++b) {
       const int j = s.movingLayerV(bv.first + b + s.degreeV());
-      if (j < 0) continue;
-      load.row(Eigen::Index(i - firstU) * width + (j - firstV)) += (bu.d[0][a] * bv.d[0][b]) * wf.transpose();
+      if (j >= 0) fn(i, j, bu.d[0][a] * bv.d[0][b]);
     }
   }
+}
+
+// Adds w * f * B_k(u, v) to the load of the moving point of every B-spline k non-zero at (u, v).
+inline void scatter(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Vector3d& wf,
+                    ControlNet& load) {
+  const int firstU = s.movingU().first, firstV = s.movingV().first, width = s.movingV().count;
+  forEachMovingBasis(s, bu, bv, [&](int i, int j, double B) {
+    load.row(Eigen::Index(i - firstU) * width + (j - firstV)) += B * wf.transpose();
+  });
 }
 
 // Surface quantities from precomputed 1-D bases (values and first derivatives).
@@ -122,17 +130,11 @@ double PointForce::eigenvalueBound(const MassContext& ctx) const {
   s.basisV().evaluate(m_v, 0, bv);
   // beta per moving point (net layers i, j): periodic copies of one point add up
   std::vector<std::pair<std::pair<int, int>, double>> beta;
-  for (int a = 0; a < bu.count; ++a) {
-    const int i = s.movingLayerU(bu.first + a + s.degreeU());
-    if (i < 0) continue;
-    for (int b = 0; b < bv.count; ++b) {
-      const int j = s.movingLayerV(bv.first + b + s.degreeV());
-      if (j < 0) continue;
-      auto it = std::find_if(beta.begin(), beta.end(), [&](const auto& e) { return e.first == std::make_pair(i, j); });
-      if (it == beta.end()) it = beta.insert(beta.end(), {{i, j}, 0.0});
-      it->second += bu.d[0][a] * bv.d[0][b];
-    }
-  }
+  forEachMovingBasis(s, bu, bv, [&](int i, int j, double B) {
+    auto it = std::find_if(beta.begin(), beta.end(), [&](const auto& e) { return e.first == std::make_pair(i, j); });
+    if (it == beta.end()) it = beta.insert(beta.end(), {{i, j}, 0.0});
+    it->second += B;
+  });
   double sum = 0.0;
   for (const auto& e : beta) sum += e.second * e.second / ctx.massAt(e.first.first, e.first.second);
   return m_stiffness * sum;
