@@ -152,6 +152,30 @@ void fromNet(const bsdeform::ControlNet& net, SoMFVec3d& f) {
   f.finishEditing();
 }
 
+// The core names its parameters as in bsdeform::ModelParameters; a user of the node reads
+// field names.
+std::string fieldMessage(std::string message) {
+  static const std::pair<const char*, const char*> names[] = {
+      {"numU * numV", "numUControlPoints * numVControlPoints"},
+      {"numU", "numUControlPoints"},
+      {"numV", "numVControlPoints"},
+      {"degreeU", "uDegree"},
+      {"degreeV", "vDegree"},
+      {"weight w10", "w10"}, {"weight w01", "w01"}, {"weight w11", "w11"}, {"weight w20", "w20"}, {"weight w02", "w02"},
+      {"timeStep", "timeStep"},
+      {"mass", "mass"},
+      {"damping", "damping"},
+      {"radius", "radius"},
+      {"height", "height"},
+      {"minorRadius", "minorRadius"},
+      {"radii", "radii"}};
+  for (const auto& n : names) {
+    const std::string core = std::string(n.first) + " ";
+    if (message.compare(0, core.size(), core) == 0) return "field '" + std::string(n.second) + "' " + message.substr(core.size());
+  }
+  return message;
+}
+
 std::string num(double x) {
   std::ostringstream os;
   os.precision(17);
@@ -166,25 +190,11 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   auto check = [&](bool ok, const std::string& msg) {
     if (!ok && error.empty()) error = msg;
   };
+  // Numbers and their limits are the core's to check (bsdeform::Simulation); the node checks
+  // only what is its own (enumerations, net sizes of its fields) and names its fields in the
+  // core's messages.
   const int nu = uDegree.getValue(), nv = vDegree.getValue();
   const int Nu = numUControlPoints.getValue(), Nv = numVControlPoints.getValue();
-  check(nu >= 1 && nu <= 7, "field 'uDegree' must be 1..7, got " + std::to_string(nu));
-  check(nv >= 1 && nv <= 7, "field 'vDegree' must be 1..7, got " + std::to_string(nv));
-  check(Nu >= 1 && Nu <= 4096, "field 'numUControlPoints' must be 1..4096, got " + std::to_string(Nu));
-  check(Nv >= 1 && Nv <= 4096, "field 'numVControlPoints' must be 1..4096, got " + std::to_string(Nv));
-  const struct {
-    const SoSFDouble* f;
-    const char* name;
-    bool strict;
-  } positives[] = {{&w10, "w10", false},   {&w01, "w01", false},     {&w11, "w11", false}, {&w20, "w20", false},
-                   {&w02, "w02", false},   {&mass, "mass", true},    {&damping, "damping", false},
-                   {&timeStep, "timeStep", true}};
-  for (const auto& p : positives) {
-    const double x = p.f->getValue();
-    const bool ok = std::isfinite(x) && (p.strict ? x > 0.0 : x >= 0.0);
-    check(ok, std::string("field '") + p.name + "' must be finite and " + (p.strict ? "> 0" : ">= 0") + ", got " +
-                  num(x));
-  }
   check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED,
         "field 'massModel' has an unknown value " + std::to_string(massModel.getValue()));
   check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT,
@@ -203,11 +213,11 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0,
           "field 'pins' [" + std::to_string(i) + "] (" + num(q[0]) + ", " + num(q[1]) + ") must lie in [0,1]^2");
   }
-  const long expected = long(Nu + 2 * nu) * (Nv + 2 * nv);
+  const long long expected = (static_cast<long long>(Nu) + 2LL * nu) * (static_cast<long long>(Nv) + 2LL * nv);
   for (const auto& net : {std::make_pair(&restNet, "restNet"), std::make_pair(&controlNet, "controlNet"),
                           std::make_pair(&previousNet, "previousNet")}) {
     const int n = net.first->getNum();
-    check(n == 0 || n == expected, std::string("field '") + net.second + "' must be empty or have " +
+    check(n == 0 || n == expected || nu < 1 || nv < 1 || Nu < 1 || Nv < 1, std::string("field '") + net.second + "' must be empty or have " +
                                        std::to_string(expected) + " points ((numU + 2 uDegree)(numV + 2 vDegree)), got " +
                                        std::to_string(n));
   }
@@ -252,7 +262,8 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     try {
       rest = bsdeform::shapeRestNet(shape, size, bsdeform::SplineSpace(nu, nv, Nu, Nv, p.boundaries));
     } catch (const std::exception& e) {
-      warn(std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + e.what() + "; keeping the last valid state");
+      warn(std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + fieldMessage(e.what()) +
+           "; keeping the last valid state");
       return false;
     }
   }
@@ -286,7 +297,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     m_sim = std::move(sim);
   } catch (const std::exception& e) {
     if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
-    warn(std::string(e.what()) + "; keeping the last valid state");
+    warn(fieldMessage(e.what()) + "; keeping the last valid state");
     return false;
   }
   m_lastWarning.clear();

@@ -29,16 +29,16 @@ void require(bool ok, const std::string& message) {
 }
 
 const ModelParameters& validated(const ModelParameters& p) {
-  // Degrees and counts are checked (with their names) by SplineSpace; the rest here.
-  require(std::isfinite(p.timeStep) && p.timeStep > 0.0, "timeStep must be finite and > 0, got " + num(p.timeStep));
+  // Degrees, counts, their limits and the boundary pairs first (SplineSpace names them), then
+  // the rest here; weights are checked by StiffnessStencil.
+  (void)SplineSpace(p.degreeU, p.degreeV, p.numU, p.numV, p.boundaries);
   require(std::isfinite(p.mass) && p.mass > 0.0, "mass must be finite and > 0, got " + num(p.mass));
   require(std::isfinite(p.damping) && p.damping >= 0.0, "damping must be finite and >= 0, got " + num(p.damping));
+  require(std::isfinite(p.timeStep) && p.timeStep > 0.0, "timeStep must be finite and > 0, got " + num(p.timeStep));
   require(std::isfinite(p.stabilitySafety) && p.stabilitySafety > 0.0 && p.stabilitySafety <= 1.0,
           "stabilitySafety must be in (0, 1], got " + num(p.stabilitySafety));
   require(std::isfinite(p.divergenceLimit) && p.divergenceLimit > 0.0,
           "divergenceLimit must be finite and > 0, got " + num(p.divergenceLimit));
-  const long long points = static_cast<long long>(p.numU) * p.numV;
-  require(points <= (1LL << 28), "numU * numV must be at most 2^28, got " + std::to_string(points));
   for (size_t i = 0; i < p.pins.size(); ++i) {
     const Eigen::Vector2d& q = p.pins[i];
     require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,

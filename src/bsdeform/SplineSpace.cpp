@@ -21,7 +21,6 @@ BSplineBasis1D makeBasis(int degree, int numFree, const char* degreeName, const 
   if (numFree < 1)
     throw std::invalid_argument(std::string(countName) + " (free control points) must be at least 1, got " +
                                 std::to_string(numFree));
-  constexpr int kMaxPerSide = 1 << 16;
   if (numFree > kMaxPerSide)
     throw std::invalid_argument(std::string(countName) + " must be at most " + std::to_string(kMaxPerSide) +
                                 ", got " + std::to_string(numFree));
@@ -63,7 +62,12 @@ SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Bou
       m_v(makeBasis(degreeV, numV, "degreeV", "numV")),
       m_boundaries(b),
       m_movingU(movingLayers(m_u, b.uMin, b.uMax, "boundaryUMin", "boundaryUMax")),
-      m_movingV(movingLayers(m_v, b.vMin, b.vMax, "boundaryVMin", "boundaryVMax")) {}
+      m_movingV(movingLayers(m_v, b.vMin, b.vMax, "boundaryVMin", "boundaryVMax")) {
+  const long long points = static_cast<long long>(numU) * numV;
+  if (points > kMaxInnerPoints)
+    throw std::invalid_argument("numU * numV must be at most " + std::to_string(kMaxInnerPoints) + ", got " +
+                                std::to_string(points));
+}
 
 int SplineSpace::movingLayerU(int i) const { return movingLayer(m_movingU, periodicU(), degreeU(), i); }
 int SplineSpace::movingLayerV(int j) const { return movingLayer(m_movingV, periodicV(), degreeV(), j); }

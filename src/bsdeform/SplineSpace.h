@@ -61,10 +61,14 @@ struct LayerRange {
   bool contains(int layer) const { return layer >= first && layer < first + count; }
 };
 
+/// Limits of a model, checked once, here: inner control points per direction and in all.
+constexpr int kMaxPerSide = 1 << 16;
+constexpr long long kMaxInnerPoints = 1LL << 24;  ///< N1 N2 <= 4096^2 (about 400 MB per net)
+
 class SplineSpace {
  public:
   /// @throws std::invalid_argument naming the parameter for degrees outside 1..7, N < 1,
-  ///         N > 65536, or PERIODIC on only one side of a direction
+  ///         N > kMaxPerSide, N1 N2 > kMaxInnerPoints, or PERIODIC on only one side of a direction
   SplineSpace(int degreeU, int degreeV, int numU, int numV, const Boundaries& boundaries = Boundaries());
 
   const BSplineBasis1D& basisU() const { return m_u; }
