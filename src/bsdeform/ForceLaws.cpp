@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/ForceLaws.h"
+#include "bsdeform/NumberText.h"
 
 #include <cmath>
 #include <sstream>
@@ -11,12 +12,7 @@ namespace bsdeform {
 namespace {
 // The checks return their argument so that they can run in a base-class initialiser, before
 // the base class sees the value. Messages: "<what> must be ..., got <value>".
-std::string text(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
+std::string text(double x) { return numberText(x); }
 std::string text(const Eigen::Vector3d& v) { return "(" + text(v.x()) + ", " + text(v.y()) + ", " + text(v.z()) + ")"; }
 
 double parameter(double x, const char* what) {

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/RestShape.h"
+#include "bsdeform/NumberText.h"
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -19,11 +20,7 @@ constexpr double kPi = 3.14159265358979323846;
 // geometric error (sphere R = 0.5, 16 x 16: 1.1e-2 instead of 5.9e-3).
 constexpr double kProfileSmoothing = 1.0;
 
-std::string num(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", x);
-  return buf;
-}
+std::string num(double x) { return numberText(x); }
 
 void checkSize(double x, const char* name) {
   if (!std::isfinite(x) || x <= 0.0) throw std::invalid_argument(std::string(name) + " must be finite and > 0, got " + num(x));

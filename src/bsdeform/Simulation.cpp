@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/Simulation.h"
+#include "bsdeform/NumberText.h"
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -17,12 +18,7 @@ struct Simulation::ImplicitSolver {
 
 namespace {
 
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
+std::string num(double x) { return numberText(x); }
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw std::invalid_argument(message);
