@@ -35,13 +35,18 @@ double circleScale(int n, int M) {
   return 1.0 / phi;
 }
 
-// Unit-circle control points of a periodic direction: (cos, sin) of 2 pi xi_(k mod M), so that
-// copies are bit-identical to what they repeat.
-Eigen::Vector2d circlePoint(const BSplineBasis1D& basis, int k) {
+// Unit-circle control points of a periodic direction, one per net layer: circleScale times
+// (cos, sin) of 2 pi xi_(k mod M), so that copies are bit-identical to what they repeat.
+std::vector<Eigen::Vector2d> circlePoints(const BSplineBasis1D& basis) {
   const int M = basis.numSpans(), n = basis.degree();
-  const int kk = ((k % M) + M) % M;
-  const double angle = 2 * kPi * (kk + 0.5 * (n + 1)) / M;
-  return circleScale(n, M) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  const double scale = circleScale(n, M);
+  std::vector<Eigen::Vector2d> points;
+  for (int k = -n; k < M; ++k) {
+    const int kk = ((k % M) + M) % M;
+    const double angle = 2 * kPi * (kk + 0.5 * (n + 1)) / M;
+    points.push_back(scale * Eigen::Vector2d(std::cos(angle), std::sin(angle)));
+  }
+  return points;
 }
 
 // A 2-D profile (rho, z) along a non-periodic direction: layers in `held` get their given
@@ -165,10 +170,12 @@ ControlNet shapeRestNet(ShapeKind kind, const ShapeSize& size, const SplineSpace
   ControlNet net(space.netSize(), 3);
   auto put = [&](int k1, int k2, const Eigen::Vector3d& p) { net.row(space.netIndex(k1, k2)) = p.transpose(); };
 
+  const std::vector<Eigen::Vector2d> circleU = circlePoints(bu);  // per u layer
   if (kind == ShapeKind::Torus) {
+    const std::vector<Eigen::Vector2d> circleV = circlePoints(bv);
     for (int k1 = -space.degreeU(); k1 < space.numU() + space.degreeU(); ++k1)
       for (int k2 = -n2; k2 < space.numV() + n2; ++k2) {
-        const Eigen::Vector2d a = circlePoint(bu, k1), b = circlePoint(bv, k2);
+        const Eigen::Vector2d &a = circleU[size_t(k1 + space.degreeU())], &b = circleV[size_t(k2 + n2)];
         const double ring = size.radius + size.minorRadius * b.x();
         put(k1, k2, Eigen::Vector3d(ring * a.x(), ring * a.y(), size.minorRadius * b.y()));
       }
@@ -205,7 +212,7 @@ ControlNet shapeRestNet(ShapeKind kind, const ShapeSize& size, const SplineSpace
       kind == ShapeKind::Sphere ? Eigen::Vector3d::Constant(size.radius)
                                 : kind == ShapeKind::Ellipsoid ? size.radii : Eigen::Vector3d::Ones();
   for (int k1 = -space.degreeU(); k1 < space.numU() + space.degreeU(); ++k1) {
-    const Eigen::Vector2d a = circlePoint(bu, k1);
+    const Eigen::Vector2d& a = circleU[size_t(k1 + space.degreeU())];
     for (int l = 0; l < layersV; ++l) {
       const Eigen::Vector2d& p = profile[l];
       put(k1, l - n2, scale.cwiseProduct(Eigen::Vector3d(p.x() * a.x(), p.x() * a.y(), p.y())));

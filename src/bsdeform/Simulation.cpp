@@ -89,8 +89,6 @@ double Simulation::massAt(int i, int j) const {
   return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
 }
 
-bool Simulation::isPinned(int i, int j) const { return m_pinMask[size_t(i) * m_space.netCols() + j] != 0; }
-
 void Simulation::holdPins(ControlNet& net) const {
   for (Eigen::Index r : m_pinned) net.row(r) = m_rest.row(r);
 }
@@ -142,10 +140,8 @@ void Simulation::init() {
   const Boundaries& bc = m_space.boundaries();
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
-  m_elasticLambda = (m_params.massModel == MassModel::Lumped && anyFree)
-                        ? m_stencil.elementEigenvalueBound() / m_params.mass
-                        : m_stencilLambda / massPerPoint();
   m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree);
+  m_elasticLambda = m_uniformMass ? m_stencilLambda / massPerPoint() : m_stencil.elementEigenvalueBound() / m_params.mass;
   if (m_uniformMass) {
     m_massMoving.resize(0);
   } else {

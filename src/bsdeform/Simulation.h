@@ -160,8 +160,6 @@ class Simulation {
   /// Mass of moving net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
   /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge).
   double massAt(int i, int j) const;
-  /// Whether moving net point (i, j) is held by a pin.
-  bool isPinned(int i, int j) const;
   /// Net rows of the points held by pins (moving points only).
   const std::vector<Eigen::Index>& pinnedRows() const { return m_pinned; }
 

@@ -131,11 +131,11 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
         std::vector<double> c(size_t(width), 0.0);
         for (int d1 = -m_ru; d1 <= m_ru; ++d1)
           for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
-            auto G = [&](const GramRows1D& g, int p, int type, int d) { return g.entry(p, type, d); };
-            c[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] =
-                w.w10 * G(m_gu, 1, tu, d1) * G(m_gv, 0, tv, d2) + w.w01 * G(m_gu, 0, tu, d1) * G(m_gv, 1, tv, d2) +
-                2.0 * w.w11 * G(m_gu, 1, tu, d1) * G(m_gv, 1, tv, d2) +
-                w.w20 * G(m_gu, 2, tu, d1) * G(m_gv, 0, tv, d2) + w.w02 * G(m_gu, 0, tu, d1) * G(m_gv, 2, tv, d2);
+            auto Gu = [&](int p) { return m_gu.entry(p, tu, d1); };
+            auto Gv = [&](int p) { return m_gv.entry(p, tv, d2); };
+            c[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] = w.w10 * Gu(1) * Gv(0) + w.w01 * Gu(0) * Gv(1) +
+                                                                 2.0 * w.w11 * Gu(1) * Gv(1) + w.w20 * Gu(2) * Gv(0) +
+                                                                 w.w02 * Gu(0) * Gv(2);
           }
         m_tables.push_back(std::move(c));
       }

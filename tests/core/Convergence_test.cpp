@@ -24,6 +24,21 @@ struct Manufactured {
   double f(double u, double v) const { return -(g2(u) * g(v) + g(u) * g2(v)); }
 };
 
+// The L2 norm over [0,1]^2 of e(u, v), Gauss-Legendre with n+3 points per knot cell.
+template <typename Error>
+double l2Norm(int n, int spans, Error&& e) {
+  const QuadratureRule& q = gaussLegendre(n + 3);
+  double err2 = 0.0;
+  for (int a = 0; a < spans; ++a)
+    for (int b = 0; b < spans; ++b)
+      for (size_t i = 0; i < q.nodes.size(); ++i)
+        for (size_t j = 0; j < q.nodes.size(); ++j) {
+          const double x = e((a + q.nodes[i]) / spans, (b + q.nodes[j]) / spans);
+          err2 += q.weights[i] * q.weights[j] * x * x / (double(spans) * spans);
+        }
+  return std::sqrt(err2);
+}
+
 double l2Error(int n, int N) {
   ModelParameters p;
   p.degreeU = p.degreeV = n;
@@ -34,18 +49,7 @@ double l2Error(int n, int N) {
   sim.addForce(std::make_shared<DistributedForce>(
       [m](const SurfaceSample& s) { return Eigen::Vector3d(0, 0, m.f(s.u, s.v)); }, kConstant, ParamRect{}, 3));
   const ControlNet net = sim.staticSolution();
-  const QuadratureRule& q = gaussLegendre(n + 3);
-  const int spans = N + n;
-  double err2 = 0.0;
-  for (int a = 0; a < spans; ++a)
-    for (int b = 0; b < spans; ++b)
-      for (size_t i = 0; i < q.nodes.size(); ++i)
-        for (size_t j = 0; j < q.nodes.size(); ++j) {
-          const double u = (a + q.nodes[i]) / spans, v = (b + q.nodes[j]) / spans;
-          const double e = sim.space().evaluate(net, u, v, 0).position.z() - m.z(u, v);
-          err2 += q.weights[i] * q.weights[j] * e * e / (double(spans) * spans);
-        }
-  return std::sqrt(err2);
+  return l2Norm(n, N + n, [&](double u, double v) { return sim.space().evaluate(net, u, v, 0).position.z() - m.z(u, v); });
 }
 }  // namespace
 
@@ -81,19 +85,11 @@ double l2ErrorPeriodic(int n, int N) {
       [=](const SurfaceSample& q) { return Eigen::Vector3d(0, 0, -(s2(q.u) * m.g(q.v) + s(q.u) * m.g2(q.v))); },
       kConstant, ParamRect{}, 3));
   const ControlNet net = sim.staticSolution();
-  const QuadratureRule& q = gaussLegendre(n + 3);
-  const int spans = N + n;
-  double err2 = 0.0;
-  for (int a = 0; a < spans; ++a)
-    for (int b = 0; b < spans; ++b)
-      for (size_t i = 0; i < q.nodes.size(); ++i)
-        for (size_t j = 0; j < q.nodes.size(); ++j) {
-          const double u = (a + q.nodes[i]) / spans, v = (b + q.nodes[j]) / spans;
-          const double d = sim.space().evaluate(net, u, v, 0).position.z() - sim.space().evaluate(sim.rest(), u, v, 0).position.z();
-          const double e = d - s(u) * m.g(v);
-          err2 += q.weights[i] * q.weights[j] * e * e / (double(spans) * spans);
-        }
-  return std::sqrt(err2);
+  const SplineSpace& sp = sim.space();
+  return l2Norm(n, N + n, [&](double u, double v) {
+    const double d = sp.evaluate(net, u, v, 0).position.z() - sp.evaluate(sim.rest(), u, v, 0).position.z();
+    return d - s(u) * m.g(v);
+  });
 }
 }  // namespace
 
