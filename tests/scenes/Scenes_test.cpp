@@ -350,6 +350,34 @@ TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", 
   CHECK(r.err.find("no such file") == std::string::npos);
 }
 
+TEST_CASE("bsdeform-run: a file that would crash or hang Coin's reader is refused with file, line and reason",
+          "[scenes]") {
+  TempDir dir;
+  const std::string h = "#Inventor V2.1 ascii\n";
+  std::string deep = h;
+  for (int i = 0; i < 12000; ++i) deep += "Separator {\n";
+  const struct {
+    const char* file;
+    std::string text;
+    const char* where;
+    const char* why;
+  } cases[] = {
+      {"self.iv", h + "DEF E ElapsedTime {\n timeIn 0 = USE E.timeOut\n}\n", "self.iv:3:", "itself"},
+      {"forces.iv", h + "SoBSplineDeformSurface {\n forces [ 5 ]\n}\n", "forces.iv:3:", "engine"},
+      {"fields.iv", h + "Cube { fields [ SFFloat nowhere ] }\n", "fields.iv:2:", "nowhere"},
+      {"deep.iv", deep, "deep.iv:1002:", "nested"},
+      {"name.iv", h + "DEF " + std::string(70000, 'n') + " Cube {}\n", "name.iv:2:", "70000 characters"},
+  };
+  for (const auto& c : cases) {
+    writeFile(dir.path + "/" + c.file, c.text);
+    const Run r = run(std::string(c.file) + " -o out_" + c.file, dir.path, "timeout 60");
+    INFO(c.file << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(c.where) != std::string::npos);
+    CHECK(r.err.find(c.why) != std::string::npos);
+  }
+}
+
 TEST_CASE("bsdeform-run: an unreadable scene file gives the system's reason", "[scenes]") {
   if (geteuid() == 0) {
     WARN("running as root: chmod 000 does not stop root from reading, so this case is not checked");

@@ -35,6 +35,7 @@
 #include "Plot.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -91,13 +92,10 @@ Failure loadScene(const QString& path, SoSeparator*& root) {
     if (!probe.open(QIODevice::ReadOnly))
       return {kBadInput, QStringLiteral("cannot open scene '%1': %2").arg(path, probe.errorString())};
   }
-  SoInput in;
-  if (!in.openFile(QFile::encodeName(path).constData()))
-    return {kBadInput, QStringLiteral("cannot open scene '%1'").arg(path)};
-  g_coinMessages.clear();
-  root = SoDB::readAll(&in);
+  std::string error;  // the guarded reader (docs/reliability.md): FILE:LINE: reason, or Coin's errors
+  root = bsdeform::readSceneFile(QFile::encodeName(path).toStdString(), error);
   if (!root)
-    return {kBadInput, QStringLiteral("cannot read scene '%1': %2").arg(path, g_coinMessages.join(QStringLiteral("; ")))};
+    return {kBadInput, QStringLiteral("cannot read scene: %1").arg(QString::fromStdString(error).replace(QLatin1Char('\n'), QStringLiteral("; ")))};
   root->ref();
   return {kOk, {}};
 }
