@@ -378,6 +378,25 @@ TEST_CASE("bsdeform-run: a file that would crash or hang Coin's reader is refuse
   }
 }
 
+TEST_CASE("bsdeform-run: a clock that no longer advances or a step needing too many sub-steps is refused",
+          "[scenes]") {
+  TempDir dir;
+  // a saved state at t = 1e17, where t + 0.1 == t: the runner used to loop forever
+  REQUIRE(run(scene("paper_fig2_point_force.iv") + " --steps 2 -o saved -q", dir.path).code == 0);
+  std::string saved = slurp(dir.path + "/saved/final.iv");
+  const std::size_t at = saved.find("simulationTime ");
+  REQUIRE(at != std::string::npos);
+  saved.replace(at, saved.find('\n', at) - at, "simulationTime 1e17");
+  writeFile(dir.path + "/late.iv", saved);
+  Run r = run("late.iv --steps 3 -o late_out", dir.path, "timeout 60");
+  CHECK(r.code == 2);
+  CHECK(r.err.find("no longer advances the clock") != std::string::npos);
+  // timeStep 1e8 needs about 1e8 sub-steps per step: refused at once, raised by --set
+  r = run(scene("paper_fig2_point_force.iv") + " --steps 1 -o big --set Surface.timeStep=1e8", dir.path, "timeout 60");
+  CHECK(r.code == 2);
+  CHECK(r.err.find("maxSubSteps") != std::string::npos);
+}
+
 TEST_CASE("bsdeform-run: an unreadable scene file gives the system's reason", "[scenes]") {
   if (geteuid() == 0) {
     WARN("running as root: chmod 000 does not stop root from reading, so this case is not checked");

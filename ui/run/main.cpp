@@ -247,6 +247,12 @@ Failure runScene(const Options& o) {
   }
   if (!g_coinMessages.isEmpty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, g_coinMessages.join(QStringLiteral("; ")))};
+  // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad input.
+  for (const Surface& s : surfaces) {
+    const std::string why = s.node->simulation().refusal();
+    if (!why.empty())
+      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(why))};
+  }
   if (!o.resultOnly) {
     f = checkOutputNames(surfaces);
     if (f.code != kOk) return f;
@@ -349,10 +355,14 @@ Failure runScene(const Options& o) {
     for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
   }
   QStringList blowUps;
-  for (const Surface& s : surfaces)
-    if (s.failed) blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+  bool refused = false;
+  for (const Surface& s : surfaces) {
+    if (!s.failed) continue;
+    blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+    refused |= s.node->simulation().status() == bsdeform::Status::Refused;
+  }
   root->unref();  // the surfaces are gone after this
-  if (blewUp) return {kBlowUp, blowUps.join(QStringLiteral("; "))};
+  if (blewUp) return {refused ? kBadInput : kBlowUp, blowUps.join(QStringLiteral("; "))};
   return {kOk, {}};
 }
 
