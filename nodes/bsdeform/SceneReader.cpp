@@ -14,7 +14,12 @@
 #include <Inventor/nodes/SoFile.h>
 #include <Inventor/nodes/SoNode.h>
 #include <Inventor/nodes/SoSeparator.h>
+#include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <climits>
 
 #include <cerrno>
 #include <cstdio>
@@ -284,7 +289,7 @@ bool Scanner::include(const Frame& f) {
   }
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return true;  // Coin reports it
-  char resolved[4096];
+  char resolved[PATH_MAX];
   const std::string key = ::realpath(path.c_str(), resolved) ? std::string(resolved) : path;
   if (m_chain.count(key))
     return fail(f.openLine, "File includes '" + f.fileName + "', which includes itself (Coin 4.0 recurses until it crashes)");
@@ -604,47 +609,42 @@ SoSeparator* readSceneText(const char* data, std::size_t size, const std::string
 }
 
 SoSeparator* readSceneFile(const std::string& path, std::string& error, const SceneLimits& limits) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    error = path + ": " + std::strerror(errno);
+    return nullptr;
+  }
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) {
-    error = path + ": " + std::strerror(errno);
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    error = path + (S_ISDIR(st.st_mode) ? ": is a directory, not a scene file" : ": not a regular file");
+    ::close(fd);
     return nullptr;
   }
-  if (S_ISDIR(st.st_mode)) {
-    error = path + ": is a directory, not a scene file";
-    return nullptr;
-  }
-  if (!S_ISREG(st.st_mode)) {
-    error = path + ": not a regular file";
-    return nullptr;
-  }
-  if (std::size_t(st.st_size) > limits.maxFileBytes) {
-    error = path + ": " + std::to_string(st.st_size) + " bytes (a scene file may have at most " +
+  const std::size_t size = std::size_t(st.st_size);
+  if (size > limits.maxFileBytes) {
+    error = path + ": " + std::to_string(size) + " bytes (a scene file may have at most " +
             std::to_string(limits.maxFileBytes) + ")";
+    ::close(fd);
     return nullptr;
   }
-  std::FILE* fp = std::fopen(path.c_str(), "rb");
-  if (!fp) {
-    error = path + ": " + std::strerror(errno);
+  // Mapped, not copied: a scene of hundreds of megabytes is scanned and read in place.
+  void* map = size ? ::mmap(nullptr, size, PROT_READ, MAP_PRIVATE, fd, 0) : nullptr;
+  const int mapErrno = errno;
+  ::close(fd);
+  if (map == MAP_FAILED) {
+    error = path + ": " + std::strerror(mapErrno);
     return nullptr;
   }
-  std::string text(std::size_t(st.st_size), '\0');
-  const std::size_t got = text.empty() ? 0 : std::fread(&text[0], 1, text.size(), fp);
-  const bool readFailed = std::ferror(fp) != 0;
-  const int readErrno = errno;
-  std::fclose(fp);
-  if (readFailed) {
-    error = path + ": " + std::strerror(readErrno);
-    return nullptr;
-  }
-  text.resize(got);
   std::string directory = ".";
-  char resolved[4096];
+  char resolved[PATH_MAX];
   if (::realpath(path.c_str(), resolved)) {
     const std::string full(resolved);
     const std::size_t slash = full.rfind('/');
     directory = slash == 0 ? std::string("/") : full.substr(0, slash);
   }
-  return readSceneText(text.data(), text.size(), path, error, directory, limits);
+  SoSeparator* root = readSceneText(size ? static_cast<const char*>(map) : "", size, path, error, directory, limits);
+  if (map) ::munmap(map, size);
+  return root;
 }
 
 }  // namespace bsdeform

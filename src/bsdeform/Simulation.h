@@ -48,7 +48,7 @@ enum class Status {
 /// Everything that defines a model. Defaults are the paper's §5 settings, except the start.
 struct ModelParameters {
   int degreeU = 3, degreeV = 3;  ///< n1, n2 in 1..7
-  int numU = 5, numV = 5;        ///< N1, N2 inner control points, 1..65536, N1 N2 <= 2^28
+  int numU = 5, numV = 5;        ///< N1, N2 inner control points, 1..65536, N1 N2 <= 2^22
   Boundaries boundaries;         ///< each side CLAMPED (the paper), FREE or PERIODIC
   /// Pinned parameter points (u, v) in [0,1]^2: each holds the (n1+1)(n2+1) control points of
   /// the knot span containing it (spans half-open, the last closed at 1), so S(u, v) stays at

@@ -155,8 +155,16 @@ void record(Surface& s) {
   s.strain << e.total;
 }
 
+// Streams the scene text into the temporary file: it is never held in memory.
 bool writeScene(SoNode* root, const QString& path, QString& error) {
-  return bsdeform::saveFileAtomically(path, QByteArray::fromStdString(bsdeform::sceneToText(root)), error);
+  return bsdeform::saveFileAtomically(
+      path,
+      [root](QIODevice& device) {
+        return bsdeform::writeSceneText(root, [&device](const char* data, std::size_t size) {
+          return device.write(data, qint64(size)) == qint64(size);
+        });
+      },
+      error);
 }
 
 // Every output file is named after a surface: a DEF name that is not a plain file name, or two

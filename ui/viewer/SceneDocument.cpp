@@ -80,8 +80,18 @@ QByteArray SceneDocument::toText() const {
   return m_root ? QByteArray::fromStdString(sceneToText(m_root)) : QByteArray();
 }
 
+bool SceneDocument::writeTo(const TextSink& sink) const {
+  return m_root && writeSceneText(m_root, sink);
+}
+
 bool SceneDocument::save(const QString& path, QString& error) const {
-  return saveFileAtomically(path, toText(), error);
+  // streamed into the temporary file: the text is never held in memory
+  return saveFileAtomically(
+      path,
+      [this](QIODevice& device) {
+        return writeTo([&device](const char* data, std::size_t size) { return device.write(data, qint64(size)) == qint64(size); });
+      },
+      error);
 }
 
 QString SceneDocument::nameOf(SoBSplineDeformSurface* s) const {
