@@ -340,6 +340,23 @@ TEST_CASE("bsdeform-run: a full disk keeps the previous outputs byte for byte an
   if (root) root->unref();
 }
 
+TEST_CASE("bsdeform-run: a frame image on a full disk keeps the previous image and says why", "[scenes]") {
+  TempDir dir;
+  REQUIRE(run(scene("paper_fig7_sinusoidal.iv") + " --steps 2 --png-every 2 --size 64x48 -o frames", dir.path).code == 0);
+  const std::string png = slurp(dir.path + "/frames/frame_000000.png");
+  REQUIRE(png.size() > 100);
+  const std::vector<std::string> files{"Surface.csv", "final.iv", "frame_000000.png", "frame_000002.png"};
+  REQUIRE(listDir(dir.path + "/frames") == files);
+  const Run r = run(scene("paper_fig7_sinusoidal.iv") + " --steps 2 --png-every 2 --size 80x60 -o frames --overwrite",
+                    dir.path, fullDisk(dir.path + "/frames"));
+  INFO(r.err);
+  CHECK(r.code == 4);
+  CHECK(r.err.find("frame_000000.png") != std::string::npos);
+  CHECK(r.err.find("No space left on device") != std::string::npos);
+  CHECK(slurp(dir.path + "/frames/frame_000000.png") == png);
+  CHECK(listDir(dir.path + "/frames") == files);  // no temporary file left behind
+}
+
 TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", "[scenes]") {
   TempDir dir;
   REQUIRE(mkdir((dir.path + "/scene.iv").c_str(), 0755) == 0);
