@@ -3,7 +3,6 @@
 // Reads a scene, advances every SoBSplineDeformSurface by STEPS steps (default 0), and renders
 // it headlessly (EGL, no X needed) to a PNG.
 #include <Inventor/SoDB.h>
-#include <Inventor/SoInput.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/nodes/SoSeparator.h>
 
@@ -13,6 +12,7 @@
 
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -25,14 +25,10 @@ int main(int argc, char** argv) {
   const int width = argc > 5 ? std::atoi(argv[4]) : 640, height = argc > 5 ? std::atoi(argv[5]) : 480;
   bsdeform::disableDynamicNodeLoading();
   bsdeform::initNodes();
-  SoInput in;
-  if (!in.openFile(argv[1])) {
-    std::fprintf(stderr, "bsdeform-render: cannot open '%s'\n", argv[1]);
-    return 2;
-  }
-  SoSeparator* root = SoDB::readAll(&in);
+  std::string readError;
+  SoSeparator* root = bsdeform::readSceneFile(argv[1], readError);  // guarded, see docs/reliability.md
   if (!root) {
-    std::fprintf(stderr, "bsdeform-render: '%s' is not a readable Inventor file (see Coin's message above)\n", argv[1]);
+    std::fprintf(stderr, "bsdeform-render: %s\n", readError.c_str());
     return 2;
   }
   root->ref();

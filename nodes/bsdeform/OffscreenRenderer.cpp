@@ -12,11 +12,15 @@
 #include <Inventor/nodes/SoPerspectiveCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <png.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <vector>
 
 namespace bsdeform {
 
@@ -189,8 +193,15 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
 }
 
 namespace {
-// libpng reports errors by longjmp; keep the setjmp frame free of locals that change after it.
-bool encodePng(const Image& image, FILE* f) {
+void appendPng(png_structp png, png_bytep data, png_size_t size) {
+  auto* out = static_cast<std::vector<unsigned char>*>(png_get_io_ptr(png));
+  out->insert(out->end(), data, data + size);
+}
+
+// Into memory (a frame is small): the file is then written with plain write(2) calls whose
+// every error is seen. libpng reports errors by longjmp; the setjmp frame has no locals that
+// change after it.
+bool encodePng(const Image& image, std::vector<unsigned char>& out) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -198,7 +209,7 @@ bool encodePng(const Image& image, FILE* f) {
     png_destroy_write_struct(&png, info ? &info : nullptr);
     return false;
   }
-  png_init_io(png, f);
+  png_set_write_fn(png, &out, appendPng, nullptr);
   png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -215,16 +226,32 @@ bool writePng(const Image& image, const std::string& path, std::string& error) {
     error = "writePng: empty or inconsistent image for " + path;
     return false;
   }
-  const std::string tmp = path + ".tmp";
-  FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) {
+  std::vector<unsigned char> bytes;
+  if (!encodePng(image, bytes)) {
+    error = "cannot write '" + path + "': PNG encoding failed";
+    return false;
+  }
+  // All or nothing: a temporary file of our own in the same directory, written, synced and
+  // renamed over `path` only when every step succeeded (a full disk keeps the previous image).
+  std::string tmp = path + ".XXXXXX";
+  const int fd = ::mkstemp(&tmp[0]);
+  if (fd < 0) {
     error = "cannot write '" + path + "': " + std::strerror(errno);
     return false;
   }
-  const bool encoded = encodePng(image, f);
-  const bool closed = std::fclose(f) == 0;
-  if (!encoded || !closed || std::rename(tmp.c_str(), path.c_str()) != 0) {
-    error = "cannot write '" + path + "': " + (encoded ? std::strerror(errno) : "PNG encoding failed");
+  int why = 0;
+  if (::fchmod(fd, 0644) != 0) why = errno;
+  for (std::size_t done = 0; !why && done < bytes.size();) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) why = n < 0 ? errno : EIO;
+    else done += std::size_t(n);
+  }
+  if (!why && ::fsync(fd) != 0) why = errno;
+  if (::close(fd) != 0 && !why) why = errno;
+  if (!why && std::rename(tmp.c_str(), path.c_str()) != 0) why = errno;
+  if (why) {
+    error = "cannot write '" + path + "': " + std::strerror(why);
     std::remove(tmp.c_str());
     return false;
   }

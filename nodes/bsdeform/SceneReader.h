@@ -15,7 +15,7 @@ namespace bsdeform {
 
 /// Limits of the guard (docs/reliability.md says why each value).
 struct SceneLimits {
-  std::size_t maxWordLength = 4096;        ///< unquoted word (names, identifiers, numbers)
+  std::size_t maxWordLength = 65000;       ///< run of non-blank characters (names, identifiers, numbers)
   std::size_t maxStringLength = 65000;     ///< quoted string (may become an SbName)
   int maxNesting = 1000;                   ///< nodes/engines inside each other, across File includes
   std::size_t maxFileBytes = std::size_t(1) << 30;  ///< a scene file (or included file)

@@ -4,8 +4,10 @@
 #include <Inventor/SoOutput.h>
 #include <Inventor/actions/SoWriteAction.h>
 
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 
@@ -108,16 +110,49 @@ class PreciseOutput : public SoOutput {
 };
 }  // namespace
 
+namespace {
+// A FILE* whose writes go to a TextSink (glibc's fopencookie): Coin's SoOutput writes to a FILE*
+// piece by piece, so the text streams instead of growing one buffer.
+struct SinkCookie {
+  const TextSink* sink;
+  bool failed = false;
+};
+
+ssize_t sinkWrite(void* cookie, const char* data, size_t size) {
+  auto* c = static_cast<SinkCookie*>(cookie);
+  if (c->failed || !(*c->sink)(data, size)) {
+    c->failed = true;
+    errno = EIO;
+    return -1;
+  }
+  return static_cast<ssize_t>(size);
+}
+}  // namespace
+
+bool writeSceneText(SoNode* root, const TextSink& sink) {
+  SinkCookie cookie{&sink};
+  cookie_io_functions_t io{};
+  io.write = sinkWrite;
+  FILE* fp = fopencookie(&cookie, "w", io);
+  if (!fp) return false;
+  std::setvbuf(fp, nullptr, _IOFBF, std::size_t(1) << 20);
+  {
+    PreciseOutput out;
+    out.setFilePointer(fp);
+    SoWriteAction wa(&out);
+    wa.apply(root);
+  }
+  const bool flushed = std::fflush(fp) == 0 && !std::ferror(fp);
+  const bool closed = std::fclose(fp) == 0;
+  return flushed && closed && !cookie.failed;
+}
+
 std::string sceneToText(SoNode* root) {
-  PreciseOutput out;
-  out.setBuffer(nullptr, 0, [](void* p, size_t n) { return std::realloc(p, n); });
-  SoWriteAction wa(&out);
-  wa.apply(root);
-  void* buf = nullptr;
-  size_t size = 0;
-  out.getBuffer(buf, size);
-  std::string text(static_cast<const char*>(buf), size);
-  std::free(buf);  // SoOutput does not free a buffer it was given a realloc function for
+  std::string text;
+  writeSceneText(root, [&text](const char* data, std::size_t size) {
+    text.append(data, size);
+    return true;
+  });
   return text;
 }
 

@@ -4,13 +4,23 @@
 /// A scene graph as .iv text (what SoWriteAction writes), e.g. to save it atomically, with
 /// doubles written so that Coin's own reader gets them back.
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 class SoNode;
 
 namespace bsdeform {
 
-/// Writes `root` (with every surface's current state) as ASCII Inventor text.
+/// Receives written text piece by piece (about a megabyte at a time); returns false on a write
+/// error, which stops the writing.
+using TextSink = std::function<bool(const char* data, std::size_t size)>;
+
+/// Writes `root` (with every surface's current state) as ASCII Inventor text into `sink`,
+/// streaming: the whole text is never held in memory. Returns false if the sink failed.
+bool writeSceneText(SoNode* root, const TextSink& sink);
+
+/// The same text as one string (small scenes, tests).
 std::string sceneToText(SoNode* root);
 
 /// The double of the 15-significant-digit decimal form of x (x itself if not finite). The

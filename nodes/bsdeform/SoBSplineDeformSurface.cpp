@@ -54,6 +54,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(damping, (0.5));
   SO_NODE_ADD_FIELD(timeStep, (0.1));
   SO_NODE_ADD_FIELD(integrator, (EXPLICIT));
+  SO_NODE_ADD_FIELD(maxSubSteps, (10000));
   SO_NODE_ADD_FIELD(reference, (REST));
   SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
@@ -237,6 +238,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   p.damping = damping.getValue();
   p.timeStep = timeStep.getValue();
   p.integrator = integrator.getValue() == IMPLICIT ? bsdeform::Integrator::Implicit : bsdeform::Integrator::Explicit;
+  p.maxSubSteps = maxSubSteps.getValue();
   p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
   p.start = start.getValue() == PAPER ? bsdeform::StartRule::Paper : bsdeform::StartRule::SecondOrder;
   auto side = [](const SoSFEnum& f) {
@@ -388,8 +390,12 @@ int SoBSplineDeformSurface::advanceRealTime(double seconds) {
   // A slow frame is not made up with an avalanche of steps: at most a quarter second per call.
   m_timeBudget += std::min(seconds, 0.25) * sp;
   const double dt = m_sim->parameters().timeStep;
-  const int steps = static_cast<int>(std::floor(m_timeBudget / dt + 1e-9));
-  m_timeBudget = std::max(0.0, m_timeBudget - steps * dt);
+  // In double first: speed 1e30 or a tiny timeStep ask for more steps than an int holds. At most
+  // kMaxStepsPerCall are taken, and a budget beyond them is dropped, not owed.
+  constexpr int kMaxStepsPerCall = 10000;
+  const double wanted = std::floor(m_timeBudget / dt + 1e-9);
+  const int steps = wanted <= kMaxStepsPerCall ? static_cast<int>(std::max(0.0, wanted)) : kMaxStepsPerCall;
+  m_timeBudget = wanted <= kMaxStepsPerCall ? std::max(0.0, m_timeBudget - steps * dt) : 0.0;
   if (steps > 0) stepSimulation(steps);
   return steps;
 }

@@ -24,6 +24,7 @@
 ///   damping 0.5           # [c] >= 0, same convention as mass
 ///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
 ///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark)
+///   maxSubSteps 10000     # EXPLICIT: a step needing more sub-steps is refused, not run for minutes
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -41,7 +42,7 @@
 ///   minorRadius 0.2       # r: TORUS tube
 ///   radii 0.6 0.45 0.35   # (a, b, c): ELLIPSOID semi-axes along x, y, z
 ///   on TRUE               # animate with the real-time clock
-///   speed 1               # simulated seconds per real second
+///   speed 1               # simulated seconds per real second (at most 10000 steps per frame)
 ///   reset                 # trigger: back to the rest state
 ///   restNet [ ]           # (N1+2n1)(N2+2n2) points, u-major; empty: the plane (u, v, 0)
 ///   controlNet [ ]        # current state; empty: the rest net
@@ -109,6 +110,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble damping;           ///< c, same convention; 0.5
   SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
   SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
+  SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE or PERIODIC; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED

@@ -57,6 +57,7 @@ SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, cons
   smp.u = u;
   smp.v = v;
   smp.t = ctx.time;
+  smp.stepSize = ctx.stepSize;
   if (!(dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))) return smp;
   const int order = (dep & kDependsOnNormal) ? 1 : 0;
   const SurfacePoint now = ctx.space.evaluate(ctx.current, bu, bv, order);

@@ -26,6 +26,7 @@ enum ForceDependence : unsigned {
 /// Only the members the force asked for (its ForceDependence) are filled in.
 struct SurfaceSample {
   double u = 0.0, v = 0.0, t = 0.0;
+  double stepSize = 0.0;  ///< the (sub-)step the velocity is measured over (always filled in)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();

@@ -35,6 +35,7 @@ const ModelParameters& validated(const ModelParameters& p) {
           "stabilitySafety must be in (0, 1], got " + num(p.stabilitySafety));
   require(std::isfinite(p.divergenceLimit) && p.divergenceLimit > 0.0,
           "divergenceLimit must be finite and > 0, got " + num(p.divergenceLimit));
+  require(p.maxSubSteps >= 1, "maxSubSteps must be >= 1, got " + std::to_string(p.maxSubSteps));
   for (size_t i = 0; i < p.pins.size(); ++i) {
     const Eigen::Vector2d& q = p.pins[i];
     require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,
@@ -204,9 +205,13 @@ void Simulation::updateSubSteps() {
   m_lambdaMax = m_elasticLambda + forceLambda;
   const double oldStep = subStepSize();
   int n = 1;
+  m_subStepsNeeded = 1.0;
   if (m_params.integrator == Integrator::Explicit && m_params.autoSubstep && m_lambdaMax > 0.0) {
     const double safe = m_params.stabilitySafety * stabilityLimit();
-    n = static_cast<int>(std::max(1.0, std::ceil(m_params.timeStep / safe)));
+    // In double first: timeStep 1e12, w20 1e300 or mass 1e-300 need more sub-steps than an int
+    // holds (or infinitely many); such a step is refused by step(), see refusal().
+    m_subStepsNeeded = std::max(1.0, std::ceil(m_params.timeStep / safe));
+    n = m_subStepsNeeded <= double(m_params.maxSubSteps) ? static_cast<int>(m_subStepsNeeded) : m_params.maxSubSteps;
   }
   m_subSteps = n;
   const double newStep = subStepSize();
@@ -324,8 +329,32 @@ bool Simulation::implicitSubStep(double t) {
   return ok;
 }
 
+std::string Simulation::refusal() const {
+  std::ostringstream os;
+  os.precision(6);
+  const double dt = m_params.timeStep;
+  if (!(m_subStepsNeeded <= double(m_params.maxSubSteps))) {
+    os << "a step of timeStep " << dt << " needs " << m_subStepsNeeded << " sub-steps below the stability limit "
+       << stabilityLimit() << " (at most maxSubSteps = " << m_params.maxSubSteps
+       << "); lower timeStep or the stiffness, or raise maxSubSteps";
+    return os.str();
+  }
+  const double advanced = (m_time + dt) - m_time;
+  if (!(std::abs(advanced - dt) <= 1e-4 * dt)) {
+    os << "at simulationTime " << num(m_time) << " a step of timeStep " << dt
+       << " no longer advances the clock in double precision (it moves by " << num(advanced)
+       << "); reset the simulation or start from a smaller simulationTime";
+    return os.str();
+  }
+  return std::string();
+}
+
 Status Simulation::step() {
   if (m_status != Status::Ok) return m_status;
+  if (std::string why = refusal(); !why.empty()) {
+    fail(Status::Refused, "step refused: " + why);
+    return m_status;
+  }
   if (m_startPending) applyStartRule();
   const double dt = subStepSize();
   for (int s = 0; s < m_subSteps; ++s) {

@@ -42,12 +42,13 @@ enum class Status {
   Ok,
   NonFinite,  ///< a step produced NaN or infinity; the last finite state is kept
   Diverged,   ///< a coordinate exceeded the divergence limit; the last state is kept
+  Refused,    ///< the step cannot be taken as asked (see Simulation::refusal()); nothing changed
 };
 
 /// Everything that defines a model. Defaults are the paper's §5 settings, except the start.
 struct ModelParameters {
   int degreeU = 3, degreeV = 3;  ///< n1, n2 in 1..7
-  int numU = 5, numV = 5;        ///< N1, N2 inner control points, 1..65536, N1 N2 <= 2^28
+  int numU = 5, numV = 5;        ///< N1, N2 inner control points, 1..65536, N1 N2 <= 2^22
   Boundaries boundaries;         ///< each side CLAMPED (the paper), FREE or PERIODIC
   /// Pinned parameter points (u, v) in [0,1]^2: each holds the (n1+1)(n2+1) control points of
   /// the knot span containing it (spans half-open, the last closed at 1), so S(u, v) stays at
@@ -64,6 +65,9 @@ struct ModelParameters {
   bool autoSubstep = true;        ///< explicit only: split Delta t to stay below the limit
   double stabilitySafety = 0.9;   ///< sub-step <= safety * stability limit, in (0, 1]
   double divergenceLimit = 1e6;   ///< |coordinate| > limit * (1 + max |rest coordinate|) stops
+  /// Explicit: a step that needs more sub-steps than this is refused (Status::Refused) instead
+  /// of running for minutes; >= 1.
+  int maxSubSteps = 10000;
 };
 
 /// Strain energy of the displacement from the rest net, total and per weight term.
@@ -139,6 +143,14 @@ class Simulation {
   int subSteps() const { return m_subSteps; }
   double subStepSize() const { return m_params.timeStep / m_subSteps; }
 
+  /// Sub-steps a step would need below the stability limit (may exceed maxSubSteps, be huge or
+  /// infinite); subSteps() is this number when it is allowed.
+  double subStepsNeeded() const { return m_subStepsNeeded; }
+  /// Why the next step() would be refused, or "" when it can be taken: it needs more than
+  /// maxSubSteps sub-steps, or the clock no longer advances by Delta t at time() (t + Delta t
+  /// rounds to t, or off by more than 1e-4 Delta t).
+  std::string refusal() const;
+
   Status status() const { return m_status; }
   const std::string& statusMessage() const { return m_statusMessage; }
 
@@ -204,6 +216,7 @@ class Simulation {
   double m_elasticLambda = 0.0;
   double m_lambdaMax = 0.0;
   int m_subSteps = 1;
+  double m_subStepsNeeded = 1.0;
   double m_divergenceLimit = 0.0;
   double m_time = 0.0;
   long m_steps = 0;

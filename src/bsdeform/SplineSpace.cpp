@@ -65,8 +65,8 @@ SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Bou
       m_movingV(movingLayers(m_v, b.vMin, b.vMax, "boundaryVMin", "boundaryVMax")) {
   const long long points = static_cast<long long>(numU) * numV;
   if (points > kMaxInnerPoints)
-    throw std::invalid_argument("numU * numV must be at most " + std::to_string(kMaxInnerPoints) + ", got " +
-                                std::to_string(points));
+    throw std::invalid_argument("numU * numV must be at most " + std::to_string(kMaxInnerPoints) +
+                                " (2048^2; about 1 GB of memory), got " + std::to_string(points));
 }
 
 int SplineSpace::movingLayerU(int i) const { return movingLayer(m_movingU, periodicU(), degreeU(), i); }

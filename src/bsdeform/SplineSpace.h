@@ -63,7 +63,9 @@ struct LayerRange {
 
 /// Limits of a model, checked once, here: inner control points per direction and in all.
 constexpr int kMaxPerSide = 1 << 16;
-constexpr long long kMaxInnerPoints = 1LL << 24;  ///< N1 N2 <= 4096^2 (about 400 MB per net)
+/// N1 N2 <= 2048^2: about 100 MB per net of doubles; a running model holds about ten nets
+/// (docs/reliability.md: measured 1 GB peak for 2048^2, writing included, as text is streamed).
+constexpr long long kMaxInnerPoints = 1LL << 22;
 
 class SplineSpace {
  public:

@@ -338,3 +338,68 @@ TEST_CASE("Simulation: a stiff penalty force is included in the stability limit,
   sim.advance(200);
   CHECK(sim.status() == Status::Ok);
 }
+
+TEST_CASE("Simulation: a step needing more sub-steps than maxSubSteps is refused, in any magnitude", "[core]") {
+  // timeStep 1e12, w20 1e300 and mass 1e-300 need more sub-steps than an int holds: before the
+  // cap the count overflowed (undefined behaviour) and the surface silently did not move.
+  for (int variant = 0; variant < 4; ++variant) {
+    ModelParameters p = paperParams(6);
+    if (variant == 0) p.timeStep = 1e12;
+    if (variant == 1) p.weights.w20 = 1e300;
+    if (variant == 2) p.mass = 1e-300;
+    if (variant == 3) p.timeStep = 1e8;
+    Simulation sim(p);
+    sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+    INFO("variant " << variant);
+    CHECK(sim.subStepsNeeded() > 1e4);
+    CHECK(sim.subSteps() == p.maxSubSteps);  // a valid int, never a wrapped one
+    const ControlNet before = sim.current();
+    CHECK(sim.refusal().find("maxSubSteps = 10000") != std::string::npos);
+    CHECK(sim.step() == Status::Refused);
+    CHECK(sim.statusMessage().find("sub-steps") != std::string::npos);
+    CHECK(sim.current() == before);
+    CHECK(sim.time() == 0.0);
+    CHECK(sim.stepCount() == 0);
+  }
+  // the cap is a parameter: raised above what is needed, the same step runs sub-stepped
+  ModelParameters p = paperParams(6);
+  p.timeStep = 100.0;
+  Simulation probe(p);
+  const double needed = probe.subStepsNeeded();
+  REQUIRE(needed > 10.0);
+  REQUIRE(needed < 1000.0);
+  p.maxSubSteps = int(needed) - 1;
+  CHECK(Simulation(p).step() == Status::Refused);
+  p.maxSubSteps = int(needed);
+  Simulation ok(p);
+  CHECK(ok.refusal().empty());
+  CHECK(ok.step() == Status::Ok);
+  CHECK(ok.subSteps() == int(needed));
+  p.maxSubSteps = 0;
+  CHECK_THROWS_WITH(Simulation(p), Catch::Contains("maxSubSteps must be >= 1, got 0"));
+}
+
+TEST_CASE("Simulation: a time at which the step no longer advances the clock is refused", "[core]") {
+  Simulation sim(paperParams(6));
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  const ControlNet net = sim.current();
+  // 1e17 + 0.1 == 1e17: before, the runner looped forever
+  sim.setState(net, net, 1e17, 5);
+  CHECK(sim.refusal().find("no longer advances the clock") != std::string::npos);
+  CHECK(sim.step() == Status::Refused);
+  CHECK(sim.time() == 1e17);
+  CHECK(sim.stepCount() == 5);
+  // 1e13 + 0.1 rounds the step by about 2e-3 * 0.1: refused too (the tolerance is 1e-4 dt)
+  Simulation coarse(paperParams(6));
+  coarse.setState(net, net, 1e13, 0);
+  CHECK_FALSE(coarse.refusal().empty());
+  // 1e9 still advances by 0.1 to within 1e-7 relative: runs
+  Simulation late(paperParams(6));
+  late.setState(net, net, 1e9, 0);
+  CHECK(late.refusal().empty());
+  CHECK(late.step() == Status::Ok);
+  CHECK(late.time() > 1e9);
+  // reset gives the clock back
+  sim.reset();
+  CHECK(sim.step() == Status::Ok);
+}

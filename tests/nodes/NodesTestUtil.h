@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bsdeform/NodesInit.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -40,10 +41,10 @@ struct Coin {
 /// Reads a scene from a string (null on failure). The result is ref'ed.
 inline SoSeparator* read(const std::string& text) {
   Coin::get();
-  SoInput in;
-  in.setBuffer(text.data(), text.size());
-  SoSeparator* root = SoDB::readAll(&in);
+  std::string error;  // the guarded reader our programs use; Coin's errors also reach `messages`
+  SoSeparator* root = bsdeform::readSceneText(text.data(), text.size(), "test-scene", error);
   if (root) root->ref();
+  else Coin::get().messages.push_back(error);
   return root;
 }
 

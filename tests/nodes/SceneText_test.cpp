@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
@@ -58,4 +59,28 @@ TEST_CASE("SceneText: every double written is read back by Coin to its 15-digit 
   CHECK(coinDoubleText(0.1) == "0.1");
   CHECK(coinDoubleText(2.5) == "2.5");
   CHECK(coinDoubleText(0.000983542385712959) == "983542385712959e-18");
+}
+
+TEST_CASE("SceneText: a scene streams in pieces of at most a megabyte, and a failing sink stops it", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE "
+                                     "numUControlPoints 160 numVControlPoints 160 "
+                                     "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  REQUIRE(root);
+  testutil::find<SoBSplineDeformSurface>(root)->stepSimulation(2);
+  std::vector<std::size_t> pieces;
+  std::string streamed;
+  CHECK(writeSceneText(root, [&](const char* data, std::size_t size) {
+    pieces.push_back(size);
+    streamed.append(data, size);
+    return true;
+  }));
+  CHECK(streamed.size() > 3u << 20);  // three nets of 166^2 points
+  CHECK(pieces.size() >= 3);
+  CHECK(*std::max_element(pieces.begin(), pieces.end()) <= std::size_t(1) << 20);
+  CHECK(streamed == testutil::write(root));
+  // the sink fails on the second piece: writing stops there and says so
+  int calls = 0;
+  CHECK_FALSE(writeSceneText(root, [&](const char*, std::size_t) { return ++calls < 2; }));
+  CHECK(calls == 2);
+  root->unref();
 }

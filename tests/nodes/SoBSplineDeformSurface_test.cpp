@@ -9,6 +9,7 @@
 #include <Inventor/sensors/SoSensorManager.h>
 #include <Inventor/nodes/SoComplexity.h>
 #include <catch2/catch.hpp>
+#include <limits>
 #include <cmath>
 #include <memory>
 
@@ -448,5 +449,43 @@ TEST_CASE("SoForceField: one force field (DEF/USE) acts on two surfaces", "[node
   CHECK(b->simulation().evaluate(0.5, 0.5).position.z() < 0.0);
   const std::string text = testutil::write(root);
   CHECK(text.find("USE Shared") != std::string::npos);
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: a huge speed or a tiny step takes at most 10000 steps per call, owing nothing",
+          "[nodes]") {
+  // speed 1e30 asked for 2.5e30 steps in one call: a double -> int overflow (undefined behaviour).
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE timeStep 0.1 "
+                                     "numUControlPoints 2 numVControlPoints 2 speed 1e30 } }");
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK(s->advanceRealTime(0.1) == 10000);
+  CHECK(s->simulation().stepCount() == 10000);
+  s->speed = 1.0f;
+  CHECK(s->advanceRealTime(0.1) == 1);  // the dropped budget is not owed
+  s->speed = std::numeric_limits<float>::infinity();
+  CHECK(s->advanceRealTime(0.1) == 10000);
+  s->speed = 1.0f;
+  CHECK(s->advanceRealTime(0.1) == 1);
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: maxSubSteps refuses a step that would run for minutes, and is a field", "[nodes]") {
+  auto& messages = testutil::Coin::get().messages;
+  messages.clear();
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE timeStep 1e8 "
+                                     "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK_FALSE(s->stepSimulation(1));
+  CHECK(s->simulation().status() == bsdeform::Status::Refused);
+  CHECK(s->simulation().stepCount() == 0);
+  bool named = false;
+  for (const auto& m : messages) named |= m.find("maxSubSteps") != std::string::npos;
+  CHECK(named);
+  s->timeStep = 100.0;  // needs about a hundred sub-steps: over a cap of 50, under the default
+  s->maxSubSteps = 50;
+  CHECK_FALSE(s->stepSimulation(1));
+  s->maxSubSteps = 10000;
+  CHECK(s->stepSimulation(1));
+  CHECK(s->simulation().subSteps() > 50);
   root->unref();
 }

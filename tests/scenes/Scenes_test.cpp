@@ -342,6 +342,23 @@ TEST_CASE("bsdeform-run: a full disk keeps the previous outputs byte for byte an
   if (root) root->unref();
 }
 
+TEST_CASE("bsdeform-run: a frame image on a full disk keeps the previous image and says why", "[scenes]") {
+  TempDir dir;
+  REQUIRE(run(scene("paper_fig7_sinusoidal.iv") + " --steps 2 --png-every 2 --size 64x48 -o frames", dir.path).code == 0);
+  const std::string png = slurp(dir.path + "/frames/frame_000000.png");
+  REQUIRE(png.size() > 100);
+  const std::vector<std::string> files{"Surface.csv", "final.iv", "frame_000000.png", "frame_000002.png"};
+  REQUIRE(listDir(dir.path + "/frames") == files);
+  const Run r = run(scene("paper_fig7_sinusoidal.iv") + " --steps 2 --png-every 2 --size 80x60 -o frames --overwrite",
+                    dir.path, fullDisk(dir.path + "/frames"));
+  INFO(r.err);
+  CHECK(r.code == 4);
+  CHECK(r.err.find("frame_000000.png") != std::string::npos);
+  CHECK(r.err.find("No space left on device") != std::string::npos);
+  CHECK(slurp(dir.path + "/frames/frame_000000.png") == png);
+  CHECK(listDir(dir.path + "/frames") == files);  // no temporary file left behind
+}
+
 TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", "[scenes]") {
   TempDir dir;
   REQUIRE(mkdir((dir.path + "/scene.iv").c_str(), 0755) == 0);
@@ -350,6 +367,53 @@ TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", 
   CHECK(r.err.find("scene.iv") != std::string::npos);
   CHECK(r.err.find("is a directory") != std::string::npos);
   CHECK(r.err.find("no such file") == std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: a file that would crash or hang Coin's reader is refused with file, line and reason",
+          "[scenes]") {
+  TempDir dir;
+  const std::string h = "#Inventor V2.1 ascii\n";
+  std::string deep = h;
+  for (int i = 0; i < 12000; ++i) deep += "Separator {\n";
+  const struct {
+    const char* file;
+    std::string text;
+    const char* where;
+    const char* why;
+  } cases[] = {
+      {"self.iv", h + "DEF E ElapsedTime {\n timeIn 0 = USE E.timeOut\n}\n", "self.iv:3:", "itself"},
+      {"forces.iv", h + "SoBSplineDeformSurface {\n forces [ 5 ]\n}\n", "forces.iv:3:", "engine"},
+      {"fields.iv", h + "Cube { fields [ SFFloat nowhere ] }\n", "fields.iv:2:", "nowhere"},
+      {"deep.iv", deep, "deep.iv:1002:", "nested"},
+      {"name.iv", h + "DEF " + std::string(70000, 'n') + " Cube {}\n", "name.iv:2:", "70000 characters"},
+  };
+  for (const auto& c : cases) {
+    writeFile(dir.path + "/" + c.file, c.text);
+    const Run r = run(std::string(c.file) + " -o out_" + c.file, dir.path, "timeout 60");
+    INFO(c.file << ": " << r.err);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(c.where) != std::string::npos);
+    CHECK(r.err.find(c.why) != std::string::npos);
+  }
+}
+
+TEST_CASE("bsdeform-run: a clock that no longer advances or a step needing too many sub-steps is refused",
+          "[scenes]") {
+  TempDir dir;
+  // a saved state at t = 1e17, where t + 0.1 == t: the runner used to loop forever
+  REQUIRE(run(scene("paper_fig2_point_force.iv") + " --steps 2 -o saved -q", dir.path).code == 0);
+  std::string saved = slurp(dir.path + "/saved/final.iv");
+  const std::size_t at = saved.find("simulationTime ");
+  REQUIRE(at != std::string::npos);
+  saved.replace(at, saved.find('\n', at) - at, "simulationTime 1e17");
+  writeFile(dir.path + "/late.iv", saved);
+  Run r = run("late.iv --steps 3 -o late_out", dir.path, "timeout 60");
+  CHECK(r.code == 2);
+  CHECK(r.err.find("no longer advances the clock") != std::string::npos);
+  // timeStep 1e8 needs about 1e8 sub-steps per step: refused at once, raised by --set
+  r = run(scene("paper_fig2_point_force.iv") + " --steps 1 -o big --set Surface.timeStep=1e8", dir.path, "timeout 60");
+  CHECK(r.code == 2);
+  CHECK(r.err.find("maxSubSteps") != std::string::npos);
 }
 
 TEST_CASE("bsdeform-run: an unreadable scene file gives the system's reason", "[scenes]") {

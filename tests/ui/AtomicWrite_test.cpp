@@ -204,3 +204,40 @@ TEST_CASE("Plot exports on a full disk keep the previous files", "[ui]") {
   CHECK(slurp(sweep) == sweepBefore);
   CHECK(entries(dir.path()) == QStringList({QStringLiteral("history.csv"), QStringLiteral("plot.png"), QStringLiteral("sweep.png")}));
 }
+
+TEST_CASE("PlotPanel: the history is bounded, keeps its whole time span and stays uniform", "[ui]") {
+  ensureApp();
+  bsdeform::SceneDocument doc;
+  QString error;
+  REQUIRE(doc.load(QStringLiteral(BSDEFORM_SCENES_DIR "/paper_fig7_sinusoidal.iv"), error));
+  SoBSplineDeformSurface* s = doc.surfaces().first();
+  bsdeform::PlotPanel panel;
+  panel.setHistoryLimit(100);
+  panel.setSurface(s, QStringLiteral("Surface"));  // the sample at t = 0
+  const double dt = s->simulation().parameters().timeStep;
+  for (int i = 0; i < 1000; ++i) {
+    s->stepSimulation(1);
+    panel.sample();
+    REQUIRE(panel.sampleCount() <= 100);
+  }
+  // 1001 samples seen: thinned four times (stride 16), the first sample and the whole span kept
+  CHECK(panel.historyStride() == 16);
+  CHECK(panel.sampleCount() >= 50);
+  QTemporaryDir dir;
+  const QString csv = dir.filePath(QStringLiteral("history.csv"));
+  REQUIRE(panel.exportCsv(csv, error));
+  QFile f(csv);
+  REQUIRE(f.open(QIODevice::ReadOnly));
+  f.readLine();
+  QVector<double> t;
+  while (!f.atEnd()) t << f.readLine().split(',').first().toDouble();
+  REQUIRE(t.size() == panel.sampleCount());
+  CHECK(t.first() == 0.0);
+  CHECK(t.last() >= 1000 * dt - 16 * dt - 1e-9);
+  for (int i = 1; i < t.size(); ++i) CHECK(t[i] - t[i - 1] == Approx(16 * dt));  // uniform spacing
+  // a reset restarts the history at full resolution
+  s->resetSimulation();
+  panel.sample();
+  CHECK(panel.sampleCount() == 1);
+  CHECK(panel.historyStride() == 1);
+}

@@ -35,6 +35,7 @@
 #include "Plot.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -91,13 +92,10 @@ Failure loadScene(const QString& path, SoSeparator*& root) {
     if (!probe.open(QIODevice::ReadOnly))
       return {kBadInput, QStringLiteral("cannot open scene '%1': %2").arg(path, probe.errorString())};
   }
-  SoInput in;
-  if (!in.openFile(QFile::encodeName(path).constData()))
-    return {kBadInput, QStringLiteral("cannot open scene '%1'").arg(path)};
-  g_coinMessages.clear();
-  root = SoDB::readAll(&in);
+  std::string error;  // the guarded reader (docs/reliability.md): FILE:LINE: reason, or Coin's errors
+  root = bsdeform::readSceneFile(QFile::encodeName(path).toStdString(), error);
   if (!root)
-    return {kBadInput, QStringLiteral("cannot read scene '%1': %2").arg(path, g_coinMessages.join(QStringLiteral("; ")))};
+    return {kBadInput, QStringLiteral("cannot read scene: %1").arg(QString::fromStdString(error).replace(QLatin1Char('\n'), QStringLiteral("; ")))};
   root->ref();
   return {kOk, {}};
 }
@@ -157,8 +155,16 @@ void record(Surface& s) {
   s.strain << e.total;
 }
 
+// Streams the scene text into the temporary file: it is never held in memory.
 bool writeScene(SoNode* root, const QString& path, QString& error) {
-  return bsdeform::saveFileAtomically(path, QByteArray::fromStdString(bsdeform::sceneToText(root)), error);
+  return bsdeform::saveFileAtomically(
+      path,
+      [root](QIODevice& device) {
+        return bsdeform::writeSceneText(root, [&device](const char* data, std::size_t size) {
+          return device.write(data, qint64(size)) == qint64(size);
+        });
+      },
+      error);
 }
 
 // Every output file is named after a surface: a DEF name that is not a plain file name, or two
@@ -249,6 +255,12 @@ Failure runScene(const Options& o) {
   }
   if (!g_coinMessages.isEmpty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, g_coinMessages.join(QStringLiteral("; ")))};
+  // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad input.
+  for (const Surface& s : surfaces) {
+    const std::string why = s.node->simulation().refusal();
+    if (!why.empty())
+      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(why))};
+  }
   if (!o.resultOnly) {
     f = checkOutputNames(surfaces);
     if (f.code != kOk) return f;
@@ -351,10 +363,14 @@ Failure runScene(const Options& o) {
     for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
   }
   QStringList blowUps;
-  for (const Surface& s : surfaces)
-    if (s.failed) blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+  bool refused = false;
+  for (const Surface& s : surfaces) {
+    if (!s.failed) continue;
+    blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+    refused |= s.node->simulation().status() == bsdeform::Status::Refused;
+  }
   root->unref();  // the surfaces are gone after this
-  if (blewUp) return {kBlowUp, blowUps.join(QStringLiteral("; "))};
+  if (blewUp) return {refused ? kBadInput : kBlowUp, blowUps.join(QStringLiteral("; "))};
   return {kOk, {}};
 }
 

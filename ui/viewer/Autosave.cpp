@@ -12,6 +12,7 @@
 #include <QTimer>
 #include <QUrl>
 #include <algorithm>
+#include <cstring>
 
 #include "AtomicFile.h"
 #include "SceneDocument.h"
@@ -20,8 +21,6 @@ namespace bsdeform {
 
 namespace {
 const char* kOriginPrefix = "# bsdeform-viewer recovery of: ";
-
-QByteArray hashOf(const QByteArray& text) { return QCryptographicHash::hash(text, QCryptographicHash::Sha1); }
 
 QString lockPathOf(const QString& ivPath) { return ivPath.left(ivPath.size() - 3) + QStringLiteral(".lock"); }
 }  // namespace
@@ -64,29 +63,36 @@ int Autosave::interval() const { return m_timer->isActive() ? m_timer->interval(
 
 QString Autosave::filePath() const { return QDir(m_dir).filePath(m_name + QStringLiteral(".iv")); }
 
+QByteArray Autosave::currentHash() const {
+  QCryptographicHash hash(QCryptographicHash::Sha1);
+  const bool written = m_doc.writeTo([&hash](const char* data, std::size_t size) {
+    hash.addData(data, int(size));  // pieces of about a megabyte
+    return true;
+  });
+  return written ? hash.result() : QByteArray();
+}
+
 void Autosave::markClean() {
-  m_lastHash = hashOf(m_doc.toText());
+  m_lastHash = currentHash();
   discard();
 }
 
 bool Autosave::saveIfChanged(QString& error) {
-  const QByteArray text = m_doc.toText();
-  if (text.isEmpty()) return true;
-  const QByteArray hash = hashOf(text);
+  const QByteArray hash = currentHash();
+  if (hash.isEmpty()) return true;
   if (hash == m_lastHash) return true;
-  if (!write(text, error)) return false;
+  if (!write(error)) return false;
   m_lastHash = hash;
   return true;
 }
 
 bool Autosave::saveNow(QString& error) {
-  const QByteArray text = m_doc.toText();
-  if (!write(text, error)) return false;
-  m_lastHash = hashOf(text);
+  if (!write(error)) return false;
+  m_lastHash = currentHash();
   return true;
 }
 
-bool Autosave::write(const QByteArray& text, QString& error) {
+bool Autosave::write(QString& error) {
   if (!QDir().mkpath(m_dir)) {
     error = QStringLiteral("cannot create the recovery directory '%1'").arg(m_dir);
     return false;
@@ -104,12 +110,25 @@ bool Autosave::write(const QByteArray& text, QString& error) {
     }
     m_lock = std::move(lock);
   }
-  // "#Inventor V2.1 ascii" must stay the first line; the origin goes on the second
-  const int eol = text.indexOf('\n');
-  QByteArray out = text.left(eol + 1);
-  out += kOriginPrefix + QUrl::toPercentEncoding(m_doc.path()) + '\n';
-  out += text.mid(eol + 1);
-  if (!saveFileAtomically(filePath(), out, error)) return false;
+  // "#Inventor V2.1 ascii" must stay the first line; the origin goes on the second. The text is
+  // streamed into the file, never held whole.
+  const QByteArray origin = kOriginPrefix + QUrl::toPercentEncoding(m_doc.path()) + '\n';
+  bool originWritten = false;
+  auto writer = [&](QIODevice& device) {
+    return m_doc.writeTo([&](const char* data, std::size_t size) {
+      if (!originWritten) {
+        if (const void* eol = std::memchr(data, '\n', size)) {
+          const std::size_t head = std::size_t(static_cast<const char*>(eol) - data) + 1;
+          if (device.write(data, qint64(head)) != qint64(head) || device.write(origin) != origin.size()) return false;
+          originWritten = true;
+          data += head;
+          size -= head;
+        }
+      }
+      return size == 0 || device.write(data, qint64(size)) == qint64(size);
+    });
+  };
+  if (!saveFileAtomically(filePath(), writer, error)) return false;
   emit saved(filePath());
   return true;
 }

@@ -75,7 +75,8 @@ class Autosave : public QObject {
   void saved(const QString& path);
 
  private:
-  bool write(const QByteArray& text, QString& error);
+  bool write(QString& error);  // streams the scene with its origin line
+  QByteArray currentHash() const;  // of the scene text, streamed; empty without a scene
 
   const SceneDocument& m_doc;
   QString m_dir;

@@ -70,7 +70,26 @@ void PlotPanel::clearHistory() {
   m_norm.clear();
   m_kinetic.clear();
   m_strain.clear();
+  m_stride = 1;
+  m_skipped = 0;
   for (auto* s : m_series) s->clear();
+}
+
+void PlotPanel::setHistoryLimit(int limit) {
+  m_historyLimit = std::max(4, limit + (limit & 1));  // even: thinning keeps the spacing uniform
+  while (m_t.size() >= m_historyLimit) thinHistory();
+}
+
+// Drops every second sample (the first is kept) and halves the rate of new ones.
+void PlotPanel::thinHistory() {
+  for (QVector<double>* v : {&m_t, &m_norm, &m_kinetic, &m_strain}) {
+    int k = 0;
+    for (int i = 0; i < v->size(); i += 2) (*v)[k++] = (*v)[i];
+    v->resize(k);
+    v->squeeze();
+  }
+  m_stride *= 2;
+  m_skipped = 0;
 }
 
 void PlotPanel::setSurface(SoBSplineDeformSurface* surface, const QString& name) {
@@ -87,22 +106,27 @@ void PlotPanel::sample() {
   if (!m_t.isEmpty() && t < m_t.back()) clearHistory();  // reset
   if (!m_t.isEmpty() && t == m_t.back()) return;
   const double values[3] = {sim.deformationNorm(), sim.kineticEnergy(), sim.strainEnergy().total};
-  m_t << t;
-  m_norm << values[0];
-  m_kinetic << values[1];
-  m_strain << values[2];
+  if (m_t.isEmpty() || ++m_skipped >= m_stride) {
+    if (m_t.size() >= m_historyLimit) thinHistory();
+    m_t << t;
+    m_norm << values[0];
+    m_kinetic << values[1];
+    m_strain << values[2];
+    m_skipped = 0;
+  }
   for (int i = 0; i < 3; ++i) {
     if (m_series[i]->count() >= kMaxSamples) m_series[i]->removePoints(0, m_series[i]->count() - kMaxSamples + 1);
     m_series[i]->append(t, values[i]);
   }
-  const int first = std::max(0, m_t.size() - kMaxSamples);
+  // the axes follow what the series show (the latest kMaxSamples samples)
   double lo = 0.0, hi = 1e-12;
-  for (int i = first; i < m_t.size(); ++i)
-    for (double v : {m_norm[i], m_kinetic[i], m_strain[i]}) {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
+  for (const auto* series : m_series)
+    for (int i = 0; i < series->count(); ++i) {
+      lo = std::min(lo, series->at(i).y());
+      hi = std::max(hi, series->at(i).y());
     }
-  m_axisX->setRange(m_t[first], std::max(m_t.back(), m_t[first] + 1e-9));
+  const double t0 = m_series[0]->at(0).x();
+  m_axisX->setRange(t0, std::max(t, t0 + 1e-9));
   m_axisY->setRange(lo, hi * 1.05);
 }
 

@@ -2,11 +2,9 @@
 #include "SceneDocument.h"
 
 #include <Inventor/SoDB.h>
-#include <Inventor/SoInput.h>
 #include <Inventor/SoPrimitiveVertex.h>
 #include <Inventor/actions/SoCallbackAction.h>
 #include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/errors/SoReadError.h>
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QFile>
@@ -15,33 +13,13 @@
 #include <cstring>
 
 #include "AtomicFile.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 
 namespace bsdeform {
 
-namespace {
-QStringList* g_readErrors = nullptr;
-void collectReadError(const SoError* e, void*) {
-  if (g_readErrors) *g_readErrors << QString::fromUtf8(e->getDebugString().getString());
-}
-
-// Reads with Coin, capturing its read errors into `error`.
-SoSeparator* readScene(SoInput& in, QString& error) {
-  QStringList errors;
-  g_readErrors = &errors;
-  void* oldData = nullptr;
-  SoErrorCB* old = SoReadError::getHandlerCallback();
-  oldData = SoReadError::getHandlerData();
-  SoReadError::setHandlerCallback(collectReadError, nullptr);
-  SoSeparator* root = SoDB::readAll(&in);
-  SoReadError::setHandlerCallback(old, oldData);
-  g_readErrors = nullptr;
-  if (!root) error = errors.isEmpty() ? QStringLiteral("not an Inventor file") : errors.join(QLatin1Char('\n'));
-  return root;
-}
-}  // namespace
 
 SceneDocument::SceneDocument() = default;
 
@@ -77,15 +55,10 @@ bool SceneDocument::load(const QString& path, QString& error) {
     error = QStringLiteral("%1: no such file").arg(path);
     return false;
   }
-  SoInput in;
-  if (!in.openFile(QFile::encodeName(path).constData())) {
-    error = QStringLiteral("%1: cannot be opened").arg(path);
-    return false;
-  }
-  QString why;
-  SoSeparator* root = readScene(in, why);
+  std::string why;  // the guarded reader (docs/reliability.md)
+  SoSeparator* root = readSceneFile(QFile::encodeName(path).toStdString(), why);
   if (!root) {
-    error = QStringLiteral("%1 could not be read:\n%2").arg(path, why);
+    error = QStringLiteral("%1 could not be read:\n%2").arg(path, QString::fromStdString(why));
     return false;
   }
   adopt(root, path);
@@ -93,12 +66,10 @@ bool SceneDocument::load(const QString& path, QString& error) {
 }
 
 bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QString& error) {
-  SoInput in;
-  in.setBuffer(text.constData(), size_t(text.size()));
-  QString why;
-  SoSeparator* root = readScene(in, why);
+  std::string why;
+  SoSeparator* root = readSceneText(text.constData(), std::size_t(text.size()), name.toStdString(), why);
   if (!root) {
-    error = QStringLiteral("%1 could not be read:\n%2").arg(name, why);
+    error = QStringLiteral("%1 could not be read:\n%2").arg(name, QString::fromStdString(why));
     return false;
   }
   adopt(root, QString());
@@ -109,8 +80,18 @@ QByteArray SceneDocument::toText() const {
   return m_root ? QByteArray::fromStdString(sceneToText(m_root)) : QByteArray();
 }
 
+bool SceneDocument::writeTo(const TextSink& sink) const {
+  return m_root && writeSceneText(m_root, sink);
+}
+
 bool SceneDocument::save(const QString& path, QString& error) const {
-  return saveFileAtomically(path, toText(), error);
+  // streamed into the temporary file: the text is never held in memory
+  return saveFileAtomically(
+      path,
+      [this](QIODevice& device) {
+        return writeTo([&device](const char* data, std::size_t size) { return device.write(data, qint64(size)) == qint64(size); });
+      },
+      error);
 }
 
 QString SceneDocument::nameOf(SoBSplineDeformSurface* s) const {

@@ -7,6 +7,8 @@
 #include <QString>
 #include <QVector>
 
+#include "bsdeform/SceneText.h"
+
 class SoSeparator;
 class SoBSplineDeformSurface;
 class SoForceField;
@@ -31,6 +33,8 @@ class SceneDocument {
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
   QByteArray toText() const;
+  /// Streams that text into `sink`; false without a scene or when the sink failed.
+  bool writeTo(const TextSink& sink) const;
 
   SoSeparator* root() const { return m_root; }
   const QString& path() const { return m_path; }

@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Contact.h
+/// Penalty contact of a surface with obstacle meshes of any shape, with damping and Coulomb
+/// friction (docs/math.md §14). The scene layer gathers the obstacles' triangles in world
+/// coordinates into a ContactWorld and keeps it current; CollisionForce reads it in every step.
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "bsdeform/Force.h"
+#include "bsdeform/TriangleTree.h"
+
+namespace bsdeform {
+
+/// The obstacles of one surface, in world coordinates, and the surface's own frame:
+/// a point x of the surface's coordinates is at A x + b in the world.
+struct ContactWorld {
+  struct Obstacle {
+    std::shared_ptr<const TriangleTree> tree;
+    /// Closed and consistently wound (every edge in two triangles, in opposite directions):
+    /// the inside is known and contact is one-sided; otherwise two-sided (a shell).
+    bool closed = false;
+  };
+  std::vector<Obstacle> obstacles;
+  Eigen::Matrix3d linear = Eigen::Matrix3d::Identity();  ///< A
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();       ///< b
+};
+
+/// Contact law parameters (world units; densities per unit parameter area as every
+/// DistributedForce).
+struct ContactParameters {
+  double thickness = 0.01;  ///< tau > 0: contact starts at this distance from an obstacle
+  double stiffness = 1e4;   ///< k >= 0: normal force per unit depth
+  double damping = 0.0;     ///< c >= 0: normal damping on the approach speed
+  double friction = 0.0;    ///< mu >= 0: Coulomb coefficient
+  double massDensity = 1.0; ///< rho > 0: the surface's mass per unit parameter area (friction and damping caps)
+};
+
+/// Whether a mesh is closed and consistently wound (each undirected edge in exactly two
+/// triangles, once in each direction). Vertices are compared by index.
+bool isClosedMesh(const TriangleMesh& mesh);
+
+/// Merges vertices with identical coordinates (triangles gathered face by face repeat them).
+TriangleMesh weldVertices(const TriangleMesh& mesh);
+
+/// One evaluation of the contact law in world coordinates at point x moving with velocity v:
+/// with s the (signed, for closed obstacles) distance to the closest point and n the unit
+/// direction away from the obstacle, depth = tau - s > 0 gives the normal density
+/// f_n = max(0, k depth - c' (v.n)) and the friction density -min(mu f_n, 0.3 rho |v_t| / dt)
+/// v_t / |v_t|, with c' = min(c, 0.3 rho / dt). Summed over the obstacles in contact.
+/// Obstacles are searched within 3 tau (deeper points of a closed obstacle get no force).
+/// @param depth  if not null, receives the largest depth tau - s (0 out of contact; > tau past
+///               the obstacle's surface)
+Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                               const Eigen::Vector3d& v, double dt, double* depth = nullptr);
+
+/// Contact with the obstacles of a ContactWorld as a distributed force on the surface: the
+/// density above at S(u, v), mapped to the surface's coordinates (f = A^T f_world).
+class CollisionForce : public DistributedForce {
+ public:
+  /// @throws std::invalid_argument naming the parameter and the value
+  CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p);
+
+  /// The penalty's stiffness through the frame: k ||A||_2^2 h1 h2 / m_interior (as
+  /// PlaneContactForce with k ||A||^2). Damping and friction are capped (0.3 rho / dt) so that
+  /// they stay within the margin the sub-step sizing leaves (see DragForce).
+  double eigenvalueBound(const MassContext& ctx) const override;
+  const ContactParameters& parameters() const { return m_params; }
+  const ContactWorld& world() const { return *m_world; }
+
+ private:
+  std::shared_ptr<const ContactWorld> m_world;
+  ContactParameters m_params;
+};
+
+}  // namespace bsdeform

@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: MIT
+// The guard in front of Coin's reader: every construct known to crash, hang or exhaust Coin 4.0
+// is refused with file, line and reason before Coin sees it (without the guard each of these
+// inputs crashes or hangs the test process), and every scene we ship passes it.
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/nodes/SoSeparator.h>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <dirent.h>
+#include <fstream>
+#include <sstream>
+#include <unistd.h>
+
+#include "NodesTestUtil.h"
+#include "bsdeform/SceneReader.h"
+
+using namespace bsdeform;
+
+namespace {
+const std::string kHeader = "#Inventor V2.1 ascii\n";
+
+SceneCheck check(const std::string& text) {
+  testutil::Coin::get();
+  return checkSceneText(text.data(), text.size(), "t.iv");
+}
+
+// Reads through the guard; on success the root is unref'ed again.
+bool reads(const std::string& text, std::string& error) {
+  testutil::Coin::get();
+  SoSeparator* root = readSceneText(text.data(), text.size(), "t.iv", error);
+  if (!root) return false;
+  root->ref();
+  root->unref();
+  return true;
+}
+
+// `depth` nodes inside each other: depth - 1 Separators around a Cube.
+std::string nested(int depth) {
+  std::string s = kHeader;
+  for (int i = 1; i < depth; ++i) s += "Separator {\n";
+  s += "Cube {}\n";
+  for (int i = 1; i < depth; ++i) s += "}\n";
+  return s;
+}
+
+std::string tempDir() {
+  char tmpl[] = "/tmp/bsdeform-reader-XXXXXX";
+  REQUIRE(mkdtemp(tmpl));
+  return tmpl;
+}
+
+void writeFile(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::binary);
+  f << text;
+  REQUIRE(f.good());
+}
+}  // namespace
+
+TEST_CASE("SceneReader: every scene we ship passes the guard and reads", "[nodes]") {
+  testutil::Coin::get();
+  DIR* d = opendir(BSDEFORM_SCENES_DIR);
+  REQUIRE(d);
+  int n = 0;
+  while (dirent* e = readdir(d)) {
+    const std::string name = e->d_name;
+    if (name.size() < 4 || name.substr(name.size() - 3) != ".iv") continue;
+    std::string error;
+    SoSeparator* root = readSceneFile(std::string(BSDEFORM_SCENES_DIR) + "/" + name, error);
+    INFO(name << ": " << error);
+    CHECK(root);
+    if (root) {
+      root->ref();
+      root->unref();
+    }
+    ++n;
+  }
+  closedir(d);
+  CHECK(n >= 15);
+}
+
+TEST_CASE("SceneReader: a word longer than Coin's name table chunk is refused", "[nodes]") {
+  testutil::Coin::get();
+  // SbName copies into 65,504-byte chunks (namemap.cpp): 65,503 characters overflow.
+  const std::string longName(65600, 'a');
+  for (const std::string& text : {kHeader + "DEF " + longName + " Cube {}\n", kHeader + "\n\n" + longName + " {}\n",
+                                  kHeader + "Cube { width " + longName + " }\n"}) {
+    const SceneCheck c = check(text);
+    CHECK_FALSE(c.ok);
+    CHECK(c.file == "t.iv");
+    CHECK(c.reason.find("65600 characters") != std::string::npos);
+  }
+  CHECK(check(kHeader + "\n\n" + longName + " {}\n").line == 4);
+  // a long but safe name reads
+  std::string error;
+  CHECK(reads(kHeader + "DEF " + std::string(5000, 'b') + " Cube {}\n", error));
+  // a string that may become an SbName is bounded too
+  const SceneCheck s = check(kHeader + "Info { string \"" + std::string(70000, 'x') + "\" }\n");
+  CHECK_FALSE(s.ok);
+  CHECK(s.reason.find("quoted string of 70000") != std::string::npos);
+}
+
+TEST_CASE("SceneReader: 'fields [ ]' naming a field a known type lacks is refused", "[nodes]") {
+  for (const char* type : {"Cube", "Separator", "SoBSplineDeformSurface", "SoForceField"}) {
+    const SceneCheck c = check(kHeader + "Separator {\n  " + type + " { fields [ SFFloat bogus ] }\n}\n");
+    INFO(type);
+    CHECK_FALSE(c.ok);
+    CHECK(c.line == 3);
+    CHECK(c.reason.find("declares 'bogus'") != std::string::npos);
+  }
+  // what Coin writes for extension types (the fields they have) reads
+  std::string error;
+  CHECK(reads(kHeader + "SoBSplineDeformSurface { fields [ SFInt32 numUControlPoints, SFDouble w10 ] w10 0.5 }\n"
+                        "Cube { fields [ SFFloat width ] width 2 }\n",
+              error));
+  INFO(error);
+  CHECK(reads(kHeader + "MyUnknownThing { fields [ SFFloat width, MFVec3f points ] width 2 points [ 0 0 0, 1 1 1 ] }\n",
+              error));
+  // the same unknown type declared twice with different fields
+  CHECK(reads(kHeader + "Other { fields [ SFFloat a ] a 1 }\nOther { fields [ SFVec3f a ] a 1 2 3 }\n", error));
+  CHECK_FALSE(check(kHeader + "Cube { fields [ SFFloat width\n").ok);
+}
+
+TEST_CASE("SceneReader: a node or engine connected to itself is refused", "[nodes]") {
+  const SceneCheck self = check(kHeader + "DEF E ElapsedTime {\n timeIn 0 = USE E.timeOut\n}\n");
+  CHECK_FALSE(self.ok);
+  CHECK(self.line == 3);
+  CHECK(self.reason.find("USE E inside the definition of E") != std::string::npos);
+  // a cycle through a second engine
+  CHECK_FALSE(check(kHeader + "DEF A Calculator { a 0 = DEF B Calculator { a 0 = USE A.oa }.oa }\n").ok);
+  // a group inside itself
+  CHECK_FALSE(check(kHeader + "DEF G Separator { Cube {} USE G }\n").ok);
+  // connections to finished engines and USE of finished nodes are fine
+  std::string error;
+  CHECK(reads(kHeader +
+                  "DEF T ElapsedTime {}\nDEF C Calculator { a 0 = USE T.timeOut expression \"oa = a\" }\n"
+                  "Translation { translation 0 0 0 = USE C.oA }\nDEF S Separator { Cube {} }\nUSE S\n",
+              error));
+  INFO(error);
+  // a later DEF of the same name inside the body is a different object
+  CHECK(check(kHeader + "DEF A Calculator { a 0 = DEF A Calculator { a 1 }.oa }\n").ok);
+}
+
+TEST_CASE("SceneReader: nesting is bounded below what overflows the stack", "[nodes]") {
+  testutil::Coin::get();
+  const SceneLimits limits;
+  const SceneCheck deep = check(nested(12000));
+  CHECK_FALSE(deep.ok);
+  CHECK(deep.line == limits.maxNesting + 1 + 1);  // header line, then one Separator per line
+  CHECK(deep.reason.find("nested 1001 deep") != std::string::npos);
+  // the deepest scene allowed reads, gets a bounding box and writes back
+  const std::string text = nested(limits.maxNesting);
+  std::string error;
+  SoSeparator* root = readSceneText(text.data(), text.size(), "deep.iv", error);
+  REQUIRE(root);
+  root->ref();
+  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
+  bb.apply(root);
+  CHECK(bb.getBoundingBox().getSize()[0] == Approx(2.0));
+  const std::string back = sceneToText(root);
+  CHECK(back.find("Cube") != std::string::npos);
+  root->unref();
+  // the limit is configurable
+  SceneLimits shallow;
+  shallow.maxNesting = 3;
+  CHECK_FALSE(checkSceneText(text.data(), text.size(), "deep.iv", std::string(), shallow).ok);
+}
+
+TEST_CASE("SceneReader: an engine field holds engines only", "[nodes]") {
+  const std::string surface = "DEF S SoBSplineDeformSurface {\n";
+  for (const char* bad : {"forces [ 5 ]", "forces [ @ ]", "forces 5", "forces [ \"x\" ]", "forces [ Cube {} ]",
+                          "forces [ DEF F Cube {} ]", "forces [ USE Nowhere ]"}) {
+    const SceneCheck c = check(kHeader + surface + "  " + bad + "\n}\n");
+    INFO(bad);
+    CHECK_FALSE(c.ok);
+    CHECK(c.line == 3);
+    CHECK(c.reason.find("forces") != std::string::npos);
+  }
+  const SceneCheck node = check(kHeader + "DEF C Cube {}\n" + surface + " forces [ USE C ]\n}\n");
+  CHECK_FALSE(node.ok);
+  CHECK(node.reason.find("USE C is not an engine") != std::string::npos);
+  std::string error;
+  CHECK(reads(kHeader + "DEF F SoForceField { type UNIFORM force 0 0 1 }\n" + surface +
+                  " forces [ DEF G SoForceField { type POINT }, USE F ]\n}\nSoBSplineDeformSurface { forces USE G }\n"
+                  "SoBSplineDeformSurface { forces [] }\n",
+              error));
+  INFO(error);
+}
+
+TEST_CASE("SceneReader: File includes are checked too, and may not include themselves", "[nodes]") {
+  testutil::Coin::get();
+  const std::string dir = tempDir();
+  writeFile(dir + "/part.iv", kHeader + "Separator {\n Cube {}\n}\n");
+  writeFile(dir + "/bad.iv", kHeader + "\nSoBSplineDeformSurface { forces [ 5 ] }\n");
+  writeFile(dir + "/loop.iv", kHeader + "File { name \"loop.iv\" }\n");
+  writeFile(dir + "/main.iv", kHeader + "File { name \"part.iv\" }\n");
+  writeFile(dir + "/main_bad.iv", kHeader + "Separator { File { name \"bad.iv\" } }\n");
+  std::string error;
+  SoSeparator* root = readSceneFile(dir + "/main.iv", error);
+  INFO(error);
+  REQUIRE(root);
+  root->ref();
+  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
+  bb.apply(root);
+  CHECK(bb.getBoundingBox().getSize()[0] == Approx(2.0));
+  root->unref();
+  CHECK_FALSE(readSceneFile(dir + "/main_bad.iv", error));
+  CHECK(error.find("bad.iv:3:") != std::string::npos);
+  CHECK_FALSE(readSceneFile(dir + "/loop.iv", error));
+  CHECK(error.find("includes itself") != std::string::npos);
+  // nesting counts across includes
+  writeFile(dir + "/deep_part.iv", nested(600));
+  writeFile(dir + "/deep_main.iv", nested(500).replace(nested(500).find("Cube {}"), 7, "File { name \"deep_part.iv\" }"));
+  CHECK_FALSE(readSceneFile(dir + "/deep_main.iv", error));
+  CHECK(error.find("deep_part.iv:") != std::string::npos);
+  for (const char* f : {"part.iv", "bad.iv", "loop.iv", "main.iv", "main_bad.iv", "deep_part.iv", "deep_main.iv"})
+    std::remove((dir + "/" + f).c_str());
+  rmdir(dir.c_str());
+}
+
+TEST_CASE("SceneReader: file problems are named with the system's reason", "[nodes]") {
+  testutil::Coin::get();
+  std::string error;
+  CHECK_FALSE(readSceneFile("/nonexistent/x.iv", error));
+  CHECK(error == "/nonexistent/x.iv: No such file or directory");
+  CHECK_FALSE(readSceneFile("/tmp", error));
+  CHECK(error.find("is a directory") != std::string::npos);
+  // binary and compressed files are not scanned, so not read
+  CHECK_FALSE(check("#Inventor V2.1 binary\n\x01\x02").ok);
+  CHECK_FALSE(check(std::string("\x1f\x8b\x08\x00", 4)).ok);
+  // malformed text Coin itself would refuse gets a position
+  const SceneCheck unclosed = check(kHeader + "Info { string \"abc\n}\n");
+  CHECK_FALSE(unclosed.ok);
+  CHECK(unclosed.line == 2);
+  CHECK_FALSE(check(kHeader + "Cube {}\n}\n").ok);
+  // Coin's own read errors come back in the message
+  CHECK_FALSE(reads(kHeader + "Cube { width }\n", error));
+  CHECK(error.find("t.iv: ") == 0);
+}
