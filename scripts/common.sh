@@ -4,14 +4,19 @@ set -euo pipefail
 
 BSDEFORM_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 BSDEFORM_BUILD="${BSDEFORM_BUILD:-$BSDEFORM_ROOT/build}"
+# The sanitizer + fuzzer build (clang) that scripts/test.sh runs the suite in a second time.
+BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 
-# Every package the project builds, tests or runs with (Debian bookworm names).
+# Every package the project builds, tests or runs with (Debian bookworm names). clang,
+# libclang-rt-14-dev (sanitizer runtimes, libFuzzer) and llvm (llvm-symbolizer for readable
+# reports) are for the sanitizer build.
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
   libeigen3-dev catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
   qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core
   libsoqt520-dev xvfb xauth
+  clang libclang-rt-14-dev llvm
 )
 
 bsdeform_install_packages() {
@@ -38,4 +43,17 @@ bsdeform_build() {
   jobs="$(nproc 2>/dev/null || echo 2)"
   cmake -S "$BSDEFORM_ROOT" -B "$BSDEFORM_BUILD" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
   cmake --build "$BSDEFORM_BUILD" -j "$jobs"
+}
+
+# The whole tree with ASan + UBSan (float-cast-overflow included) and libFuzzer's coverage
+# instrumentation, built by clang at -O1 with debug info; benchmarks and examples are left out
+# (no test runs them).
+bsdeform_build_sanitize() {
+  local jobs
+  jobs="$(nproc 2>/dev/null || echo 2)"
+  cmake -S "$BSDEFORM_ROOT" -B "$BSDEFORM_SAN_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
+    -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DBSDEFORM_BUILD_FUZZ=ON \
+    -DBSDEFORM_BUILD_TESTS=ON -DBSDEFORM_BUILD_BENCH=OFF -DBSDEFORM_BUILD_EXAMPLES=OFF "$@" >/dev/null
+  cmake --build "$BSDEFORM_SAN_BUILD" -j "$jobs"
 }

@@ -1,9 +1,58 @@
 #!/usr/bin/env bash
-# Install what is missing, build, and run every test (CTest).
+# Install what is missing, build, and run every test (CTest), twice: in the Release build
+# (build/), then in the sanitizer build (build-san/: clang, AddressSanitizer + LeakSanitizer +
+# UndefinedBehaviorSanitizer, any finding fails its test). With CI set, or --fuzz, a short
+# fuzzing run of the scene reader follows (docs/reliability.md, "Fuzzing").
+#
+#   scripts/test.sh [--fuzz] [--no-sanitize] [ctest arguments...]
+#
+# --no-sanitize skips the sanitizer build (a quick local run); ctest arguments (e.g. -L core)
+# apply to both runs. BSDEFORM_FUZZ_SECONDS sets the length of the fuzzing run (default 120).
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+
+fuzz=0
+sanitize=1
+ctest_args=()
+for arg in "$@"; do
+  case "$arg" in
+    --fuzz) fuzz=1 ;;
+    --no-sanitize) sanitize=0 ;;
+    *) ctest_args+=("$arg") ;;
+  esac
+done
+case "${CI:-}" in
+  "" | 0 | false) ;;
+  *) fuzz=1 ;;
+esac
+jobs="$(nproc 2>/dev/null || echo 2)"
+
 bsdeform_install_packages
 bsdeform_build -DBSDEFORM_BUILD_TESTS=ON
-cd "$BSDEFORM_BUILD"
 # The soak test (label soak) runs for minutes: `cd build && ctest -L soak`.
-ctest --output-on-failure -j "$(nproc 2>/dev/null || echo 2)" -LE soak "$@"
+(cd "$BSDEFORM_BUILD" && ctest --output-on-failure -j "$jobs" -LE soak "${ctest_args[@]}")
+
+if [ "$sanitize" = 1 ] || [ "$fuzz" = 1 ]; then
+  echo "bsdeform: sanitizer build in $BSDEFORM_SAN_BUILD"
+  bsdeform_build_sanitize
+fi
+if [ "$sanitize" = 1 ]; then
+  (cd "$BSDEFORM_SAN_BUILD" && ctest --output-on-failure -j "$jobs" -LE soak "${ctest_args[@]}")
+fi
+
+if [ "$fuzz" = 1 ]; then
+  # New inputs go to a scratch corpus in the build tree (the first directory), never into the
+  # repository; a crash, leak, timeout or out-of-memory input is written to artifacts/.
+  run="$BSDEFORM_SAN_BUILD/fuzz-run"
+  mkdir -p "$run/corpus" "$run/artifacts"
+  seconds="${BSDEFORM_FUZZ_SECONDS:-120}"
+  echo "bsdeform: fuzzing the scene reader for ${seconds} s (log: $run/fuzz.log)"
+  if ! "$BSDEFORM_SAN_BUILD/tests/scene_reader_fuzz" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
+      -dict="$BSDEFORM_ROOT/tests/fuzz/scene.dict" -artifact_prefix="$run/artifacts/" -print_final_stats=1 \
+      "$run/corpus" "$BSDEFORM_ROOT/tests/fuzz/corpus" "$BSDEFORM_ROOT/scenes" > "$run/fuzz.log" 2>&1; then
+    tail -n 60 "$run/fuzz.log"
+    echo "bsdeform: the fuzzer found a problem; input saved in $run/artifacts/ (docs/reliability.md, \"Fuzzing\")" >&2
+    exit 1
+  fi
+  grep -E "^(Done|stat::number_of_executed_units|stat::new_units_added)" "$run/fuzz.log" || true
+fi
