@@ -20,6 +20,7 @@
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using bsdeform::saveFileAtomically;
+using bsdeform::savePngAtomically;
 
 namespace {
 
@@ -96,6 +97,19 @@ TEST_CASE("saveFileAtomically: a full disk keeps the previous file and gives the
     FullDisk full(dir.path());
     CHECK(!saveFileAtomically(path, [&](QIODevice& d) { return image.save(&d, "PNG"); }, error));
     checkKept(path, old, error);
+  }
+  SECTION("a PNG encoded in memory first (savePngAtomically), full disk then room") {
+    QImage image(40, 10, QImage::Format_ARGB32);  // converted by Qt's writer: the copy it leaked
+    image.fill(Qt::blue);
+    {
+      FullDisk full(dir.path());
+      CHECK(!savePngAtomically(path, image, error));
+      checkKept(path, old, error);
+    }
+    REQUIRE(savePngAtomically(path, image, error));
+    const QImage back(path, "PNG");
+    CHECK(back.size() == image.size());
+    CHECK(back.pixel(3, 3) == image.pixel(3, 3));
   }
   SECTION("the disk has room again: the file is replaced") {
     {

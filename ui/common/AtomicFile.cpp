@@ -3,7 +3,9 @@
 
 #include <unistd.h>
 
+#include <QBuffer>
 #include <QDir>
+#include <QImage>
 #include <QSaveFile>
 #include <cerrno>
 #include <cstring>
@@ -53,6 +55,17 @@ bool saveFileAtomically(const QString& path, const FileWriter& writer, QString& 
 
 bool saveFileAtomically(const QString& path, const QByteArray& contents, QString& error) {
   return saveFileAtomically(path, [&](QIODevice& device) { return device.write(contents) == contents.size(); }, error);
+}
+
+bool savePngAtomically(const QString& path, const QImage& image, QString& error) {
+  QByteArray png;
+  QBuffer buffer(&png);
+  buffer.open(QIODevice::WriteOnly);
+  if (!image.save(&buffer, "PNG")) {
+    error = QStringLiteral("cannot write '%1': the image could not be encoded as PNG").arg(QDir::toNativeSeparators(path));
+    return false;
+  }
+  return saveFileAtomically(path, png, error);
 }
 
 }  // namespace bsdeform

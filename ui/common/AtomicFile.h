@@ -8,6 +8,7 @@
 #include <functional>
 
 class QIODevice;
+class QImage;
 
 namespace bsdeform {
 
@@ -28,5 +29,11 @@ bool saveFileAtomically(const QString& path, const FileWriter& writer, QString& 
 
 /// The same for contents already in memory.
 bool saveFileAtomically(const QString& path, const QByteArray& contents, QString& error);
+
+/// Writes `image` as a PNG file, atomically. The PNG is encoded in memory first: Qt 5.15's PNG
+/// writer leaks its converted copy of the image when the device fails a write (libpng's error
+/// handler longjmps past the copy's destructor; LeakSanitizer saw it on a full disk), so the
+/// encoder never writes to the file itself.
+bool savePngAtomically(const QString& path, const QImage& image, QString& error);
 
 }  // namespace bsdeform

@@ -63,7 +63,7 @@ bool writePlotPng(const QString& path, const QString& title, const QString& xLab
     painter.setRenderHint(QPainter::Antialiasing);
     scene.render(&painter, QRectF(0, 0, width, height), QRectF(0, 0, width, height));
   }
-  return saveFileAtomically(path, [&](QIODevice& device) { return image.save(&device, "PNG"); }, error);
+  return savePngAtomically(path, image, error);
 }
 
 }  // namespace bsdeform

@@ -360,7 +360,7 @@ bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
   const QImage img = screenshot(size);
   if (img.isNull()) return false;
   QString error;
-  if (!saveFileAtomically(path, [&](QIODevice& device) { return img.save(&device, "PNG"); }, error)) {
+  if (!savePngAtomically(path, img, error)) {
     reportError(tr("Screenshot failed"), error);
     return false;
   }

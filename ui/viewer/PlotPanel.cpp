@@ -139,8 +139,7 @@ bool PlotPanel::exportCsv(const QString& path, QString& error) const {
 }
 
 bool PlotPanel::exportPng(const QString& path, QString& error) {
-  const QPixmap image = m_view->grab();
-  return saveFileAtomically(path, [&](QIODevice& device) { return image.save(&device, "PNG"); }, error);
+  return savePngAtomically(path, m_view->grab().toImage(), error);
 }
 
 }  // namespace bsdeform
