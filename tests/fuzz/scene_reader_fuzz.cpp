@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+// libFuzzer target: bsdeform's guarded scene reader with our nodes registered, then what our
+// programs do with a scene they read: write it back, take its bounding box, step its surfaces.
+// Built with clang in a BSDEFORM_BUILD_FUZZ tree (ASan + UBSan); docs/reliability.md, "Fuzzing".
+#include <Inventor/SbViewportRegion.h>
+#include <Inventor/SoDB.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/errors/SoDebugError.h>
+#include <Inventor/errors/SoReadError.h>
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/SceneReader.h"
+#include "bsdeform/SceneText.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace {
+
+// What the harness simulates, so that one input stays well below libFuzzer's -timeout: surfaces
+// are stepped while the work (control points x sub-steps x steps, summed over the scene) stays
+// within kStepBudget, and a scene with a surface of more than kMaxControlPoints is read but not
+// written, bounded or stepped. The cost of big models is a resource limit of the model
+// (docs/reliability.md, "sizes"), which the fuzzer would only report as slow or out of memory.
+constexpr long long kMaxControlPoints = 128 * 128;
+constexpr long long kStepBudget = 500000;
+constexpr int kSteps = 3;
+
+void ignoreMessage(const SoError*, void*) {}
+
+bool initialise() {
+  bsdeform::disableDynamicNodeLoading();
+  SoDB::init();
+  bsdeform::initNodes();
+  // hostile input makes Coin and our nodes warn on most runs; printing it only slows the fuzzer
+  SoDebugError::setHandlerCallback(ignoreMessage, nullptr);
+  SoReadError::setHandlerCallback(ignoreMessage, nullptr);
+  return true;
+}
+
+std::vector<SoBSplineDeformSurface*> surfaces(SoNode* root) {
+  SoSearchAction search;
+  search.setType(SoBSplineDeformSurface::getClassTypeId());
+  search.setInterest(SoSearchAction::ALL);
+  search.setSearchingAll(TRUE);  // also under switches and inactive children
+  search.apply(root);
+  std::vector<SoBSplineDeformSurface*> out;
+  for (int i = 0; i < search.getPaths().getLength(); ++i)
+    out.push_back(static_cast<SoBSplineDeformSurface*>(search.getPaths()[i]->getTail()));
+  return out;
+}
+
+long long controlPoints(SoBSplineDeformSurface* s) {
+  return static_cast<long long>(s->numUControlPoints.getValue()) * s->numVControlPoints.getValue();
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const bool initialised = initialise();
+  (void)initialised;
+
+  std::string error;
+  SoSeparator* root = bsdeform::readSceneText(reinterpret_cast<const char*>(data), size, "fuzz-input", error);
+  if (!root) return 0;
+  root->ref();
+
+  const std::vector<SoBSplineDeformSurface*> found = surfaces(root);
+  bool small = true;
+  for (SoBSplineDeformSurface* s : found) small = small && controlPoints(s) <= kMaxControlPoints;
+  if (small) {
+    (void)bsdeform::sceneToText(root);
+    SoGetBoundingBoxAction bbox(SbViewportRegion(64, 64));
+    bbox.apply(root);
+    long long work = 0;
+    for (SoBSplineDeformSurface* s : found) {
+      work += controlPoints(s) * s->simulation().subSteps() * kSteps;
+      if (work <= kStepBudget) s->stepSimulation(kSteps);
+    }
+    (void)bsdeform::sceneToText(root);
+  }
+  root->unref();
+  return 0;
+}
