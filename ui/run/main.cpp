@@ -6,6 +6,7 @@
 // 1 an internal error (including a sweep run that could not be started).
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
@@ -244,6 +245,11 @@ Failure runScene(const Options& o) {
   }
   QVector<Surface> surfaces = findSurfaces(root);
   if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
+  // A traversal tells each surface its scene (the frames of COLLISION obstacles).
+  {
+    SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
+    bb.apply(root);
+  }
   // Build every model and force now: bad values show up as warnings before anything runs.
   g_coinMessages.clear();
   double dtMin = INFINITY, t0 = INFINITY;
