@@ -66,15 +66,15 @@ void orientOutward(TriangleMesh& mesh) {
   }
 }
 
-// Cube [-1, 1]^3, 12 triangles; the diagonals alternate so corners have one or two triangles
-// of a face (the angle weighting must not care).
+// Cube [-1, 1]^3, 12 triangles; the diagonals are chosen so that some corners have one triangle
+// of one face and two of another (the angle weighting must not care, a plain average would).
 TriangleMesh cube() {
   TriangleMesh m;
   for (int i = 0; i < 8; ++i) m.vertices.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
   const int quads[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
   for (int f = 0; f < 6; ++f) {
     const int* q = quads[f];
-    if (f % 2 == 0) {
+    if (f != 5) {
       m.triangles.emplace_back(q[0], q[1], q[2]);
       m.triangles.emplace_back(q[0], q[2], q[3]);
     } else {
@@ -282,6 +282,27 @@ TEST_CASE("TriangleTree: maxDistance is respected to the last digits", "[core]")
     if (!tree.closest(q, d * (1 + 1e-9), h)) ++missedJustInside;
     if (tree.closest(q, d * (1 - 1e-9), h)) ++foundJustOutside;
   }
+  // Faces parallel to the hierarchy's boxes, where the box distance is the triangle distance:
+  // the float boxes must not cull a triangle whose double distance is within maxDistance.
+  std::uniform_real_distribution<double> height(0.01, 0.9), along(0.1, 0.4);
+  for (double level : {0.1, 0.3, 0.7, 1.3}) {
+    TriangleMesh grid;  // 40 x 40 squares of side 1/40
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j) grid.vertices.emplace_back(i / 40.0, j / 40.0, level);
+    for (int i = 0; i < 40; ++i)
+      for (int j = 0; j < 40; ++j) {
+        grid.triangles.emplace_back(i * 41 + j, (i + 1) * 41 + j, (i + 1) * 41 + j + 1);
+        grid.triangles.emplace_back(i * 41 + j, (i + 1) * 41 + j + 1, i * 41 + j + 1);
+      }
+    const TriangleTree flat(grid);
+    for (int i = 0; i < 500; ++i) {
+      const Vector3d q(along(rng), 0.5 + along(rng), level + 0.1 * height(rng));
+      const double d = q.z() - level;
+      ClosestHit h;
+      if (!flat.closest(q, d * (1 + 1e-9), h)) ++missedJustInside;
+      if (flat.closest(q, d * (1 - 1e-9), h)) ++foundJustOutside;
+    }
+  }
   CHECK(missedJustInside == 0);
   CHECK(foundJustOutside == 0);
 
@@ -350,6 +371,13 @@ TEST_CASE("TriangleTree: inside and outside of a closed icosphere, at faces, edg
 TEST_CASE("TriangleTree: a cube's corners and edges have the angle-weighted pseudo-normals", "[core]") {
   const TriangleMesh mesh = cube();
   const TriangleTree tree(mesh);
+  int unevenCorners = 0;  // corners with 4 or 5 triangles: one or two from different faces
+  for (int v = 0; v < 8; ++v) {
+    int n = 0;
+    for (const Vector3i& t : mesh.triangles) n += (t.array() == v).any();
+    unevenCorners += n == 4 || n == 5;
+  }
+  REQUIRE(unevenCorners > 0);
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> positive(0.05, 1.0);
   int wrongSign = 0, notAtCorner = 0, wrongNormal = 0;
