@@ -139,7 +139,8 @@ TEST_CASE("Contact: on a slope the cloth stays when tan(theta) < mu and slides w
   // translation costs the cloth no elastic energy, a rotation would).
   const double theta = 0.3;  // tan = 0.309
   const Eigen::Vector3d g(std::sin(theta), 0.0, -std::cos(theta));
-  const TriangleMesh slope = box(Eigen::Vector3d(-30, -30, -2), Eigen::Vector3d(30, 30, -0.015));
+  // the cloth (z = 0) starts at its resting depth rho g cos(theta) / k into the 0.02 layer
+  const TriangleMesh slope = box(Eigen::Vector3d(-30, -30, -2), Eigen::Vector3d(30, 30, -0.02 + std::cos(theta) / 5e3));
   for (double mu : {0.5, 0.15}) {
     ModelParameters mp = clothParams();
     mp.damping = 0.5;
@@ -157,7 +158,13 @@ TEST_CASE("Contact: on a slope the cloth stays when tan(theta) < mu and slides w
     const double moved = sim.evaluate(0.5, 0.5).position.x() - start.x();
     INFO("mu " << mu << " moved " << moved);
     if (mu > std::tan(theta)) {
-      CHECK(std::abs(moved) < 0.01);
+      // static friction is regularised (Contact.h): held below the Coulomb bound, the cloth
+      // creeps at the speed where the capped friction 0.3 rho v / dt balances g sin(theta)
+      const double creep = std::sin(theta) * sim.subStepSize() / 0.3;
+      INFO("creep speed " << creep);
+      CHECK(moved >= 0.0);
+      CHECK(moved < 1.2 * creep * 4.0);
+      CHECK(moved < 0.05);
     } else {
       // kinetic: a = g (sin - mu cos) - damping; with damping c = 0.5 per unit mass the speed
       // tends to a / c, so over 4 s the cloth moves between half and all of a t^2 / 2
