@@ -245,13 +245,13 @@ Failure runScene(const Options& o) {
   }
   QVector<Surface> surfaces = findSurfaces(root);
   if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
-  // A traversal tells each surface its scene (the frames of COLLISION obstacles).
+  // Build every model and force now: bad values show up as warnings before anything runs.
+  // A traversal first tells each surface its scene (the frames of COLLISION obstacles).
+  g_coinMessages.clear();
   {
     SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
     bb.apply(root);
   }
-  // Build every model and force now: bad values show up as warnings before anything runs.
-  g_coinMessages.clear();
   double dtMin = INFINITY, t0 = INFINITY;
   for (Surface& s : surfaces) {
     s.node->on = FALSE;  // the runner drives time itself
