@@ -33,9 +33,9 @@ constexpr double kMaxCoordinate = 1e30;
 
 bool usable(const Eigen::Vector3d& v) { return v.allFinite() && v.cwiseAbs().maxCoeff() <= kMaxCoordinate; }
 
-/// Embree's SIMD code runs on non-stop IEEE arithmetic (infinite boxes of empty nodes): builds and
-/// refits raise FE_INVALID, which would abort under feenableexcept (our debug test runner). Holds
-/// the floating-point environment for its lifetime and restores it, discarding Embree's flags.
+/// Embree's SIMD code relies on non-stop IEEE arithmetic: its scene build raises FE_INVALID
+/// (seen with 3.13.5), which aborts under feenableexcept (our debug test runner). Holds the
+/// floating-point environment for its lifetime and restores it, discarding Embree's flags.
 class QuietFloatingPoint {
  public:
   QuietFloatingPoint() { feholdexcept(&m_env); }
@@ -56,13 +56,13 @@ struct TriangleTree::Impl {
   int dropped = 0;
 
   // Pseudo-normals (Baerentzen & Aanaes 2005), recomputed whenever the vertices move.
-  std::vector<Eigen::Vector3d> faceNormals;        // per kept triangle
-  std::vector<std::array<int, 3>> triangleEdges;   // edge ids of ab, bc, ca per kept triangle
-  std::vector<Eigen::Vector3d> edgeNormals;        // per edge: normalised sum of its face normals
-  std::vector<Eigen::Vector3d> vertexNormals;      // per vertex: normalised angle-weighted sum
-  std::vector<int> canonical;  // per vertex: the first vertex at the same position (the topology)
-  std::vector<char> referenced;  // per vertex: used by a kept triangle
-  double absMax = 0.0;                             // largest |coordinate| of a kept vertex
+  std::vector<Eigen::Vector3d> faceNormals;       // per kept triangle
+  std::vector<std::array<int, 3>> triangleEdges;  // edge ids of ab, bc, ca per kept triangle
+  std::vector<Eigen::Vector3d> edgeNormals;       // per edge: normalised sum of its face normals
+  std::vector<Eigen::Vector3d> vertexNormals;     // per vertex: normalised angle-weighted sum
+  std::vector<int> canonical;     // per vertex: the first vertex at its position (the topology)
+  std::vector<char> referenced;   // per vertex: used by a kept triangle
+  double absMax = 0.0;            // largest |coordinate| of a kept vertex
 
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -292,8 +292,8 @@ TriangleTree::~TriangleTree() = default;
 
 void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
   if (vertices.size() != m->mesh.vertices.size())
-    throw std::invalid_argument("TriangleTree::update: " + std::to_string(vertices.size()) + " vertices, the mesh has " +
-                                std::to_string(m->mesh.vertices.size()));
+    throw std::invalid_argument("TriangleTree::update: " + std::to_string(vertices.size()) +
+                                " vertices, the mesh has " + std::to_string(m->mesh.vertices.size()));
   m->mesh.vertices = vertices;
   std::vector<int> keep = m->selectTriangles();
   if (keep == m->kept)
