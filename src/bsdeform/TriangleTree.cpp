@@ -31,7 +31,13 @@ constexpr double kDegenerateArea = 1e-12;
 /// Embree keeps floats: coordinates beyond this count as non-finite.
 constexpr double kMaxCoordinate = 1e30;
 
-bool usable(const Eigen::Vector3d& v) { return v.allFinite() && v.cwiseAbs().maxCoeff() <= kMaxCoordinate; }
+/// Finite and within kMaxCoordinate; classifies without arithmetic on inf or NaN (which would
+/// trap under feenableexcept).
+bool usable(const Eigen::Vector3d& v) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(v[k]) || std::abs(v[k]) > kMaxCoordinate) return false;
+  return true;
+}
 
 /// Embree's SIMD code relies on non-stop IEEE arithmetic: its scene build raises FE_INVALID
 /// (seen with 3.13.5), which aborts under feenableexcept (our debug test runner). Holds the
@@ -303,7 +309,7 @@ void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
 }
 
 bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit) const {
-  if (!m->scene || !query.allFinite() || std::isnan(maxDistance) || maxDistance < 0.0) return false;
+  if (!m->scene || !usable(query) || std::isnan(maxDistance) || maxDistance < 0.0) return false;
   Impl::Search s;
   s.impl = m.get();
   s.q = query;
