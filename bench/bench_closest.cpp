@@ -201,8 +201,8 @@ int mismatches(const Scenario& s, const ClosestIndex& index) {
       const bool found = embree->closest(s.queries[i], maxDistance, h);
       answers.emplace_back(found, found ? h.distance : 0.0);
       double d;
-      if (i % 97 == 0 && (bruteForce(s, s.queries[i], maxDistance, d) != found || (found && std::abs(d - h.distance) > tol)))
-        ++bad;
+      if (i % 97 != 0) continue;
+      if (bruteForce(s, s.queries[i], maxDistance, d) != found || (found && std::abs(d - h.distance) > tol)) ++bad;
     }
     if (bad) return bad;
     it = reference.emplace(&s, std::move(answers)).first;
@@ -233,7 +233,8 @@ void runQuery(benchmark::State& state, MeshKind kind, int triangles, const Facto
   }
   setMeshCounters(state, s);
   state.counters["hit fraction"] = double(hits) / double(s.queries.size());
-  state.counters["queries/s"] = benchmark::Counter(double(s.queries.size()), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["queries/s"] =
+      benchmark::Counter(double(s.queries.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 }  // namespace
@@ -255,7 +256,8 @@ int main(int argc, char** argv) {
   if (closestbench::haveCgal()) {
     candidates.push_back({"CGAL", [] { return closestbench::makeCgalIndex(CgalQuery::SphereHint); }, true, true, true});
     candidates.push_back({"CGALkd", [] { return closestbench::makeCgalIndex(CgalQuery::KdHint); }, true, true, true});
-    candidates.push_back({"CGALsphere", [] { return closestbench::makeCgalIndex(CgalQuery::SphereTest); }, false, false, true});
+    candidates.push_back(
+        {"CGALsphere", [] { return closestbench::makeCgalIndex(CgalQuery::SphereTest); }, false, false, true});
   }
   for (const char* what : {"ClosestBuild", "ClosestUpdate", "ClosestQuery"})
     for (const auto& [meshName, kind] : meshes)
@@ -263,12 +265,11 @@ int main(int argc, char** argv) {
         for (const Candidate& c : candidates) {
           const std::string name = std::string(what) + "/" + c.name + "/" + meshName + "/" + std::to_string(triangles);
           const std::string w = what;
-          if (w == "ClosestBuild" && c.build)
-            benchmark::RegisterBenchmark(name.c_str(), runBuild, kind, triangles, c.make)->Unit(benchmark::kMillisecond);
-          if (w == "ClosestUpdate" && c.update)
-            benchmark::RegisterBenchmark(name.c_str(), runUpdate, kind, triangles, c.make)->Unit(benchmark::kMillisecond);
-          if (w == "ClosestQuery" && c.query)
-            benchmark::RegisterBenchmark(name.c_str(), runQuery, kind, triangles, c.make)->Unit(benchmark::kMillisecond);
+          auto* run = w == "ClosestBuild" ? (c.build ? runBuild : nullptr)
+                      : w == "ClosestUpdate" ? (c.update ? runUpdate : nullptr)
+                                             : (c.query ? runQuery : nullptr);
+          if (run)
+            benchmark::RegisterBenchmark(name.c_str(), run, kind, triangles, c.make)->Unit(benchmark::kMillisecond);
         }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;

@@ -8,7 +8,7 @@ BSDEFORM_BUILD="${BSDEFORM_BUILD:-$BSDEFORM_ROOT/build}"
 # Every package the project builds, tests or runs with (Debian bookworm names).
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
-  libeigen3-dev catch2 libbenchmark-dev
+  libeigen3-dev libembree-dev catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
   qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core
   libsoqt520-dev xvfb xauth

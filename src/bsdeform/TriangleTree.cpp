@@ -31,11 +31,17 @@ constexpr double kDegenerateArea = 1e-12;
 /// Embree keeps floats: coordinates beyond this count as non-finite.
 constexpr double kMaxCoordinate = 1e30;
 
-bool usable(const Eigen::Vector3d& v) { return v.allFinite() && v.cwiseAbs().maxCoeff() <= kMaxCoordinate; }
+/// Finite and within kMaxCoordinate; classifies without arithmetic on inf or NaN (which would
+/// trap under feenableexcept).
+bool usable(const Eigen::Vector3d& v) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(v[k]) || std::abs(v[k]) > kMaxCoordinate) return false;
+  return true;
+}
 
-/// Embree's SIMD code runs on non-stop IEEE arithmetic (infinite boxes of empty nodes): builds and
-/// refits raise FE_INVALID, which would abort under feenableexcept (our debug test runner). Holds
-/// the floating-point environment for its lifetime and restores it, discarding Embree's flags.
+/// Embree's SIMD code relies on non-stop IEEE arithmetic: its scene build raises FE_INVALID
+/// (seen with 3.13.5), which aborts under feenableexcept (our debug test runner). Holds the
+/// floating-point environment for its lifetime and restores it, discarding Embree's flags.
 class QuietFloatingPoint {
  public:
   QuietFloatingPoint() { feholdexcept(&m_env); }
@@ -56,12 +62,13 @@ struct TriangleTree::Impl {
   int dropped = 0;
 
   // Pseudo-normals (Baerentzen & Aanaes 2005), recomputed whenever the vertices move.
-  std::vector<Eigen::Vector3d> faceNormals;        // per kept triangle
-  std::vector<std::array<int, 3>> triangleEdges;   // edge ids of ab, bc, ca per kept triangle
-  std::vector<Eigen::Vector3d> edgeNormals;        // per edge: normalised sum of its face normals
-  std::vector<Eigen::Vector3d> vertexNormals;      // per vertex: normalised angle-weighted sum
-  std::vector<int> canonical;  // per vertex: the first vertex at the same position (the topology)
-  double absMax = 0.0;                             // largest |coordinate| of a kept vertex
+  std::vector<Eigen::Vector3d> faceNormals;       // per kept triangle
+  std::vector<std::array<int, 3>> triangleEdges;  // edge ids of ab, bc, ca per kept triangle
+  std::vector<Eigen::Vector3d> edgeNormals;       // per edge: normalised sum of its face normals
+  std::vector<Eigen::Vector3d> vertexNormals;     // per vertex: normalised angle-weighted sum
+  std::vector<int> canonical;     // per vertex: the first vertex at its position (the topology)
+  std::vector<char> referenced;   // per vertex: used by a kept triangle
+  double absMax = 0.0;            // largest |coordinate| of a kept vertex
 
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -76,20 +83,26 @@ struct TriangleTree::Impl {
   std::vector<int> selectTriangles() const {
     const auto& v = mesh.vertices;
     const int n = static_cast<int>(v.size());
+    std::vector<char> ok(v.size());
+    for (int i = 0; i < n; ++i) ok[i] = usable(v[i]);
     std::vector<int> candidates;
-    Eigen::AlignedBox3d box;
+    candidates.reserve(input.size());
+    Eigen::Array3d lo = Eigen::Array3d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
     for (int t = 0; t < static_cast<int>(input.size()); ++t) {
       const Eigen::Vector3i& f = input[t];
-      if ((f.array() < 0).any() || (f.array() >= n).any()) continue;
-      if (!usable(v[f[0]]) || !usable(v[f[1]]) || !usable(v[f[2]])) continue;
+      if ((f.array() < 0).any() || (f.array() >= n).any() || !ok[f[0]] || !ok[f[1]] || !ok[f[2]]) continue;
       candidates.push_back(t);
-      for (int k = 0; k < 3; ++k) box.extend(v[f[k]]);
+      for (int k = 0; k < 3; ++k) {
+        lo = lo.min(v[f[k]].array());
+        hi = hi.max(v[f[k]].array());
+      }
     }
-    const double threshold = candidates.empty() ? 0.0 : kDegenerateArea * box.diagonal().squaredNorm();
+    const double threshold = candidates.empty() ? 0.0 : kDegenerateArea * (hi - lo).matrix().squaredNorm();
     std::vector<int> result;
+    result.reserve(candidates.size());
     for (int t : candidates) {
       const Eigen::Vector3i& f = input[t];
-      if ((v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).norm() > threshold) result.push_back(t);
+      if ((v[f[1]] - v[f[0]]).cross(v[f[2]] - v[f[0]]).squaredNorm() > threshold * threshold) result.push_back(t);
     }
     return result;
   }
@@ -156,11 +169,10 @@ struct TriangleTree::Impl {
       vertexNormals[canonical[f[0]]] += angleA * n;
       vertexNormals[canonical[f[1]]] += angleB * n;
       vertexNormals[canonical[f[2]]] += angleC * n;
-      for (int k = 0; k < 3; ++k) {
-        edgeNormals[triangleEdges[t][k]] += n;
-        absMax = std::max(absMax, v[f[k]].cwiseAbs().maxCoeff());
-      }
+      for (int k = 0; k < 3; ++k) edgeNormals[triangleEdges[t][k]] += n;
     }
+    for (size_t i = 0; i < v.size(); ++i)
+      if (referenced[i]) absMax = std::max(absMax, v[i].cwiseAbs().maxCoeff());
     // A pseudo-normal that cancels (a fin of two opposite faces, a vertex of an inconsistently
     // wound mesh) stays zero; closest() then falls back to the face normal.
     auto normalise = [](Eigen::Vector3d& n) {
@@ -194,7 +206,11 @@ struct TriangleTree::Impl {
     dropped = static_cast<int>(input.size() - kept.size());
     mesh.triangles.clear();
     mesh.triangles.reserve(kept.size());
-    for (int t : kept) mesh.triangles.push_back(input[t]);
+    referenced.assign(mesh.vertices.size(), 0);
+    for (int t : kept) {
+      mesh.triangles.push_back(input[t]);
+      for (int k = 0; k < 3; ++k) referenced[input[t][k]] = 1;
+    }
     weldVertices();
     connectEdges();
     computeNormals();
@@ -282,8 +298,8 @@ TriangleTree::~TriangleTree() = default;
 
 void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
   if (vertices.size() != m->mesh.vertices.size())
-    throw std::invalid_argument("TriangleTree::update: " + std::to_string(vertices.size()) + " vertices, the mesh has " +
-                                std::to_string(m->mesh.vertices.size()));
+    throw std::invalid_argument("TriangleTree::update: " + std::to_string(vertices.size()) +
+                                " vertices, the mesh has " + std::to_string(m->mesh.vertices.size()));
   m->mesh.vertices = vertices;
   std::vector<int> keep = m->selectTriangles();
   if (keep == m->kept)
@@ -293,7 +309,7 @@ void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
 }
 
 bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit) const {
-  if (!m->scene || !query.allFinite() || std::isnan(maxDistance) || maxDistance < 0.0) return false;
+  if (!m->scene || !usable(query) || std::isnan(maxDistance) || maxDistance < 0.0) return false;
   Impl::Search s;
   s.impl = m.get();
   s.q = query;

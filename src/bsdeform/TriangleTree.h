@@ -51,9 +51,10 @@ class TriangleTree {
   TriangleTree& operator=(const TriangleTree&) = delete;
 
   /// Moves the vertices (same count and triangles) and refits or rebuilds the hierarchy.
-  /// Refits (about a tenth of a rebuild) and recomputes the pseudo-normals; rebuilds when the
-  /// set of kept triangles changes (one became degenerate or non-finite, or valid again), so the
-  /// answers are always those of a tree built from scratch on the moved mesh.
+  /// Refits the hierarchy (1/9 to 1/15 of a rebuild) and recomputes the pseudo-normals (the
+  /// whole update: a third to a half of a rebuild); rebuilds when the set of kept triangles
+  /// changes (one became degenerate or non-finite, or valid again), so the answers are always
+  /// those of a tree built from scratch on the moved mesh.
   /// @throws std::invalid_argument when the vertex count differs
   void update(const std::vector<Eigen::Vector3d>& vertices);
 
