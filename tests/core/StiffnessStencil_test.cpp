@@ -77,7 +77,7 @@ TEST_CASE("StiffnessStencil: the stencil reproduces a brute-force quadrature ass
   }
 }
 
-TEST_CASE("StiffnessStencil: A_II is symmetric positive definite; constants and planes are in the kernel", "[core]") {
+TEST_CASE("StiffnessStencil: A_II is symmetric positive definite, constants and planes are in the kernel", "[core]") {
   const SplineSpace s(3, 2, 6, 7);
   const Weights w{0.3, 0.7, 0.2, 0.05, 0.11};
   const StiffnessStencil st(s, w);

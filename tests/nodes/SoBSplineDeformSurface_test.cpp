@@ -362,7 +362,7 @@ TEST_CASE("SoBSplineDeformSurface: every field of both classes round-trips with 
   b->unref();
 }
 
-TEST_CASE("SoBSplineDeformSurface: Coin's timer queue animates the node; transient forces act", "[nodes]") {
+TEST_CASE("SoBSplineDeformSurface: Coin's timer queue animates the node, transient forces act", "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { timeStep 0.01 speed 1 "
                                      "forces SoForceField { type UNIFORM force 0 0 5 } } }");
   REQUIRE(root);

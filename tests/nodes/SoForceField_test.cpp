@@ -199,7 +199,7 @@ TEST_CASE("SoForceField: the animated-force scene animates (Calculator and Elaps
   root->unref();
 }
 
-TEST_CASE("SoForceField: each type builds its core class; bad values give the core's message", "[nodes]") {
+TEST_CASE("SoForceField: each type builds its core class, bad values give the core's message", "[nodes]") {
   SoSeparator* root = testutil::read(sceneWith("DEF F SoForceField { }"));
   REQUIRE(root);
   auto* f = testutil::named<SoForceField>("F");
