@@ -55,7 +55,7 @@ TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordi
   b->unref();
 }
 
-TEST_CASE("Collision: a static obstacle is gathered once; a moved Transform refits it", "[nodes]") {
+TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refits it", "[nodes]") {
   SoSeparator* root = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
                                                  "Separator { DEF Move Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 3 height 3 depth 2 } }\n") +
                                      kCloth + "}\n");
@@ -79,7 +79,7 @@ TEST_CASE("Collision: a static obstacle is gathered once; a moved Transform refi
   root->unref();
 }
 
-TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned about; the rest collide", "[nodes]") {
+TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned about, the rest collide", "[nodes]") {
   auto& messages = testutil::Coin::get().messages;
   messages.clear();
   SoSeparator* root = testutil::read(
