@@ -11,6 +11,11 @@
 #include <Inventor/elements/SoLazyElement.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/misc/SoNotification.h>
+#include <Inventor/SoPath.h>
+#include <Inventor/actions/SoCallbackAction.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/actions/SoRayPickAction.h>
+#include <Inventor/sensors/SoNodeSensor.h>
 #include <Inventor/sensors/SoTimerSensor.h>
 #include <Inventor/system/gl.h>
 
@@ -20,6 +25,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
@@ -120,6 +126,55 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
 SoBSplineDeformSurface::~SoBSplineDeformSurface() {
   if (m_timer->isScheduled()) m_timer->unschedule();
   delete m_timer;
+  delete m_rootSensor;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The scene root (for the frames of contact, SceneObstacles.h): the head of the path of any
+// traversal that reaches the surface.
+
+void SoBSplineDeformSurface::noteSceneRoot(SoAction* action) {
+  const SoPath* path = action->getCurPath();
+  SoNode* root = path && path->getLength() ? path->getHead() : nullptr;
+  if (!root || root == m_sceneRoot) return;
+  m_sceneRoot = root;
+  if (!m_rootSensor) {
+    m_rootSensor = new SoNodeSensor;  // no callback: only its delete callback is used
+    m_rootSensor->setPriority(0);
+    m_rootSensor->setDeleteCallback(
+        [](void* data, SoSensor*) { static_cast<SoBSplineDeformSurface*>(data)->m_sceneRoot = nullptr; }, this);
+  }
+  m_rootSensor->detach();
+  m_rootSensor->attach(root);
+}
+
+void SoBSplineDeformSurface::callback(SoCallbackAction* action) {
+  noteSceneRoot(action);
+  inherited::callback(action);
+}
+
+void SoBSplineDeformSurface::rayPick(SoRayPickAction* action) {
+  noteSceneRoot(action);
+  inherited::rayPick(action);
+}
+
+void SoBSplineDeformSurface::getBoundingBox(SoGetBoundingBoxAction* action) {
+  noteSceneRoot(action);
+  inherited::getBoundingBox(action);
+}
+
+int SoBSplineDeformSurface::obstacleBuilds() const {
+  int n = 0;
+  for (const ForceSlot& s : m_forceSlots)
+    if (s.obstacles) n += s.obstacles->builds();
+  return n;
+}
+
+int SoBSplineDeformSurface::obstacleRefits() const {
+  int n = 0;
+  for (const ForceSlot& s : m_forceSlots)
+    if (s.obstacles) n += s.obstacles->refits();
+  return n;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -337,12 +392,27 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
       if (slot.engine != e) {
         if (e) warn("field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
                     ", not an SoForceField; ignored");
-        slot = ForceSlot{e, -1, nullptr};
+        slot = ForceSlot{e, -1, nullptr, nullptr, -1};
         changed = true;
       }
       continue;
     }
     auto* ff = static_cast<SoForceField*>(e);
+    if (ff->type.getValue() == SoForceField::COLLISION) {
+      // the obstacles are kept current before every step; the force reads them in place
+      if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<bsdeform::SceneObstacles>();
+      std::vector<std::string> problems;
+      slot.obstacles->update(m_sceneRoot, this, ff->obstacles, slot.geometryRevision != ff->getGeometryRevision(),
+                             problems);
+      slot.geometryRevision = ff->getGeometryRevision();
+      const SbName name = ff->getName();
+      for (const std::string& p : problems)
+        warn("SoForceField '" + std::string(name.getLength() ? name.getString() : "<unnamed>") + "': " + p);
+      info.contact = slot.obstacles->world();
+    } else {
+      slot.obstacles.reset();
+      info.contact.reset();
+    }
     if (slot.engine == ff && slot.revision == ff->getRevision()) continue;
     std::string error;
     auto force = ff->makeForce(info, error);
@@ -539,6 +609,7 @@ void SoBSplineDeformSurface::tessellate(SoState* state) {
 }
 
 void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
+  noteSceneRoot(action);
   if (!shouldGLRender(action)) return;
   SoState* state = action->getState();
   tessellate(state);

@@ -75,9 +75,11 @@
 namespace bsdeform {
 class Simulation;
 class Force;
+class SceneObstacles;
 }  // namespace bsdeform
 
 class SoTimerSensor;
+class SoNodeSensor;
 class SoSensor;
 class SoPickedPoint;
 
@@ -157,6 +159,9 @@ class SoBSplineDeformSurface : public SoShape {
   /// Whether the surface is closed (periodic in both directions, or a sphere/ellipsoid): it is
   /// then lit on one side only; open surfaces are lit on both.
   bool isClosed();
+  /// Obstacle trees built and refitted by this surface's COLLISION force fields (tests).
+  int obstacleBuilds() const;
+  int obstacleRefits() const;
   /// The last warning (empty if the fields are valid).
   const std::string& lastWarning() const { return m_lastWarning; }
 
@@ -169,6 +174,9 @@ class SoBSplineDeformSurface : public SoShape {
   SbBool readInstance(SoInput* in, unsigned short flags) override;
   void generatePrimitives(SoAction* action) override;
   void computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) override;
+  void callback(SoCallbackAction* action) override;
+  void rayPick(SoRayPickAction* action) override;
+  void getBoundingBox(SoGetBoundingBoxAction* action) override;
 
  private:
   void ensureSimulation();
@@ -188,11 +196,16 @@ class SoBSplineDeformSurface : public SoShape {
     void* engine = nullptr;
     int revision = -1;
     std::shared_ptr<const bsdeform::Force> force;
+    std::shared_ptr<bsdeform::SceneObstacles> obstacles;  ///< COLLISION: the gathered obstacles
+    int geometryRevision = -1;
   };
   std::vector<ForceSlot> m_forceSlots;
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
   std::string m_lastWarning;
   bsdeform::SurfaceGrid m_tess;
+  SoNode* m_sceneRoot = nullptr;        ///< head of the path of the last traversal (not ref'ed)
+  SoNodeSensor* m_rootSensor = nullptr; ///< clears m_sceneRoot when that node is deleted
+  void noteSceneRoot(SoAction* action);
   bool m_tessValid = false;
   SoTimerSensor* m_timer = nullptr;
   double m_lastTick = -1.0;

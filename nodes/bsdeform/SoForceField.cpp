@@ -19,6 +19,7 @@
 
 #include "bsdeform/CoinEigen.h"
 #include "bsdeform/Force.h"
+#include "bsdeform/Contact.h"
 #include "bsdeform/ForceLaws.h"
 #include "bsdeform/SceneText.h"
 
@@ -174,6 +175,10 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(radius, (0.25));
   SO_ENGINE_ADD_INPUT(stiffness, (10.0));
   SO_ENGINE_ADD_INPUT(coefficient, (1.0));
+  SO_ENGINE_ADD_INPUT(obstacles, (nullptr));
+  SO_ENGINE_ADD_INPUT(thickness, (0.02));
+  SO_ENGINE_ADD_INPUT(damping, (0.0));
+  SO_ENGINE_ADD_INPUT(friction, (0.0));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, UNIFORM);
@@ -186,17 +191,25 @@ SoForceField::SoForceField() {
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, PRESSURE);
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, PLANE_COLLISION);
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, SPHERE_COLLISION);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Type, COLLISION);
   SO_ENGINE_SET_SF_ENUM_TYPE(type, Type);
 
   // three components by default, so that the written form is a complete expression
   expression.setNum(3);
   for (int i = 0; i < 3; ++i) expression.set1Value(i, "0");
   expression.setDefault(TRUE);
+  obstacles.setNum(0);
+  obstacles.setDefault(TRUE);
 }
 
 SoForceField::~SoForceField() = default;
 
-void SoForceField::inputChanged(SoField*) { ++m_revision; }
+void SoForceField::inputChanged(SoField* which) {
+  if (which == &obstacles)
+    ++m_geometryRevision;  // the list or something inside an obstacle: re-gather, same force
+  else
+    ++m_revision;
+}
 
 void SoForceField::evaluate() { SO_ENGINE_OUTPUT(revision, SoSFInt32, setValue(m_revision)); }
 
@@ -212,7 +225,7 @@ SbBool SoForceField::readInstance(SoInput* in, unsigned short flags) {
     set();
     f.enableNotify(notify);
   };
-  for (SoSFDouble* f : {&magnitude, &radius, &stiffness, &coefficient})
+  for (SoSFDouble* f : {&magnitude, &radius, &stiffness, &coefficient, &thickness, &damping, &friction})
     quiet(*f, [f] { f->setValue(snap15(f->getValue())); });
   for (SoSFVec2d* f : {&point, &regionMin, &regionMax})
     quiet(*f, [f] { f->setValue(snap15(f->getValue()[0]), snap15(f->getValue()[1])); });
@@ -266,6 +279,19 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
                                                    stiffness.getValue());
       case SPHERE_COLLISION:
         return std::make_shared<SphereContactForce>(toEigen(center.getValue()), radius.getValue(), stiffness.getValue());
+      case COLLISION: {
+        if (!info.contact) {
+          error = "COLLISION needs the surface's obstacles";
+          return nullptr;
+        }
+        ContactParameters cp;
+        cp.thickness = thickness.getValue();
+        cp.stiffness = stiffness.getValue();
+        cp.damping = damping.getValue();
+        cp.friction = friction.getValue();
+        cp.massDensity = info.massDensity;
+        return std::make_shared<CollisionForce>(info.contact, cp);
+      }
       case EXPRESSION: {
         if (!std::isfinite(mag)) {
           std::ostringstream os;

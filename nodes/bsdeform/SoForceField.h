@@ -55,9 +55,16 @@
 /// | PRESSURE         | PressureForce                       | magnitude                                  |
 /// | PLANE_COLLISION  | PlaneContactForce                   | center, normal, stiffness                  |
 /// | SPHERE_COLLISION | SphereContactForce                  | center, radius, stiffness                  |
+/// | COLLISION        | CollisionForce (bsdeform/Contact.h) | obstacles, thickness, stiffness, damping, friction |
+///
+/// COLLISION: each entry of `obstacles` is any subgraph (DEF/USE a Separator with a Transform
+/// and a Cube, an IndexedFaceSet, a NurbsSurface, another SoBSplineDeformSurface). Its
+/// triangles are gathered in world coordinates (bsdeform/SceneObstacles.h says how frames are
+/// found) and re-gathered only when Coin reports a change.
 
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/engines/SoSubEngine.h>
+#include <Inventor/fields/SoMFNode.h>
 #include <Inventor/fields/SoMFString.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFEnum.h>
@@ -71,6 +78,7 @@
 
 namespace bsdeform {
 class Force;
+struct ContactWorld;
 }
 
 class SoForceField : public SoEngine {
@@ -89,6 +97,7 @@ class SoForceField : public SoEngine {
     PRESSURE,          ///< density `magnitude * unit normal` (PressureForce)
     PLANE_COLLISION,   ///< penalty `stiffness * depth * normal` below the plane (PlaneContactForce)
     SPHERE_COLLISION,  ///< penalty pushing out of the sphere (center, radius) (SphereContactForce)
+    COLLISION,         ///< penalty, damping and friction against the `obstacles` (CollisionForce)
   };
 
   static void initClass();
@@ -108,6 +117,10 @@ class SoForceField : public SoEngine {
   SoSFDouble radius;        ///< sphere radius; 0.25
   SoSFDouble stiffness;     ///< spring constant k / penalty per unit area and depth; 10
   SoSFDouble coefficient;   ///< drag coefficient c per unit parameter area; 1
+  SoMFNode obstacles;       ///< COLLISION: subgraphs the surface collides with; []
+  SoSFDouble thickness;     ///< COLLISION: contact offset (world units); 0.02
+  SoSFDouble damping;       ///< COLLISION: normal damping per unit parameter area; 0
+  SoSFDouble friction;      ///< COLLISION: Coulomb coefficient mu; 0
 
   /// Revision of the input values: changes whenever an input changes (a surface rebuilds its
   /// core force when it sees a new revision).
@@ -115,7 +128,9 @@ class SoForceField : public SoEngine {
 
   /// What a surface tells a force field when it builds its core force.
   struct SurfaceInfo {
-    double massDensity = 1.0;  ///< mass per unit parameter area (for GRAVITY)
+    double massDensity = 1.0;  ///< mass per unit parameter area (for GRAVITY, COLLISION)
+    /// COLLISION: the obstacles as the surface keeps them (SceneObstacles)
+    std::shared_ptr<const bsdeform::ContactWorld> contact;
   };
   /// Builds the core force for the current field values. Returns null when the force is off.
   /// @param[out] error set to a message naming the field and value when the values are bad
@@ -124,6 +139,9 @@ class SoForceField : public SoEngine {
 
   /// Current revision without going through an engine connection.
   int getRevision() const { return m_revision; }
+  /// Changes when `obstacles` or anything inside its nodes changes (the surfaces re-gather
+  /// the triangles; the force itself is not rebuilt).
+  int getGeometryRevision() const { return m_geometryRevision; }
 
  protected:
   ~SoForceField() override;
@@ -134,4 +152,5 @@ class SoForceField : public SoEngine {
 
  private:
   int m_revision = 0;
+  int m_geometryRevision = 0;
 };

@@ -32,6 +32,17 @@ struct ClosestHit {
 
 /// A bounding-volume hierarchy over a mesh's triangles. Degenerate triangles (zero area) and
 /// triangles with a non-finite or out-of-range vertex are dropped at build (counted).
+///
+/// Built on Embree 3's BVH and point queries (docs/benchmarks.md, "Closest-point queries: CGAL vs
+/// Embree"); the hierarchy culls in single precision with a widened radius, the closest point and
+/// the distances are computed in double, so answers equal a brute-force search in double.
+/// \note Zero area means twice the area at most 1e-12 times the squared diagonal of the box of
+/// the mesh's vertices; coordinates beyond 1e30 count as non-finite (the hierarchy keeps floats).
+/// Vertices at the same position are one vertex for the pseudo-normals (a triangle soup, as
+/// SoCallbackAction gives it, signs like the indexed mesh); this welding is decided when the tree
+/// is built. The sign is right for closed, consistently wound, manifold meshes (Baerentzen and
+/// Aanaes, Signed distance computation using the angle weighted pseudonormal, IEEE TVCG 2005);
+/// an open mesh gives the side of its faces' normals.
 class TriangleTree {
  public:
   explicit TriangleTree(TriangleMesh mesh);
@@ -40,14 +51,19 @@ class TriangleTree {
   TriangleTree& operator=(const TriangleTree&) = delete;
 
   /// Moves the vertices (same count and triangles) and refits or rebuilds the hierarchy.
+  /// Refits the hierarchy (1/9 to 1/15 of a rebuild) and recomputes the pseudo-normals (the
+  /// whole update: a third to a half of a rebuild); rebuilds when the set of kept triangles
+  /// changes (one became degenerate or non-finite, or valid again), so the answers are always
+  /// those of a tree built from scratch on the moved mesh.
   /// @throws std::invalid_argument when the vertex count differs
   void update(const std::vector<Eigen::Vector3d>& vertices);
 
-  /// The closest point within `maxDistance` of `query` (false when there is none or the mesh is
-  /// empty). Thread-safe for concurrent queries.
+  /// The closest point within `maxDistance` of `query` (false when there is none, the mesh is
+  /// empty, the query is not finite or maxDistance is negative or NaN; infinity searches the
+  /// whole mesh). Thread-safe for concurrent queries (not concurrently with update()).
   bool closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit) const;
 
-  const TriangleMesh& mesh() const;  ///< the kept triangles
+  const TriangleMesh& mesh() const;  ///< all vertices as given, the kept triangles
   int droppedTriangles() const;
   int triangleCount() const;
 

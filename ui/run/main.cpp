@@ -6,6 +6,7 @@
 // 1 an internal error (including a sweep run that could not be started).
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
@@ -245,7 +246,12 @@ Failure runScene(const Options& o) {
   QVector<Surface> surfaces = findSurfaces(root);
   if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
   // Build every model and force now: bad values show up as warnings before anything runs.
+  // A traversal first tells each surface its scene (the frames of COLLISION obstacles).
   g_coinMessages.clear();
+  {
+    SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
+    bb.apply(root);
+  }
   double dtMin = INFINITY, t0 = INFINITY;
   for (Surface& s : surfaces) {
     s.node->on = FALSE;  // the runner drives time itself

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/SceneObstacles.h"
+
+#include <Inventor/SbViewportRegion.h>
+#include <Inventor/SoPath.h>
+#include <Inventor/SoPrimitiveVertex.h>
+#include <Inventor/actions/SoCallbackAction.h>
+#include <Inventor/actions/SoGetMatrixAction.h>
+#include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/fields/SoMFNode.h>
+#include <Inventor/nodes/SoNode.h>
+#include <Inventor/nodes/SoShape.h>
+#include <Inventor/sensors/SoNodeSensor.h>
+#include <Inventor/sensors/SoPathSensor.h>
+
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace bsdeform {
+
+struct SceneObstacles::Entry {
+  SoNode* node = nullptr;  // ref'ed
+  SoPath* path = nullptr;  // ref'ed; null when the node is not in the scene
+  std::unique_ptr<SoSensor> sensor;
+  std::shared_ptr<TriangleTree> tree;
+  ~Entry() {
+    sensor.reset();
+    if (path) path->unref();
+    if (node) node->unref();
+  }
+};
+
+SceneObstacles::SceneObstacles() : m_world(std::make_shared<ContactWorld>()) {}
+SceneObstacles::~SceneObstacles() = default;
+
+void SceneObstacles::sensorFired(void* data, SoSensor*) { static_cast<SceneObstacles*>(data)->m_dirty = true; }
+
+namespace {
+
+SoPath* firstPath(SoNode* root, SoNode* node) {
+  if (!root || !node) return nullptr;
+  SoSearchAction sa;
+  sa.setNode(node);
+  sa.setInterest(SoSearchAction::FIRST);
+  sa.apply(root);
+  SoPath* p = sa.getPath();
+  if (!p) return nullptr;
+  p->ref();  // the action's path goes with the action
+  return p;
+}
+
+struct Gathered {
+  SoNode* self;
+  TriangleMesh mesh;
+};
+
+SoCallbackAction::Response pruneSelf(void* data, SoCallbackAction*, const SoNode* node) {
+  return node == static_cast<Gathered*>(data)->self ? SoCallbackAction::PRUNE : SoCallbackAction::CONTINUE;
+}
+
+void addTriangle(void* data, SoCallbackAction* action, const SoPrimitiveVertex* a, const SoPrimitiveVertex* b,
+                 const SoPrimitiveVertex* c) {
+  auto* g = static_cast<Gathered*>(data);
+  const SbMatrix& m = action->getModelMatrix();
+  const int first = int(g->mesh.vertices.size());
+  for (const SoPrimitiveVertex* v : {a, b, c}) {
+    SbVec3f w;
+    m.multVecMatrix(v->getPoint(), w);
+    g->mesh.vertices.emplace_back(w[0], w[1], w[2]);
+  }
+  g->mesh.triangles.emplace_back(first, first + 1, first + 2);
+}
+
+std::string describe(int i, SoNode* node) {
+  const SbName name = node->getName();
+  return "field 'obstacles' [" + std::to_string(i) + "] (" + node->getTypeId().getName().getString() +
+         (name.getLength() ? std::string(" '") + name.getString() + "'" : std::string()) + ")";
+}
+
+}  // namespace
+
+void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, std::vector<std::string>& warnings) {
+  std::vector<std::unique_ptr<Entry>> previous;
+  previous.swap(m_entries);
+  std::vector<ContactWorld::Obstacle> world;
+  for (int i = 0; i < obstacles.getNum(); ++i) {
+    SoNode* node = obstacles[i];
+    if (!node) {
+      warnings.push_back("field 'obstacles' [" + std::to_string(i) + "] is NULL; ignored");
+      continue;
+    }
+    if (node == self) {
+      warnings.push_back(describe(i, node) + " is the surface itself (self-collision is not supported); ignored");
+      continue;
+    }
+    auto e = std::make_unique<Entry>();
+    e->node = node;
+    node->ref();
+    e->path = firstPath(sceneRoot, node);
+    Gathered g{self, {}};
+    SoCallbackAction cb;
+    cb.addPreCallback(SoBSplineDeformSurface::getClassTypeId(), pruneSelf, &g);
+    cb.addTriangleCallback(SoShape::getClassTypeId(), addTriangle, &g);
+    if (e->path)
+      cb.apply(e->path);
+    else
+      cb.apply(node);
+    const TriangleMesh mesh = weldVertices(g.mesh);
+    // The same triangles as before (a moved Transform, the other surface's next step): refit.
+    for (auto& p : previous) {
+      if (!p || p->node != node || !p->tree || p->tree->mesh().vertices.size() != mesh.vertices.size()) continue;
+      if (p->tree->droppedTriangles() == 0 && p->tree->mesh().triangles == mesh.triangles) {
+        p->tree->update(mesh.vertices);
+        e->tree = p->tree;
+        ++m_refits;
+      }
+      break;
+    }
+    if (!e->tree) {
+      e->tree = std::make_shared<TriangleTree>(mesh);
+      ++m_builds;
+    }
+    if (e->tree->droppedTriangles() > 0)
+      warnings.push_back(describe(i, node) + ": " + std::to_string(e->tree->droppedTriangles()) +
+                         " degenerate or non-finite triangles dropped");
+    if (e->tree->triangleCount() == 0) {
+      warnings.push_back(describe(i, node) + " has no triangles; ignored");
+    } else {
+      world.push_back({e->tree, isClosedMesh(e->tree->mesh())});
+    }
+    // Changes above the obstacle in the scene (a Transform) reach us through a path sensor;
+    // changes inside it also through the force field's `obstacles` field.
+    if (e->path) {
+      auto sensor = std::make_unique<SoPathSensor>(sensorFired, this);
+      sensor->setPriority(0);  // immediate: no delay queue needed (the runner has none)
+      sensor->attach(e->path);
+      e->sensor = std::move(sensor);
+    } else {
+      auto sensor = std::make_unique<SoNodeSensor>(sensorFired, this);
+      sensor->setPriority(0);
+      sensor->attach(node);
+      e->sensor = std::move(sensor);
+    }
+    m_entries.push_back(std::move(e));
+  }
+  m_world->obstacles = std::move(world);
+}
+
+void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, bool obstaclesChanged,
+                            std::vector<std::string>& warnings) {
+  // the surface's own frame
+  if (SoPath* path = firstPath(sceneRoot, self)) {
+    SoGetMatrixAction ma(SbViewportRegion(1, 1));
+    ma.apply(path);
+    path->unref();
+    const SbMatrix& m = ma.getMatrix();
+    SbVec3f o, e;
+    m.multVecMatrix(SbVec3f(0, 0, 0), o);
+    m_world->offset = Eigen::Vector3d(o[0], o[1], o[2]);
+    for (int j = 0; j < 3; ++j) {
+      SbVec3f unit(0, 0, 0);
+      unit[j] = 1.0f;
+      m.multVecMatrix(unit, e);
+      m_world->linear.col(j) = Eigen::Vector3d(e[0] - o[0], e[1] - o[1], e[2] - o[2]);
+    }
+  }
+  if (sceneRoot != m_root) {
+    m_root = sceneRoot;
+    m_dirty = true;
+  }
+  if (m_dirty || obstaclesChanged) {
+    m_dirty = false;
+    gather(sceneRoot, self, obstacles, warnings);
+    m_dirty = false;  // our own traversal does not count as a change
+  }
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file SceneObstacles.h
+/// Coin plumbing of contact: gathers the triangles of the obstacles a COLLISION force field
+/// lists (any subgraph: shapes, nurbs, meshes, another SoBSplineDeformSurface) in world
+/// coordinates with SoCallbackAction, keeps a bsdeform::ContactWorld current, and re-gathers
+/// only when Coin says something changed (the force field's `obstacles` field, or an
+/// SoPathSensor on the obstacle's path in the scene). The contact law is in the core
+/// (bsdeform/Contact.h).
+///
+/// Frames: an obstacle's world transform is the one above its first occurrence (depth-first)
+/// under the scene root the surface was last traversed from (a render, a bounding box, a
+/// callback or pick action); one that is not in the scene graph is taken as it is, with no
+/// transform above it. The surface's own frame is that of its first occurrence likewise.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bsdeform/Contact.h"
+
+class SoNode;
+class SoPath;
+class SoPathSensor;
+class SoSensor;
+class SoMFNode;
+
+namespace bsdeform {
+
+class SceneObstacles {
+ public:
+  SceneObstacles();
+  ~SceneObstacles();
+  SceneObstacles(const SceneObstacles&) = delete;
+  SceneObstacles& operator=(const SceneObstacles&) = delete;
+
+  /// The world the CollisionForce reads (updated in place by update()).
+  std::shared_ptr<const ContactWorld> world() const { return m_world; }
+
+  /// Brings the world up to date before a step: the surface's frame every time (cheap), the
+  /// obstacles' triangles when `obstaclesChanged` or a path sensor fired since the last call.
+  /// `self` is never gathered (self-collision is not supported). Problems (a NULL entry, the
+  /// surface itself, an empty subgraph, dropped triangles) are appended to `warnings`, naming
+  /// the field entry; the valid obstacles are used.
+  void update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, bool obstaclesChanged,
+              std::vector<std::string>& warnings);
+
+  /// How often obstacle trees were built from scratch and refitted (moved vertices).
+  int builds() const { return m_builds; }
+  int refits() const { return m_refits; }
+
+ private:
+  struct Entry;
+  static void sensorFired(void* data, SoSensor*);
+  void gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, std::vector<std::string>& warnings);
+
+  std::shared_ptr<ContactWorld> m_world;
+  std::vector<std::unique_ptr<Entry>> m_entries;
+  SoNode* m_root = nullptr;
+  bool m_dirty = true;
+  int m_builds = 0, m_refits = 0;
+};
+
+}  // namespace bsdeform
