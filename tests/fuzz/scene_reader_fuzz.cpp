@@ -89,6 +89,18 @@ long long controlPoints(SoBSplineDeformSurface* s) {
 
 }  // namespace
 
+// Leaks that only hostile input reaches, inside Coin, suppressed for this target on top of
+// tests/support/lsan.supp. Its allocation stacks are whole (BSDEFORM_SANITIZER_FULL_UNWIND), so
+// an entry can name the Coin function on the path.
+// - SoField::readConnection: `field = Engine { … }` not followed by `. output` ("expected field
+//   connection token '.'"): Coin created the engine and returns without unref'ing it (found by the
+//   fuzzer; reproduced with a program linking only Coin). Every engine read inside a connection
+//   has this function on its stack, so the entry would also hide a leak of ours of such an engine;
+//   the node tests, which do not use it, would still see that one.
+extern "C" __attribute__((visibility("default"), used)) const char* __lsan_default_suppressions() {
+  return "leak:SoField::readConnection\n";
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const bool initialised = initialise();
   (void)initialised;
