@@ -3,8 +3,9 @@
 # UndefinedBehaviorSanitizer, float-cast-overflow included (GCC's and clang's "undefined" group
 # leaves it out or not depending on version, so it is named). Every report aborts the process
 # (-fno-sanitize-recover=all), so a test with a finding fails. Frame pointers keep the reports'
-# stacks complete. BSDEFORM_BUILD_FUZZ adds libFuzzer's coverage instrumentation to the same
-# objects (clang only), so one build serves the test suite and the fuzz target.
+# stacks complete. BSDEFORM_BUILD_FUZZ (clang only) builds the fuzz target in the same tree and
+# gives the nodes library libFuzzer's coverage instrumentation (CMakeLists.txt), so one build
+# serves the test suite and the fuzz target.
 
 set(BSDEFORM_SANITIZER_COMPILE_FLAGS
   -fsanitize=address,undefined,float-cast-overflow
@@ -16,7 +17,6 @@ if(BSDEFORM_BUILD_FUZZ)
     message(FATAL_ERROR "BSDEFORM_BUILD_FUZZ needs clang (libFuzzer), e.g. -DCMAKE_CXX_COMPILER=clang++ "
                         "-DCMAKE_C_COMPILER=clang; this is ${CMAKE_CXX_COMPILER_ID}")
   endif()
-  list(APPEND BSDEFORM_SANITIZER_COMPILE_FLAGS -fsanitize=fuzzer-no-link)
 endif()
 add_compile_options(${BSDEFORM_SANITIZER_COMPILE_FLAGS})
 add_link_options(${BSDEFORM_SANITIZER_LINK_FLAGS})
