@@ -44,17 +44,15 @@ if [ "$fuzz" = 1 ]; then
   # New inputs go to a scratch corpus in the build tree (the first directory), never into the
   # repository. Fork mode goes on after a finding and writes each one to artifacts/. A crash, a
   # timeout or running out of memory fails the script; a leak is listed without failing: Coin
-  # leaks on some reader error paths that neither the guard nor a suppression covers yet
-  # (tests/fuzz/crashes-found/), and leaks of our own are caught by the suites' LeakSanitizer.
-  # -only_ascii=1: the reader's guard loops on a NUL byte (tests/fuzz/crashes-found/); drop it
-  # once that is fixed.
+  # may leak on reader error paths that neither the guard nor a suppression covers, and leaks of
+  # our own are caught by the suites' LeakSanitizer.
   run="$BSDEFORM_SAN_BUILD/fuzz-run"
   rm -rf "$run/artifacts"
   mkdir -p "$run/corpus" "$run/artifacts"
   seconds="${BSDEFORM_FUZZ_SECONDS:-120}"
   echo "bsdeform: fuzzing the scene reader for ${seconds} s (log: $run/fuzz.log)"
   (cd "$run" && "$BSDEFORM_SAN_BUILD/tests/scene_reader_fuzz" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 \
-      -ignore_ooms=1 -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -only_ascii=1 \
+      -ignore_ooms=1 -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
       -dict="$BSDEFORM_ROOT/tests/fuzz/scene.dict" -artifact_prefix="$run/artifacts/" \
       "$run/corpus" "$BSDEFORM_ROOT/tests/fuzz/corpus" "$BSDEFORM_ROOT/scenes") > "$run/fuzz.log" 2>&1 || true
   grep -E "^#[0-9]+: cov" "$run/fuzz.log" | tail -n 1 || true

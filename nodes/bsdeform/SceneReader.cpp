@@ -6,6 +6,7 @@
 #include <Inventor/SoType.h>
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/errors/SoReadError.h>
+#include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/fields/SoFieldData.h>
 #include <Inventor/fields/SoMFEngine.h>
 #include <Inventor/fields/SoMFNode.h>
@@ -48,7 +49,8 @@ const std::map<std::string, FieldKind>& fieldKinds(SoType type) {
   auto it = cache.find(type.getKey());
   if (it != cache.end()) return it->second;
   std::map<std::string, FieldKind>& kinds = cache[type.getKey()];
-  if (!type.canCreateInstance()) return kinds;
+  // Only field containers have fields; createInstance() of a field or event type is no SoBase.
+  if (!type.canCreateInstance() || !type.isDerivedFrom(SoFieldContainer::getClassTypeId())) return kinds;
   auto* instance = static_cast<SoFieldContainer*>(type.createInstance());
   if (!instance) return kinds;
   instance->ref();
@@ -132,6 +134,8 @@ class Scanner {
   bool openBody(const Token& brace, const std::string& typeName, int defId);
   bool closeBody();
   bool checkDeclaration(const Frame& f);  // `fields [ … ]` of a known type
+  bool readDeclaration(const Frame& f);   // `fields [ … ]` of an unknown type: its node and engine fields
+  const std::map<std::string, FieldKind>& kindsOf(const Frame& f);
   bool use(const std::string& name, int line, FieldKind kind, const std::string& field);
   bool include(const Frame& f);
   int depth() const { return m_baseDepth + m_bodies; }
@@ -160,6 +164,9 @@ class Scanner {
   // An SF node/engine field waiting for its one value (kind Other when none).
   FieldKind m_expectItem = FieldKind::Other;
   std::string m_expectField;
+  // Node and engine fields that `fields [ … ]` declared for unknown type names, kept for the whole
+  // file (Coin reads the declaration of each instance; the union is the cautious reading).
+  std::map<std::string, std::map<std::string, FieldKind>> m_declared;
 };
 
 void Scanner::skipSpaceAndComments() {
@@ -183,6 +190,7 @@ bool Scanner::next(Token& t) {
   t.line = m_line;
   if (m_p >= m_end) return true;
   const char c = *m_p;
+  if (c == '\0') return fail(t.line, "a NUL byte (character 0), which an ASCII Inventor file never holds");
   switch (c) {
     case '{': t.kind = Token::Open; ++m_p; return true;
     case '}': t.kind = Token::Close; ++m_p; return true;
@@ -270,6 +278,14 @@ bool Scanner::openBody(const Token& brace, const std::string& typeName, int defI
   f.defId = defId;
   f.openLine = brace.line;
   if (defId >= 0) m_defs[std::size_t(defId)].type = f.type;
+  if (!f.type.isBad() && !f.type.isDerivedFrom(SoBase::getClassTypeId()))
+    return fail(brace.line, "'" + typeName + "' is a Coin type that is neither a node nor an engine " +
+                                "(Coin 4.0 writes through a wrong pointer when it reads one)");
+  // Coin reads engines at the top level (SoDB::read skips them) but never frees one: only a DEF'ed
+  // one can be used by anything.
+  if (!f.type.isBad() && m_stack.size() == 1 && isEngineType(f.type) && defId < 0)
+    return fail(brace.line, "'" + typeName + "' at the top level of the file is an engine without a DEF name, " +
+                                "which nothing can use (Coin 4.0 reads it and never frees it)");
   ++m_bodies;
   if (depth() > m_limits.maxNesting)
     return fail(brace.line, "nodes nested " + std::to_string(depth()) + " deep (at most " +
@@ -336,6 +352,39 @@ bool Scanner::checkDeclaration(const Frame& f) {
   }
   if (m_result.ok) fail(m_line, "'fields [' of " + f.typeName + " is never closed");
   return false;
+}
+
+bool Scanner::readDeclaration(const Frame& f) {
+  std::map<std::string, FieldKind>& kinds = m_declared[f.typeName];
+  std::string type;
+  Token t;
+  while (next(t)) {
+    if (t.kind == Token::CloseList) return true;
+    if (t.kind == Token::Comma) continue;
+    if (t.kind != Token::Word)
+      return fail(t.line, "'fields [ … ]' of " + f.typeName + " holds something other than field types and names");
+    if (type.empty()) {
+      type = t.text;
+      continue;
+    }
+    const SoType ft = typeFromName(type);
+    FieldKind k = FieldKind::Other;
+    if (!ft.isBad() && (ft.isDerivedFrom(SoSFEngine::getClassTypeId()) || ft.isDerivedFrom(SoMFEngine::getClassTypeId())))
+      k = FieldKind::Engine;
+    else if (!ft.isBad() && (ft.isDerivedFrom(SoSFNode::getClassTypeId()) || ft.isDerivedFrom(SoMFNode::getClassTypeId())))
+      k = FieldKind::Node;
+    if (k != FieldKind::Other) kinds[t.text] = k;
+    type.clear();
+  }
+  if (m_result.ok) fail(m_line, "'fields [' of " + f.typeName + " is never closed");
+  return false;
+}
+
+const std::map<std::string, FieldKind>& Scanner::kindsOf(const Frame& f) {
+  if (!f.type.isBad()) return fieldKinds(f.type);
+  static const std::map<std::string, FieldKind> none;
+  auto it = m_declared.find(f.typeName);
+  return it == m_declared.end() ? none : it->second;
 }
 
 bool Scanner::closeBody() {
@@ -483,7 +532,7 @@ SceneCheck Scanner::run() {
           prevWord.clear();
           continue;
         }
-        if (first && t.text == "fields" && !f.type.isBad() && !fieldKinds(f.type).count("fields")) {
+        if (first && t.text == "fields" && !f.typeName.empty() && !kindsOf(f).count("fields")) {
           // `fields [ … ]` declares the fields of a type the reader may not know.
           Token n;
           const char* save = m_p;
@@ -493,14 +542,14 @@ SceneCheck Scanner::run() {
             // Coin writes the declaration for extension types (ours), and it is harmless while it
             // names only fields the type has: SoFieldData::readFieldDescriptions adds any other
             // name to the class's field data with an offset from this one object.
-            if (!checkDeclaration(f)) break;
+            if (!(f.type.isBad() ? readDeclaration(f) : checkDeclaration(f))) break;
             continue;
           }
           m_p = save;
           m_line = saveLine;
         }
-        if (f.bracketDepth == 0 && !f.type.isBad()) {
-          const auto& kinds = fieldKinds(f.type);
+        if (f.bracketDepth == 0) {
+          const auto& kinds = kindsOf(f);
           auto k = kinds.find(t.text);
           if (k != kinds.end() && k->second != FieldKind::Other) {
             m_expectItem = k->second;
@@ -508,7 +557,7 @@ SceneCheck Scanner::run() {
             prevWord.clear();
             continue;
           }
-          if (f.type.isDerivedFrom(SoFile::getClassTypeId()) && t.text == "name") f.wantFileName = true;
+          if (!f.type.isBad() && f.type.isDerivedFrom(SoFile::getClassTypeId()) && t.text == "name") f.wantFileName = true;
           else if (f.wantFileName) {
             f.fileName = t.text;
             f.wantFileName = false;

@@ -85,45 +85,6 @@ void checkFieldOwnership(SoNode* root) {
   }
 }
 
-// Known crashes in the guard, reported and kept in tests/fuzz/crashes-found/ until it handles
-// them. Inputs that reach one are skipped, so that a run can go on and find new problems. Delete
-// an entry (and move its file to the corpus) once the guard refuses the construct. The scan is
-// rough (it ignores strings and comments): it may skip a few more inputs than needed.
-// - type_that_is_not_a_node.iv: a Coin type that is not a node or engine used as one
-//   (`SFTrigger { x }`): the guard's fieldKinds() instantiates it and treats it as an
-//   SoFieldContainer (UBSan: member call on an object that is not an SoBase; an invalid heap
-//   write in a release build).
-bool reachesKnownProblem(const uint8_t* data, size_t size) {
-  const char* p = reinterpret_cast<const char*>(data);
-  const char* end = p + size;
-  const char* word = nullptr;  // the last word, kept across white space
-  std::size_t wordLength = 0;
-  bool inWord = false;
-  for (const char* c = p; c < end; ++c) {
-    if (std::isalnum(static_cast<unsigned char>(*c)) || *c == '_') {
-      if (!inWord) {
-        word = c;
-        wordLength = 0;
-        inWord = true;
-      }
-      ++wordLength;
-      continue;
-    }
-    inWord = false;
-    if (*c == '{') {
-      // the last word before this brace names the type (a long one is the guard's business)
-      if (wordLength && wordLength <= 256) {
-        const std::string name(word, wordLength);
-        SoType t = SoType::fromName(SbName(name.c_str()));
-        if (t.isBad()) t = SoType::fromName(SbName(("So" + name).c_str()));
-        if (!t.isBad() && !t.isDerivedFrom(SoFieldContainer::getClassTypeId())) return true;
-      }
-    }
-    if (!std::isspace(static_cast<unsigned char>(*c))) wordLength = 0;
-  }
-  return false;
-}
-
 long long controlPoints(SoBSplineDeformSurface* s) {
   return static_cast<long long>(s->numUControlPoints.getValue()) * s->numVControlPoints.getValue();
 }
@@ -146,7 +107,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const bool initialised = initialise();
   (void)initialised;
 
-  if (reachesKnownProblem(data, size)) return 0;
   std::string error;
   SoSeparator* root = bsdeform::readSceneText(reinterpret_cast<const char*>(data), size, "fuzz-input", error);
   if (!root) return 0;

@@ -186,6 +186,53 @@ TEST_CASE("SceneReader: an engine field holds engines only", "[nodes]") {
   INFO(error);
 }
 
+TEST_CASE("SceneReader: engine fields declared by an unknown type hold engines only", "[nodes]") {
+  // Coin reads `fields [ MFEngine forces ]` of an unknown type and then loops on `forces [ 5 ]`
+  // exactly as for our own node's field.
+  const SceneCheck c = check(kHeader + "Separator { Probe { fields [ MFEngine forces ]\n forces [ 5 ] } }\n");
+  CHECK_FALSE(c.ok);
+  CHECK(c.line == 3);
+  CHECK(c.reason.find("forces") != std::string::npos);
+  // an SFNode declared the same way is read as a node field; later instances keep the declaration
+  CHECK_FALSE(check(kHeader + "Probe { fields [ SFNode n, SFFloat f ] n 5 }\n").ok);
+  CHECK_FALSE(check(kHeader + "Probe { fields [ SoSFEngine e ] }\nProbe { e 5 }\n").ok);
+  // ordinary declared fields and node values of the declared kind read as Coin reads them
+  std::string error;
+  const bool ok = reads(kHeader + "Probe { fields [ SFFloat f, SFNode n, MFNode m ] f 2 n Cube {} m [ Sphere {}, Cone {} ] }\n", error);
+  INFO(error);
+  CHECK(ok);
+}
+
+TEST_CASE("SceneReader: a type that is no node or engine is refused where a node is read", "[nodes]") {
+  // A field or event type used as a node: Coin 4.0 casts it to SoBase and writes through it.
+  for (const char* type : {"SFTrigger", "SoSFTrigger", "MFVec3d", "SoMouseButtonEvent"}) {
+    const SceneCheck c = check(kHeader + "Separator {\n " + type + " { x } }\n");
+    INFO(type);
+    CHECK_FALSE(c.ok);
+    CHECK(c.line == 3);
+    CHECK(c.reason.find("neither a node nor an engine") != std::string::npos);
+  }
+  // An engine at the top level without a DEF name: Coin creates it, skips it and leaks it.
+  const SceneCheck top = check(kHeader + "Cube {}\nSoForceField { }\n");
+  CHECK_FALSE(top.ok);
+  CHECK(top.line == 3);
+  CHECK(top.reason.find("top level") != std::string::npos);
+  // engines stay allowed where they can be used: DEF'ed at the top level, connections, engine fields
+  std::string error;
+  CHECK(reads(kHeader + "DEF E ElapsedTime { }\nSeparator { Translation { translation 0 0 0 = USE E.timeOut } }\n", error));
+  CHECK(reads(kHeader + "Separator { Translation { translation 0 0 0 = ElapsedTime { } . timeOut } }\n", error));
+  CHECK(reads(kHeader + "Separator { DEF T Transform { } Rotor { speed 0 = DEF E ElapsedTime { } . timeOut } }\n", error));
+  INFO(error);
+}
+
+TEST_CASE("SceneReader: a NUL byte is refused, not looped on", "[nodes]") {
+  const std::string text = kHeader + "Separator {\n Cube { wid" + std::string(1, '\0') + "th 1 } }\n";
+  const SceneCheck c = check(text);
+  CHECK_FALSE(c.ok);
+  CHECK(c.line == 3);
+  CHECK(c.reason.find("NUL") != std::string::npos);
+}
+
 TEST_CASE("SceneReader: File includes are checked too, and may not include themselves", "[nodes]") {
   testutil::Coin::get();
   const std::string dir = tempDir();
