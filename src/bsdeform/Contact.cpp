@@ -3,11 +3,14 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <cmath>
 #include <map>
 #include <stdexcept>
 #include <tuple>
 
+#include "bsdeform/LoadQuadrature.h"
 #include "bsdeform/NumberText.h"
 
 namespace bsdeform {
@@ -92,6 +95,24 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
   return f;
 }
 
+struct CollisionForce::Cache {
+  // The quadrature, which depends on the space only.
+  int degreeU = -1, degreeV = -1, spansU = -1, spansV = -1;
+  std::vector<Node1D> qu, qv;
+  std::vector<LocalBasis> bu, bv;
+  std::vector<int> uBegin, vBegin;  // per span: its first node (spans + 1 entries)
+  // The reference net and what the clearances were measured against.
+  bool valid = false;
+  std::vector<std::pair<const TriangleTree*, std::uint64_t>> trees;
+  Eigen::Matrix3d linear = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  ControlNet reference;
+  double skin = 0.0;
+  double normA = 0.0;
+  std::vector<double> clearance;  // per element (su * spansV + sv)
+  Counters counters;
+};
+
 CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p)
     : DistributedForce(
           [w = world.get(), p](const SurfaceSample& s) {
@@ -101,7 +122,8 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
           },
           kDependsOnPosition | kDependsOnVelocity, ParamRect{}, 2, 0.0),
       m_world(std::move(world)),
-      m_params(p) {
+      m_params(p),
+      m_cache(std::make_shared<Cache>()) {
   if (!m_world) throw std::invalid_argument("collision: no obstacle world");
   checked(p.thickness, "thickness", true);
   checked(p.stiffness, "stiffness", false);
@@ -115,6 +137,130 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
 double CollisionForce::eigenvalueBound(const MassContext& ctx) const {
   const double a = m_world->linear.jacobiSvd().singularValues()(0);
   return m_params.stiffness * a * a * ctx.space.basisU().spacing() * ctx.space.basisV().spacing() / ctx.interiorMass;
+}
+
+const CollisionForce::Counters& CollisionForce::counters() const { return m_cache->counters; }
+
+void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  Cache& c = *m_cache;
+  Counters& n = c.counters;
+  ++n.loads;
+  n.activeElements = 0;
+  const SplineSpace& s = ctx.space;
+  if (c.degreeU != s.degreeU() || c.degreeV != s.degreeV() || c.spansU != s.basisU().numSpans() ||
+      c.spansV != s.basisV().numSpans()) {
+    c = Cache{};
+    c.degreeU = s.degreeU();
+    c.degreeV = s.degreeV();
+    c.spansU = s.basisU().numSpans();
+    c.spansV = s.basisV().numSpans();
+    // the points DistributedForce uses: n + 1 for the basis, two more for the density
+    c.qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
+    c.qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
+    c.bu.resize(c.qu.size());
+    c.bv.resize(c.qv.size());
+    for (std::size_t i = 0; i < c.qu.size(); ++i) s.basisU().evaluateInSpan(c.qu[i].span, c.qu[i].x, 0, c.bu[i]);
+    for (std::size_t j = 0; j < c.qv.size(); ++j) s.basisV().evaluateInSpan(c.qv[j].span, c.qv[j].x, 0, c.bv[j]);
+    auto begins = [](const std::vector<Node1D>& q, int spans) {
+      std::vector<int> b(std::size_t(spans) + 1, int(q.size()));
+      for (int i = int(q.size()) - 1; i >= 0; --i) b[std::size_t(q[std::size_t(i)].span)] = i;
+      for (int k = spans - 1; k >= 0; --k) b[std::size_t(k)] = std::min(b[std::size_t(k)], b[std::size_t(k) + 1]);
+      return b;
+    };
+    c.uBegin = begins(c.qu, c.spansU);
+    c.vBegin = begins(c.qv, c.spansV);
+  }
+  n.elements = c.spansU * c.spansV;
+  const ContactWorld& w = *m_world;
+  if (w.obstacles.empty()) return;
+  const double search = kSearch * m_params.thickness;
+
+  // Is the reference still the one the clearances belong to?
+  bool same = c.valid && c.linear == w.linear && c.offset == w.offset && c.trees.size() == w.obstacles.size() &&
+              c.reference.rows() == ctx.current.rows();
+  for (std::size_t k = 0; same && k < w.obstacles.size(); ++k) {
+    const TriangleTree* t = w.obstacles[k].tree.get();
+    same = c.trees[k].first == t && (!t || c.trees[k].second == t->version());
+  }
+  double moved = 0.0;  // largest control-point displacement since the reference, world units
+  if (same) {
+    moved = c.normA * std::sqrt((ctx.current - c.reference).rowwise().squaredNorm().maxCoeff());
+    same = moved < c.skin;
+  }
+  // Box of an element's control points (local coordinates): centre and half diagonal.
+  auto box = [&](int su, int sv, Eigen::Vector3d& centre, double& half) {
+    const int r0 = c.bu[std::size_t(c.uBegin[std::size_t(su)])].first + s.degreeU();
+    const int c0 = c.bv[std::size_t(c.vBegin[std::size_t(sv)])].first + s.degreeV();
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    for (int i = r0; i <= r0 + s.degreeU(); ++i)
+      for (int j = c0; j <= c0 + s.degreeV(); ++j) {
+        const Eigen::Vector3d x = ctx.current.row(Eigen::Index(i) * s.netCols() + j).transpose();
+        lo = lo.cwiseMin(x);
+        hi = hi.cwiseMax(x);
+      }
+    centre = 0.5 * (lo + hi);
+    half = 0.5 * (hi - lo).norm();
+  };
+  if (!same) {
+    ++n.references;
+    c.valid = true;
+    c.linear = w.linear;
+    c.offset = w.offset;
+    c.trees.clear();
+    for (const ContactWorld::Obstacle& o : w.obstacles)
+      c.trees.emplace_back(o.tree.get(), o.tree ? o.tree->version() : 0);
+    c.reference = ctx.current;
+    c.normA = w.linear.jacobiSvd().singularValues()(0);
+    c.clearance.assign(std::size_t(n.elements), 0.0);
+    std::vector<double> halves(std::size_t(n.elements));
+    std::vector<Eigen::Vector3d> centres(std::size_t(n.elements));
+    double sumHalf = 0.0;
+    for (int su = 0; su < c.spansU; ++su)
+      for (int sv = 0; sv < c.spansV; ++sv) {
+        const std::size_t e = std::size_t(su) * std::size_t(c.spansV) + std::size_t(sv);
+        box(su, sv, centres[e], halves[e]);
+        halves[e] *= c.normA;
+        centres[e] = w.linear * centres[e] + w.offset;
+        sumHalf += halves[e];
+      }
+    // The skin: how far the net may move before the clearances are measured again.
+    c.skin = search + sumHalf / std::max(1, n.elements);
+    for (std::size_t e = 0; e < halves.size(); ++e) {
+      double g = c.skin;  // nothing within the query radius: inactive until the next reference
+      const double radius = halves[e] + search + c.skin;
+      for (const ContactWorld::Obstacle& o : w.obstacles) {
+        if (!o.tree) continue;
+        ClosestHit hit;
+        ++n.elementQueries;
+        if (o.tree->closest(centres[e], radius, hit)) {
+          // rounding margin: the skip must never drop a point the query would find
+          const double margin = 1e-9 * (1.0 + centres[e].cwiseAbs().maxCoeff() + halves[e] + search);
+          g = std::min(g, hit.distance - halves[e] - search - margin);
+        }
+      }
+      c.clearance[e] = g;
+    }
+    moved = 0.0;
+  }
+
+  for (int su = 0; su < c.spansU; ++su)
+    for (int sv = 0; sv < c.spansV; ++sv) {
+      if (c.clearance[std::size_t(su) * std::size_t(c.spansV) + std::size_t(sv)] > moved) continue;
+      ++n.activeElements;
+      for (int i = c.uBegin[std::size_t(su)]; i < c.uBegin[std::size_t(su) + 1]; ++i)
+        for (int j = c.vBegin[std::size_t(sv)]; j < c.vBegin[std::size_t(sv) + 1]; ++j) {
+          const LocalBasis& bu = c.bu[std::size_t(i)];
+          const LocalBasis& bv = c.bv[std::size_t(j)];
+          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, c.qu[std::size_t(i)].x, c.qv[std::size_t(j)].x,
+                                                    kDependsOnPosition | kDependsOnVelocity);
+          ++n.pointQueries;
+          const Eigen::Vector3d f = contactDensity(w, m_params, w.linear * smp.position + w.offset,
+                                                   w.linear * smp.velocity, smp.stepSize);
+          if (f.isZero(0.0)) continue;
+          scatter(s, bu, bv, (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w) * (w.linear.transpose() * f), load);
+        }
+    }
 }
 
 }  // namespace bsdeform

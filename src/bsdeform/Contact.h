@@ -70,9 +70,34 @@ class CollisionForce : public DistributedForce {
   const ContactParameters& parameters() const { return m_params; }
   const ContactWorld& world() const { return *m_world; }
 
+  /// The load: the same quadrature as DistributedForce (degree + 3 Gauss points per span and
+  /// direction), evaluated only on the elements (knot spans) that may be within the search
+  /// distance 3 tau of an obstacle, which gives the same load as evaluating everywhere: every
+  /// point of an element lies in the box of its control points (convex hull), so an element
+  /// whose box is farther than 3 tau from every triangle gets exactly zero. The clearance of each
+  /// element is measured at a reference net; while the net has moved less than the clearance
+  /// since (the largest control-point displacement, through ||A||), the element is skipped
+  /// without a query. The reference is renewed when that displacement exceeds a skin (3 tau plus
+  /// an element's diagonal), or the obstacles or the frame change (a tree's update(), another
+  /// tree, another A or b).
+  void addLoad(const LoadContext& ctx, ControlNet& load) const override;
+
+  /// What the last addLoad did (for benchmarks and tests).
+  struct Counters {
+    long long loads = 0;          ///< addLoad calls
+    long long references = 0;     ///< reference nets taken (clearance of every element measured)
+    long long elementQueries = 0; ///< clearance queries (one per element and obstacle, per reference)
+    long long pointQueries = 0;   ///< quadrature points evaluated (one closest-point query per obstacle)
+    int activeElements = 0;       ///< elements evaluated in the last addLoad
+    int elements = 0;             ///< elements of the surface
+  };
+  const Counters& counters() const;
+
  private:
+  struct Cache;
   std::shared_ptr<const ContactWorld> m_world;
   ContactParameters m_params;
+  std::shared_ptr<Cache> m_cache;  // mutable state of addLoad (the force is const in a step)
 };
 
 }  // namespace bsdeform

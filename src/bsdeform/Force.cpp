@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "bsdeform/GaussLegendre.h"
+#include "bsdeform/LoadQuadrature.h"
 
 namespace bsdeform {
 
@@ -26,31 +27,8 @@ void checkStiffness(double k) {
     throw std::invalid_argument("force stiffness bound must be finite and >= 0, got " + std::to_string(k));
 }
 
-// Calls fn(i, j, B_k(u, v)) for every B-spline k non-zero at (u, v), given the 1-D bases, with
-// (i, j) the net layers of the moving point it loads (a periodic copy loads the point it
-// repeats); held points are skipped.
-template <typename Fn>
-inline void forEachMovingBasis(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, Fn&& fn) {
-  for (int a = 0; a < bu.count; ++a) {
-    const int i = s.movingLayerU(bu.first + a + s.degreeU());
-    if (i < 0) continue;
-    for (int b = 0; b < bv.count; ++b) {
-      const int j = s.movingLayerV(bv.first + b + s.degreeV());
-      if (j >= 0) fn(i, j, bu.d[0][a] * bv.d[0][b]);
-    }
-  }
-}
+}  // namespace
 
-// Adds w * f * B_k(u, v) to the load of the moving point of every B-spline k non-zero at (u, v).
-inline void scatter(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Vector3d& wf,
-                    ControlNet& load) {
-  const int firstU = s.movingU().first, firstV = s.movingV().first, width = s.movingV().count;
-  forEachMovingBasis(s, bu, bv, [&](int i, int j, double B) {
-    load.row(Eigen::Index(i - firstU) * width + (j - firstV)) += B * wf.transpose();
-  });
-}
-
-// Surface quantities from precomputed 1-D bases (values and first derivatives).
 SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, const LocalBasis& bv, double u, double v,
                               unsigned dep) {
   SurfaceSample smp;
@@ -68,11 +46,6 @@ SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, cons
   return smp;
 }
 
-// Gauss points of [lo, hi] split at the knots of `basis`: (parameter, weight, span).
-struct Node1D {
-  double x, w;
-  int span;
-};
 std::vector<Node1D> splitQuadrature(const BSplineBasis1D& basis, double lo, double hi, int points) {
   std::vector<Node1D> out;
   if (!(hi > lo)) return out;
@@ -90,7 +63,6 @@ std::vector<Node1D> splitQuadrature(const BSplineBasis1D& basis, double lo, doub
   }
   return out;
 }
-}  // namespace
 
 SurfaceSample sampleSurface(const LoadContext& ctx, double u, double v, unsigned dependence) {
   LocalBasis bu, bv;

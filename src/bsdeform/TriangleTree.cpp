@@ -60,6 +60,7 @@ struct TriangleTree::Impl {
   TriangleMesh mesh;                   // all vertices, the kept triangles
   std::vector<int> kept;               // index in `input` of each kept triangle
   int dropped = 0;
+  std::uint64_t version = 0;  // update() calls so far
 
   // Pseudo-normals (Baerentzen & Aanaes 2005), recomputed whenever the vertices move.
   std::vector<Eigen::Vector3d> faceNormals;       // per kept triangle
@@ -301,6 +302,7 @@ void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
     throw std::invalid_argument("TriangleTree::update: " + std::to_string(vertices.size()) +
                                 " vertices, the mesh has " + std::to_string(m->mesh.vertices.size()));
   m->mesh.vertices = vertices;
+  ++m->version;
   std::vector<int> keep = m->selectTriangles();
   if (keep == m->kept)
     m->refit();
@@ -354,6 +356,8 @@ bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, Clo
 }
 
 const TriangleMesh& TriangleTree::mesh() const { return m->mesh; }
+std::uint64_t TriangleTree::version() const { return m->version; }
+
 int TriangleTree::droppedTriangles() const { return m->dropped; }
 int TriangleTree::triangleCount() const { return static_cast<int>(m->mesh.triangles.size()); }
 

@@ -5,6 +5,7 @@
 /// contact with obstacles of any shape (docs/math.md, contact). World coordinates throughout.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -65,6 +66,8 @@ class TriangleTree {
 
   const TriangleMesh& mesh() const;  ///< all vertices as given, the kept triangles
   int droppedTriangles() const;
+  /// How many times update() moved the vertices (answers depend on the tree and this number).
+  std::uint64_t version() const;
   int triangleCount() const;
 
  private:
