@@ -334,6 +334,14 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   try {
     std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
                                                             : std::make_unique<bsdeform::Simulation>(p);
+    // Another surface that lists this one as an obstacle and is built while this one gathers
+    // it asks for this surface's triangles: they come from the model being built (no rebuild
+    // within the rebuild).
+    struct Building {
+      const bsdeform::Simulation*& slot;
+      ~Building() { slot = nullptr; }
+    } building{m_building};
+    m_building = sim.get();
     // Forces first: their stiffness sets the sub-step, and a state is restored at its own
     // sub-step (a force added afterwards would rescale the previous net as if it were older).
     oldSlots.swap(m_forceSlots);
@@ -366,6 +374,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
 }
 
 void SoBSplineDeformSurface::ensureSimulation() {
+  if (m_building) return;  // asked for from within rebuildSimulation (see there)
   if (m_modelDirty || m_stateDirty || !m_sim) {
     if (!rebuildSimulation() && !m_sim) m_sim = std::make_unique<bsdeform::Simulation>(bsdeform::ModelParameters());
     m_modelDirty = m_stateDirty = false;
@@ -383,6 +392,7 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
   const double area = sim.space().basisU().spacing() * sim.space().basisV().spacing();
   info.massDensity = sim.parameters().massModel == bsdeform::MassModel::Nodal ? sim.parameters().mass / area
                                                                                : sim.parameters().mass;
+  bool areaKnown = false;  // info.areaScale, computed when a COLLISION force is built
   bool changed = int(m_forceSlots.size()) != forces.getNum();
   m_forceSlots.resize(forces.getNum());
   for (int i = 0; i < forces.getNum(); ++i) {
@@ -414,6 +424,12 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
       info.contact.reset();
     }
     if (slot.engine == ff && slot.revision == ff->getRevision()) continue;
+    if (ff->type.getValue() == SoForceField::COLLISION && !areaKnown) {
+      // the contact law is per unit world area (Contact.h); a degenerate rest surface keeps 1
+      const double a = bsdeform::surfaceArea(sim.space(), sim.rest());
+      if (std::isfinite(a) && a > 0.0) info.areaScale = a;
+      areaKnown = true;
+    }
     std::string error;
     auto force = ff->makeForce(info, error);
     slot.engine = ff;
@@ -599,13 +615,14 @@ int SoBSplineDeformSurface::segmentsFor(float complexity, int spans) const {
 
 void SoBSplineDeformSurface::tessellate(SoState* state) {
   ensureSimulation();
-  const bsdeform::SplineSpace& sp = m_sim->space();
+  const bsdeform::Simulation& sim = m_building ? *m_building : *m_sim;
+  const bsdeform::SplineSpace& sp = sim.space();
   const float complexity = state ? SoComplexityElement::get(state) : 0.5f;
   const int segU = segmentsFor(complexity, sp.basisU().numSpans());
   const int segV = segmentsFor(complexity, sp.basisV().numSpans());
   if (m_tessValid && m_tess.segU == segU && m_tess.segV == segV) return;
-  bsdeform::tessellate(sp, m_sim->current(), segU, segV, m_tess);
-  m_tessValid = true;
+  bsdeform::tessellate(sp, sim.current(), segU, segV, m_tess);
+  m_tessValid = !m_building;
 }
 
 void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {

@@ -189,6 +189,7 @@ class SoBSplineDeformSurface : public SoShape {
   int segmentsFor(float complexity, int spans) const;
 
   std::unique_ptr<bsdeform::Simulation> m_sim;
+  const bsdeform::Simulation* m_building = nullptr;  ///< the model rebuildSimulation() is making
   bool m_modelDirty = true;
   bool m_stateDirty = true;
   bool m_syncing = false;

@@ -290,6 +290,7 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
         cp.damping = damping.getValue();
         cp.friction = friction.getValue();
         cp.massDensity = info.massDensity;
+        cp.areaScale = info.areaScale;
         return std::make_shared<CollisionForce>(info.contact, cp);
       }
       case EXPRESSION: {

@@ -129,6 +129,7 @@ class SoForceField : public SoEngine {
   /// What a surface tells a force field when it builds its core force.
   struct SurfaceInfo {
     double massDensity = 1.0;  ///< mass per unit parameter area (for GRAVITY, COLLISION)
+    double areaScale = 1.0;    ///< COLLISION: rest area per unit parameter area (surfaceArea of the rest net)
     /// COLLISION: the obstacles as the surface keeps them (SceneObstacles)
     std::shared_ptr<const bsdeform::ContactWorld> contact;
   };

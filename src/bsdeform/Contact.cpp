@@ -29,6 +29,18 @@ double checked(double x, const char* name, bool positive) {
                                 ", got " + numberText(x));
   return x;
 }
+// s^2 when A = s R (R orthogonal, a similarity: every area scales alike), else 0.
+double frameAreaScale(const Eigen::Matrix3d& A) {
+  const Eigen::Matrix3d g = A.transpose() * A;
+  const double s2 = g.trace() / 3.0;
+  return (g - s2 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2 ? s2 : 0.0;
+}
+
+// The law per unit world area: the caps use the mass per unit world area.
+ContactParameters perWorldArea(ContactParameters p) {
+  p.massDensity /= p.areaScale;
+  return p;
+}
 }  // namespace
 
 bool isClosedMesh(const TriangleMesh& mesh) {
@@ -118,9 +130,13 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
           [w = world.get(), p](const SurfaceSample& s) {
             const Eigen::Vector3d xw = w->linear * s.position + w->offset;
             const Eigen::Vector3d vw = w->linear * s.velocity;
-            return Eigen::Vector3d(w->linear.transpose() * contactDensity(*w, p, xw, vw, s.stepSize));
+            const double similarity = frameAreaScale(w->linear);
+            const double gamma = similarity > 0.0 ? similarity
+                                                  : (w->linear.determinant() * w->linear.inverse().transpose() * s.normal).norm();
+            return Eigen::Vector3d(p.areaScale * gamma *
+                                   (w->linear.transpose() * contactDensity(*w, perWorldArea(p), xw, vw, s.stepSize)));
           },
-          kDependsOnPosition | kDependsOnVelocity, ParamRect{}, 2, 0.0),
+          kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal, ParamRect{}, 2, 0.0),
       m_world(std::move(world)),
       m_params(p),
       m_cache(std::make_shared<Cache>()) {
@@ -130,13 +146,16 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
   checked(p.damping, "damping", false);
   checked(p.friction, "friction", false);
   checked(p.massDensity, "mass density", true);
+  checked(p.areaScale, "area scale", true);
   if (!m_world->linear.allFinite() || !m_world->offset.allFinite())
     throw std::invalid_argument("collision: the surface's transform is not finite");
 }
 
 double CollisionForce::eigenvalueBound(const MassContext& ctx) const {
   const double a = m_world->linear.jacobiSvd().singularValues()(0);
-  return m_params.stiffness * a * a * ctx.space.basisU().spacing() * ctx.space.basisV().spacing() / ctx.interiorMass;
+  const Eigen::Vector3d sv = m_world->linear.jacobiSvd().singularValues();
+  // the largest world area per local area is sigma_1 sigma_2
+  return m_params.areaScale * sv(0) * sv(1) * m_params.stiffness * a * a * ctx.space.basisU().spacing() * ctx.space.basisV().spacing() / ctx.interiorMass;
 }
 
 const CollisionForce::Counters& CollisionForce::counters() const { return m_cache->counters; }
@@ -159,8 +178,8 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
     c.qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
     c.bu.resize(c.qu.size());
     c.bv.resize(c.qv.size());
-    for (std::size_t i = 0; i < c.qu.size(); ++i) s.basisU().evaluateInSpan(c.qu[i].span, c.qu[i].x, 0, c.bu[i]);
-    for (std::size_t j = 0; j < c.qv.size(); ++j) s.basisV().evaluateInSpan(c.qv[j].span, c.qv[j].x, 0, c.bv[j]);
+    for (std::size_t i = 0; i < c.qu.size(); ++i) s.basisU().evaluateInSpan(c.qu[i].span, c.qu[i].x, 1, c.bu[i]);
+    for (std::size_t j = 0; j < c.qv.size(); ++j) s.basisV().evaluateInSpan(c.qv[j].span, c.qv[j].x, 1, c.bv[j]);
     auto begins = [](const std::vector<Node1D>& q, int spans) {
       std::vector<int> b(std::size_t(spans) + 1, int(q.size()));
       for (int i = int(q.size()) - 1; i >= 0; --i) b[std::size_t(q[std::size_t(i)].span)] = i;
@@ -244,6 +263,11 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
     moved = 0.0;
   }
 
+  const ContactParameters world = perWorldArea(m_params);
+  // World area per local area at a point: |cof(A) n| for the unit normal n; s^2 for A = s R.
+  const Eigen::Matrix3d cofactor = w.linear.determinant() * w.linear.inverse().transpose();
+  const double similarity = frameAreaScale(w.linear);
+  const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
   for (int su = 0; su < c.spansU; ++su)
     for (int sv = 0; sv < c.spansV; ++sv) {
       if (c.clearance[std::size_t(su) * std::size_t(c.spansV) + std::size_t(sv)] > moved) continue;
@@ -252,13 +276,15 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
         for (int j = c.vBegin[std::size_t(sv)]; j < c.vBegin[std::size_t(sv) + 1]; ++j) {
           const LocalBasis& bu = c.bu[std::size_t(i)];
           const LocalBasis& bv = c.bv[std::size_t(j)];
-          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, c.qu[std::size_t(i)].x, c.qv[std::size_t(j)].x,
-                                                    kDependsOnPosition | kDependsOnVelocity);
+          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, c.qu[std::size_t(i)].x, c.qv[std::size_t(j)].x, needs);
           ++n.pointQueries;
-          const Eigen::Vector3d f = contactDensity(w, m_params, w.linear * smp.position + w.offset,
+          const Eigen::Vector3d f = contactDensity(w, world, w.linear * smp.position + w.offset,
                                                    w.linear * smp.velocity, smp.stepSize);
           if (f.isZero(0.0)) continue;
-          scatter(s, bu, bv, (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w) * (w.linear.transpose() * f), load);
+          const double gamma = similarity > 0.0 ? similarity : (cofactor * smp.normal).norm();
+          scatter(s, bu, bv,
+                  (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w * m_params.areaScale * gamma) * (w.linear.transpose() * f),
+                  load);
         }
     }
 }

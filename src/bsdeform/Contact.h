@@ -36,6 +36,11 @@ struct ContactParameters {
   double damping = 0.0;     ///< c >= 0: normal damping on the approach speed
   double friction = 0.0;    ///< mu >= 0: Coulomb coefficient
   double massDensity = 1.0; ///< rho > 0: the surface's mass per unit parameter area (friction and damping caps)
+  /// a > 0: the surface's world area per unit parameter area (its rest area, surfaceArea() of the
+  /// rest net). The law above is per unit world area (stiffness: pressure per depth), so the
+  /// density per unit parameter area is a times it; two surfaces in contact then press on each
+  /// other equally whatever their sizes (to within their stretch from rest).
+  double areaScale = 1.0;
 };
 
 /// Whether a mesh is closed and consistently wound (each undirected edge in exactly two
@@ -57,13 +62,16 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
                                const Eigen::Vector3d& v, double dt, double* depth = nullptr);
 
 /// Contact with the obstacles of a ContactWorld as a distributed force on the surface: the
-/// density above at S(u, v), mapped to the surface's coordinates (f = A^T f_world).
+/// density above at S(u, v) (with mass density rho / a for its caps), times the world area per
+/// unit parameter area, mapped to the surface's coordinates: f = a gamma A^T f_world, with a the
+/// rest area scale and gamma = |cof(A) n| the world area per local area of the frame at the
+/// point (s^2 for a frame A = s R).
 class CollisionForce : public DistributedForce {
  public:
   /// @throws std::invalid_argument naming the parameter and the value
   CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p);
 
-  /// The penalty's stiffness through the frame: k ||A||_2^2 h1 h2 / m_interior (as
+  /// The penalty's stiffness through the frame: a sigma_1 sigma_2 k ||A||_2^2 h1 h2 / m_interior (as
   /// PlaneContactForce with k ||A||^2). Damping and friction are capped (0.3 rho / dt) so that
   /// they stay within the margin the sub-step sizing leaves (see DragForce).
   double eigenvalueBound(const MassContext& ctx) const override;

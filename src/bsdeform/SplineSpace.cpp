@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SplineSpace.h"
 
+#include "bsdeform/LoadQuadrature.h"
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -168,6 +170,23 @@ SurfacePoint SplineSpace::evaluate(const ControlNet& net, const LocalBasis& bu, 
     }
   }
   return p;
+}
+
+double surfaceArea(const SplineSpace& space, const ControlNet& net) {
+  const std::vector<Node1D> qu = splitQuadrature(space.basisU(), 0.0, 1.0, space.degreeU() + 3);
+  const std::vector<Node1D> qv = splitQuadrature(space.basisV(), 0.0, 1.0, space.degreeV() + 3);
+  std::vector<LocalBasis> bv(qv.size());
+  for (std::size_t j = 0; j < qv.size(); ++j) space.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bv[j]);
+  double area = 0.0;
+  LocalBasis bu;
+  for (const Node1D& nu : qu) {
+    space.basisU().evaluateInSpan(nu.span, nu.x, 1, bu);
+    for (std::size_t j = 0; j < qv.size(); ++j) {
+      const SurfacePoint p = space.evaluate(net, bu, bv[j], 1);
+      area += nu.w * qv[j].w * p.du.cross(p.dv).norm();
+    }
+  }
+  return area;
 }
 
 }  // namespace bsdeform

@@ -145,4 +145,8 @@ class SplineSpace {
   LayerRange m_movingU, m_movingV;
 };
 
+/// Area of the surface of `net` over [0,1]^2: the integral of |S_u x S_v| by Gauss–Legendre with
+/// degree + 3 points per knot span and direction.
+double surfaceArea(const SplineSpace& space, const ControlNet& net);
+
 }  // namespace bsdeform

@@ -184,7 +184,10 @@ TEST_CASE("CollisionForce: skipping far elements gives the load of every quadrat
   auto tree = std::make_shared<TriangleTree>(b);
   auto w = std::make_shared<ContactWorld>();
   w->obstacles.push_back({tree, true});
-  w->linear = 1.5 * Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  // rotated, scaled and sheared: the world area per local area varies with the normal
+  Eigen::Matrix3d shear = Eigen::Matrix3d::Identity();
+  shear(0, 2) = 0.2;
+  w->linear = 1.5 * Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix() * shear;
   w->offset = Eigen::Vector3d(0.1, -0.2, 0.05);
   // the cloth's frame is rotated: express gravity and the start height in it
   const Eigen::Matrix3d Ainv = w->linear.inverse();
@@ -204,12 +207,14 @@ TEST_CASE("CollisionForce: skipping far elements gives the load of every quadrat
   cp.damping = 1.0;
   cp.friction = 0.4;
   auto contact = std::make_shared<CollisionForce>(w, cp);
+  const Eigen::Matrix3d cofactor = w->linear.determinant() * w->linear.inverse().transpose();
   const DistributedForce everywhere(
       [&](const SurfaceSample& s) {
-        return Eigen::Vector3d(w->linear.transpose() *
+        // per unit world area (area scale a = 1 here): times the world area per local area
+        return Eigen::Vector3d((cofactor * s.normal).norm() * w->linear.transpose() *
                                contactDensity(*w, cp, w->linear * s.position + w->offset, w->linear * s.velocity, s.stepSize));
       },
-      kDependsOnPosition | kDependsOnVelocity);
+      kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal);
   sim.addForce(contact);
   sim.addForce(std::make_shared<DistributedForce>(Ainv * Eigen::Vector3d(0, 0, -9.81)));
   int skipped = 0, compared = 0, touching = 0;

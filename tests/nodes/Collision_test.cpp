@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "NodesTestUtil.h"
+#include "bsdeform/Contact.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoForceField.h"
 
@@ -106,5 +107,91 @@ TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned 
   CHECK(all.find("[0] (Separator 'Empty') has no triangles") != std::string::npos);
   CHECK(all.find("is the surface itself") != std::string::npos);
   CHECK(cloth->simulation().evaluate(0.5, 0.5).position.z() > -0.05);  // still resting on the box
+  root->unref();
+}
+
+namespace {
+// Total load of the COLLISION forces of `s` whose obstacles include `other` (all points move,
+// so the sum over the control points is the integral of the density).
+Eigen::Vector3d contactLoadFrom(SoBSplineDeformSurface* s, SoNode* other) {
+  const bsdeform::Simulation& sim = s->simulation();
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (int i = 0; i < s->forces.getNum(); ++i) {
+    auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
+    if (ff->type.getValue() != SoForceField::COLLISION || ff->obstacles.find(other) < 0) continue;
+    for (const auto& f : sim.forces()) {
+      auto* c = dynamic_cast<const bsdeform::CollisionForce*>(f.get());
+      if (!c) continue;
+      // the force of this field (the test gives each COLLISION field its own stiffness)
+      bsdeform::ControlNet load = bsdeform::ControlNet::Zero(sim.space().numMoving(), 3);
+      const bsdeform::LoadContext ctx{sim.space(), sim.current(), sim.previous(), sim.subStepSize(), sim.time()};
+      if (c->parameters().stiffness != ff->stiffness.getValue()) continue;
+      c->addLoad(ctx, load);
+      // a load in the surface's coordinates is A^T times the world force
+      total += Eigen::Vector3d(c->world().linear.transpose().inverse() * load.colwise().sum().transpose());
+    }
+  }
+  return total;
+}
+}  // namespace
+
+TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces", "[nodes]") {
+  // A lower cloth B lies on a Cube; an upper cloth A, of another size and resolution, falls on
+  // it. Each lists the other as an obstacle (the second link is set in code: a file cannot refer
+  // forward). At rest the contact carries A's weight, and what B feels from A is what A feels
+  // from B, with the sign reversed, to within the two quadratures and tessellations.
+  SoSeparator* root = testutil::read(R"(#Inventor V2.1 ascii
+Separator {
+  Separator { Transform { translation 0.5 0.5 -1 } DEF Box Cube { width 4 height 4 depth 2 } }
+  Separator {
+    Transform { translation -0.25 -0.25 0.0199 scaleFactor 1.5 1.5 1 }
+    DEF B SoBSplineDeformSurface {
+      on FALSE numUControlPoints 12 numVControlPoints 12
+      boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE
+      massModel LUMPED damping 4 timeStep 0.01 mass 1
+      forces [ SoForceField { type GRAVITY force 0 0 -2 },
+               SoForceField { type COLLISION obstacles [ USE Box ] thickness 0.02 stiffness 20000 damping 30 },
+               DEF FromA SoForceField { type COLLISION thickness 0.02 stiffness 5000 damping 30 } ]
+    }
+  }
+  Separator {
+    Transform { translation 0.2 0.2 0.08 }
+    DEF A SoBSplineDeformSurface {
+      on FALSE numUControlPoints 9 numVControlPoints 9
+      boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE
+      massModel LUMPED damping 4 timeStep 0.01 mass 1
+      w10 0.2 w01 0.2
+      forces [ SoForceField { type GRAVITY force 0 0 -2 },
+               SoForceField { type COLLISION obstacles [ USE B ] thickness 0.02 stiffness 5000 damping 30 } ]
+    }
+  }
+}
+)");
+  REQUIRE(root);
+  auto* a = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("A"));
+  auto* b = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("B"));
+  auto* fromA = static_cast<SoForceField*>(SoBase::getNamedBase("FromA", SoForceField::getClassTypeId()));
+  REQUIRE(a);
+  REQUIRE(b);
+  REQUIRE(fromA);
+  fromA->obstacles.setValue(a);
+  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
+  bb.apply(root);
+  for (int k = 0; k < 300; ++k) {
+    REQUIRE(b->stepSimulation(1));
+    REQUIRE(a->stepSimulation(1));
+  }
+  INFO("A at " << a->simulation().evaluate(0.5, 0.5).position.transpose() << ", B at "
+               << b->simulation().evaluate(0.5, 0.5).position.transpose() << ", A forces " << a->simulation().forces().size());
+  const Eigen::Vector3d onA = contactLoadFrom(a, b);
+  const Eigen::Vector3d onB = contactLoadFrom(b, a);
+  INFO("on A " << onA.transpose() << ", on B " << onB.transpose());
+  // A (unit parameter square, mass 1 per unit parameter area, g = 2) rests: the contact carries 2
+  CHECK(onA.z() == Approx(2.0).epsilon(0.02));
+  CHECK((onA + onB).norm() < 0.02 * onA.norm());
+  // A rests on B at the penalty's static depth: tau - rho g / k = 0.02 - 2 / 5000 above it
+  const double gap = (a->simulation().evaluate(0.5, 0.5).position.z() + 0.08) -
+                     (b->simulation().evaluate(0.5, 0.5).position.z() + 0.0199);
+  CHECK(gap == Approx(0.02 - 2.0 / 5000.0).margin(2e-5));
   root->unref();
 }
