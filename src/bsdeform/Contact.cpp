@@ -36,10 +36,25 @@ double frameAreaScale(const Eigen::Matrix3d& A) {
   return (g - s2 * Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-12 * s2 ? s2 : 0.0;
 }
 
-// The law per unit world area: the caps use the mass per unit world area.
-ContactParameters perWorldArea(ContactParameters p) {
-  p.massDensity /= p.areaScale;
-  return p;
+// The frame's quantities one load needs.
+struct Frame {
+  Eigen::Matrix3d cofactor;  // det(A) A^-T: world area vector per local one
+  double similarity;         // frameAreaScale(A)
+  explicit Frame(const Eigen::Matrix3d& A)
+      : cofactor(A.determinant() * A.inverse().transpose()), similarity(frameAreaScale(A)) {}
+};
+
+// The density per unit parameter area at a sample (position, velocity, and the normal unless the
+// frame is a similarity): a gamma A^T f_world, the law per unit world area with its caps in the
+// surface's own terms.
+Eigen::Vector3d localDensity(const ContactWorld& w, const ContactParameters& p, const Frame& fr, const SurfaceSample& s) {
+  const double gamma = fr.similarity > 0.0 ? fr.similarity : (fr.cofactor * s.normal).norm();
+  if (!(gamma > 0.0)) return Eigen::Vector3d::Zero();  // a degenerate point of the surface
+  const double scale = p.areaScale * gamma;
+  const Eigen::Vector3d f =
+      contactDensity(w, p, w.linear * s.position + w.offset, w.linear * s.velocity, s.stepSize, w.linear, scale);
+  if (f.isZero(0.0)) return f;
+  return scale * (w.linear.transpose() * f);
 }
 }  // namespace
 
@@ -75,10 +90,16 @@ TriangleMesh weldVertices(const TriangleMesh& mesh) {
 
 Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
                                const Eigen::Vector3d& v, double dt, double* depthOut) {
+  return contactDensity(world, p, x, v, dt, Eigen::Matrix3d::Identity(), 1.0, depthOut);
+}
+
+Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                               const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
+                               double* depthOut) {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   double deepest = 0.0;
-  const double rateCap = dt > 0.0 ? kRateCap * p.massDensity / dt : 0.0;
-  const double damping = std::min(p.damping, rateCap);
+  // rho / dt share per unit of the surface's own rate (see the declaration)
+  const double rateCap = dt > 0.0 && scale > 0.0 ? kRateCap * p.massDensity / (dt * scale) : 0.0;
   for (const ContactWorld::Obstacle& o : world.obstacles) {
     if (!o.tree) continue;
     ClosestHit hit;
@@ -96,12 +117,21 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
     const double depth = p.thickness - s;
     if (!(depth > 0.0)) continue;
     deepest = std::max(deepest, depth);
+    // the frame's gain along the normal and, at most, in the tangent plane: |A^T n|^2 and the
+    // largest eigenvalue of A^T P_t A (that of the 2 x 2 matrix B^T B, B = A^T [t1 t2])
+    const Eigen::Vector3d an = frame.transpose() * n;
+    const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    const Eigen::Vector3d b1 = frame.transpose() * t1, b2 = frame.transpose() * t2;
+    const double g11 = b1.squaredNorm(), g22 = b2.squaredNorm(), g12 = b1.dot(b2);
+    const double tangentGain = 0.5 * (g11 + g22) + std::sqrt(0.25 * (g11 - g22) * (g11 - g22) + g12 * g12);
+    const double damping = std::min(p.damping, rateCap / std::max(an.squaredNorm(), 1e-300));
     const double vn = v.dot(n);
     const double fn = std::max(0.0, p.stiffness * depth - damping * vn);
     f += fn * n;
     const Eigen::Vector3d vt = v - vn * n;
     const double speed = vt.norm();
-    if (p.friction > 0.0 && speed > 0.0 && fn > 0.0) f -= std::min(p.friction * fn, rateCap * speed) / speed * vt;
+    if (p.friction > 0.0 && speed > 0.0 && fn > 0.0)
+      f -= std::min(p.friction * fn, rateCap / std::max(tangentGain, 1e-300) * speed) / speed * vt;
   }
   if (depthOut) *depthOut = deepest;
   return f;
@@ -127,15 +157,7 @@ struct CollisionForce::Cache {
 
 CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p)
     : DistributedForce(
-          [w = world.get(), p](const SurfaceSample& s) {
-            const Eigen::Vector3d xw = w->linear * s.position + w->offset;
-            const Eigen::Vector3d vw = w->linear * s.velocity;
-            const double similarity = frameAreaScale(w->linear);
-            const double gamma = similarity > 0.0 ? similarity
-                                                  : (w->linear.determinant() * w->linear.inverse().transpose() * s.normal).norm();
-            return Eigen::Vector3d(p.areaScale * gamma *
-                                   (w->linear.transpose() * contactDensity(*w, perWorldArea(p), xw, vw, s.stepSize)));
-          },
+          [w = world.get(), p](const SurfaceSample& s) { return localDensity(*w, p, Frame(w->linear), s); },
           kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal, ParamRect{}, 2, 0.0),
       m_world(std::move(world)),
       m_params(p),
@@ -263,11 +285,8 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
     moved = 0.0;
   }
 
-  const ContactParameters world = perWorldArea(m_params);
-  // World area per local area at a point: |cof(A) n| for the unit normal n; s^2 for A = s R.
-  const Eigen::Matrix3d cofactor = w.linear.determinant() * w.linear.inverse().transpose();
-  const double similarity = frameAreaScale(w.linear);
-  const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
+  const Frame frame(w.linear);
+  const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
   for (int su = 0; su < c.spansU; ++su)
     for (int sv = 0; sv < c.spansV; ++sv) {
       if (c.clearance[std::size_t(su) * std::size_t(c.spansV) + std::size_t(sv)] > moved) continue;
@@ -278,13 +297,9 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
           const LocalBasis& bv = c.bv[std::size_t(j)];
           const SurfaceSample smp = sampleFromBases(ctx, bu, bv, c.qu[std::size_t(i)].x, c.qv[std::size_t(j)].x, needs);
           ++n.pointQueries;
-          const Eigen::Vector3d f = contactDensity(w, world, w.linear * smp.position + w.offset,
-                                                   w.linear * smp.velocity, smp.stepSize);
+          const Eigen::Vector3d f = localDensity(w, m_params, frame, smp);
           if (f.isZero(0.0)) continue;
-          const double gamma = similarity > 0.0 ? similarity : (cofactor * smp.normal).norm();
-          scatter(s, bu, bv,
-                  (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w * m_params.areaScale * gamma) * (w.linear.transpose() * f),
-                  load);
+          scatter(s, bu, bv, (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w) * f, load);
         }
     }
 }

@@ -61,8 +61,18 @@ TriangleMesh weldVertices(const TriangleMesh& mesh);
 Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
                                const Eigen::Vector3d& v, double dt, double* depth = nullptr);
 
+/// The same law for a surface whose own coordinates map to the world by `frame` (A) and whose
+/// density will be multiplied by `scale` (a gamma) and mapped by A^T: the damping and friction
+/// caps are set so that, in the surface's own terms, their rates stay within 0.3 rho / dt:
+/// damping c' = min(c, 0.3 rho / (dt scale |A^T n|^2)), friction at most
+/// 0.3 rho |v_t| / (dt scale lambda_max(A^T P_t A)) (P_t the projection on the tangent plane).
+/// With A = I and scale 1 this is the law above.
+Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                               const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
+                               double* depth = nullptr);
+
 /// Contact with the obstacles of a ContactWorld as a distributed force on the surface: the
-/// density above at S(u, v) (with mass density rho / a for its caps), times the world area per
+/// density above at S(u, v) (caps in the surface's own terms, see the frame overload), times the world area per
 /// unit parameter area, mapped to the surface's coordinates: f = a gamma A^T f_world, with a the
 /// rest area scale and gamma = |cof(A) n| the world area per local area of the frame at the
 /// point (s^2 for a frame A = s R).

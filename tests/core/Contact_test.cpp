@@ -210,9 +210,11 @@ TEST_CASE("CollisionForce: skipping far elements gives the load of every quadrat
   const Eigen::Matrix3d cofactor = w->linear.determinant() * w->linear.inverse().transpose();
   const DistributedForce everywhere(
       [&](const SurfaceSample& s) {
-        // per unit world area (area scale a = 1 here): times the world area per local area
-        return Eigen::Vector3d((cofactor * s.normal).norm() * w->linear.transpose() *
-                               contactDensity(*w, cp, w->linear * s.position + w->offset, w->linear * s.velocity, s.stepSize));
+        // per unit world area (area scale a = 1 here): times the world area per local area gamma
+        const double gamma = (cofactor * s.normal).norm();
+        return Eigen::Vector3d(gamma * w->linear.transpose() *
+                               contactDensity(*w, cp, w->linear * s.position + w->offset, w->linear * s.velocity,
+                                              s.stepSize, w->linear, gamma));
       },
       kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal);
   sim.addForce(contact);
