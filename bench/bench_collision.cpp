@@ -115,6 +115,9 @@ BENCHMARK(CollisionStep)
     ->ArgsProduct({{64}, {0, 1000, 10000, 100000}})
     ->Args({128, 0})
     ->Args({128, 100000})
+    ->Args({256, 0})
+    ->Args({256, 1000})
+    ->Args({256, 100000})
     ->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();
