@@ -3,9 +3,9 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
-#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <tuple>
@@ -38,10 +38,13 @@ double frameAreaScale(const Eigen::Matrix3d& A) {
 
 // The frame's quantities one load needs.
 struct Frame {
-  Eigen::Matrix3d cofactor;  // det(A) A^-T: world area vector per local one
+  Eigen::Matrix3d cofactor;  // cof(A) = det(A) A^-T, (A u) x (A v) = cof(A) (u x v); defined for singular A
   double similarity;         // frameAreaScale(A)
-  explicit Frame(const Eigen::Matrix3d& A)
-      : cofactor(A.determinant() * A.inverse().transpose()), similarity(frameAreaScale(A)) {}
+  explicit Frame(const Eigen::Matrix3d& A) : similarity(frameAreaScale(A)) {
+    cofactor.col(0) = A.col(1).cross(A.col(2));
+    cofactor.col(1) = A.col(2).cross(A.col(0));
+    cofactor.col(2) = A.col(0).cross(A.col(1));
+  }
 };
 
 // The density per unit parameter area at a sample (position, velocity, and the normal unless the
@@ -174,10 +177,10 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
 }
 
 double CollisionForce::eigenvalueBound(const MassContext& ctx) const {
-  const double a = m_world->linear.jacobiSvd().singularValues()(0);
+  // ||A||^2 through the frame, and sigma_1 sigma_2 the largest world area per local area
   const Eigen::Vector3d sv = m_world->linear.jacobiSvd().singularValues();
-  // the largest world area per local area is sigma_1 sigma_2
-  return m_params.areaScale * sv(0) * sv(1) * m_params.stiffness * a * a * ctx.space.basisU().spacing() * ctx.space.basisV().spacing() / ctx.interiorMass;
+  return m_params.areaScale * sv(0) * sv(1) * m_params.stiffness * sv(0) * sv(0) * ctx.space.basisU().spacing() *
+         ctx.space.basisV().spacing() / ctx.interiorMass;
 }
 
 const CollisionForce::Counters& CollisionForce::counters() const { return m_cache->counters; }
