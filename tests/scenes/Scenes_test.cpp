@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <clocale>
 #include <cmath>
 #include <cstdlib>
 #include <dirent.h>
@@ -168,6 +169,29 @@ TEST_CASE("bsdeform-run: CSV columns, final scene and identical output for the s
     return std::stod(l.substr(l.find(',', l.find(',') + 1) + 1));
   };
   CHECK(lastNorm(last3) == Approx(lastNorm(last4)).epsilon(1e-10));
+}
+
+TEST_CASE("bsdeform-run: a decimal-comma locale writes the same files byte for byte", "[scenes]") {
+  // Qt sets the process locale from the environment (setlocale(LC_ALL, "")); the scene text was
+  // read back through strtod before issue 11 and came out as integers under LANG=de_DE.UTF-8.
+  const bool available = std::setlocale(LC_ALL, "de_DE.UTF-8") != nullptr;
+  std::setlocale(LC_ALL, "C");
+  if (!available) {
+    WARN("SKIPPED: the locale de_DE.UTF-8 is not installed (scripts/common.sh generates it with localedef)");
+    return;
+  }
+  TempDir dir;
+  REQUIRE(run(scene("region_load.iv") + " --steps 4 -o c", dir.path, "LC_ALL=C").code == 0);
+  REQUIRE(run(scene("region_load.iv") + " --steps 4 -o de", dir.path, "LC_ALL=de_DE.UTF-8").code == 0);
+  const std::string iv = slurp(dir.path + "/c/final.iv");
+  CHECK(iv.find("controlNet [") != std::string::npos);
+  CHECK(iv.find("0.5") != std::string::npos);
+  CHECK(iv == slurp(dir.path + "/de/final.iv"));
+  CHECK(slurp(dir.path + "/c/surface0.csv") == slurp(dir.path + "/de/surface0.csv"));
+  // and the scene written under the comma locale resumes like the other
+  REQUIRE(run("de/final.iv --steps 2 -o de2", dir.path, "LC_ALL=de_DE.UTF-8").code == 0);
+  REQUIRE(run("c/final.iv --steps 2 -o c2", dir.path, "LC_ALL=C").code == 0);
+  CHECK(slurp(dir.path + "/c2/final.iv") == slurp(dir.path + "/de2/final.iv"));
 }
 
 TEST_CASE("bsdeform-run: an engine-animated force repeats exactly and does animate", "[scenes]") {
