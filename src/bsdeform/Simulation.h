@@ -186,6 +186,13 @@ class Simulation {
   void holdPins(ControlNet& net) const;
   /// A_II without the pinned rows and columns.
   Eigen::SparseMatrix<double> activeMatrix() const;
+  /// A_IB P_B, the coupling to every held point (clamped layers and pins): what the implicit
+  /// scheme and the static solve need (the explicit kernel applies A to the whole net).
+  ControlNet boundaryTerm() const;
+  /// c0 = (A P_rest)_moving for ElasticReference::Rest (what makes the rest net an
+  /// equilibrium), else 0.
+  ControlNet restOffset() const;
+  /// m_constantLoad = c0 + the loads of the constant forces, in their order.
   void rebuildConstantLoad();
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
@@ -200,9 +207,8 @@ class Simulation {
   SplineSpace m_space;
   StiffnessStencil m_stencil;
   ControlNet m_rest, m_current, m_previous;
-  ControlNet m_restOffset;     ///< c0 = (A P_rest)_free for ElasticReference::Rest, else 0
-  ControlNet m_boundaryTerm;   ///< A_IB P_B
-  ControlNet m_constantLoad;   ///< constant forces + c0
+  ControlNet m_boundaryTerm;   ///< A_IB P_B (implicit scheme only)
+  ControlNet m_constantLoad;   ///< c0 (restOffset()) + constant forces
   ControlNet m_load;           ///< scratch
   std::vector<Eigen::Index> m_pinned;  ///< net rows held by pins
   std::vector<char> m_pinMask;         ///< per net row
