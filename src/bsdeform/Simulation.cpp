@@ -525,6 +525,25 @@ StrainEnergy Simulation::strainEnergy() const {
   return e;
 }
 
+Diagnostics Simulation::diagnostics() const {
+  Diagnostics d;
+  const DiagnosticSums sums =
+      diagnosticSums(m_space, m_stencil, m_current, m_rest, m_previous, m_uniformMass ? nullptr : m_massMoving.data());
+  const double dt = subStepSize();
+  d.norm = std::sqrt(sums.displacement);
+  d.kinetic = 0.5 * (m_uniformMass ? massPerPoint() : 1.0) * sums.velocity / (dt * dt);
+  const Weights& w = m_params.weights;
+  StrainEnergy& e = d.strain;
+  // the stencil carries 2 w11 (eq. 7): its half is w11
+  e.w10 = 0.5 * w.w10 * sums.terms[0];
+  e.w01 = 0.5 * w.w01 * sums.terms[1];
+  e.w11 = w.w11 * sums.terms[2];
+  e.w20 = 0.5 * w.w20 * sums.terms[3];
+  e.w02 = 0.5 * w.w02 * sums.terms[4];
+  e.total = e.w10 + e.w01 + e.w11 + e.w20 + e.w02;
+  return d;
+}
+
 ControlNet Simulation::staticSolution() const {
   Eigen::SparseMatrix<double> A = m_implicit ? m_implicit->Aii : activeMatrix();
   ControlNet rhs = loadVector() + restOffset() - (m_implicit ? m_boundaryTerm : boundaryTerm());
