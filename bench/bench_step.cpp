@@ -4,6 +4,11 @@
 //   SparseMatrixStep/<N>  the baseline a user would write: the same update with an Eigen
 //                         SparseMatrix product A_II P_I + A_IB P_B
 //   StreamBound/<N>       the same memory traffic without the stencil: the bandwidth bound
+//   Build/<N>             construction of a model with a whole-domain constant force (issue 11
+//                         item 7): Simulation + addForce, as a node builds it
+//   Diagnostics/<N>       what the runner records per history row: eq. 15 norm, kinetic energy
+//                         and the five strain-energy terms in one pass (issue 11 item 1)
+//   DiagnosticsPerTerm/<N> the same from deformationNorm(), kineticEnergy(), strainEnergy()
 // N is the number of free control points per side (N^2 in all), bicubic, paper weights.
 // Counters: points/s = free control points updated per second.
 #include <benchmark/benchmark.h>
@@ -134,6 +139,52 @@ void StreamBound(benchmark::State& state) {
                                                  benchmark::Counter::kIs1024);
 }
 
+void Build(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  for (auto _ : state) {
+    bsdeform::Simulation sim(p);
+    sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 60)));
+    benchmark::DoNotOptimize(sim.current().data());
+  }
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// A deformed, moving state: a few steps of a region load, as bsdeform-run records it.
+std::unique_ptr<bsdeform::Simulation> deformedModel(int N) {
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  p.damping = 1.0;
+  auto sim = std::make_unique<bsdeform::Simulation>(p);
+  sim->addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 60),
+                                                             bsdeform::ParamRect{0.3, 0.7, 0.3, 0.7}));
+  sim->advance(3);
+  return sim;
+}
+
+void Diagnostics(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const auto sim = deformedModel(N);
+  for (auto _ : state) {
+    const bsdeform::Diagnostics d = sim->diagnostics();
+    benchmark::DoNotOptimize(d.strain.total + d.norm + d.kinetic);
+  }
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// The same values from the functions that compute one each (five stencils built and applied
+// for the strain energy): what bsdeform-run called per row before issue 11.
+void DiagnosticsPerTerm(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const auto sim = deformedModel(N);
+  for (auto _ : state) {
+    const bsdeform::StrainEnergy e = sim->strainEnergy();
+    benchmark::DoNotOptimize(e.total + sim->deformationNorm() + sim->kineticEnergy());
+  }
+  state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
 BENCHMARK(ExplicitStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
@@ -141,5 +192,8 @@ BENCHMARK(ExplicitStepFree)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark
 BENCHMARK(ExplicitStepPeriodic)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SparseMatrixStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(StreamBound)->Arg(256)->Arg(1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(Build)->RangeMultiplier(2)->Range(128, 2048)->Unit(benchmark::kMillisecond);
+BENCHMARK(Diagnostics)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(DiagnosticsPerTerm)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 
 BENCHMARK_MAIN();

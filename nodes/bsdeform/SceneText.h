@@ -17,14 +17,17 @@ namespace bsdeform {
 using TextSink = std::function<bool(const char* data, std::size_t size)>;
 
 /// Writes `root` (with every surface's current state) as ASCII Inventor text into `sink`,
-/// streaming: the whole text is never held in memory. Returns false if the sink failed.
+/// streaming: the whole text is never held in memory. Coin lays the text out (SoWriteAction);
+/// doubles are written as coinDoubleText() and everything reaches the sink in pieces of at most
+/// a megabyte, whatever the process locale. Returns false if the sink failed.
 bool writeSceneText(SoNode* root, const TextSink& sink);
 
 /// The same text as one string (small scenes, tests).
 std::string sceneToText(SoNode* root);
 
-/// The double of the 15-significant-digit decimal form of x (x itself if not finite). The
-/// nodes snap every double they read and every state value they write to it, so that
+/// The double of the 15-significant-digit decimal form of x (x itself if not finite):
+/// strtod(printf("%.15g", x)) in the "C" locale, whatever the process locale. The nodes snap
+/// every double they read and every state value they write to it, so that
 /// write -> read -> write is a fixed point.
 double snap15(double x);
 
@@ -34,9 +37,10 @@ double snap15(double x);
 /// @return false if `text` is not a number in Coin's syntax
 bool coinReadReal(const char* text, double& value);
 
-/// Text for x that Coin reads back to within a snap15() of x: the 15-digit decimal form when
-/// Coin's reader recovers it (checked with coinReadReal), otherwise the integer-mantissa form
-/// ("983542385712959e-18", whose only rounding is one product), locale-independent.
+/// Text for x that Coin reads back to within a snap15() of x: the 15-digit decimal form
+/// (printf's "%.15g") when Coin's reader recovers it (checked with coinReadReal), otherwise the
+/// integer-mantissa form ("983542385712959e-18", whose only rounding is one product);
+/// non-finite values as printf's "%g". Locale-independent.
 std::string coinDoubleText(double x);
 
 }  // namespace bsdeform

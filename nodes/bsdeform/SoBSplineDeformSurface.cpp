@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bsdeform/HugePages.h"
 #include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/RestShape.h"
@@ -204,6 +205,8 @@ bsdeform::ControlNet toNet(const SoMFVec3d& f) {
 void fromNet(const bsdeform::ControlNet& net, SoMFVec3d& f) {
   f.setNum(int(net.rows()));
   SbVec3d* v = f.startEditing();
+  // a new array of a large net is not touched yet: on huge pages (HugePages.h)
+  bsdeform::adviseHugePages(v, sizeof(SbVec3d) * size_t(net.rows()));
   for (Eigen::Index i = 0; i < net.rows(); ++i) v[i].setValue(snap15(net(i, 0)), snap15(net(i, 1)), snap15(net(i, 2)));
   f.finishEditing();
 }

@@ -114,7 +114,8 @@ double PointForce::eigenvalueBound(const MassContext& ctx) const {
 }
 
 DistributedForce::DistributedForce(const Eigen::Vector3d& density, Rect rect)
-    : m_dependence(kConstant), m_rect(rect), m_extraPoints(0), m_stiffness(0.0) {
+    : m_isConstant(true), m_constantDensity(density), m_dependence(kConstant), m_rect(rect), m_extraPoints(0),
+      m_stiffness(0.0) {
   checkVector(density, "force density");
   m_density = [density](const SurfaceSample&) { return density; };
   checkParam(rect.u0, "region u0");
@@ -134,13 +135,61 @@ DistributedForce::DistributedForce(ForceFunction density, unsigned dependence, R
   if (extraPoints < 0 || extraPoints > 16)
     throw std::invalid_argument("extra Gauss points must be between 0 and 16, got " + std::to_string(extraPoints));
   checkStiffness(stiffness);
+  m_isConstant = false;
   m_density = std::move(density);
   m_dependence = dependence;
   m_extraPoints = extraPoints;
   m_stiffness = stiffness;
 }
 
+namespace {
+// l(layer) = integral over [lo, hi] of the B-spline of each moving layer of one direction (a
+// periodic copy adds to the layer it repeats; held layers are left out), with the n+1-point
+// rule on every span split at lo and hi: exact. Indexed by moving layer - first moving layer.
+std::vector<double> layerIntegrals(const BSplineBasis1D& basis, const LayerRange& moving,
+                                   int (SplineSpace::*movingLayer)(int) const, const SplineSpace& s, double lo,
+                                   double hi) {
+  std::vector<double> l(size_t(moving.count), 0.0);
+  LocalBasis b;
+  for (const Node1D& q : splitQuadrature(basis, lo, hi, basis.degree() + 1)) {
+    basis.evaluateInSpan(q.span, q.x, 0, b);
+    for (int a = 0; a < b.count; ++a) {
+      const int layer = (s.*movingLayer)(b.first + a + basis.degree());
+      if (layer >= 0) l[size_t(layer - moving.first)] += q.w * b.d[0][a];
+    }
+  }
+  return l;
+}
+}  // namespace
+
 void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  if (!m_isConstant) {
+    addLoadByQuadrature(ctx, load);
+    return;
+  }
+  const SplineSpace& s = ctx.space;
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  const std::vector<double> lu = layerIntegrals(s.basisU(), mu, &SplineSpace::movingLayerU, s, m_rect.u0, m_rect.u1);
+  const std::vector<double> lv = layerIntegrals(s.basisV(), mv, &SplineSpace::movingLayerV, s, m_rect.v0, m_rect.v1);
+  // only the B-splines that meet the rectangle: a small region loads few rows
+  int b0 = 0, b1 = mv.count;
+  while (b0 < b1 && lv[size_t(b0)] == 0.0) ++b0;
+  while (b1 > b0 && lv[size_t(b1 - 1)] == 0.0) --b1;
+  const double fx = m_constantDensity.x(), fy = m_constantDensity.y(), fz = m_constantDensity.z();
+  for (int a = 0; a < mu.count; ++a) {
+    const double la = lu[size_t(a)];
+    if (la == 0.0) continue;
+    double* row = load.data() + 3 * (Eigen::Index(a) * mv.count);
+    for (int b = b0; b < b1; ++b) {
+      const double w = la * lv[size_t(b)];
+      row[3 * b] += w * fx;
+      row[3 * b + 1] += w * fy;
+      row[3 * b + 2] += w * fz;
+    }
+  }
+}
+
+void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& load) const {
   const SplineSpace& s = ctx.space;
   // n+1 points integrate f * B exactly for constant f (B is degree n per span).
   const std::vector<Node1D> qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);

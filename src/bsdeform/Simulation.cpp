@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/Simulation.h"
+
+#include "bsdeform/HugePages.h"
 #include "bsdeform/NumberText.h"
 
 #include <Eigen/SparseCholesky>
@@ -117,23 +119,13 @@ void Simulation::init() {
       }
   }
 
+  allocateNet(m_current, m_rest.rows());
+  allocateNet(m_previous, m_rest.rows());
   m_current = m_rest;
   m_previous = m_rest;
   m_startPending = true;
   m_divergenceLimit = m_params.divergenceLimit * (1.0 + m_rest.cwiseAbs().maxCoeff());
 
-  // A_IB P_B: the coupling to every held point (clamped layers and pins).
-  ControlNet heldOnly = m_rest;
-  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
-    const Eigen::Index r = m_space.movingToNet(f);
-    if (!m_pinMask[size_t(r)]) heldOnly.row(r).setZero();
-  }
-  m_space.refreshPeriodicCopies(heldOnly);
-  m_stencil.applyMoving(heldOnly, m_boundaryTerm);
-  if (m_params.reference == ElasticReference::Rest)
-    m_stencil.applyMoving(m_rest, m_restOffset);
-  else
-    m_restOffset = ControlNet::Zero(m_space.numMoving(), 3);
 
   m_stencilLambda = m_stencil.eigenvalueBound();
   // With NODAL mass, or LUMPED mass where every row sum is the interior one, M is a multiple of
@@ -153,6 +145,7 @@ void Simulation::init() {
     }
   }
   if (m_params.integrator == Integrator::Implicit) {
+    m_boundaryTerm = boundaryTerm();
     m_implicit = std::make_unique<ImplicitSolver>();
     m_implicit->Aii = activeMatrix();
     const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
@@ -175,6 +168,18 @@ void Simulation::init() {
   updateSubSteps();
 }
 
+ControlNet Simulation::boundaryTerm() const {
+  ControlNet heldOnly = m_rest;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    if (!m_pinMask[size_t(r)]) heldOnly.row(r).setZero();
+  }
+  m_space.refreshPeriodicCopies(heldOnly);
+  ControlNet term;
+  m_stencil.applyMoving(heldOnly, term);
+  return term;
+}
+
 Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
   Eigen::SparseMatrix<double> A = m_stencil.movingMatrix();
   if (!m_pinned.empty()) {
@@ -186,8 +191,26 @@ Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
   return A;
 }
 
+ControlNet Simulation::restOffset() const {
+  ControlNet c0;
+  if (m_params.reference == ElasticReference::Rest) {
+    m_stencil.applyMoving(m_rest, c0);
+  } else {
+    allocateNet(c0, m_space.numMoving());
+    c0.setZero();
+  }
+  return c0;
+}
+
 void Simulation::rebuildConstantLoad() {
-  m_constantLoad = m_restOffset;
+  // c0 computed into the load itself, then the constant forces in their order: the same sums
+  // as addForce() makes one force at a time
+  if (m_params.reference == ElasticReference::Rest) {
+    m_stencil.applyMoving(m_rest, m_constantLoad);
+  } else {
+    allocateNet(m_constantLoad, m_space.numMoving());
+    m_constantLoad.setZero();
+  }
   m_hasVariableForces = false;
   const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
   for (const auto& f : m_forces) {
@@ -215,7 +238,10 @@ void Simulation::updateSubSteps() {
   }
   m_subSteps = n;
   const double newStep = subStepSize();
-  if (newStep != oldStep) m_previous = m_current - (m_current - m_previous) * (newStep / oldStep);
+  // Before the first step (m_startPending) the state is at rest, previous == current: nothing
+  // to rescale (and a 2048^2 net is not swept for nothing).
+  if (newStep != oldStep && !m_startPending)
+    m_previous = m_current - (m_current - m_previous) * (newStep / oldStep);
 }
 
 double Simulation::stabilityLimit() const {
@@ -225,15 +251,26 @@ double Simulation::stabilityLimit() const {
 void Simulation::addForce(std::shared_ptr<const Force> force) {
   if (!force) throw std::invalid_argument("addForce: null force");
   m_forces.push_back(std::move(force));
-  rebuildConstantLoad();
+  if (m_forces.back()->dependence() == kConstant) {
+    const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
+    m_forces.back()->addLoad(ctx, m_constantLoad);
+  } else {
+    m_hasVariableForces = true;  // evaluated every sub-step; the constant load stays
+  }
   updateSubSteps();
 }
 
 bool Simulation::removeForce(const Force* force) {
   auto it = std::find_if(m_forces.begin(), m_forces.end(), [force](const auto& p) { return p.get() == force; });
   if (it == m_forces.end()) return false;
+  const bool constant = (*it)->dependence() == kConstant;
   m_forces.erase(it);
-  rebuildConstantLoad();
+  if (constant) {
+    rebuildConstantLoad();
+  } else {
+    m_hasVariableForces = std::any_of(m_forces.begin(), m_forces.end(),
+                                      [](const auto& f) { return f->dependence() != kConstant; });
+  }
   updateSubSteps();
   return true;
 }
@@ -246,6 +283,7 @@ void Simulation::clearForces() {
 
 const ControlNet& Simulation::effectiveLoad(double t) {
   if (!m_hasVariableForces) return m_constantLoad;
+  allocateNet(m_load, m_constantLoad.rows());
   m_load = m_constantLoad;
   const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), t};
   for (const auto& f : m_forces)
@@ -487,9 +525,28 @@ StrainEnergy Simulation::strainEnergy() const {
   return e;
 }
 
+Diagnostics Simulation::diagnostics() const {
+  Diagnostics d;
+  const DiagnosticSums sums =
+      diagnosticSums(m_space, m_stencil, m_current, m_rest, m_previous, m_uniformMass ? nullptr : m_massMoving.data());
+  const double dt = subStepSize();
+  d.norm = std::sqrt(sums.displacement);
+  d.kinetic = 0.5 * (m_uniformMass ? massPerPoint() : 1.0) * sums.velocity / (dt * dt);
+  const Weights& w = m_params.weights;
+  StrainEnergy& e = d.strain;
+  // the stencil carries 2 w11 (eq. 7): its half is w11
+  e.w10 = 0.5 * w.w10 * sums.terms[0];
+  e.w01 = 0.5 * w.w01 * sums.terms[1];
+  e.w11 = w.w11 * sums.terms[2];
+  e.w20 = 0.5 * w.w20 * sums.terms[3];
+  e.w02 = 0.5 * w.w02 * sums.terms[4];
+  e.total = e.w10 + e.w01 + e.w11 + e.w20 + e.w02;
+  return d;
+}
+
 ControlNet Simulation::staticSolution() const {
   Eigen::SparseMatrix<double> A = m_implicit ? m_implicit->Aii : activeMatrix();
-  ControlNet rhs = loadVector() + m_restOffset - m_boundaryTerm;
+  ControlNet rhs = loadVector() + restOffset() - (m_implicit ? m_boundaryTerm : boundaryTerm());
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
     if (!m_pinMask[size_t(r)]) continue;

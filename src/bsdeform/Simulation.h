@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bsdeform/Diagnostics.h"
 #include "bsdeform/Force.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
@@ -68,12 +69,6 @@ struct ModelParameters {
   /// Explicit: a step that needs more sub-steps than this is refused (Status::Refused) instead
   /// of running for minutes; >= 1.
   int maxSubSteps = 10000;
-};
-
-/// Strain energy of the displacement from the rest net, total and per weight term.
-struct StrainEnergy {
-  double total = 0.0;
-  double w10 = 0.0, w01 = 0.0, w11 = 0.0, w20 = 0.0, w02 = 0.0;
 };
 
 /// What setState() does with held points (clamped layers, pins) that differ from the rest net.
@@ -160,6 +155,10 @@ class Simulation {
   double kineticEnergy() const;
   /// 1/2 D^T A_II D with D = P - P_rest, total and per weight term.
   StrainEnergy strainEnergy() const;
+  /// deformationNorm(), kineticEnergy() and strainEnergy() together, in one pass over the nets
+  /// (Diagnostics.h): what a history row records. Equal to the three to rounding (1e-12
+  /// relative, tested; the bending terms of large smooth states are ill-conditioned sums).
+  Diagnostics diagnostics() const;
   /// Load vector L (numMoving x 3, order of SplineSpace::movingToNet) of all forces at the
   /// current state and time.
   ControlNet loadVector() const;
@@ -186,6 +185,13 @@ class Simulation {
   void holdPins(ControlNet& net) const;
   /// A_II without the pinned rows and columns.
   Eigen::SparseMatrix<double> activeMatrix() const;
+  /// A_IB P_B, the coupling to every held point (clamped layers and pins): what the implicit
+  /// scheme and the static solve need (the explicit kernel applies A to the whole net).
+  ControlNet boundaryTerm() const;
+  /// c0 = (A P_rest)_moving for ElasticReference::Rest (what makes the rest net an
+  /// equilibrium), else 0.
+  ControlNet restOffset() const;
+  /// m_constantLoad = c0 + the loads of the constant forces, in their order.
   void rebuildConstantLoad();
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
@@ -200,9 +206,8 @@ class Simulation {
   SplineSpace m_space;
   StiffnessStencil m_stencil;
   ControlNet m_rest, m_current, m_previous;
-  ControlNet m_restOffset;     ///< c0 = (A P_rest)_free for ElasticReference::Rest, else 0
-  ControlNet m_boundaryTerm;   ///< A_IB P_B
-  ControlNet m_constantLoad;   ///< constant forces + c0
+  ControlNet m_boundaryTerm;   ///< A_IB P_B (implicit scheme only)
+  ControlNet m_constantLoad;   ///< c0 (restOffset()) + constant forces
   ControlNet m_load;           ///< scratch
   std::vector<Eigen::Index> m_pinned;  ///< net rows held by pins
   std::vector<char> m_pinMask;         ///< per net row

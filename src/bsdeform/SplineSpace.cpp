@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include "bsdeform/HugePages.h"
 
 namespace bsdeform {
 
@@ -84,10 +87,19 @@ double SplineSpace::grevilleU(int k1) const { return (k1 + 0.5 * (degreeU() + 1)
 double SplineSpace::grevilleV(int k2) const { return (k2 + 0.5 * (degreeV() + 1)) * m_v.spacing(); }
 
 ControlNet SplineSpace::grevillePlane() const {
-  ControlNet net(netSize(), 3);
-  for (int k1 = -degreeU(); k1 < numU() + degreeU(); ++k1)
-    for (int k2 = -degreeV(); k2 < numV() + degreeV(); ++k2)
-      net.row(netIndex(k1, k2)) << grevilleU(k1), grevilleV(k2), 0.0;
+  ControlNet net;
+  allocateNet(net, netSize());
+  std::vector<double> gv(static_cast<size_t>(netCols()));
+  for (int j = 0; j < netCols(); ++j) gv[size_t(j)] = grevilleV(j - degreeV());
+  for (int i = 0; i < netRows(); ++i) {
+    const double gu = grevilleU(i - degreeU());
+    double* row = net.data() + 3 * (Eigen::Index(i) * netCols());
+    for (int j = 0; j < netCols(); ++j) {
+      row[3 * j] = gu;
+      row[3 * j + 1] = gv[size_t(j)];
+      row[3 * j + 2] = 0.0;
+    }
+  }
   return net;
 }
 

@@ -63,8 +63,8 @@ struct LayerRange {
 
 /// Limits of a model, checked once, here: inner control points per direction and in all.
 constexpr int kMaxPerSide = 1 << 16;
-/// N1 N2 <= 2048^2: about 100 MB per net of doubles; a running model holds about ten nets
-/// (docs/reliability.md: measured 1 GB peak for 2048^2, writing included, as text is streamed).
+/// N1 N2 <= 2048^2: about 100 MB per net of doubles; a running model holds six (docs/reliability.md:
+/// bsdeform-run peaks at 633 MB for 2048^2, writing included, as text is streamed).
 constexpr long long kMaxInnerPoints = 1LL << 22;
 
 class SplineSpace {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bsdeform/GaussLegendre.h"
+#include "bsdeform/HugePages.h"
 
 namespace bsdeform {
 
@@ -121,9 +122,16 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
   const LayerRange mu = space.movingU(), mv = space.movingV();
   const int typesV = 2 * m_rv + 1, width = (2 * m_ru + 1) * (2 * m_rv + 1);
   std::vector<int> tableOf(size_t(2 * m_ru + 1) * typesV, -1);
-  for (int i = mu.first; i < mu.first + mu.count; ++i)
-    for (int j = mv.first; j < mv.first + mv.count; ++j) {
-      const int tu = m_gu.rowType(i), tv = m_gv.rowType(j);
+  std::vector<int> typeV(size_t(mv.count)), bandColumns;
+  for (int j = mv.first; j < mv.first + mv.count; ++j)
+    if ((typeV[size_t(j - mv.first)] = m_gv.rowType(j)) != 0) bandColumns.push_back(j);
+  std::vector<int> allColumns(size_t(mv.count));
+  for (int j = mv.first; j < mv.first + mv.count; ++j) allColumns[size_t(j - mv.first)] = j;
+  for (int i = mu.first; i < mu.first + mu.count; ++i) {
+    const int tu = m_gu.rowType(i);
+    // an interior row has band points only in the band columns
+    for (int j : tu == 0 ? bandColumns : allColumns) {
+      const int tv = typeV[size_t(j - mv.first)];
       if (tu == 0 && tv == 0) continue;
       int& t = tableOf[size_t(tu) * typesV + tv];
       if (t < 0) {
@@ -141,6 +149,7 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
       }
       m_band.push_back({i, j, t, Eigen::Index(i - mu.first) * mv.count + (j - mv.first)});
     }
+  }
 }
 
 int StiffnessStencil::neighbourU(int l) const {
@@ -383,7 +392,7 @@ void StiffnessStencil::forEachInteriorRow(const ControlNet& net, RowFunction&& f
 
 void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const {
   const SplineSpace& s = *m_space;
-  out.resize(s.numMoving(), 3);
+  allocateNet(out, s.numMoving());
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
   forEachInteriorRow(net, [&](int i, long, const double* const* q) {

@@ -99,3 +99,38 @@ TEST_CASE("Force: bad force parameters are rejected with their value", "[core]")
   CHECK_THROWS_WITH(DistributedForce(Eigen::Vector3d(0, 0, 1), ParamRect{0.6, 0.4, 0, 1}), Catch::Contains("u0 <= u1"));
   CHECK_THROWS_WITH(DistributedForce(Eigen::Vector3d(0, 0, 1), ParamRect{0, 1, -0.1, 1}), Catch::Contains("v0"));
 }
+
+TEST_CASE("Force: a constant density's separable load equals the general quadrature load", "[core]") {
+  using B = Boundary;
+  const Boundaries clamped, free{B::Free, B::Free, B::Free, B::Clamped}, periodic{B::Periodic, B::Periodic, B::Free, B::Clamped};
+  const ParamRect rects[] = {{0.0, 1.0, 0.0, 1.0},     {0.3, 0.7, 0.3, 0.7},  {0.4, 0.6, 0.33, 0.71},
+                             {0.0, 0.05, 0.9, 1.0},    {0.25, 0.25, 0.1, 0.9}, {0.5, 0.5000001, 0.0, 1.0},
+                             {0.1, 0.9, 0.2, 0.2 + 1e-9}};
+  int compared = 0;
+  for (const Boundaries& bc : {clamped, free, periodic})
+    for (int n1 : {1, 2, 3, 5})
+      for (int n2 : {1, 3, 4}) {
+        const SplineSpace s(n1, n2, 9 + n1, 7 + n2, bc);
+        for (const ParamRect& r : rects) {
+          const Eigen::Vector3d f(1.5, -40.0, 200.0);
+          const DistributedForce force(f, r);
+          const ControlNet net = s.grevillePlane();
+          const LoadContext ctx{s, net, net, 0.1, 0.0};
+          ControlNet separable = ControlNet::Zero(s.numMoving(), 3), general = separable;
+          force.addLoad(ctx, separable);
+          force.addLoadByQuadrature(ctx, general);
+          INFO("degrees (" << n1 << ", " << n2 << "), rect [" << r.u0 << ", " << r.u1 << "] x [" << r.v0 << ", "
+                           << r.v1 << "], boundaries " << boundaryName(bc.uMin) << "/" << boundaryName(bc.vMin));
+          const double scale = general.cwiseAbs().maxCoeff();
+          CHECK((separable - general).cwiseAbs().maxCoeff() <= 1e-14 * scale);
+          if (r.u1 > r.u0 && r.v1 > r.v0) CHECK(scale > 0.0);
+          else CHECK(scale == 0.0);
+          // it adds to the load it is given
+          ControlNet onTop = ControlNet::Constant(s.numMoving(), 3, 0.25);
+          force.addLoad(ctx, onTop);
+          CHECK((onTop.array() - 0.25 - separable.array()).abs().maxCoeff() <= 1e-15 * (0.25 + scale));
+          ++compared;
+        }
+      }
+  CHECK(compared == 3 * 4 * 3 * 7);
+}

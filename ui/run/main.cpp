@@ -61,6 +61,7 @@ struct Surface {
   SoBSplineDeformSurface* node = nullptr;
   QString csv;
   QVector<double> t, norm, kinetic, strain;
+  long lastRecorded = -1;  ///< step count of the last history row
   bool failed = false;
 };
 
@@ -76,6 +77,7 @@ struct Options {
   QStringList sets;
   QString sweep;
   bool plot = false;
+  long recordEvery = 1;
   bool quiet = false;
   bool resultOnly = false;  // internal: a sweep child prints RESULT lines and writes nothing
   QString sweepProgram;     // internal: the program started per sweep value (default: this one)
@@ -140,20 +142,24 @@ QVector<Surface> findSurfaces(SoNode* root) {
   return out;
 }
 
+// One history row: the diagnostics of the current state, computed once, in one pass over the
+// nets (bsdeform::Simulation::diagnostics()).
 void record(Surface& s) {
   const bsdeform::Simulation& sim = s.node->simulation();
-  const bsdeform::StrainEnergy e = sim.strainEnergy();
+  const bsdeform::Diagnostics d = sim.diagnostics();
+  const bsdeform::StrainEnergy& e = d.strain;
   if (s.csv.isEmpty())
     s.csv = QStringLiteral("time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps\n");
-  s.csv += QStringList{num(sim.time()), QString::number(sim.stepCount()), num(sim.deformationNorm()), num(sim.kineticEnergy()),
+  s.csv += QStringList{num(sim.time()), QString::number(sim.stepCount()), num(d.norm), num(d.kinetic),
                        num(e.total), num(e.w10), num(e.w01), num(e.w11), num(e.w20), num(e.w02),
                        QString::number(sim.subSteps())}
                .join(QLatin1Char(',')) +
            QLatin1Char('\n');
   s.t << sim.time();
-  s.norm << sim.deformationNorm();
-  s.kinetic << sim.kineticEnergy();
+  s.norm << d.norm;
+  s.kinetic << d.kinetic;
   s.strain << e.total;
+  s.lastRecorded = sim.stepCount();
 }
 
 // Streams the scene text into the temporary file: it is never held in memory.
@@ -298,7 +304,11 @@ Failure runScene(const Options& o) {
   timer.start();
   bool blewUp = false;
   realTimeField()->setValue(SbTime(t0));
-  for (Surface& s : surfaces) record(s);
+  // History rows (not in a sweep child, which writes nothing): the first state, every state whose
+  // step count is a multiple of --record-every, and the last state.
+  const bool recording = !o.resultOnly;
+  if (recording)
+    for (Surface& s : surfaces) record(s);
   for (long frame = 0; frame <= frames; ++frame) {
     if (frame > 0) {
       const double globalTime = t0 + frame * dtMin;
@@ -310,7 +320,8 @@ Failure runScene(const Options& o) {
           if (!s.node->stepSimulation(1)) {
             s.failed = blewUp = true;
           }
-          record(s);
+          const long step = s.node->simulation().stepCount();  // a failed step does not count
+          if (recording && (s.failed || step % o.recordEvery == 0) && s.lastRecorded != step) record(s);
         }
       }
     }
@@ -321,13 +332,17 @@ Failure runScene(const Options& o) {
     progress(o, frame, frames, t0 + frame * dtMin);
     if (blewUp) break;
   }
+  if (recording)
+    for (Surface& s : surfaces)
+      if (s.lastRecorded != s.node->simulation().stepCount()) record(s);
   const double seconds = timer.elapsed() / 1000.0;
 
   if (o.resultOnly) {
     for (const Surface& s : surfaces) {
       const bsdeform::Simulation& sim = s.node->simulation();
-      std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", s.name.toUtf8().constData(), num(sim.deformationNorm()).toUtf8().constData(),
-                  num(sim.kineticEnergy()).toUtf8().constData(), num(sim.strainEnergy().total).toUtf8().constData(),
+      const bsdeform::Diagnostics d = sim.diagnostics();
+      std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", s.name.toUtf8().constData(), num(d.norm).toUtf8().constData(),
+                  num(d.kinetic).toUtf8().constData(), num(d.strain.total).toUtf8().constData(),
                   sim.status() == bsdeform::Status::Ok ? "ok" : "blew-up");
     }
     root->unref();
@@ -360,10 +375,11 @@ Failure runScene(const Options& o) {
     for (const Surface& s : surfaces) {
       const bsdeform::Simulation& sim = s.node->simulation();
       const bsdeform::ModelParameters& p = sim.parameters();
+      const bsdeform::Diagnostics d = sim.diagnostics();
       std::printf("  %-14s %dx%d deg (%d,%d) dt %.4g: t = %.6g, steps %ld, norm %.6g, kinetic %.6g, strain %.6g, "
                   "limit %.4g, sub-steps %d, %s\n",
                   s.name.toUtf8().constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
-                  sim.deformationNorm(), sim.kineticEnergy(), sim.strainEnergy().total, sim.stabilityLimit(), sim.subSteps(),
+                  d.norm, d.kinetic, d.strain.total, sim.stabilityLimit(), sim.subSteps(),
                   sim.status() == bsdeform::Status::Ok ? "ok" : sim.statusMessage().c_str());
     }
     for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
@@ -551,6 +567,10 @@ int main(int argc, char** argv) {
                                  QStringLiteral("run once per value (in parallel) and write sweep.csv and sweep.png"),
                                  QStringLiteral("NAME.field=v1,v2,..."));
   const QCommandLineOption plot(QStringLiteral("plot"), QStringLiteral("also write a history plot PNG per surface"));
+  const QCommandLineOption recordEvery(QStringLiteral("record-every"),
+                                       QStringLiteral("history rows (CSV, plot): the first state, every state whose step "
+                                                      "count is a multiple of K, and the last state (default 1: every step)"),
+                                       QStringLiteral("K"));
   const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
@@ -558,7 +578,8 @@ int main(int argc, char** argv) {
                                   QStringLiteral("internal (tests): the program started for each sweep value"),
                                   QStringLiteral("PATH"));
   sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
-  parser.addOptions({steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, quiet, resultOnly, sweepProgram});
+  parser.addOptions(
+      {steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, recordEvery, quiet, resultOnly, sweepProgram});
   parser.process(app);
 
   auto fail = [](const Failure& f) {
@@ -600,6 +621,11 @@ int main(int argc, char** argv) {
   o.sets = parser.values(set);
   o.sweep = parser.value(sweep);
   o.plot = parser.isSet(plot);
+  if (parser.isSet(recordEvery)) {
+    o.recordEvery = parser.value(recordEvery).toLong(&ok);
+    if (!ok || o.recordEvery < 1)
+      return fail({kBadInput, QStringLiteral("--record-every '%1' is not a count >= 1").arg(parser.value(recordEvery))});
+  }
   o.quiet = parser.isSet(quiet);
   o.resultOnly = parser.isSet(resultOnly);
   o.sweepProgram = parser.value(sweepProgram);

@@ -105,7 +105,8 @@ void PlotPanel::sample() {
   const double t = sim.time();
   if (!m_t.isEmpty() && t < m_t.back()) clearHistory();  // reset
   if (!m_t.isEmpty() && t == m_t.back()) return;
-  const double values[3] = {sim.deformationNorm(), sim.kineticEnergy(), sim.strainEnergy().total};
+  const bsdeform::Diagnostics d = sim.diagnostics();  // one pass over the nets (issue 11)
+  const double values[3] = {d.norm, d.kinetic, d.strain.total};
   if (m_t.isEmpty() || ++m_skipped >= m_stride) {
     if (m_t.size() >= m_historyLimit) thinHistory();
     m_t << t;

@@ -1,0 +1,303 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/Diagnostics.h"
+
+#include <algorithm>
+#include <cassert>
+#include <vector>
+
+namespace bsdeform {
+
+namespace {
+
+// Vector extensions as in StiffnessStencil.cpp: four doubles per vector, AVX2 in the avx2 clone.
+// The core is compiled without FP contraction and the reductions are summed in four lanes in a
+// fixed order, so every clone gives the same bits.
+typedef double v4 __attribute__((vector_size(32), aligned(8), may_alias));
+#define BSDEFORM_INLINE inline __attribute__((always_inline))
+BSDEFORM_INLINE v4 load4(const double* p) { return *reinterpret_cast<const v4*>(p); }
+BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
+BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
+BSDEFORM_INLINE double sum4(v4 x) { return (x[0] + x[1]) + (x[2] + x[3]); }
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define BSDEFORM_MULTIVERSION __attribute__((target_clones("avx2", "default")))
+#else
+#define BSDEFORM_MULTIVERSION
+#endif
+
+constexpr int kTaps = 2 * kMaxDegree + 1;
+
+// dst = a - b over len entries.
+BSDEFORM_MULTIVERSION
+void difference(const double* __restrict a, const double* __restrict b, double* __restrict dst, long len) {
+  for (long m = 0; m < len; ++m) dst[m] = a[m] - b[m];
+}
+
+// The u pass of a row with Toeplitz coefficients: z_p[m] = g[p][0] d0[m] + sum_{t=1..N}
+// g[p][t] (up[t][m] + down[t][m]) for p = 0, 1, 2 (the rows t layers above and below; a row of
+// zeros where there is none), and the sums of d0^2 and (cur - prev)^2 over the same entries.
+template <int N>
+BSDEFORM_INLINE void uPassFoldedN(const double* d0, const double* const* up, const double* const* down,
+                                  const double (*g)[kTaps], const double* cur, const double* prev, long len, double* z0,
+                                  double* z1, double* z2, double* sums) {
+  v4 sd = splat(0.0), sv = splat(0.0);
+  long m = 0;
+  for (; m + 4 <= len; m += 4) {
+    const v4 d = load4(d0 + m);
+    v4 a0 = splat(g[0][0]) * d, a1 = splat(g[1][0]) * d, a2 = splat(g[2][0]) * d;
+    for (int t = 1; t <= N; ++t) {
+      const v4 s = load4(up[t] + m) + load4(down[t] + m);
+      a0 += splat(g[0][t]) * s;
+      a1 += splat(g[1][t]) * s;
+      a2 += splat(g[2][t]) * s;
+    }
+    store4(z0 + m, a0);
+    store4(z1 + m, a1);
+    store4(z2 + m, a2);
+    const v4 v = load4(cur + m) - load4(prev + m);
+    sd += d * d;
+    sv += v * v;
+  }
+  double td = 0.0, tv = 0.0;
+  for (; m < len; ++m) {
+    const double d = d0[m];
+    double a0 = g[0][0] * d, a1 = g[1][0] * d, a2 = g[2][0] * d;
+    for (int t = 1; t <= N; ++t) {
+      const double s = up[t][m] + down[t][m];
+      a0 += g[0][t] * s;
+      a1 += g[1][t] * s;
+      a2 += g[2][t] * s;
+    }
+    z0[m] = a0;
+    z1[m] = a1;
+    z2[m] = a2;
+    const double v = cur[m] - prev[m];
+    td += d * d;
+    tv += v * v;
+  }
+  sums[0] = sum4(sd) + td;
+  sums[1] = sum4(sv) + tv;
+}
+
+BSDEFORM_MULTIVERSION
+void uPassFolded(int n, const double* d0, const double* const* up, const double* const* down, const double (*g)[kTaps],
+                 const double* cur, const double* prev, long len, double* z0, double* z1, double* z2, double* sums) {
+  switch (n) {
+#define BSDEFORM_CASE(N) \
+  case N: return uPassFoldedN<N>(d0, up, down, g, cur, prev, len, z0, z1, z2, sums);
+    BSDEFORM_CASE(1) BSDEFORM_CASE(2) BSDEFORM_CASE(3) BSDEFORM_CASE(4) BSDEFORM_CASE(5) BSDEFORM_CASE(6)
+    BSDEFORM_CASE(7)
+#undef BSDEFORM_CASE
+  }
+}
+
+// The v pass over interior columns, fused with the products: y_q = g[q][0] d[m] + sum_e g[q][e]
+// (d[m + 3e] + d[m - 3e]); acc += (z1 y0, z0 y1, z1 y1, z2 y0, z0 y2) (DiagnosticSums order).
+template <int N>
+BSDEFORM_INLINE void vPassProductsN(const double* d, const double (*g)[kTaps], const double* z0, const double* z1,
+                                    const double* z2, long len, double* acc) {
+  v4 t0 = splat(0.0), t1 = t0, t2 = t0, t3 = t0, t4 = t0;
+  long m = 0;
+  for (; m + 4 <= len; m += 4) {
+    const v4 c = load4(d + m);
+    v4 y0 = splat(g[0][0]) * c, y1 = splat(g[1][0]) * c, y2 = splat(g[2][0]) * c;
+    for (int e = 1; e <= N; ++e) {
+      const v4 r = load4(d + m + 3 * e) + load4(d + m - 3 * e);
+      y0 += splat(g[0][e]) * r;
+      y1 += splat(g[1][e]) * r;
+      y2 += splat(g[2][e]) * r;
+    }
+    const v4 a0 = load4(z0 + m), a1 = load4(z1 + m), a2 = load4(z2 + m);
+    t0 += a1 * y0;
+    t1 += a0 * y1;
+    t2 += a1 * y1;
+    t3 += a2 * y0;
+    t4 += a0 * y2;
+  }
+  double s[5] = {0.0, 0.0, 0.0, 0.0, 0.0};
+  for (; m < len; ++m) {
+    const double c = d[m];
+    double y0 = g[0][0] * c, y1 = g[1][0] * c, y2 = g[2][0] * c;
+    for (int e = 1; e <= N; ++e) {
+      const double r = d[m + 3 * e] + d[m - 3 * e];
+      y0 += g[0][e] * r;
+      y1 += g[1][e] * r;
+      y2 += g[2][e] * r;
+    }
+    s[0] += z1[m] * y0;
+    s[1] += z0[m] * y1;
+    s[2] += z1[m] * y1;
+    s[3] += z2[m] * y0;
+    s[4] += z0[m] * y2;
+  }
+  acc[0] += sum4(t0) + s[0];
+  acc[1] += sum4(t1) + s[1];
+  acc[2] += sum4(t2) + s[2];
+  acc[3] += sum4(t3) + s[3];
+  acc[4] += sum4(t4) + s[4];
+}
+
+BSDEFORM_MULTIVERSION
+void vPassProducts(int n, const double* d, const double (*g)[kTaps], const double* z0, const double* z1,
+                   const double* z2, long len, double* acc) {
+  switch (n) {
+#define BSDEFORM_CASE(N) \
+  case N: return vPassProductsN<N>(d, g, z0, z1, z2, len, acc);
+    BSDEFORM_CASE(1) BSDEFORM_CASE(2) BSDEFORM_CASE(3) BSDEFORM_CASE(4) BSDEFORM_CASE(5) BSDEFORM_CASE(6)
+    BSDEFORM_CASE(7)
+#undef BSDEFORM_CASE
+  }
+}
+
+}  // namespace
+
+DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, const ControlNet& current,
+                              const ControlNet& rest, const ControlNet& previous, const double* mass) {
+  assert(current.rows() == s.netSize() && rest.rows() == s.netSize() && previous.rows() == s.netSize());
+  const int n1 = s.degreeU(), n2 = s.degreeV(), rows = s.netRows(), cols = s.netCols();
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  const GramRows1D &gu = A.gramU(), &gv = A.gramV();
+  const long rowLen = 3L * cols, movBegin = 3L * mv.first, movLen = 3L * mv.count;
+
+  // Net layer of neighbour layer l, or -1 (as StiffnessStencil::neighbourU/V).
+  auto neighbourU = [&](int l) {
+    if (s.periodicU() && l >= rows) l -= mu.count;
+    return (l >= 0 && l < rows) ? l : -1;
+  };
+  auto neighbourV = [&](int l) {
+    if (s.periodicV() && l >= cols) l -= mv.count;
+    return (l >= 0 && l < cols) ? l : -1;
+  };
+
+  // Columns. Interior: Toeplitz rows of G_v (type 0) whose neighbourhood lies in the net (no
+  // periodic wrap), a contiguous range [jb, je) done by vPassProducts; the others one by one.
+  auto interiorColumn = [&](int j) { return gv.rowType(j) == 0 && j - n2 >= 0 && j + n2 < cols; };
+  int jb = mv.first;
+  while (jb < mv.first + mv.count && !interiorColumn(jb)) ++jb;
+  int je = jb;
+  while (je < mv.first + mv.count && interiorColumn(je)) ++je;
+  struct BandColumn {
+    int j;
+    int neighbour[kTaps];  // net column of j + e, or -1
+    double g[3][kTaps];    // G_v^q(j, j + e)
+  };
+  std::vector<BandColumn> bandColumns;
+  for (int j = mv.first; j < mv.first + mv.count; ++j) {
+    if (j >= jb && j < je) continue;
+    BandColumn c;
+    c.j = j;
+    for (int e = -n2; e <= n2; ++e) {
+      c.neighbour[e + n2] = neighbourV(j + e);
+      for (int q = 0; q < 3; ++q) c.g[q][e + n2] = gv.entry(q, gv.rowType(j), e);
+    }
+    bandColumns.push_back(c);
+  }
+  double gvInterior[3][kTaps], guInterior[3][kTaps];
+  for (int q = 0; q < 3; ++q) {
+    for (int e = 0; e <= n2; ++e) gvInterior[q][e] = gv.entry(q, 0, e);
+    for (int t = 0; t <= n1; ++t) guInterior[q][t] = gu.entry(q, 0, t);
+  }
+
+  // D = current - rest of the net layers i - n1 .. i + n1 in a ring, keyed by the layer before
+  // the periodic wrap (consecutive keys, different slots).
+  const int slots = 2 * n1 + 1;
+  std::vector<double> ring(size_t(slots) * rowLen);
+  std::vector<int> key(size_t(slots), -1);
+  auto dRow = [&](int unwrapped) -> const double* {  // null: no such layer
+    const int l = neighbourU(unwrapped);
+    if (l < 0) return nullptr;
+    const int slot = unwrapped % slots;
+    double* d = ring.data() + size_t(slot) * rowLen;
+    if (key[size_t(slot)] != unwrapped) {
+      key[size_t(slot)] = unwrapped;
+      difference(current.data() + long(l) * rowLen, rest.data() + long(l) * rowLen, d, rowLen);
+    }
+    return d;
+  };
+  const std::vector<double> zeros(size_t(rowLen), 0.0);  // the layers beyond the net
+  std::vector<double> z(3 * size_t(movLen));
+  double* z0 = z.data();
+  double* z1 = z0 + movLen;
+  double* z2 = z1 + movLen;
+
+  DiagnosticSums out;
+  for (int i = mu.first; i < mu.first + mu.count; ++i) {
+    const double* d = dRow(i);
+    const double* up[kMaxDegree + 1] = {nullptr};
+    const double* down[kMaxDegree + 1] = {nullptr};
+    for (int t = 1; t <= n1; ++t) {
+      down[t] = i - t >= 0 ? dRow(i - t) : nullptr;
+      up[t] = dRow(i + t);
+    }
+    // Z_p = (G_u^p D) on this row's moving columns, with the sums of |D|^2 and |velocity|^2
+    const long start = long(i) * rowLen + movBegin;
+    const int typeU = gu.rowType(i);
+    double sums[2];
+    if (typeU == 0) {
+      const double* upM[kMaxDegree + 1] = {nullptr};
+      const double* downM[kMaxDegree + 1] = {nullptr};
+      for (int t = 1; t <= n1; ++t) {
+        upM[t] = (up[t] ? up[t] : zeros.data()) + movBegin;
+        downM[t] = (down[t] ? down[t] : zeros.data()) + movBegin;
+      }
+      uPassFolded(n1, d + movBegin, upM, downM, guInterior, current.data() + start, previous.data() + start, movLen, z0,
+                  z1, z2, sums);
+    } else {  // a row of a FREE side's outer layers: truncated integrals, not symmetric
+      double g[3][kTaps];
+      const double* nb[kTaps];
+      for (int t = -n1; t <= n1; ++t) {
+        nb[t + n1] = t == 0 ? d : t > 0 ? up[t] : down[-t];
+        for (int p = 0; p < 3; ++p) g[p][t + n1] = gu.entry(p, typeU, t);
+      }
+      sums[0] = sums[1] = 0.0;
+      for (long m = 0; m < movLen; ++m) {
+        double a[3] = {0.0, 0.0, 0.0};
+        for (int t = 0; t <= 2 * n1; ++t)
+          if (nb[t])
+            for (int p = 0; p < 3; ++p) a[p] += g[p][t] * nb[t][movBegin + m];
+        z0[m] = a[0];
+        z1[m] = a[1];
+        z2[m] = a[2];
+        const double dm = d[movBegin + m], v = current.data()[start + m] - previous.data()[start + m];
+        sums[0] += dm * dm;
+        sums[1] += v * v;
+      }
+    }
+    out.displacement += sums[0];
+    if (!mass) {
+      out.velocity += sums[1];
+    } else {
+      const double* m = mass + long(i - mu.first) * mv.count;
+      const double* c = current.data() + start;
+      const double* p = previous.data() + start;
+      double vv = 0.0;
+      for (int b = 0; b < mv.count; ++b) {
+        const double vx = c[3 * b] - p[3 * b], vy = c[3 * b + 1] - p[3 * b + 1], vz = c[3 * b + 2] - p[3 * b + 2];
+        vv += m[b] * (vx * vx + vy * vy + vz * vz);
+      }
+      out.velocity += vv;
+    }
+    // Y_q = (G_v^q D) on the same entries, and the products Z_p . Y_q
+    const long zOffset = 3L * (jb - mv.first);
+    vPassProducts(n2, d + 3L * jb, gvInterior, z0 + zOffset, z1 + zOffset, z2 + zOffset, 3L * (je - jb), out.terms);
+    for (const BandColumn& c : bandColumns) {
+      const long zc = 3L * (c.j - mv.first);
+      for (int k = 0; k < 3; ++k) {
+        double y[3] = {0.0, 0.0, 0.0};
+        for (int e = 0; e <= 2 * n2; ++e) {
+          if (c.neighbour[e] < 0) continue;
+          const double x = d[3L * c.neighbour[e] + k];
+          for (int q = 0; q < 3; ++q) y[q] += c.g[q][e] * x;
+        }
+        out.terms[0] += z1[zc + k] * y[0];
+        out.terms[1] += z0[zc + k] * y[1];
+        out.terms[2] += z1[zc + k] * y[1];
+        out.terms[3] += z2[zc + k] * y[0];
+        out.terms[4] += z0[zc + k] * y[2];
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace bsdeform
