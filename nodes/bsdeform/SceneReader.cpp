@@ -43,6 +43,15 @@ bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' ||
 // What a field of a known type holds, as far as the guard cares.
 enum class FieldKind { Other, Node, Engine };
 
+// What a field of the given field type holds.
+FieldKind kindOfFieldType(SoType t) {
+  if (t.isBad()) return FieldKind::Other;
+  if (t.isDerivedFrom(SoSFEngine::getClassTypeId()) || t.isDerivedFrom(SoMFEngine::getClassTypeId()))
+    return FieldKind::Engine;
+  if (t.isDerivedFrom(SoSFNode::getClassTypeId()) || t.isDerivedFrom(SoMFNode::getClassTypeId())) return FieldKind::Node;
+  return FieldKind::Other;
+}
+
 // Field kinds of a known type by field name (from one instance's field data), cached per type.
 const std::map<std::string, FieldKind>& fieldKinds(SoType type) {
   static std::map<int, std::map<std::string, FieldKind>> cache;
@@ -56,13 +65,7 @@ const std::map<std::string, FieldKind>& fieldKinds(SoType type) {
   instance->ref();
   if (const SoFieldData* fd = instance->getFieldData()) {
     for (int i = 0; i < fd->getNumFields(); ++i) {
-      const SoField* f = fd->getField(instance, i);
-      FieldKind k = FieldKind::Other;
-      if (f->isOfType(SoSFEngine::getClassTypeId()) || f->isOfType(SoMFEngine::getClassTypeId()))
-        k = FieldKind::Engine;
-      else if (f->isOfType(SoSFNode::getClassTypeId()) || f->isOfType(SoMFNode::getClassTypeId()))
-        k = FieldKind::Node;
-      kinds[fd->getFieldName(i).getString()] = k;
+      kinds[fd->getFieldName(i).getString()] = kindOfFieldType(fd->getField(instance, i)->getTypeId());
     }
   }
   instance->unref();
@@ -133,8 +136,9 @@ class Scanner {
   bool item(const Token& t, FieldKind kind, const std::string& field);  // one node/engine value
   bool openBody(const Token& brace, const std::string& typeName, int defId);
   bool closeBody();
-  bool checkDeclaration(const Frame& f);  // `fields [ … ]` of a known type
-  bool readDeclaration(const Frame& f);   // `fields [ … ]` of an unknown type: its node and engine fields
+  // `fields [ … ]`: for a known type only fields it has; for an unknown type, its node and
+  // engine fields are kept for kindsOf()
+  bool readDeclaration(const Frame& f);
   const std::map<std::string, FieldKind>& kindsOf(const Frame& f);
   bool use(const std::string& name, int line, FieldKind kind, const std::string& field);
   bool include(const Frame& f);
@@ -331,32 +335,10 @@ bool Scanner::include(const Frame& f) {
   return true;
 }
 
-bool Scanner::checkDeclaration(const Frame& f) {
-  const auto& kinds = fieldKinds(f.type);
-  bool wantType = true;
-  Token t;
-  while (next(t)) {
-    if (t.kind == Token::CloseList) return true;
-    if (t.kind == Token::Comma) continue;
-    if (t.kind != Token::Word)
-      return fail(t.line, "'fields [ … ]' of " + f.typeName + " holds something other than field types and names");
-    if (wantType) {
-      if (t.text == "field" || t.text == "exposedField" || t.text == "eventIn" || t.text == "eventOut")
-        return fail(t.line, "'fields [ … ]' of " + f.typeName + ", a type Coin knows, uses VRML '" + t.text + "'");
-    } else if (!kinds.count(t.text)) {
-      return fail(t.line, "'fields [ … ]' declares '" + t.text + "', which " + f.typeName +
-                              " does not have (Coin 4.0 would add it to every " + f.typeName +
-                              " through a wild field pointer)");
-    }
-    wantType = !wantType;
-  }
-  if (m_result.ok) fail(m_line, "'fields [' of " + f.typeName + " is never closed");
-  return false;
-}
-
 bool Scanner::readDeclaration(const Frame& f) {
-  std::map<std::string, FieldKind>& kinds = m_declared[f.typeName];
-  std::string type;
+  const bool known = !f.type.isBad();
+  const auto& kinds = kindsOf(f);
+  std::string type;  // the type of the pair being read ("" before it)
   Token t;
   while (next(t)) {
     if (t.kind == Token::CloseList) return true;
@@ -364,16 +346,19 @@ bool Scanner::readDeclaration(const Frame& f) {
     if (t.kind != Token::Word)
       return fail(t.line, "'fields [ … ]' of " + f.typeName + " holds something other than field types and names");
     if (type.empty()) {
+      if (known && (t.text == "field" || t.text == "exposedField" || t.text == "eventIn" || t.text == "eventOut"))
+        return fail(t.line, "'fields [ … ]' of " + f.typeName + ", a type Coin knows, uses VRML '" + t.text + "'");
       type = t.text;
       continue;
     }
-    const SoType ft = typeFromName(type);
-    FieldKind k = FieldKind::Other;
-    if (!ft.isBad() && (ft.isDerivedFrom(SoSFEngine::getClassTypeId()) || ft.isDerivedFrom(SoMFEngine::getClassTypeId())))
-      k = FieldKind::Engine;
-    else if (!ft.isBad() && (ft.isDerivedFrom(SoSFNode::getClassTypeId()) || ft.isDerivedFrom(SoMFNode::getClassTypeId())))
-      k = FieldKind::Node;
-    if (k != FieldKind::Other) kinds[t.text] = k;
+    if (known && !kinds.count(t.text))
+      return fail(t.line, "'fields [ … ]' declares '" + t.text + "', which " + f.typeName +
+                              " does not have (Coin 4.0 would add it to every " + f.typeName +
+                              " through a wild field pointer)");
+    if (!known) {
+      const FieldKind k = kindOfFieldType(typeFromName(type));
+      if (k != FieldKind::Other) m_declared[f.typeName][t.text] = k;
+    }
     type.clear();
   }
   if (m_result.ok) fail(m_line, "'fields [' of " + f.typeName + " is never closed");
@@ -542,7 +527,7 @@ SceneCheck Scanner::run() {
             // Coin writes the declaration for extension types (ours), and it is harmless while it
             // names only fields the type has: SoFieldData::readFieldDescriptions adds any other
             // name to the class's field data with an offset from this one object.
-            if (!(f.type.isBad() ? readDeclaration(f) : checkDeclaration(f))) break;
+            if (!readDeclaration(f)) break;
             continue;
           }
           m_p = save;

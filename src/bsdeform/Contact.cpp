@@ -159,10 +159,7 @@ struct CollisionForce::Cache {
 };
 
 CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p)
-    : DistributedForce(
-          [w = world.get(), p](const SurfaceSample& s) { return localDensity(*w, p, Frame(w->linear), s); },
-          kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal, ParamRect{}, 2, 0.0),
-      m_world(std::move(world)),
+    : m_world(std::move(world)),
       m_params(p),
       m_cache(std::make_shared<Cache>()) {
   if (!m_world) throw std::invalid_argument("collision: no obstacle world");

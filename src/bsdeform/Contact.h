@@ -76,10 +76,12 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
 /// unit parameter area, mapped to the surface's coordinates: f = a gamma A^T f_world, with a the
 /// rest area scale and gamma = |cof(A) n| the world area per local area of the frame at the
 /// point (s^2 for a frame A = s R).
-class CollisionForce : public DistributedForce {
+class CollisionForce : public Force {
  public:
   /// @throws std::invalid_argument naming the parameter and the value
   CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p);
+
+  unsigned dependence() const override { return kDependsOnPosition | kDependsOnVelocity; }
 
   /// The penalty's stiffness through the frame: a sigma_1 sigma_2 k ||A||_2^2 h1 h2 / m_interior (as
   /// PlaneContactForce with k ||A||^2). Damping and friction are capped (0.3 rho / dt) so that
