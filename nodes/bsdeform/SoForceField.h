@@ -115,11 +115,11 @@ class SoForceField : public SoEngine {
   SoSFVec3d center;         ///< plane point / sphere centre; (0, 0, 0)
   SoSFVec3d normal;         ///< plane normal (the free side); (0, 0, 1)
   SoSFDouble radius;        ///< sphere radius; 0.25
-  SoSFDouble stiffness;     ///< spring constant k / penalty per unit area and depth; 10
+  SoSFDouble stiffness;     ///< spring constant k / penalty per unit area and depth (COLLISION: world area); 10
   SoSFDouble coefficient;   ///< drag coefficient c per unit parameter area; 1
   SoMFNode obstacles;       ///< COLLISION: subgraphs the surface collides with; []
   SoSFDouble thickness;     ///< COLLISION: contact offset (world units); 0.02
-  SoSFDouble damping;       ///< COLLISION: normal damping per unit parameter area; 0
+  SoSFDouble damping;       ///< COLLISION: normal damping, per unit world area (pressure per approach speed); 0
   SoSFDouble friction;      ///< COLLISION: Coulomb coefficient mu; 0
 
   /// Revision of the input values: changes whenever an input changes (a surface rebuilds its
