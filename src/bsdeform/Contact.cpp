@@ -72,15 +72,50 @@ bool isClosedMesh(const TriangleMesh& mesh) {
   return true;
 }
 
-TriangleMesh weldVertices(const TriangleMesh& mesh) {
+TriangleMesh weldVertices(const TriangleMesh& mesh, double tolerance) {
+  if (tolerance < 0.0) {
+    double largest = 0.0;
+    for (const Eigen::Vector3d& p : mesh.vertices)
+      if (p.allFinite()) largest = std::max(largest, p.cwiseAbs().maxCoeff());
+    tolerance = kWeldUlps * double(std::numeric_limits<float>::epsilon()) * largest;
+  }
   TriangleMesh out;
-  std::map<std::tuple<double, double, double>, int> index;
   std::vector<int> map(mesh.vertices.size(), -1);
+  // Cells of the tolerance's size: a vertex within the tolerance (per coordinate) of a kept one
+  // lies in the same or a neighbouring cell. Exact equality when the tolerance is 0.
+  const double cell = tolerance > 0.0 ? tolerance : 1.0;
+  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
+  std::map<Key, std::vector<int>> grid;
+  std::map<std::tuple<double, double, double>, int> exact;  // non-finite or beyond the grid's range
+  const double range = 0x1p60;
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Eigen::Vector3d& p = mesh.vertices[i];
-    auto it = index.emplace(std::make_tuple(p.x(), p.y(), p.z()), int(out.vertices.size()));
-    if (it.second) out.vertices.push_back(p);
-    map[i] = it.first->second;
+    const Eigen::Vector3d q = p / cell;
+    if (tolerance <= 0.0 || !q.allFinite() || q.cwiseAbs().maxCoeff() > range) {
+      auto it = exact.emplace(std::make_tuple(p.x(), p.y(), p.z()), int(out.vertices.size()));
+      if (it.second) out.vertices.push_back(p);
+      map[i] = it.first->second;
+      continue;
+    }
+    const Key k{std::int64_t(std::floor(q.x())), std::int64_t(std::floor(q.y())), std::int64_t(std::floor(q.z()))};
+    int found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          auto c = grid.find(Key{std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
+          if (c == grid.end()) continue;
+          for (int j : c->second)
+            if ((out.vertices[std::size_t(j)] - p).cwiseAbs().maxCoeff() <= tolerance) {
+              found = j;
+              break;
+            }
+        }
+    if (found < 0) {
+      found = int(out.vertices.size());
+      out.vertices.push_back(p);
+      grid[k].push_back(found);
+    }
+    map[i] = found;
   }
   out.triangles.reserve(mesh.triangles.size());
   for (const Eigen::Vector3i& t : mesh.triangles) {

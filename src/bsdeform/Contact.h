@@ -47,8 +47,18 @@ struct ContactParameters {
 /// triangles, once in each direction). Vertices are compared by index.
 bool isClosedMesh(const TriangleMesh& mesh);
 
-/// Merges vertices with identical coordinates (triangles gathered face by face repeat them).
-TriangleMesh weldVertices(const TriangleMesh& mesh);
+/// Float rounding a weld forgives by default: Coin's geometry is single precision, and the two
+/// copies of a seam vertex (a Sphere's at 0 and 2 pi, a Cone's apex) come out of float sine,
+/// cosine and matrix products a few units in the last place apart.
+constexpr double kWeldUlps = 8.0;
+
+/// Merges vertices (triangles gathered face by face repeat them) that agree to within
+/// `tolerance` in every coordinate: each vertex joins a kept vertex within the tolerance, or is
+/// kept (so groups do not chain, and the kept positions are input positions). A negative tolerance means
+/// kWeldUlps float epsilons of the largest coordinate magnitude; 0 merges only identical
+/// coordinates. Non-finite vertices merge only when identical. Triangles keep their order;
+/// one whose corners weld together stays in the list (TriangleTree drops it as degenerate).
+TriangleMesh weldVertices(const TriangleMesh& mesh, double tolerance = -1.0);
 
 /// One evaluation of the contact law in world coordinates at point x moving with velocity v:
 /// with s the (signed, for closed obstacles) distance to the closest point and n the unit

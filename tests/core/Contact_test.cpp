@@ -108,6 +108,37 @@ TEST_CASE("Contact: the law at a point, above a box, inside it, and on an open s
   CHECK(f.x() == Approx(-0.3 * 0.001 / 0.01));
 }
 
+TEST_CASE("Contact: welding forgives float rounding, so a seam closes the mesh", "[core]") {
+  // The box of 12 triangles, face by face (24 corners), with the copies of one corner an ulp of
+  // float apart, as a Coin shape's seam comes out of single-precision sine, cosine and matrices.
+  const TriangleMesh solid = box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 1));
+  TriangleMesh soup;
+  for (const Eigen::Vector3i& t : solid.triangles) {
+    const int first = int(soup.vertices.size());
+    for (int k = 0; k < 3; ++k) soup.vertices.push_back(solid.vertices[std::size_t(t[k])]);
+    soup.triangles.emplace_back(first, first + 1, first + 2);
+  }
+  int moved = 0;
+  for (Eigen::Vector3d& v : soup.vertices)
+    if (v == Eigen::Vector3d(1, 1, 1) && moved++ % 2 == 1) v.x() = double(std::nextafter(1.0f, 0.0f));
+  REQUIRE(moved >= 2);
+  const TriangleMesh welded = weldVertices(soup);
+  CHECK(welded.vertices.size() == 8);
+  CHECK(isClosedMesh(welded));
+  // exact welding keeps the copies apart: an open shell
+  const TriangleMesh exact = weldVertices(soup, 0.0);
+  CHECK(exact.vertices.size() == 9);
+  CHECK_FALSE(isClosedMesh(exact));
+  // the tolerance is relative to the mesh's size: a box a thousandth across keeps its corners
+  TriangleMesh tiny = soup;
+  for (Eigen::Vector3d& v : tiny.vertices) v = 1e-3 * v + Eigen::Vector3d(0.5, 0.5, 0.5);
+  CHECK(weldVertices(tiny).vertices.size() == 8);
+  // and vertices a real distance apart (1e-4 of the size) are not merged
+  TriangleMesh near = soup;
+  near.vertices[0].z() += 1e-4;
+  CHECK(weldVertices(near).vertices.size() == 9);
+}
+
 TEST_CASE("Contact: a free cloth resting on a box carries its weight and stays within the thickness", "[core]") {
   ModelParameters mp = clothParams();
   Simulation sim(mp);
