@@ -9,8 +9,9 @@
 /// (bsdeform/Contact.h).
 ///
 /// Frames: an obstacle's world transform is the one above its first occurrence (depth-first)
-/// under the scene root the surface was last traversed from (a render, a bounding box, a
-/// callback or pick action); one that is not in the scene graph is taken as it is, with no
+/// under the surface's scene root: the head of the path of a traversal that reached the
+/// surface (a render, a bounding box, a callback or pick action), kept when a later traversal
+/// comes from a graph around it (an offscreen renderer's camera and light); one that is not in the scene graph is taken as it is, with no
 /// transform above it. The surface's own frame is that of its first occurrence likewise.
 
 #include <memory>

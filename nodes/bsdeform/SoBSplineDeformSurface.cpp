@@ -131,13 +131,17 @@ SoBSplineDeformSurface::~SoBSplineDeformSurface() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The scene root (for the frames of contact, SceneObstacles.h): the head of the path of any
-// traversal that reaches the surface.
+// The scene root (for the frames of contact, SceneObstacles.h): the head of the path of a
+// traversal that reaches the surface. A traversal from a graph built around the known root (an
+// offscreen renderer's or a viewer's camera and light above the user's scene, often short-lived)
+// keeps the known root: that graph adds nothing the frames need, and when it is deleted the
+// obstacles would lose their frames until the next traversal.
 
 void SoBSplineDeformSurface::noteSceneRoot(SoAction* action) {
   const SoPath* path = action->getCurPath();
   SoNode* root = path && path->getLength() ? path->getHead() : nullptr;
   if (!root || root == m_sceneRoot) return;
+  if (m_sceneRoot && path->containsNode(m_sceneRoot)) return;
   m_sceneRoot = root;
   if (!m_rootSensor) {
     m_rootSensor = new SoNodeSensor;  // no callback: only its delete callback is used

@@ -204,7 +204,7 @@ class SoBSplineDeformSurface : public SoShape {
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
   std::string m_lastWarning;
   bsdeform::SurfaceGrid m_tess;
-  SoNode* m_sceneRoot = nullptr;        ///< head of the path of the last traversal (not ref'ed)
+  SoNode* m_sceneRoot = nullptr;        ///< head of a traversal's path (not ref'ed; see noteSceneRoot)
   SoNodeSensor* m_rootSensor = nullptr; ///< clears m_sceneRoot when that node is deleted
   void noteSceneRoot(SoAction* action);
   bool m_tessValid = false;

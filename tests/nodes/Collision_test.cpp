@@ -81,6 +81,30 @@ TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refi
   root->unref();
 }
 
+TEST_CASE("Collision: a traversal from a short-lived graph around the scene keeps the obstacles' frames", "[nodes]") {
+  // An offscreen image puts a camera and a light above the scene and deletes them afterwards;
+  // the surface must keep the scene as its root, or the Cube would lose its Transform (and the
+  // cloth would fall through it) after the first image.
+  SoSeparator* root = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
+                                                 "Separator { Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 3 height 3 depth 2 } }\n") +
+                                     kCloth + "}\n");
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = prepare(root);
+  REQUIRE(s->stepSimulation(100));
+  {
+    auto* around = new SoSeparator;
+    around->ref();
+    around->addChild(new SoTransform);  // a camera's or light's place
+    around->addChild(root);
+    SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
+    bb.apply(around);
+    around->unref();  // gone, as after an image
+  }
+  REQUIRE(s->stepSimulation(500));
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(-0.05 + 0.02 - 2.0 / 2000.0).margin(2e-4));
+  root->unref();
+}
+
 TEST_CASE("Collision: Coin's solids are gathered as closed meshes, under any transform", "[nodes]") {
   // Closed: contact is one-sided and knows the inside. Coin's Sphere, Cone and Cylinder have
   // seams whose copies differ in the last float digit; the gathering must weld them.
