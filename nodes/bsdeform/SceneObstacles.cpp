@@ -8,6 +8,7 @@
 #include <Inventor/actions/SoGetMatrixAction.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/fields/SoMFNode.h>
+#include <Inventor/fields/SoMFString.h>
 #include <Inventor/nodes/SoNode.h>
 #include <Inventor/nodes/SoShape.h>
 #include <Inventor/sensors/SoNodeSensor.h>
@@ -70,26 +71,52 @@ void addTriangle(void* data, SoCallbackAction* action, const SoPrimitiveVertex* 
   g->mesh.triangles.emplace_back(first, first + 1, first + 2);
 }
 
-std::string describe(int i, SoNode* node) {
+std::string describe(const char* field, int i, SoNode* node) {
   const SbName name = node->getName();
-  return "field 'obstacles' [" + std::to_string(i) + "] (" + node->getTypeId().getName().getString() +
+  return std::string("field '") + field + "' [" + std::to_string(i) + "] (" + node->getTypeId().getName().getString() +
          (name.getLength() ? std::string(" '") + name.getString() + "'" : std::string()) + ")";
+}
+
+SoNode* findByName(SoNode* root, const SbName& name) {
+  if (!root) return nullptr;
+  SoSearchAction sa;
+  sa.setName(name);
+  sa.setInterest(SoSearchAction::FIRST);
+  sa.setSearchingAll(TRUE);  // also below switches' inactive children
+  sa.apply(root);
+  return sa.getPath() ? sa.getPath()->getTail() : nullptr;
 }
 
 }  // namespace
 
-void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, std::vector<std::string>& warnings) {
+void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
+                            std::vector<std::string>& warnings) {
   std::vector<std::unique_ptr<Entry>> previous;
   previous.swap(m_entries);
   std::vector<ContactWorld::Obstacle> world;
+  // the listed nodes, then the named ones, each with the field entry it came from
+  std::vector<std::pair<SoNode*, std::string>> listed;
   for (int i = 0; i < obstacles.getNum(); ++i) {
     SoNode* node = obstacles[i];
-    if (!node) {
+    if (!node)
       warnings.push_back("field 'obstacles' [" + std::to_string(i) + "] is NULL; ignored");
-      continue;
-    }
+    else
+      listed.emplace_back(node, describe("obstacles", i, node));
+  }
+  // Names are looked up in the scene; before the surface knows it (no traversal yet) they wait
+  // for the gathering that follows the first traversal.
+  for (int i = 0; sceneRoot && i < names.getNum(); ++i) {
+    const SbString& text = names[i];
+    SoNode* node = text.getLength() ? findByName(sceneRoot, SbName(text)) : nullptr;
+    if (!node)
+      warnings.push_back("field 'obstacleNames' [" + std::to_string(i) + "] '" + text.getString() +
+                         "': no node of that name in the scene; ignored");
+    else
+      listed.emplace_back(node, describe("obstacleNames", i, node));
+  }
+  for (const auto& [node, label] : listed) {
     if (node == self) {
-      warnings.push_back(describe(i, node) + " is the surface itself (self-collision is not supported); ignored");
+      warnings.push_back(label + " is the surface itself (self-collision is not supported); ignored");
       continue;
     }
     auto e = std::make_unique<Entry>();
@@ -120,10 +147,10 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
       ++m_builds;
     }
     if (e->tree->droppedTriangles() > 0)
-      warnings.push_back(describe(i, node) + ": " + std::to_string(e->tree->droppedTriangles()) +
+      warnings.push_back(label + ": " + std::to_string(e->tree->droppedTriangles()) +
                          " degenerate or non-finite triangles dropped");
     if (e->tree->triangleCount() == 0) {
-      warnings.push_back(describe(i, node) + " has no triangles; ignored");
+      warnings.push_back(label + " has no triangles; ignored");
     } else {
       world.push_back({e->tree, isClosedMesh(e->tree->mesh())});
     }
@@ -145,8 +172,8 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
   m_world->obstacles = std::move(world);
 }
 
-void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, bool obstaclesChanged,
-                            std::vector<std::string>& warnings) {
+void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
+                            bool obstaclesChanged, std::vector<std::string>& warnings) {
   // the surface's own frame
   if (SoPath* path = firstPath(sceneRoot, self)) {
     SoGetMatrixAction ma(SbViewportRegion(1, 1));
@@ -169,7 +196,7 @@ void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
   }
   if (m_dirty || obstaclesChanged) {
     m_dirty = false;
-    gather(sceneRoot, self, obstacles, warnings);
+    gather(sceneRoot, self, obstacles, names, warnings);
     m_dirty = false;  // our own traversal does not count as a change
   }
 }

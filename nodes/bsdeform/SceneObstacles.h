@@ -25,6 +25,7 @@ class SoPath;
 class SoPathSensor;
 class SoSensor;
 class SoMFNode;
+class SoMFString;
 
 namespace bsdeform {
 
@@ -40,11 +41,13 @@ class SceneObstacles {
 
   /// Brings the world up to date before a step: the surface's frame every time (cheap), the
   /// obstacles' triangles when `obstaclesChanged` or a path sensor fired since the last call.
-  /// `self` is never gathered (self-collision is not supported). Problems (a NULL entry, the
-  /// surface itself, an empty subgraph, dropped triangles) are appended to `warnings`, naming
-  /// the field entry; the valid obstacles are used.
-  void update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, bool obstaclesChanged,
-              std::vector<std::string>& warnings);
+  /// The obstacles are the nodes of `obstacles`, then those `names` name (the first node of
+  /// that DEF name under `sceneRoot`, depth first). `self` is never gathered (self-collision is
+  /// not supported). Problems (a NULL entry, a name not in the scene, the surface itself, an
+  /// empty subgraph, dropped triangles) are appended to `warnings`, naming the field entry; the
+  /// valid obstacles are used.
+  void update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
+              bool obstaclesChanged, std::vector<std::string>& warnings);
 
   /// How often obstacle trees were built from scratch and refitted (moved vertices).
   int builds() const { return m_builds; }
@@ -53,7 +56,8 @@ class SceneObstacles {
  private:
   struct Entry;
   static void sensorFired(void* data, SoSensor*);
-  void gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, std::vector<std::string>& warnings);
+  void gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
+              std::vector<std::string>& warnings);
 
   std::shared_ptr<ContactWorld> m_world;
   std::vector<std::unique_ptr<Entry>> m_entries;

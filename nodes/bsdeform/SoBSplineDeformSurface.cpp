@@ -419,8 +419,8 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
       // the obstacles are kept current before every step; the force reads them in place
       if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<bsdeform::SceneObstacles>();
       std::vector<std::string> problems;
-      slot.obstacles->update(m_sceneRoot, this, ff->obstacles, slot.geometryRevision != ff->getGeometryRevision(),
-                             problems);
+      slot.obstacles->update(m_sceneRoot, this, ff->obstacles, ff->obstacleNames,
+                             slot.geometryRevision != ff->getGeometryRevision(), problems);
       slot.geometryRevision = ff->getGeometryRevision();
       const SbName name = ff->getName();
       for (const std::string& p : problems)

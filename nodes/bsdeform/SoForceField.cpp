@@ -176,6 +176,7 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(stiffness, (10.0));
   SO_ENGINE_ADD_INPUT(coefficient, (1.0));
   SO_ENGINE_ADD_INPUT(obstacles, (nullptr));
+  SO_ENGINE_ADD_INPUT(obstacleNames, (""));
   SO_ENGINE_ADD_INPUT(thickness, (0.02));
   SO_ENGINE_ADD_INPUT(damping, (0.0));
   SO_ENGINE_ADD_INPUT(friction, (0.0));
@@ -200,12 +201,14 @@ SoForceField::SoForceField() {
   expression.setDefault(TRUE);
   obstacles.setNum(0);
   obstacles.setDefault(TRUE);
+  obstacleNames.setNum(0);
+  obstacleNames.setDefault(TRUE);
 }
 
 SoForceField::~SoForceField() = default;
 
 void SoForceField::inputChanged(SoField* which) {
-  if (which == &obstacles)
+  if (which == &obstacles || which == &obstacleNames)
     ++m_geometryRevision;  // the list or something inside an obstacle: re-gather, same force
   else
     ++m_revision;

@@ -55,12 +55,15 @@
 /// | PRESSURE         | PressureForce                       | magnitude                                  |
 /// | PLANE_COLLISION  | PlaneContactForce                   | center, normal, stiffness                  |
 /// | SPHERE_COLLISION | SphereContactForce                  | center, radius, stiffness                  |
-/// | COLLISION        | CollisionForce (bsdeform/Contact.h) | obstacles, thickness, stiffness, damping, friction |
+/// | COLLISION        | CollisionForce (bsdeform/Contact.h) | obstacles, obstacleNames, thickness, stiffness, damping, friction |
 ///
 /// COLLISION: each entry of `obstacles` is any subgraph (DEF/USE a Separator with a Transform
 /// and a Cube, an IndexedFaceSet, a NurbsSurface, another SoBSplineDeformSurface). Its
 /// triangles are gathered in world coordinates (bsdeform/SceneObstacles.h says how frames are
-/// found) and re-gathered only when Coin reports a change.
+/// found) and re-gathered only when Coin reports a change. `obstacleNames` adds nodes by DEF
+/// name, found in the surface's scene when gathering: a file cannot USE a node before its
+/// definition, so two surfaces that collide both ways name each other (or the first is listed
+/// in `obstacles` of the second and the second named by the first).
 
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/engines/SoSubEngine.h>
@@ -118,6 +121,10 @@ class SoForceField : public SoEngine {
   SoSFDouble stiffness;     ///< spring constant k / penalty per unit area and depth (COLLISION: world area); 10
   SoSFDouble coefficient;   ///< drag coefficient c per unit parameter area; 1
   SoMFNode obstacles;       ///< COLLISION: subgraphs the surface collides with; []
+  /// COLLISION: DEF names of further obstacles, looked up in the surface's scene (first match,
+  /// depth first) each time the obstacles are gathered: the way a file lists a node defined
+  /// after it (two surfaces that collide both ways); []
+  SoMFString obstacleNames;
   SoSFDouble thickness;     ///< COLLISION: contact offset (world units); 0.02
   SoSFDouble damping;       ///< COLLISION: normal damping, per unit world area (pressure per approach speed); 0
   SoSFDouble friction;      ///< COLLISION: Coulomb coefficient mu; 0
@@ -140,7 +147,7 @@ class SoForceField : public SoEngine {
 
   /// Current revision without going through an engine connection.
   int getRevision() const { return m_revision; }
-  /// Changes when `obstacles` or anything inside its nodes changes (the surfaces re-gather
+  /// Changes when `obstacles`, `obstacleNames` or anything inside the listed nodes changes (the surfaces re-gather
   /// the triangles; the force itself is not rebuilt).
   int getGeometryRevision() const { return m_geometryRevision; }
 

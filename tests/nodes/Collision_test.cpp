@@ -122,7 +122,7 @@ TEST_CASE("Collision: Coin's solids are gathered as closed meshes, under any tra
   for (const char* name : {"S", "C", "Y", "B", "Fine", "Sheet"}) field->obstacles.set1Value(field->obstacles.getNum(), testutil::named<SoNode>(name));
   bsdeform::SceneObstacles gathered;
   std::vector<std::string> warnings;
-  gathered.update(root, nullptr, field->obstacles, true, warnings);
+  gathered.update(root, nullptr, field->obstacles, field->obstacleNames, true, warnings);
   CHECK(warnings.empty());
   const auto& obstacles = gathered.world()->obstacles;
   REQUIRE(obstacles.size() == 6);
@@ -136,7 +136,7 @@ TEST_CASE("Collision: Coin's solids are gathered as closed meshes, under any tra
   root->unref();
 }
 
-TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned about, the rest collide", "[nodes]") {
+TEST_CASE("Collision: NULL, an unknown name, the surface itself and an empty subgraph are warned about, the rest collide", "[nodes]") {
   auto& messages = testutil::Coin::get().messages;
   messages.clear();
   SoSeparator* root = testutil::read(
@@ -146,7 +146,8 @@ TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned 
       "DEF Cloth SoBSplineDeformSurface { on FALSE numUControlPoints 6 numVControlPoints 6\n"
       "  boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE massModel LUMPED damping 2 timeStep 0.01\n"
       "  forces [ SoForceField { type GRAVITY force 0 0 -2 },\n"
-      "    SoForceField { type COLLISION obstacles [ USE Empty , USE Box ] thickness 0.02 stiffness 2000 } ] }\n"
+      "    SoForceField { type COLLISION obstacles [ USE Empty , USE Box ] obstacleNames [ \"Nowhere\", \"Cloth\" ]\n"
+      "      thickness 0.02 stiffness 2000 } ] }\n"
       "}\n");
   REQUIRE(root);
   auto* cloth = prepare(root);
@@ -162,19 +163,22 @@ TEST_CASE("Collision: NULL, the surface itself and an empty subgraph are warned 
   CHECK(all.find("'obstacles' [2] is NULL") != std::string::npos);
   CHECK(all.find("[0] (Separator 'Empty') has no triangles") != std::string::npos);
   CHECK(all.find("is the surface itself") != std::string::npos);
+  CHECK(all.find("field 'obstacleNames' [0] 'Nowhere': no node of that name in the scene") != std::string::npos);
+  CHECK(all.find("field 'obstacleNames' [1] (SoBSplineDeformSurface 'Cloth') is the surface itself") != std::string::npos);
   CHECK(cloth->simulation().evaluate(0.5, 0.5).position.z() > -0.05);  // still resting on the box
   root->unref();
 }
 
 namespace {
-// Total load of the COLLISION forces of `s` whose obstacles include `other` (all points move,
+// Total load of the COLLISION forces of `s` that list or name `other` (all points move,
 // so the sum over the control points is the integral of the density).
 Eigen::Vector3d contactLoadFrom(SoBSplineDeformSurface* s, SoNode* other) {
   const bsdeform::Simulation& sim = s->simulation();
   Eigen::Vector3d total = Eigen::Vector3d::Zero();
   for (int i = 0; i < s->forces.getNum(); ++i) {
     auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
-    if (ff->type.getValue() != SoForceField::COLLISION || ff->obstacles.find(other) < 0) continue;
+    const bool named = ff->obstacleNames.find(SbString(other->getName().getString())) >= 0;
+    if (ff->type.getValue() != SoForceField::COLLISION || (ff->obstacles.find(other) < 0 && !named)) continue;
     for (const auto& f : sim.forces()) {
       auto* c = dynamic_cast<const bsdeform::CollisionForce*>(f.get());
       if (!c) continue;
@@ -193,8 +197,8 @@ Eigen::Vector3d contactLoadFrom(SoBSplineDeformSurface* s, SoNode* other) {
 
 TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces", "[nodes]") {
   // A lower cloth B lies on a Cube; an upper cloth A, of another size and resolution, falls on
-  // it. Each lists the other as an obstacle (the second link is set in code: a file cannot refer
-  // forward). At rest the contact carries A's weight, and what B feels from A is what A feels
+  // it. Each lists the other as an obstacle: A lists B in `obstacles`, B names A in
+  // `obstacleNames` (a file cannot USE a node before its definition). At rest the contact carries A's weight, and what B feels from A is what A feels
   // from B, with the sign reversed, to within the two quadratures and tessellations.
   SoSeparator* root = testutil::read(R"(#Inventor V2.1 ascii
 Separator {
@@ -207,7 +211,7 @@ Separator {
       massModel LUMPED damping 4 timeStep 0.01 mass 1
       forces [ SoForceField { type GRAVITY force 0 0 -2 },
                SoForceField { type COLLISION obstacles [ USE Box ] thickness 0.02 stiffness 20000 damping 30 },
-               DEF FromA SoForceField { type COLLISION thickness 0.02 stiffness 5000 damping 30 } ]
+               DEF FromA SoForceField { type COLLISION obstacleNames "A" thickness 0.02 stiffness 5000 damping 30 } ]
     }
   }
   Separator {
@@ -230,7 +234,6 @@ Separator {
   REQUIRE(a);
   REQUIRE(b);
   REQUIRE(fromA);
-  fromA->obstacles.setValue(a);
   SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
   bb.apply(root);
   for (int k = 0; k < 300; ++k) {

@@ -14,6 +14,7 @@
 
 #include "../nodes/NodesTestUtil.h"
 #include <Inventor/SbTime.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/fields/SoSFTime.h>
 
 #include "../support/FpTraps.h"
@@ -236,6 +237,39 @@ TEST_CASE("bsdeform-run: a decimal-comma locale writes the same files byte for b
   REQUIRE(run("de/final.iv --steps 2 -o de2", dir.path, "LC_ALL=de_DE.UTF-8").code == 0);
   REQUIRE(run("c/final.iv --steps 2 -o c2", dir.path, "LC_ALL=C").code == 0);
   CHECK(slurp(dir.path + "/c2/final.iv") == slurp(dir.path + "/de2/final.iv"));
+}
+
+TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and falls back with it", "[scenes]") {
+  // The sphere's centre follows z(t) = -0.27 + 0.22 sin(1.2 t) (its Calculator); the membrane's
+  // centre must ride on its top (radius 0.25) within the contact offset: above the top less the
+  // tessellation's sag (Coin's sphere is inscribed), below the top plus the thickness.
+  Coin::get();
+  auto* realTime = static_cast<SoSFTime*>(SoDB::getGlobalField("realTime"));
+  SoDB::enableRealTimeSensor(FALSE);
+  realTime->setValue(SbTime(0.0));
+  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/rising_sphere.iv"));
+  REQUIRE(root);
+  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));  // tells the surface its scene
+  bb.apply(root);
+  SoBSplineDeformSurface* s = surfaces(root).at(0);
+  const double tau = 0.015, radius = 0.25;
+  auto runTo = [&](double t) {
+    while (s->simulation().time() + 1e-9 < t) {
+      realTime->setValue(SbTime(s->simulation().time() + s->simulation().parameters().timeStep));
+      REQUIRE(s->stepSimulation(1));
+    }
+  };
+  const double peak = std::acos(-1.0) / 2.0 / 1.2;  // the sphere's highest point
+  runTo(peak);
+  const double top = -0.27 + 0.22 + radius;
+  const double apex = s->simulation().evaluate(0.5, 0.5).position.z();
+  CHECK(apex > top - 0.004);
+  CHECK(apex < top + tau);
+  CHECK(s->obstacleRefits() > 100);  // refitted as the engine moved it, never rebuilt
+  CHECK(s->obstacleBuilds() == 1);
+  runTo(3.0 * peak);  // lowest: 0.24 below the membrane, which is flat again
+  CHECK(std::abs(s->simulation().evaluate(0.5, 0.5).position.z()) < 0.01);
+  root->unref();
 }
 
 TEST_CASE("bsdeform-run: an engine-animated force repeats exactly and does animate", "[scenes]") {
