@@ -169,31 +169,6 @@ TEST_CASE("Collision: NULL, an unknown name, the surface itself and an empty sub
   root->unref();
 }
 
-namespace {
-// Total load of the COLLISION forces of `s` that list or name `other` (all points move,
-// so the sum over the control points is the integral of the density).
-Eigen::Vector3d contactLoadFrom(SoBSplineDeformSurface* s, SoNode* other) {
-  const bsdeform::Simulation& sim = s->simulation();
-  Eigen::Vector3d total = Eigen::Vector3d::Zero();
-  for (int i = 0; i < s->forces.getNum(); ++i) {
-    auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
-    const bool named = ff->obstacleNames.find(SbString(other->getName().getString())) >= 0;
-    if (ff->type.getValue() != SoForceField::COLLISION || (ff->obstacles.find(other) < 0 && !named)) continue;
-    for (const auto& f : sim.forces()) {
-      auto* c = dynamic_cast<const bsdeform::CollisionForce*>(f.get());
-      if (!c) continue;
-      // the force of this field (the test gives each COLLISION field its own stiffness)
-      bsdeform::ControlNet load = bsdeform::ControlNet::Zero(sim.space().numMoving(), 3);
-      const bsdeform::LoadContext ctx{sim.space(), sim.current(), sim.previous(), sim.subStepSize(), sim.time()};
-      if (c->parameters().stiffness != ff->stiffness.getValue()) continue;
-      c->addLoad(ctx, load);
-      // a load in the surface's coordinates is A^T times the world force
-      total += Eigen::Vector3d(c->world().linear.transpose().inverse() * load.colwise().sum().transpose());
-    }
-  }
-  return total;
-}
-}  // namespace
 
 TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces", "[nodes]") {
   // A lower cloth B lies on a Cube; an upper cloth A, of another size and resolution, falls on
@@ -242,8 +217,8 @@ Separator {
   }
   INFO("A at " << a->simulation().evaluate(0.5, 0.5).position.transpose() << ", B at "
                << b->simulation().evaluate(0.5, 0.5).position.transpose() << ", A forces " << a->simulation().forces().size());
-  const Eigen::Vector3d onA = contactLoadFrom(a, b);
-  const Eigen::Vector3d onB = contactLoadFrom(b, a);
+  const Eigen::Vector3d onA = testutil::contactLoadFrom(a, b);
+  const Eigen::Vector3d onB = testutil::contactLoadFrom(b, a);
   INFO("on A " << onA.transpose() << ", on B " << onB.transpose());
   // A (unit parameter square, mass 1 per unit parameter area, g = 2) rests: the contact carries 2
   CHECK(onA.z() == Approx(2.0).epsilon(0.02));

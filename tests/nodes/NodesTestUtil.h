@@ -13,7 +13,10 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
+#include "bsdeform/Contact.h"
+#include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
 
 namespace testutil {
 
@@ -63,6 +66,30 @@ T* find(SoNode* root) {
   sa.setInterest(SoSearchAction::FIRST);
   sa.apply(root);
   return sa.getPath() ? static_cast<T*>(sa.getPath()->getTail()) : nullptr;
+}
+
+// Total load of the COLLISION forces of `s` that list or name `other` (all points move,
+// so the sum over the control points is the integral of the density).
+inline Eigen::Vector3d contactLoadFrom(SoBSplineDeformSurface* s, SoNode* other) {
+  const bsdeform::Simulation& sim = s->simulation();
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  for (int i = 0; i < s->forces.getNum(); ++i) {
+    auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
+    const bool named = ff->obstacleNames.find(SbString(other->getName().getString())) >= 0;
+    if (ff->type.getValue() != SoForceField::COLLISION || (ff->obstacles.find(other) < 0 && !named)) continue;
+    for (const auto& f : sim.forces()) {
+      auto* c = dynamic_cast<const bsdeform::CollisionForce*>(f.get());
+      if (!c) continue;
+      // the force of this field (the test gives each COLLISION field its own stiffness)
+      bsdeform::ControlNet load = bsdeform::ControlNet::Zero(sim.space().numMoving(), 3);
+      const bsdeform::LoadContext ctx{sim.space(), sim.current(), sim.previous(), sim.subStepSize(), sim.time()};
+      if (c->parameters().stiffness != ff->stiffness.getValue()) continue;
+      c->addLoad(ctx, load);
+      // a load in the surface's coordinates is A^T times the world force
+      total += Eigen::Vector3d(c->world().linear.transpose().inverse() * load.colwise().sum().transpose());
+    }
+  }
+  return total;
 }
 
 }  // namespace testutil

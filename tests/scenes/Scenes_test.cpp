@@ -272,6 +272,39 @@ TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and
   root->unref();
 }
 
+TEST_CASE("Scenes: pressed_surfaces' membranes press on each other with equal and opposite forces", "[scenes]") {
+  // Two clamped membranes 0.1 apart, pushed towards each other, each colliding with the other
+  // (the lower names the upper in obstacleNames). At rest their centres are within the contact
+  // offset of each other, and the contact forces balance to within the quadratures.
+  Coin::get();
+  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/pressed_surfaces.iv"));
+  REQUIRE(root);
+  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
+  bb.apply(root);
+  auto* lower = testutil::named<SoBSplineDeformSurface>("Lower");
+  auto* upper = testutil::named<SoBSplineDeformSurface>("Upper");
+  REQUIRE(lower);
+  REQUIRE(upper);
+  while (upper->simulation().time() < 2.5) {  // as bsdeform-run steps them: in file order
+    REQUIRE(lower->stepSimulation(1));
+    REQUIRE(upper->stepSimulation(1));
+  }
+  const double tau = 0.02;
+  const double zLower = lower->simulation().evaluate(0.5, 0.5).position.z();
+  const double zUpper = upper->simulation().evaluate(0.5, 0.5).position.z() + 0.1;  // its Transform
+  CHECK(zLower > 0.02);  // both pressed towards each other
+  CHECK(zUpper < 0.08);
+  CHECK(zUpper - zLower > 0.0);  // not passed through
+  CHECK(zUpper - zLower < tau);
+  const Eigen::Vector3d onLower = testutil::contactLoadFrom(lower, upper);
+  const Eigen::Vector3d onUpper = testutil::contactLoadFrom(upper, lower);
+  INFO("on lower " << onLower.transpose() << ", on upper " << onUpper.transpose() << ", centres " << zLower << " "
+                   << zUpper);
+  CHECK(onLower.z() < -1.0);  // the upper one holds the lower one back
+  CHECK((onLower + onUpper).norm() < 0.02 * onLower.norm());
+  root->unref();
+}
+
 TEST_CASE("bsdeform-run: an engine-animated force repeats exactly and does animate", "[scenes]") {
   TempDir dir;
   REQUIRE(run(scene("animated_force.iv") + " --until 6 -o a", dir.path).code == 0);
