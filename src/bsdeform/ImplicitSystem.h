@@ -11,7 +11,7 @@
 /// Two solvers (docs/benchmarks.md, "Implicit at scale", has the measurements behind them):
 ///  - Direct: CHOLMOD's supernodal Cholesky, factorised once at construction; exact to
 ///    rounding, any conditioning, but its factor grows like N log N and its cost like N^1.5
-///    (3.6 GB of factor for a 1024^2 bicubic net).
+///    (3.3 GB of factor for a 1024^2 bicubic net).
 ///  - ConjugateGradient: matrix-free CG, K applied with the stiffness stencil (O(N) memory,
 ///    nothing to factorise), Jacobi-scaled; it stops at a relative residual
 ///    \f$\|r_c\| \le \mathrm{tol}\,\|b_c\|\f$ in every coordinate c. Its iteration count grows
