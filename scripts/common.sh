@@ -12,7 +12,7 @@ BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 # reports) are for the sanitizer build.
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
-  libeigen3-dev libembree-dev catch2 libbenchmark-dev
+  libeigen3-dev libembree-dev libsuitesparse-dev catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
   qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core
   libsoqt520-dev xvfb xauth

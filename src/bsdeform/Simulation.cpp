@@ -13,11 +13,6 @@
 
 namespace bsdeform {
 
-struct Simulation::ImplicitSolver {
-  Eigen::SparseMatrix<double> Aii;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> K;
-};
-
 namespace {
 
 std::string num(double x) { return numberText(x); }
@@ -38,6 +33,9 @@ const ModelParameters& validated(const ModelParameters& p) {
   require(std::isfinite(p.divergenceLimit) && p.divergenceLimit > 0.0,
           "divergenceLimit must be finite and > 0, got " + num(p.divergenceLimit));
   require(p.maxSubSteps >= 1, "maxSubSteps must be >= 1, got " + std::to_string(p.maxSubSteps));
+  require(std::isfinite(p.solverTolerance) && p.solverTolerance > 0.0 && p.solverTolerance < 1.0,
+          "solverTolerance must be in (0, 1), got " + num(p.solverTolerance));
+  require(p.maxSolverIterations >= 1, "maxSolverIterations must be >= 1, got " + std::to_string(p.maxSolverIterations));
   for (size_t i = 0; i < p.pins.size(); ++i) {
     const Eigen::Vector2d& q = p.pins[i];
     require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,
@@ -145,24 +143,19 @@ void Simulation::init() {
     }
   }
   if (m_params.integrator == Integrator::Implicit) {
-    m_boundaryTerm = boundaryTerm();
-    m_implicit = std::make_unique<ImplicitSolver>();
-    m_implicit->Aii = activeMatrix();
+    // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
+    // next to a free edge
     const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
-    Eigen::SparseMatrix<double> K = 0.25 * m_implicit->Aii;
-    Eigen::SparseMatrix<double> D(K.rows(), K.cols());
-    D.setIdentity();
-    if (m_uniformMass) {
-      K += (m / (dt * dt) + c / (2.0 * dt)) * D;
-    } else {
-      // M/dt^2 + C/(2dt) per point: the lumped mass (and damping) is smaller next to a free edge
-      const double perMass = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
-      for (Eigen::Index f = 0; f < D.rows(); ++f) D.coeffRef(f, f) = m_massMoving[f] * perMass;
-      K += D;
-    }
-    m_implicit->K.compute(K);
-    if (m_implicit->K.info() != Eigen::Success)
-      throw std::runtime_error("implicit integrator: factorisation of the system matrix failed");
+    Eigen::VectorXd massTerm;
+    if (m_uniformMass)
+      massTerm = Eigen::VectorXd::Constant(m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
+    else
+      massTerm = m_massMoving * (1.0 / (dt * dt) + (c / m) / (2.0 * dt));
+    std::vector<Eigen::Index> pinnedMoving;
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+      if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
+    m_implicit = std::make_unique<ImplicitSystem>(m_space, m_stencil, massTerm, pinnedMoving, m_params.implicitSolver,
+                                                  m_params.solverTolerance, m_params.maxSolverIterations);
   }
   rebuildConstantLoad();
   updateSubSteps();
@@ -183,7 +176,7 @@ ControlNet Simulation::boundaryTerm() const {
 Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
   Eigen::SparseMatrix<double> A = m_stencil.movingMatrix();
   if (!m_pinned.empty()) {
-    // pinned rows and columns leave the system (their coupling is in m_boundaryTerm)
+    // pinned rows and columns leave the system (their coupling is held-point coupling, A_IB)
     std::vector<char> pinned(size_t(m_space.numMoving()), 0);
     for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
     A.prune([&](Eigen::Index r, Eigen::Index c, double) { return !pinned[size_t(r)] && !pinned[size_t(c)]; });
@@ -342,21 +335,27 @@ bool Simulation::explicitSubStep(double t) {
 bool Simulation::implicitSubStep(double t) {
   const ControlNet& load = effectiveLoad(t);
   const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
-  const ControlNet P = m_space.gatherMoving(m_current);
-  const ControlNet Pm = m_space.gatherMoving(m_previous);
-  // (M/dt^2 + C/(2dt) + A/4) P+ = R + 2M/dt^2 P - (M/dt^2 - C/(2dt)) P- - A (2P + P-)/4
-  const ControlNet W = 0.25 * (2.0 * P + Pm);
+  // Newmark (docs/math.md §6) for the increment d = P+ - P: with K = M/dt^2 + C/(2dt) + A_II/4,
+  //   K d = L - (A_II V + A_IB P_B) + (M/dt^2 - C/(2dt)) (P - P-),   V = P + (P- - P)/4,
+  // where A_II V + A_IB P_B is the stencil applied to the whole net V (its held points are
+  // their rest values exactly): no matrix, and a state at rest gives d = 0 exactly.
+  allocateNet(m_scratch, m_current.rows());
+  m_scratch = m_current + 0.25 * (m_previous - m_current);
   ControlNet rhs;
+  m_stencil.applyMoving(m_scratch, rhs);
+  const ControlNet velocity = m_space.gatherMoving(m_current) - m_space.gatherMoving(m_previous);  // P - P-
   if (m_uniformMass) {
-    rhs = load - m_boundaryTerm + (2.0 * m / (dt * dt)) * P - (m / (dt * dt) - c / (2.0 * dt)) * Pm;
+    rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
   } else {
     const double cm = c / m;
-    rhs = load - m_boundaryTerm +
-          (m_massMoving.asDiagonal() * ((2.0 / (dt * dt)) * P - (1.0 / (dt * dt) - cm / (2.0 * dt)) * Pm));
+    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (m_massMoving.asDiagonal() * velocity);
   }
-  rhs -= m_implicit->Aii * W;
-  const ControlNet next = m_implicit->K.solve(rhs);
-  bool ok = true;
+  for (Eigen::Index f : m_implicit->pinned()) rhs.row(f).setZero();  // pinned rows of K are D: d = 0
+  // CG starts from the constant-velocity prediction d = P - P-.
+  ControlNet next = velocity;
+  const bool solved = m_implicit->solve(rhs, next);
+  next += m_space.gatherMoving(m_current);
+  bool ok = solved;
   for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= m_divergenceLimit;
   m_space.scatterMoving(next, m_previous);
   if (!m_pinned.empty()) {
@@ -364,6 +363,13 @@ bool Simulation::implicitSubStep(double t) {
     m_space.refreshPeriodicCopies(m_previous);
   }
   m_current.swap(m_previous);
+  if (!solved && next.allFinite()) {
+    std::ostringstream os;
+    os << "conjugate gradients stopped at relative residual " << m_implicit->lastResidual() << " after "
+       << m_implicit->lastIterations() << " iterations (solverTolerance " << m_params.solverTolerance
+       << ", maxSolverIterations " << m_params.maxSolverIterations << ")";
+    m_solveFailure = os.str();
+  }
   return ok;
 }
 
@@ -395,6 +401,7 @@ Status Simulation::step() {
   }
   if (m_startPending) applyStartRule();
   const double dt = subStepSize();
+  m_solveFailure.clear();
   for (int s = 0; s < m_subSteps; ++s) {
     const double t = m_time + s * dt;
     const bool ok = (m_params.integrator == Integrator::Explicit) ? explicitSubStep(t) : implicitSubStep(t);
@@ -405,7 +412,9 @@ Status Simulation::step() {
       std::ostringstream os;
       os << (finite ? "diverged" : "non-finite state") << " at t = " << t + dt << " (step " << m_steps + 1
          << ", sub-step " << s + 1 << " of " << m_subSteps << "); last valid state kept. ";
-      if (finite)
+      if (!m_solveFailure.empty())
+        os << "The implicit solve failed: " << m_solveFailure << ".";
+      else if (finite)
         os << "A coordinate exceeded " << m_divergenceLimit << ".";
       os << " Stability limit " << stabilityLimit() << ", sub-step " << dt << ".";
       fail(finite ? Status::Diverged : Status::NonFinite, os.str());
@@ -545,8 +554,8 @@ Diagnostics Simulation::diagnostics() const {
 }
 
 ControlNet Simulation::staticSolution() const {
-  Eigen::SparseMatrix<double> A = m_implicit ? m_implicit->Aii : activeMatrix();
-  ControlNet rhs = loadVector() + restOffset() - (m_implicit ? m_boundaryTerm : boundaryTerm());
+  Eigen::SparseMatrix<double> A = activeMatrix();
+  ControlNet rhs = loadVector() + restOffset() - boundaryTerm();
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
     if (!m_pinMask[size_t(r)]) continue;

@@ -12,6 +12,7 @@
 
 #include "bsdeform/Diagnostics.h"
 #include "bsdeform/Force.h"
+#include "bsdeform/ImplicitSystem.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
 
@@ -19,7 +20,7 @@ namespace bsdeform {
 
 enum class Integrator {
   Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
-  Implicit,  ///< Newmark beta = 1/4, gamma = 1/2 in displacement form; one sparse Cholesky at build
+  Implicit,  ///< Newmark beta = 1/4, gamma = 1/2 in displacement form; see ImplicitSystem.h
 };
 
 enum class MassModel {
@@ -69,6 +70,12 @@ struct ModelParameters {
   /// Explicit: a step that needs more sub-steps than this is refused (Status::Refused) instead
   /// of running for minutes; >= 1.
   int maxSubSteps = 10000;
+  /// Implicit only: how the constant system is solved (ImplicitSystem.h).
+  LinearSolver implicitSolver = LinearSolver::Automatic;
+  /// Implicit with conjugate gradients: relative residual per coordinate, in (0, 1).
+  double solverTolerance = 1e-10;
+  /// Implicit with conjugate gradients: a solve that needs more iterations fails the step.
+  int maxSolverIterations = 10000;
 };
 
 /// What setState() does with held points (clamped layers, pins) that differ from the rest net.
@@ -168,6 +175,10 @@ class Simulation {
   ///         nothing holding it)
   ControlNet staticSolution() const;
 
+  /// The implicit scheme's linear system (null for the explicit scheme): its method, condition
+  /// bound and the last solve's iterations.
+  const ImplicitSystem* implicitSystem() const { return m_implicit.get(); }
+
   /// Mass of moving net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
   /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge).
   double massAt(int i, int j) const;
@@ -178,15 +189,13 @@ class Simulation {
   SurfacePoint evaluate(double u, double v, int order = 1) const { return m_space.evaluate(m_current, u, v, order); }
 
  private:
-  struct ImplicitSolver;
-
   void init();
   void applyStartRule();
   void holdPins(ControlNet& net) const;
   /// A_II without the pinned rows and columns.
   Eigen::SparseMatrix<double> activeMatrix() const;
-  /// A_IB P_B, the coupling to every held point (clamped layers and pins): what the implicit
-  /// scheme and the static solve need (the explicit kernel applies A to the whole net).
+  /// A_IB P_B, the coupling to every held point (clamped layers and pins): what the static
+  /// solve needs (both schemes apply A to the whole net).
   ControlNet boundaryTerm() const;
   /// c0 = (A P_rest)_moving for ElasticReference::Rest (what makes the rest net an
   /// equilibrium), else 0.
@@ -206,7 +215,6 @@ class Simulation {
   SplineSpace m_space;
   StiffnessStencil m_stencil;
   ControlNet m_rest, m_current, m_previous;
-  ControlNet m_boundaryTerm;   ///< A_IB P_B (implicit scheme only)
   ControlNet m_constantLoad;   ///< c0 (restOffset()) + constant forces
   ControlNet m_load;           ///< scratch
   std::vector<Eigen::Index> m_pinned;  ///< net rows held by pins
@@ -227,7 +235,9 @@ class Simulation {
   long m_steps = 0;
   Status m_status = Status::Ok;
   std::string m_statusMessage;
-  std::unique_ptr<ImplicitSolver> m_implicit;
+  std::unique_ptr<ImplicitSystem> m_implicit;
+  ControlNet m_scratch;  ///< implicit: a full net (the stencil's argument)
+  std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
 };
 
 }  // namespace bsdeform

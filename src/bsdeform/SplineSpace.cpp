@@ -105,12 +105,15 @@ ControlNet SplineSpace::grevillePlane() const {
 
 ControlNet SplineSpace::gatherMoving(const ControlNet& net) const {
   ControlNet f(numMoving(), 3);
-  for (Eigen::Index i = 0; i < numMoving(); ++i) f.row(i) = net.row(movingToNet(i));
+  // a moving u-layer is one run of movingV().count points in the net
+  const Eigen::Index w = m_movingV.count;
+  for (int a = 0; a < m_movingU.count; ++a) f.middleRows(a * w, w) = net.middleRows(movingToNet(a * w), w);
   return f;
 }
 
 void SplineSpace::scatterMoving(const ControlNet& movingPoints, ControlNet& net) const {
-  for (Eigen::Index i = 0; i < numMoving(); ++i) net.row(movingToNet(i)) = movingPoints.row(i);
+  const Eigen::Index w = m_movingV.count;
+  for (int a = 0; a < m_movingU.count; ++a) net.middleRows(movingToNet(a * w), w) = movingPoints.middleRows(a * w, w);
   refreshPeriodicCopies(net);
 }
 

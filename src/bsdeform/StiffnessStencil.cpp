@@ -188,13 +188,12 @@ double StiffnessStencil::coefficient(int d1, int d2) const {
   return m_half[size_t(d1) * (m_rv + 1) + d2];
 }
 
-Eigen::SparseMatrix<double> StiffnessStencil::movingMatrix() const {
+template <typename EntryFunction>
+void StiffnessStencil::forEachMovingEntry(EntryFunction&& fn) const {
   const SplineSpace& s = *m_space;
   const LayerRange mu = s.movingU(), mv = s.movingV();
   std::vector<const double*> rowTable(size_t(s.numMoving()), nullptr);
   for (const BandPoint& b : m_band) rowTable[size_t(b.m)] = m_tables[size_t(b.table)].data();
-  std::vector<Eigen::Triplet<double>> t;
-  t.reserve(size_t(s.numMoving()) * (2 * m_ru + 1) * (2 * m_rv + 1));
   for (int a = 0; a < mu.count; ++a)
     for (int b = 0; b < mv.count; ++b) {
       const Eigen::Index row = Eigen::Index(a) * mv.count + b;
@@ -207,12 +206,27 @@ Eigen::SparseMatrix<double> StiffnessStencil::movingMatrix() const {
           const int ri = s.movingLayerU(i), rj = s.movingLayerV(j);
           if (ri < 0 || rj < 0) continue;  // held: part of A_IB
           const double c = table ? table[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] : coefficient(d1, d2);
-          t.emplace_back(row, Eigen::Index(ri - mu.first) * mv.count + (rj - mv.first), c);
+          fn(row, Eigen::Index(ri - mu.first) * mv.count + (rj - mv.first), c);
         }
     }
+}
+
+Eigen::SparseMatrix<double> StiffnessStencil::movingMatrix() const {
+  const SplineSpace& s = *m_space;
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(size_t(s.numMoving()) * (2 * m_ru + 1) * (2 * m_rv + 1));
+  forEachMovingEntry([&](Eigen::Index row, Eigen::Index col, double c) { t.emplace_back(row, col, c); });
   Eigen::SparseMatrix<double> A(s.numMoving(), s.numMoving());
   A.setFromTriplets(t.begin(), t.end());
   return A;
+}
+
+Eigen::VectorXd StiffnessStencil::movingDiagonal() const {
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(m_space->numMoving());
+  forEachMovingEntry([&](Eigen::Index row, Eigen::Index col, double c) {
+    if (row == col) d[row] += c;
+  });
+  return d;
 }
 
 double StiffnessStencil::gershgorinBound() const {

@@ -82,6 +82,9 @@ class StiffnessStencil {
 
   /// The moving–moving block A_II (numMoving x numMoving, scalar, shared by x, y, z).
   Eigen::SparseMatrix<double> movingMatrix() const;
+  /// The diagonal of movingMatrix() (numMoving), without assembling it: what Jacobi scaling of
+  /// the implicit system needs.
+  Eigen::VectorXd movingDiagonal() const;
 
   /// Upper bound of \f$\lambda_{max}(A_{II})\f$ from the interior stencil's symbol (the
   /// Fourier transform of S), sampled on a grid and corrected with Bernstein's inequality.
@@ -120,6 +123,10 @@ class StiffnessStencil {
     Eigen::Index m;  ///< moving-point number
   };
 
+  /// fn(row, col, coefficient) for every entry of A_II, row by row (entries of periodic copies
+  /// that fold onto the same column come separately and add).
+  template <typename EntryFunction>
+  void forEachMovingEntry(EntryFunction&& fn) const;
   template <typename RowFunction>
   void forEachInteriorRow(const ControlNet& net, RowFunction&& fn) const;
   /// sum_d C(d) P(i+d1, j+d2) for a band point (d = -n..n, wrapped or skipped at the ends)

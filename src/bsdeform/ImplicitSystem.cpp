@@ -1,0 +1,200 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/ImplicitSystem.h"
+
+#include "bsdeform/HugePages.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace bsdeform {
+
+struct ImplicitSystem::Factor {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+};
+
+ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil,
+                               const Eigen::VectorXd& massTerm, const std::vector<Eigen::Index>& pinned,
+                               LinearSolver kind, double tolerance, int maxIterations)
+    : m_space(space),
+      m_stencil(stencil),
+      m_mass(massTerm),
+      m_pinned(pinned),
+      m_method(kind),
+      m_tolerance(tolerance),
+      m_maxIterations(maxIterations) {
+  const Eigen::Index n = space.numMoving();
+  if (m_mass.size() != n || !(m_mass.minCoeff() > 0.0))
+    throw std::invalid_argument("implicit system: the mass term must be > 0 for every moving point");
+  std::sort(m_pinned.begin(), m_pinned.end());
+  for (Eigen::Index f : m_pinned) m_pinnedNet.push_back(space.movingToNet(f));
+
+  // kappa(K) <= (max D + lambda_max(A)/4) / min D: A_act is positive semi-definite and its
+  // largest eigenvalue is at most A_II's (a principal submatrix), which the symbol bounds.
+  m_kappa = (m_mass.maxCoeff() + 0.25 * stencil.eigenvalueBound()) / m_mass.minCoeff();
+  if (m_method == LinearSolver::Automatic)
+    m_method = n <= kAutomaticDirectPoints || predictedIterations() > kAutomaticIterationLimit
+                   ? LinearSolver::Direct
+                   : LinearSolver::ConjugateGradient;
+
+  if (m_method == LinearSolver::Direct) {
+    // Lower triangle of K: A_II without pinned rows and columns, / 4, plus D.
+    Eigen::SparseMatrix<double> K = stencil.movingMatrix();
+    std::vector<char> isPinned(size_t(n), 0);
+    for (Eigen::Index f : m_pinned) isPinned[size_t(f)] = 1;
+    K.prune([&](Eigen::Index r, Eigen::Index c, double) { return r >= c && !isPinned[size_t(r)] && !isPinned[size_t(c)]; });
+    K *= 0.25;
+    Eigen::SparseMatrix<double> Dm(n, n);
+    std::vector<Eigen::Triplet<double>> t;
+    t.reserve(size_t(n));
+    for (Eigen::Index f = 0; f < n; ++f) t.emplace_back(f, f, m_mass[f]);
+    Dm.setFromTriplets(t.begin(), t.end());
+    K += Dm;
+    K.makeCompressed();
+    m_factor = std::make_unique<Factor>();
+    m_factor->llt.compute(K);
+    if (m_factor->llt.info() != Eigen::Success)
+      throw std::runtime_error("implicit integrator: Cholesky factorisation of the system matrix failed");
+    m_factorNonZeros = m_factor->llt.cholmod().lnz;
+    return;
+  }
+
+  // Jacobi scaling: diag(K) = D + diag(A)/4 off the pins. Where it is one constant (all sides
+  // clamped, nodal mass) it changes nothing and is skipped.
+  Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
+  for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
+  if (diag.maxCoeff() != diag.minCoeff()) m_inverseDiag = diag.cwiseInverse();
+  allocateNet(m_net, space.netSize());
+  m_net.setZero();
+}
+
+ImplicitSystem::~ImplicitSystem() = default;
+
+double ImplicitSystem::predictedIterations() const {
+  return 0.5 * std::sqrt(m_kappa) * std::log(2.0 / m_tolerance);
+}
+
+void ImplicitSystem::scatterDirection(const ControlNet& x) {
+  if (m_net.rows() != m_space.netSize()) {
+    allocateNet(m_net, m_space.netSize());
+    m_net.setZero();
+  }
+  // Held points of m_net are zero and stay so; pinned points are zeroed after the scatter so
+  // that A sees x with its pinned rows and columns removed.
+  m_space.scatterMoving(x, m_net);
+  if (!m_pinnedNet.empty()) {
+    for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
+    m_space.refreshPeriodicCopies(m_net);
+  }
+}
+
+void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const {
+  // y = A x~ / 4 + D x (pinned rows: D x), and dot = x . y per coordinate, in one pass
+  for (Eigen::Index f : m_pinned) y.row(f).setZero();
+  const Eigen::Index n = x.rows();
+  const double* px = x.data();
+  double* py = y.data();
+  const double* d = m_mass.data();
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (Eigen::Index f = 0; f < n; ++f) {
+    const double m = d[f];
+    const double* xf = px + 3 * f;
+    double* yf = py + 3 * f;
+    yf[0] = 0.25 * yf[0] + m * xf[0];
+    yf[1] = 0.25 * yf[1] + m * xf[1];
+    yf[2] = 0.25 * yf[2] + m * xf[2];
+    s0 += xf[0] * yf[0];
+    s1 += xf[1] * yf[1];
+    s2 += xf[2] * yf[2];
+  }
+  dot[0] = s0;
+  dot[1] = s1;
+  dot[2] = s2;
+}
+
+void ImplicitSystem::apply(const ControlNet& x, ControlNet& y) {
+  scatterDirection(x);
+  m_stencil.applyMoving(m_net, y);
+  double dot[3];
+  finishApply(x, y, dot);
+}
+
+bool ImplicitSystem::solve(const ControlNet& b, ControlNet& x) {
+  if (m_method == LinearSolver::Direct) {
+    x = m_factor->llt.solve(b);
+    m_lastIterations = 0;
+    m_lastResidual = 0.0;
+    return m_factor->llt.info() == Eigen::Success;
+  }
+  // Conjugate gradients for each coordinate (three independent recurrences sharing the passes
+  // over memory): p = z + beta p (written into the stencil's net too), q = K p, then x, r and
+  // z = r / diag(K) with the dot products.
+  const Eigen::Index n = b.rows();
+  const bool jacobi = m_inverseDiag.size() > 0;
+  double bb[3], goal[3];
+  for (int c = 0; c < 3; ++c) {
+    bb[c] = b.col(c).squaredNorm();
+    goal[c] = m_tolerance * m_tolerance * bb[c];
+    if (bb[c] == 0.0) x.col(c).setZero();  // the exact solution; no relative residual to reach
+  }
+  apply(x, m_q);
+  m_r = b - m_q;
+  if (jacobi) m_z = m_inverseDiag.asDiagonal() * m_r;
+  const ControlNet& z = jacobi ? m_z : m_r;
+  double rr[3], rz[3];
+  for (int c = 0; c < 3; ++c) {
+    rr[c] = m_r.col(c).squaredNorm();
+    rz[c] = m_r.col(c).dot(z.col(c));
+  }
+  allocateNet(m_p, n);
+  m_p.setZero();
+  double beta[3] = {0.0, 0.0, 0.0};
+  bool active[3];
+  int it = 0;
+  for (;; ++it) {
+    bool any = false;
+    for (int c = 0; c < 3; ++c) any |= active[c] = rr[c] > goal[c];
+    if (!any || it == m_maxIterations) break;
+    m_p = z + m_p * Eigen::Vector3d(beta[0], beta[1], beta[2]).asDiagonal();
+    scatterDirection(m_p);
+    m_stencil.applyMoving(m_net, m_q);
+    double pq[3], a[3];
+    finishApply(m_p, m_q, pq);
+    for (int c = 0; c < 3; ++c) a[c] = active[c] ? rz[c] / pq[c] : 0.0;
+    double* px = x.data();
+    double* pr = m_r.data();
+    double* pz = jacobi ? m_z.data() : nullptr;
+    const double* pp = m_p.data();
+    const double* pqv = m_q.data();
+    const double* inv = jacobi ? m_inverseDiag.data() : nullptr;
+    double s[6] = {0, 0, 0, 0, 0, 0};
+    for (Eigen::Index f = 0; f < n; ++f)
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Index k = 3 * f + c;
+        px[k] += a[c] * pp[k];
+        const double r = pr[k] - a[c] * pqv[k];
+        pr[k] = r;
+        const double zk = jacobi ? inv[f] * r : r;
+        if (jacobi) pz[k] = zk;
+        s[c] += r * r;
+        s[3 + c] += r * zk;
+      }
+    for (int c = 0; c < 3; ++c) {
+      rr[c] = s[c];
+      beta[c] = active[c] ? s[3 + c] / rz[c] : 0.0;
+      rz[c] = s[3 + c];
+    }
+  }
+  m_lastIterations = it;
+  m_lastResidual = 0.0;
+  bool converged = true;
+  for (int c = 0; c < 3; ++c) {
+    if (bb[c] > 0.0) m_lastResidual = std::max(m_lastResidual, std::sqrt(rr[c] / bb[c]));
+    converged &= !(rr[c] > goal[c]);
+  }
+  return x.allFinite() && converged;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file ImplicitSystem.h
+/// The linear system of the implicit scheme (Simulation.h, docs/math.md §6):
+/// \f[ K P^+ = b, \qquad K = D + \tfrac14 A_{act}, \f]
+/// D the diagonal \f$M/\Delta t^2 + C/(2\Delta t)\f$ per moving point, \f$A_{act}\f$ the moving
+/// block A_II with the rows and columns of pinned points removed (their coupling is in the
+/// right-hand side; a pinned row of K is its diagonal D alone). K is constant, symmetric
+/// positive definite (A_II is semi-definite and D > 0), shared by x, y and z.
+///
+/// Two solvers (docs/benchmarks.md, "Implicit at scale", has the measurements behind them):
+///  - Direct: CHOLMOD's supernodal Cholesky, factorised once at construction; exact to
+///    rounding, any conditioning, but its factor grows like N log N and its cost like N^1.5
+///    (3.3 GB of factor for a 1024^2 bicubic net).
+///  - ConjugateGradient: matrix-free CG, K applied with the stiffness stencil (O(N) memory,
+///    nothing to factorise), Jacobi-scaled; it stops at a relative residual
+///    \f$\|r_c\| \le \mathrm{tol}\,\|b_c\|\f$ in every coordinate c. Its iteration count grows
+///    like \f$\sqrt{\kappa(K)}\f$, \f$\kappa \le (\max D + \lambda_{max}(A)/4) / \min D\f$.
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "bsdeform/SplineSpace.h"
+#include "bsdeform/StiffnessStencil.h"
+
+namespace bsdeform {
+
+enum class LinearSolver {
+  Automatic,          ///< Direct for small nets (at most kAutomaticDirectPoints moving points:
+                      ///< exact, and factorised in well under 0.1 s) and for ill-conditioned
+                      ///< systems (predicted CG iterations above kAutomaticIterationLimit),
+                      ///< ConjugateGradient otherwise
+  Direct,             ///< CHOLMOD supernodal Cholesky, factorised once
+  ConjugateGradient,  ///< matrix-free Jacobi-preconditioned conjugate gradients on the stencil
+};
+
+/// Automatic picks CG when \f$\tfrac12\sqrt{\kappa}\,\ln(2/\mathrm{tol})\f$ (the CG/Chebyshev
+/// bound on iterations for the bound on kappa) is at most this: about where one CG solve costs
+/// what one CHOLMOD solve costs (docs/benchmarks.md).
+constexpr double kAutomaticIterationLimit = 300.0;
+/// Automatic factorises nets up to this many moving points (64^2: 0.06 s, docs/benchmarks.md).
+constexpr Eigen::Index kAutomaticDirectPoints = 4096;
+
+class ImplicitSystem {
+ public:
+  /// @param massTerm D per moving point (numMoving, order of SplineSpace::movingToNet), > 0
+  /// @param pinned   moving-point numbers held by pins (rows/columns that leave A)
+  /// @param tolerance CG's relative residual per coordinate, in (0, 1)
+  /// @param maxIterations CG gives up after this many iterations (solve() returns false)
+  /// @throws std::runtime_error if the direct factorisation fails
+  ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil, const Eigen::VectorXd& massTerm,
+                 const std::vector<Eigen::Index>& pinned, LinearSolver kind, double tolerance, int maxIterations);
+  ~ImplicitSystem();
+  ImplicitSystem(const ImplicitSystem&) = delete;
+  ImplicitSystem& operator=(const ImplicitSystem&) = delete;
+
+  /// Moving-point numbers held by pins, sorted.
+  const std::vector<Eigen::Index>& pinned() const { return m_pinned; }
+  /// Direct or ConjugateGradient (Automatic resolved at construction).
+  LinearSolver method() const { return m_method; }
+  /// Upper bound of the condition number of K (from the stencil's symbol bound).
+  double conditionBound() const { return m_kappa; }
+  /// \f$\tfrac12\sqrt{\kappa}\ln(2/\mathrm{tol})\f$: what Automatic compares.
+  double predictedIterations() const;
+
+  /// Solves K x = b (numMoving x 3). For CG, x holds the initial guess on entry.
+  /// @return false if CG did not reach the tolerance within maxIterations (x is its last iterate)
+  bool solve(const ControlNet& b, ControlNet& x);
+  /// CG iterations of the last solve() (0 for Direct).
+  int lastIterations() const { return m_lastIterations; }
+  /// Largest relative residual \f$\|r_c\|/\|b_c\|\f$ over the coordinates after the last CG solve.
+  double lastResidual() const { return m_lastResidual; }
+
+  /// Non-zeros of the Cholesky factor (CHOLMOD's analysis; 0 for CG).
+  double factorNonZeros() const { return m_factorNonZeros; }
+
+  /// y = K x, matrix-free (numMoving x 3).
+  void apply(const ControlNet& x, ControlNet& y);
+
+ private:
+  struct Factor;
+  /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
+  void scatterDirection(const ControlNet& x);
+  /// From y = A x~ (pinned columns zeroed): y = A_act x / 4 + D x, and the dot x . y per coordinate.
+  void finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const;
+
+  const SplineSpace& m_space;
+  const StiffnessStencil& m_stencil;
+  Eigen::VectorXd m_mass;          ///< D
+  Eigen::VectorXd m_inverseDiag;   ///< 1 / diag(K) (empty when diag(K) is constant: no scaling)
+  std::vector<Eigen::Index> m_pinned;
+  std::vector<Eigen::Index> m_pinnedNet;  ///< their net rows
+  LinearSolver m_method;
+  double m_tolerance;
+  int m_maxIterations;
+  double m_kappa = 1.0;
+  double m_factorNonZeros = 0.0;
+  std::unique_ptr<Factor> m_factor;
+  ControlNet m_net;  ///< scratch full net for the stencil (held points stay zero)
+  ControlNet m_r, m_z, m_p, m_q;
+  int m_lastIterations = 0;
+  double m_lastResidual = 0.0;
+};
+
+}  // namespace bsdeform
