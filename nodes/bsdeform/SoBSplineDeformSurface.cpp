@@ -467,6 +467,7 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
       ok = false;
     }
     m_tessValid = false;
+    syncClockFields();
     touch();
   }
   return ok;
@@ -495,6 +496,7 @@ void SoBSplineDeformSurface::resetSimulation() {
   m_timeBudget = 0.0;
   m_lastWarning.clear();
   m_tessValid = false;
+  syncClockFields();
   touch();
 }
 
@@ -538,6 +540,7 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
       if (m_sim) {
         m_sim->reset();
         m_timeBudget = 0.0;
+        syncClockFields();
       }
       m_tessValid = false;
     } else if (f == &on || f == &speed) {
@@ -576,6 +579,15 @@ void SoBSplineDeformSurface::syncStateFields() {
   m_syncing = false;
 }
 
+
+void SoBSplineDeformSurface::syncClockFields() {
+  // Only the two scalars: the nets are large and written only when the scene is (write()).
+  // m_syncing keeps these from marking the state dirty (the simulation already holds it).
+  m_syncing = true;
+  if (simulationTime.getValue() != m_sim->time()) simulationTime.setValue(m_sim->time());
+  if (stepCount.getValue() != int(m_sim->stepCount())) stepCount.setValue(int(m_sim->stepCount()));
+  m_syncing = false;
+}
 
 SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
   const SbBool ok = inherited::readInstance(in, flags);
