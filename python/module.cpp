@@ -74,9 +74,28 @@ T* fromPivy(py::handle obj, const char* base, const char* what) {
   return static_cast<T*>(ptr);
 }
 
+/// One reference to a Coin object, released by release() or on destruction.
+class CoinRef {
+ public:
+  explicit CoinRef(SoBase* base) : m_base(base) { m_base->ref(); }
+  CoinRef(const CoinRef&) = delete;
+  CoinRef& operator=(const CoinRef&) = delete;
+  ~CoinRef() { release(); }
+  void release() {
+    if (m_base) m_base->unref();
+    m_base = nullptr;
+  }
+
+ private:
+  SoBase* m_base;
+};
+
 /// A pivy proxy for a Coin object, typed as its class or its closest ancestor pivy knows (as
 /// pivy's own autocast does: our classes come back as SoShape or SoEngine proxies). With `own`
-/// the proxy holds a reference (pivy's destructor of SoBase proxies calls unref()).
+/// the object is ref'ed until the proxy is collected. Not through SWIG's ownership flag: SWIG
+/// finds the destructor (pivy's unref) through pivy's type data, which pivy's module frees at
+/// interpreter exit before the last objects go, and then prints "detected a memory leak" for
+/// each; a weakref.finalize runs at exit while everything is still there.
 py::object toPivy(SoBase* base, bool own) {
   if (!base) return py::none();
   for (SoType t = base->getTypeId(); !t.isBad(); t = t.getParent()) {
@@ -84,13 +103,14 @@ py::object toPivy(SoBase* base, bool own) {
     swig_type_info* info = SWIG_TypeQuery((name + " *").c_str());
     if (!info) info = SWIG_TypeQuery(("So" + name + " *").c_str());
     if (!info) continue;
-    if (own) base->ref();
-    PyObject* obj = SWIG_NewPointerObj(static_cast<void*>(base), info, own ? SWIG_POINTER_OWN : 0);
-    if (!obj) {
-      if (own) base->unrefNoDelete();
-      throw py::error_already_set();
+    PyObject* raw = SWIG_NewPointerObj(static_cast<void*>(base), info, 0);
+    if (!raw) throw py::error_already_set();
+    py::object obj = py::reinterpret_steal<py::object>(raw);
+    if (own) {
+      py::object ref = py::cast(std::make_unique<CoinRef>(base));
+      py::module_::import("weakref").attr("finalize")(obj, ref.attr("release"));
     }
-    return py::reinterpret_steal<py::object>(obj);
+    return obj;
   }
   raise("Error", std::string("no pivy type for ") + base->getTypeId().getName().getString());
 }
@@ -266,6 +286,8 @@ PYBIND11_MODULE(_bsdeform, m) {
       PyErr_SetString(cls.ptr(), e.message.c_str());
     }
   });
+
+  py::class_<CoinRef>(m, "_CoinRef").def("release", &CoinRef::release);
 
   py::class_<Surface>(m, "Surface", R"doc(
 One SoBSplineDeformSurface node, the same object pivy holds (not a copy).

@@ -358,9 +358,14 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     } else if (!m_stateDirty && m_sim && m_sim->current().rows() == sim->current().rows() &&
                m_sim->rest() == sim->rest()) {
       // a live edit of the model: keep the motion going from where it is (newly held points,
-      // e.g. a pin added, go back to their rest positions)
-      sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
-                    bsdeform::HeldPoints::Reset);
+      // e.g. a pin added, go back to their rest positions). A state still released from rest
+      // (not stepped since it was built or reset) stays so: the new model's start rule applies,
+      // as if the file had held the new values.
+      if (m_sim->startPending())
+        sim->setState(m_sim->current(), m_sim->time(), m_sim->stepCount(), bsdeform::HeldPoints::Reset);
+      else
+        sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
+                      bsdeform::HeldPoints::Reset);
     }
     m_sim = std::move(sim);
   } catch (const std::exception& e) {

@@ -475,6 +475,32 @@ TEST_CASE("SoBSplineDeformSurface: simulationTime and stepCount are live (steps,
   root->unref();
 }
 
+TEST_CASE("SoBSplineDeformSurface: a field edited at rest (built or reset) runs as if the file held it", "[nodes]") {
+  const std::string head = "#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE ";
+  const std::string tail = "forces SoForceField { type REGION force 0 0 30 regionMin 0.3 0.3 regionMax 0.7 0.6 } } }";
+  SoSeparator* edited = testutil::read(head + tail);
+  SoSeparator* filed = testutil::read(head + "w10 5 w01 3 " + tail);
+  REQUIRE(edited);
+  REQUIRE(filed);
+  auto* e = testutil::find<SoBSplineDeformSurface>(edited);
+  auto* f = testutil::find<SoBSplineDeformSurface>(filed);
+  f->stepSimulation(6);
+  const bsdeform::ControlNet want = f->simulation().current();
+  e->stepSimulation(0);  // built, as a first render does
+  e->w10 = 5.0;
+  e->w01 = 3.0;
+  e->stepSimulation(6);
+  CHECK(e->simulation().current() == want);  // the start rule of the new model applied
+  e->stepSimulation(4);  // and after a reset
+  e->resetSimulation();
+  e->w10 = 0.1;
+  e->w10 = 5.0;
+  e->stepSimulation(6);
+  CHECK(e->simulation().current() == want);
+  edited->unref();
+  filed->unref();
+}
+
 TEST_CASE("SoForceField: one force field (DEF/USE) acts on two surfaces", "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF A SoBSplineDeformSurface { on FALSE "
                                      "forces DEF Shared SoForceField { type UNIFORM force 0 0 4 } } "
