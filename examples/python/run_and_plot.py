@@ -18,6 +18,7 @@ parser.add_argument("--until", type=float, default=3.0, help="simulated time to 
 parser.add_argument("-o", "--output", default="norm.png")
 args = parser.parse_args()
 
+bsdeform.simulated_clock()  # engines in the scene follow simulated time, as in bsdeform-run
 root = bsdeform.read_scene(args.scene)
 histories = bsdeform.run(root, until=args.until)
 

@@ -22,6 +22,7 @@ args = parser.parse_args()
 values = [0, 0.0001, 0.001, 0.01, 0.1, 0.3, 0.5, 1, 2, 5, 7, 10, 25, 50, 75, 100, 150, 200]
 norms = []
 for w in values:
+    bsdeform.simulated_clock()
     root = bsdeform.read_scene(args.scene)
     (surface,) = bsdeform.surfaces(root)
     surface.set(**{args.weight: w})

@@ -23,7 +23,7 @@ from ._bsdeform import Surface, read_scene, read_scene_text, render, render_png,
 __all__ = [
     "Error", "FieldError", "RenderError", "SceneError", "SimulationError",
     "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
-    "set_field", "new_node", "run", "History",
+    "set_field", "new_node", "run", "History", "simulated_clock",
 ]
 
 
@@ -90,6 +90,17 @@ def new_node(type_name, **fields):
     return node
 
 
+def simulated_clock(time=0.0):
+    """Makes Coin's global realTime field a simulated clock, as bsdeform-run does: the sensor
+    that sets it to the wall-clock time is switched off and it is set to `time`; run() then
+    advances it with the simulation. Call it before reading a scene whose engines use realTime
+    (ElapsedTime, TimeCounter, ...): they note the start time when they are created, and run()
+    then repeats bsdeform-run's numbers exactly. Not for interactive viewers, whose engines need
+    the real clock."""
+    coin.SoDB.enableRealTimeSensor(False)
+    coin.SoDB.getGlobalField("realTime").setValue(time)
+
+
 class History:
     """What run() records per surface: NumPy arrays time, step, norm, kinetic, strain."""
 
@@ -112,8 +123,9 @@ class History:
 
 def run(root, steps=None, until=None, record_every=1):
     """Runs every surface of the scene as bsdeform-run does: Coin's realTime follows the
-    simulated time (engines driven by it animate deterministically), each surface takes its
-    own steps of timeStep up to the common time. Give `steps` (of the smallest timeStep) or
+    simulated time (engines driven by it animate deterministically when simulated_clock() was
+    called before the scene was read), each surface takes its own steps of timeStep up to the
+    common time. Give `steps` (of the smallest timeStep) or
     `until` (simulated time). Returns {surface name (or "surface<i>"): History} with the
     first state, every state whose step count is a multiple of record_every, and the last."""
     if (steps is None) == (until is None):
