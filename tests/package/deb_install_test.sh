@@ -8,6 +8,7 @@
 #     dynamic node loading finds /usr/lib/libSoBSplineDeformSurface.so by itself;
 #   - python3 imports the installed package and the headless examples run;
 #   - bsdeform-run runs an installed scene;
+#   - FreeCAD, when installed, opens an installed scene and it animates (freecad_macro.py);
 #   - dpkg -r removes it all, and the Coin-only program no longer knows the nodes.
 # Exit 77 (skipped) when mount namespaces or overlayfs are not available (no root).
 #
@@ -31,6 +32,7 @@ mkdir -p "$work/upper" "$work/ovl-work" "$work/root"
 cp "$deb" "$work/bsdeform.deb"
 cp "$reader" "$work/coin_only_reader"
 cp "$src/tests/nodes/dynload_scene.iv" "$work/dynload_scene.iv"
+cp "$src/tests/package/freecad_macro.py" "$work/freecad_macro.py"
 
 cat > "$work/inside.sh" <<'INSIDE'
 set -euo pipefail
@@ -59,6 +61,17 @@ bsdeform-run $scenes/paper_fig2_point_force.iv --steps 5 -o run-out --quiet
 test -s run-out/Surface.csv
 test -f /usr/share/applications/bsdeform-viewer.desktop
 grep -q "^Exec=bsdeform-viewer" /usr/share/applications/bsdeform-viewer.desktop
+if command -v freecad >/dev/null && command -v xvfb-run >/dev/null; then
+  echo "== FreeCAD opens an installed scene (dynamic loading only) and it animates"
+  HOME=/tmp/bsdeform-test QTWEBENGINE_CHROMIUM_FLAGS=--no-sandbox timeout 120 \
+    xvfb-run -a -s "-screen 0 1280x1024x24" freecad /tmp/bsdeform-test/freecad_macro.py >freecad.log 2>&1 || true
+  cat freecad.out || { tail -20 freecad.log; exit 1; }
+  grep -q "^type SoBSplineDeformSurface" freecad.out
+  steps=$(sed -n 's/^steps \([0-9]*\).*/\1/p' freecad.out)
+  [ "${steps:-0}" -gt 3 ] || { echo "the scene did not animate in FreeCAD"; exit 1; }
+else
+  echo "== FreeCAD is not installed: its check is left out"
+fi
 echo "== dpkg -r"
 dpkg -r bsdeform >dpkg-r.log 2>&1 || { cat dpkg-r.log; exit 1; }
 test ! -e /usr/lib/libSoBSplineDeformSurface.so
@@ -74,7 +87,8 @@ unshare -m --propagation private sh -c '
   mount -t overlay overlay -o "lowerdir=/,upperdir=$w/upper,workdir=$w/ovl-work" "$w/root"
   for d in proc sys dev dev/pts; do mount --bind "/$d" "$w/root/$d"; done
   mkdir -p "$w/root/tmp/bsdeform-test"
-  cp "$w/bsdeform.deb" "$w/coin_only_reader" "$w/dynload_scene.iv" "$w/inside.sh" "$w/root/tmp/bsdeform-test/"
+  cp "$w/bsdeform.deb" "$w/coin_only_reader" "$w/dynload_scene.iv" "$w/inside.sh" "$w/freecad_macro.py" \
+     "$w/root/tmp/bsdeform-test/"
   exec chroot "$w/root" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 \
     bash /tmp/bsdeform-test/inside.sh
 ' sh "$work"
