@@ -277,7 +277,8 @@ PYBIND11_MODULE(_bsdeform, m) {
   // initNodes() registers each class once.
   bsdeform::initNodes();
 
-  py::object errors = py::module_::import("bsdeform._errors");
+  // Fails the import early (not at the first error) if the exception classes are missing.
+  py::module_::import("bsdeform._errors");
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -379,5 +380,4 @@ RenderError when no EGL context can be made.
   }, py::arg("scene"), py::arg("path"), py::arg("width") = 800, py::arg("height") = 600,
         py::arg("background") = std::array<float, 3>{0.18f, 0.2f, 0.24f},
         "render() written as a PNG file (atomically).");
-  (void)errors;
 }
