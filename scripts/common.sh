@@ -9,7 +9,9 @@ BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 
 # Every package the project builds, tests or runs with (Debian bookworm names). clang,
 # libclang-rt-14-dev (sanitizer runtimes, libFuzzer) and llvm (llvm-symbolizer for readable
-# reports) are for the sanitizer build.
+# reports) are for the sanitizer build. python3-dev, python3-pivy, python3-numpy, pybind11-dev
+# and swig build the Python package (docs/python.md), python3-matplotlib runs its examples,
+# dpkg-dev (dpkg-shlibdeps) lets CPack compute the Debian package's dependencies.
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
   libeigen3-dev libembree-dev libsuitesparse-dev catch2 libbenchmark-dev
@@ -18,6 +20,7 @@ BSDEFORM_PACKAGES=(
   libsoqt520-dev xvfb xauth
   clang libclang-rt-14-dev llvm
   locales
+  python3-dev python3-pivy python3-numpy python3-matplotlib pybind11-dev swig dpkg-dev
 )
 
 # A locale with a decimal comma: the tests check that scene text does not depend on the

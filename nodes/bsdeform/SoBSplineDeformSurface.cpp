@@ -362,9 +362,14 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     } else if (!m_stateDirty && m_sim && m_sim->current().rows() == sim->current().rows() &&
                m_sim->rest() == sim->rest()) {
       // a live edit of the model: keep the motion going from where it is (newly held points,
-      // e.g. a pin added, go back to their rest positions)
-      sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
-                    bsdeform::HeldPoints::Reset);
+      // e.g. a pin added, go back to their rest positions). A state still released from rest
+      // (not stepped since it was built or reset) stays so: the new model's start rule applies,
+      // as if the file had held the new values.
+      if (m_sim->startPending())
+        sim->setState(m_sim->current(), m_sim->time(), m_sim->stepCount(), bsdeform::HeldPoints::Reset);
+      else
+        sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
+                      bsdeform::HeldPoints::Reset);
     }
     m_sim = std::move(sim);
   } catch (const std::exception& e) {
@@ -471,6 +476,7 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
       ok = false;
     }
     m_tessValid = false;
+    syncClockFields();
     touch();
   }
   return ok;
@@ -499,6 +505,7 @@ void SoBSplineDeformSurface::resetSimulation() {
   m_timeBudget = 0.0;
   m_lastWarning.clear();
   m_tessValid = false;
+  syncClockFields();
   touch();
 }
 
@@ -542,6 +549,7 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
       if (m_sim) {
         m_sim->reset();
         m_timeBudget = 0.0;
+        syncClockFields();
       }
       m_tessValid = false;
     } else if (f == &on || f == &speed) {
@@ -580,6 +588,15 @@ void SoBSplineDeformSurface::syncStateFields() {
   m_syncing = false;
 }
 
+
+void SoBSplineDeformSurface::syncClockFields() {
+  // Only the two scalars: the nets are large and written only when the scene is (write()).
+  // m_syncing keeps these from marking the state dirty (the simulation already holds it).
+  m_syncing = true;
+  if (simulationTime.getValue() != m_sim->time()) simulationTime.setValue(m_sim->time());
+  if (stepCount.getValue() != int(m_sim->stepCount())) stepCount.setValue(int(m_sim->stepCount()));
+  m_syncing = false;
+}
 
 SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
   const SbBool ok = inherited::readInstance(in, flags);

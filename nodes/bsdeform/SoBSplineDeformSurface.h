@@ -131,8 +131,8 @@ class SoBSplineDeformSurface : public SoShape {
   SoMFVec3d restNet;            ///< rest net, empty for the plane S = (u, v, 0)
   SoMFVec3d controlNet;         ///< current net (state), empty for the rest net
   SoMFVec3d previousNet;        ///< net one sub-step before (state), empty for controlNet
-  SoSFDouble simulationTime;    ///< simulated time of controlNet; 0
-  SoSFInt32 stepCount;          ///< steps taken; 0
+  SoSFDouble simulationTime;    ///< simulated time of the current state (live: set after every step and reset); 0
+  SoSFInt32 stepCount;          ///< steps taken (live, like simulationTime); 0
   SoMFEngine forces;            ///< SoForceField engines acting on this surface
 
   /// The simulation built from the fields (rebuilt lazily after field changes); never null.
@@ -149,6 +149,8 @@ class SoBSplineDeformSurface : public SoShape {
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);
   void removeTransientForce(const bsdeform::Force* force);
   /// Writes the simulation state into controlNet, previousNet, simulationTime, stepCount.
+  /// simulationTime and stepCount are kept current after every step and reset anyway (a
+  /// field editor or a script reads them); the nets are written here, on write().
   void syncStateFields();
   /// (u, v) of a picked point on a surface (false if the pick is not on one). Computed from the
   /// picked point in object space, so texture transforms in the scene do not matter.
@@ -181,6 +183,7 @@ class SoBSplineDeformSurface : public SoShape {
  private:
   void ensureSimulation();
   bool rebuildSimulation();
+  void syncClockFields();
   void updateForces(bsdeform::Simulation& sim);
   void warn(const std::string& message);
   void updateTimer();

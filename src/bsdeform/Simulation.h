@@ -126,6 +126,9 @@ class Simulation {
   /// in the nets given to the constructor and setState() (the first were used); 0 if none.
   double seamMismatch() const { return m_seamMismatch; }
 
+  /// Whether the state is released from rest (after construction, reset() or the
+  /// release-from-rest setState()): the start rule applies at the next step.
+  bool startPending() const { return m_startPending; }
   const ControlNet& current() const { return m_current; }
   /// The net one sub-step before current().
   const ControlNet& previous() const { return m_previous; }

@@ -6,6 +6,7 @@
 #include <Inventor/actions/SoRayPickAction.h>
 #include <Inventor/engines/SoCalculator.h>
 #include <Inventor/SbTime.h>
+#include <Inventor/sensors/SoFieldSensor.h>
 #include <Inventor/sensors/SoSensorManager.h>
 #include <Inventor/nodes/SoComplexity.h>
 #include <catch2/catch.hpp>
@@ -427,6 +428,77 @@ TEST_CASE("SoBSplineDeformSurface: real time advances in whole steps, scaled by 
   CHECK(w->simulation().stepCount() == 0);
   CHECK(w->simulation().deformationNorm() == 0.0);
   wired->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: simulationTime and stepCount are live (steps, clock, reset), the nets are not",
+          "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE timeStep 0.1 "
+                                     "forces SoForceField { type UNIFORM force 0 0 5 } } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  // A field sensor sees the change, as a field editor or a script polling the field does.
+  int fired = 0;
+  SoFieldSensor sensor([](void* data, SoSensor*) { ++*static_cast<int*>(data); }, &fired);
+  sensor.setPriority(0);  // immediate: fires inside setValue
+  sensor.attach(&s->stepCount);
+  s->stepSimulation(3);
+  CHECK(s->stepCount.getValue() == 3);
+  CHECK(s->simulationTime.getValue() == s->simulation().time());
+  CHECK(s->simulationTime.getValue() == Approx(0.3));
+  CHECK(fired == 1);
+  SbString text;
+  s->stepCount.get(text);  // what the viewer's field editor shows
+  CHECK(std::string(text.getString()) == "3");
+  CHECK(s->advanceRealTime(0.2) == 2);  // the clock's path
+  CHECK(s->stepCount.getValue() == 5);
+  CHECK(s->simulationTime.getValue() == Approx(0.5));
+  CHECK(s->controlNet.getNum() == 0);  // large: written with the scene only
+  // The live values do not count as a new state: stepping on continues the same motion.
+  const double z5 = s->simulation().evaluate(0.5, 0.5).position.z();
+  s->stepSimulation(1);
+  CHECK(s->simulation().stepCount() == 6);
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() != z5);
+  s->reset.touch();
+  CHECK(s->stepCount.getValue() == 0);
+  CHECK(s->simulationTime.getValue() == 0.0);
+  s->stepSimulation(2);
+  s->resetSimulation();
+  CHECK(s->stepCount.getValue() == 0);
+  CHECK(s->simulationTime.getValue() == 0.0);
+  // At rest again: written as defaults (no state values in the file).
+  const std::string written = testutil::write(root);
+  CHECK(s->stepCount.isDefault());
+  CHECK(s->simulationTime.isDefault());
+  CHECK(written.find("stepCount 0") == std::string::npos);
+  CHECK(written.find("simulationTime 0") == std::string::npos);
+  sensor.detach();
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: a field edited at rest (built or reset) runs as if the file held it", "[nodes]") {
+  const std::string head = "#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE ";
+  const std::string tail = "forces SoForceField { type REGION force 0 0 30 regionMin 0.3 0.3 regionMax 0.7 0.6 } } }";
+  SoSeparator* edited = testutil::read(head + tail);
+  SoSeparator* filed = testutil::read(head + "w10 5 w01 3 " + tail);
+  REQUIRE(edited);
+  REQUIRE(filed);
+  auto* e = testutil::find<SoBSplineDeformSurface>(edited);
+  auto* f = testutil::find<SoBSplineDeformSurface>(filed);
+  f->stepSimulation(6);
+  const bsdeform::ControlNet want = f->simulation().current();
+  e->stepSimulation(0);  // built, as a first render does
+  e->w10 = 5.0;
+  e->w01 = 3.0;
+  e->stepSimulation(6);
+  CHECK(e->simulation().current() == want);  // the start rule of the new model applied
+  e->stepSimulation(4);  // and after a reset
+  e->resetSimulation();
+  e->w10 = 0.1;
+  e->w10 = 5.0;
+  e->stepSimulation(6);
+  CHECK(e->simulation().current() == want);
+  edited->unref();
+  filed->unref();
 }
 
 TEST_CASE("SoForceField: one force field (DEF/USE) acts on two surfaces", "[nodes]") {
