@@ -9,7 +9,11 @@
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/fields/SoMFNode.h>
 #include <Inventor/fields/SoMFString.h>
+#include <Inventor/elements/SoCoordinateElement.h>
+#include <Inventor/elements/SoNormalElement.h>
+#include <Inventor/nodes/SoIndexedShape.h>
 #include <Inventor/nodes/SoNode.h>
+#include <Inventor/nodes/SoVertexProperty.h>
 #include <Inventor/nodes/SoShape.h>
 #include <Inventor/sensors/SoNodeSensor.h>
 #include <Inventor/sensors/SoPathSensor.h>
@@ -52,10 +56,43 @@ SoPath* firstPath(SoNode* root, SoNode* node) {
 struct Gathered {
   SoNode* self;
   TriangleMesh mesh;
+  std::vector<std::string> skipped;  // indexed shapes refused by checkIndices
 };
 
 SoCallbackAction::Response pruneSelf(void* data, SoCallbackAction*, const SoNode* node) {
   return node == static_cast<Gathered*>(data)->self ? SoCallbackAction::PRUNE : SoCallbackAction::CONTINUE;
+}
+
+// Coin's indexed shapes read coordinates and normals at their indices without a range check
+// (an IndexedFaceSet with coordIndex beyond its Coordinate3 reads past the array while
+// generating triangles). A shape with a coordIndex out of range, or a normalIndex out of the
+// normals given (none given: Coin computes its own), is skipped, and said so.
+SoCallbackAction::Response checkIndices(void* data, SoCallbackAction* action, const SoNode* node) {
+  const auto* shape = static_cast<const SoIndexedShape*>(node);
+  const auto* vp = static_cast<const SoVertexProperty*>(shape->vertexProperty.getValue());
+  SoState* state = action->getState();
+  const bool ownCoords = vp && vp->vertex.getNum() > 0;
+  const int coords = ownCoords ? vp->vertex.getNum() : SoCoordinateElement::getInstance(state)->getNum();
+  const bool ownNormals = vp && vp->normal.getNum() > 0;
+  const int normals = ownNormals ? vp->normal.getNum() : SoNormalElement::getInstance(state)->getNum();
+  auto bad = [](const SoMFInt32& index, int count) {
+    for (int i = 0; i < index.getNum(); ++i)
+      if (index[i] < -1 || index[i] >= count) return i;
+    return -1;
+  };
+  std::string why;
+  if (int i = bad(shape->coordIndex, coords); i >= 0)
+    why = "coordIndex [" + std::to_string(i) + "] = " + std::to_string(shape->coordIndex[i]) + " with " +
+          std::to_string(coords) + " coordinates";
+  else if (int j = shape->normalIndex.getNum() && normals > 0 ? bad(shape->normalIndex, normals) : -1; j >= 0)
+    why = "normalIndex [" + std::to_string(j) + "] = " + std::to_string(shape->normalIndex[j]) + " with " +
+          std::to_string(normals) + " normals";
+  if (why.empty()) return SoCallbackAction::CONTINUE;
+  const SbName name = node->getName();
+  static_cast<Gathered*>(data)->skipped.push_back(std::string(node->getTypeId().getName().getString()) +
+                                                  (name.getLength() ? std::string(" '") + name.getString() + "'" : "") +
+                                                  " skipped: " + why);
+  return SoCallbackAction::PRUNE;
 }
 
 void addTriangle(void* data, SoCallbackAction* action, const SoPrimitiveVertex* a, const SoPrimitiveVertex* b,
@@ -123,14 +160,16 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
     e->node = node;
     node->ref();
     e->path = firstPath(sceneRoot, node);
-    Gathered g{self, {}};
+    Gathered g{self, {}, {}};
     SoCallbackAction cb;
     cb.addPreCallback(SoBSplineDeformSurface::getClassTypeId(), pruneSelf, &g);
+    cb.addPreCallback(SoIndexedShape::getClassTypeId(), checkIndices, &g);
     cb.addTriangleCallback(SoShape::getClassTypeId(), addTriangle, &g);
     if (e->path)
       cb.apply(e->path);
     else
       cb.apply(node);
+    for (const std::string& why : g.skipped) warnings.push_back(label + ": " + why);
     const TriangleMesh mesh = weldVertices(g.mesh);
     // The same triangles as before (a moved Transform, the other surface's next step): refit.
     for (auto& p : previous) {

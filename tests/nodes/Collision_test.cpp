@@ -170,6 +170,32 @@ TEST_CASE("Collision: NULL, an unknown name, the surface itself and an empty sub
 }
 
 
+TEST_CASE("Collision: an indexed shape with indices out of range is skipped with a warning, not read", "[nodes]") {
+  // Coin reads coordinates at coordIndex without a range check (the fuzzer found the crash);
+  // the bad shape is left out, the good one in the same obstacle still holds the cloth.
+  auto& messages = testutil::Coin::get().messages;
+  messages.clear();
+  SoSeparator* root = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
+                                                 "DEF Mesh Separator {\n"
+                                                 " Coordinate3 { point [ -1 -1 -0.05, 2 -1 -0.05, 2 2 -0.05, -1 2 -0.05 ] }\n"
+                                                 " DEF Bad IndexedFaceSet { coordIndex [ 0, 1, 40000, -1 ] }\n"
+                                                 " Separator { Normal { vector [ 0 0 1, 0 0 1 ] }\n"
+                                                 "  DEF BadNormal IndexedFaceSet { coordIndex [ 0, 1, 2, -1 ] normalIndex [ 0, 1, 7, -1 ] } }\n"
+                                                 " IndexedFaceSet { coordIndex [ 0, 1, 2, 3, -1 ] }\n"
+                                                 "}\n") +
+                                     std::string(kCloth).replace(std::string(kCloth).find("USE Box"), 7, "USE Mesh") + "}\n");
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = prepare(root);
+  REQUIRE(s->stepSimulation(600));
+  std::string all;
+  for (const auto& m : messages) all += m + "\n";
+  INFO(all);
+  CHECK(all.find("IndexedFaceSet 'Bad' skipped: coordIndex [2] = 40000 with 4 coordinates") != std::string::npos);
+  CHECK(all.find("IndexedFaceSet 'BadNormal' skipped: normalIndex [2] = 7 with 2 normals") != std::string::npos);
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(-0.05 + 0.02 - 2.0 / 2000.0).margin(2e-4));
+  root->unref();
+}
+
 TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces", "[nodes]") {
   // A lower cloth B lies on a Cube; an upper cloth A, of another size and resolution, falls on
   // it. Each lists the other as an obstacle: A lists B in `obstacles`, B names A in
