@@ -9,6 +9,7 @@
 #include <map>
 #include <stdexcept>
 #include <tuple>
+#include <unordered_map>
 
 #include "bsdeform/LoadQuadrature.h"
 #include "bsdeform/NumberText.h"
@@ -81,30 +82,43 @@ TriangleMesh weldVertices(const TriangleMesh& mesh, double tolerance) {
   }
   TriangleMesh out;
   std::vector<int> map(mesh.vertices.size(), -1);
-  // Cells of the tolerance's size: a vertex within the tolerance (per coordinate) of a kept one
-  // lies in the same or a neighbouring cell. Exact equality when the tolerance is 0.
-  const double cell = tolerance > 0.0 ? tolerance : 1.0;
-  using Key = std::tuple<std::int64_t, std::int64_t, std::int64_t>;
-  std::map<Key, std::vector<int>> grid;
-  std::map<std::tuple<double, double, double>, int> exact;  // non-finite or beyond the grid's range
+  // Cells four tolerances wide: a vertex within the tolerance (per coordinate) of a kept one lies
+  // in its cell or, along an axis where it is within the tolerance of the cell's side, in the
+  // neighbour there (usually no neighbour needs looking at). Exact equality when it is 0.
+  const double cell = 4.0 * tolerance;
+  struct KeyHash {
+    std::size_t operator()(const Eigen::Matrix<std::int64_t, 3, 1>& k) const {
+      return std::size_t(k.x() * 73856093LL ^ k.y() * 19349663LL ^ k.z() * 83492791LL);
+    }
+  };
+  std::unordered_map<Eigen::Matrix<std::int64_t, 3, 1>, std::vector<int>, KeyHash> grid;
+  std::map<std::tuple<double, double, double>, int> exact;  // no tolerance, non-finite or beyond the grid's range
   const double range = 0x1p60;
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
     const Eigen::Vector3d& p = mesh.vertices[i];
-    const Eigen::Vector3d q = p / cell;
-    if (tolerance <= 0.0 || !q.allFinite() || q.cwiseAbs().maxCoeff() > range) {
+    const Eigen::Vector3d q = tolerance > 0.0 ? Eigen::Vector3d(p / cell) : Eigen::Vector3d::Constant(NAN);
+    if (!q.allFinite() || q.cwiseAbs().maxCoeff() > range) {
       auto it = exact.emplace(std::make_tuple(p.x(), p.y(), p.z()), int(out.vertices.size()));
       if (it.second) out.vertices.push_back(p);
       map[i] = it.first->second;
       continue;
     }
-    const Key k{std::int64_t(std::floor(q.x())), std::int64_t(std::floor(q.y())), std::int64_t(std::floor(q.z()))};
+    const Eigen::Vector3d fl = q.array().floor();
+    const Eigen::Matrix<std::int64_t, 3, 1> k = fl.cast<std::int64_t>();
+    // per axis: 0, or -1 / +1 when within a quarter cell (one tolerance) of that side
+    Eigen::Vector3i side = Eigen::Vector3i::Zero();
+    for (int a = 0; a < 3; ++a) {
+      const double f = q[a] - fl[a];
+      side[a] = f <= 0.25 ? -1 : (f >= 0.75 ? 1 : 0);
+    }
     int found = -1;
-    for (int dx = -1; dx <= 1 && found < 0; ++dx)
-      for (int dy = -1; dy <= 1 && found < 0; ++dy)
-        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
-          auto c = grid.find(Key{std::get<0>(k) + dx, std::get<1>(k) + dy, std::get<2>(k) + dz});
-          if (c == grid.end()) continue;
-          for (int j : c->second)
+    for (int dx = 0; dx <= std::abs(side.x()) && found < 0; ++dx)
+      for (int dy = 0; dy <= std::abs(side.y()) && found < 0; ++dy)
+        for (int dz = 0; dz <= std::abs(side.z()) && found < 0; ++dz) {
+          const Eigen::Matrix<std::int64_t, 3, 1> c = k + Eigen::Matrix<std::int64_t, 3, 1>(dx * side.x(), dy * side.y(), dz * side.z());
+          auto it = grid.find(c);
+          if (it == grid.end()) continue;
+          for (int j : it->second)
             if ((out.vertices[std::size_t(j)] - p).cwiseAbs().maxCoeff() <= tolerance) {
               found = j;
               break;
