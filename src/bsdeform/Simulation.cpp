@@ -196,14 +196,9 @@ ControlNet Simulation::restOffset() const {
 }
 
 void Simulation::rebuildConstantLoad() {
-  // c0 computed into the load itself, then the constant forces in their order: the same sums
-  // as addForce() makes one force at a time
-  if (m_params.reference == ElasticReference::Rest) {
-    m_stencil.applyMoving(m_rest, m_constantLoad);
-  } else {
-    allocateNet(m_constantLoad, m_space.numMoving());
-    m_constantLoad.setZero();
-  }
+  // c0, then the constant forces in their order: the same sums as addForce() makes one force
+  // at a time
+  m_constantLoad = restOffset();
   m_hasVariableForces = false;
   const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
   for (const auto& f : m_forces) {
