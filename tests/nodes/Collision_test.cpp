@@ -23,6 +23,16 @@ const char* kCloth = R"(
   }
 )";
 
+// The cloth above a 3 x 3 x 2 Cube whose top is at z = -0.05, moved there by `transform`.
+std::string clothOnBox(const char* transform = "Transform { translation 0.5 0.5 -1.05 }") {
+  return std::string("#Inventor V2.1 ascii\nSeparator {\nSeparator { ") + transform +
+         " DEF Box Cube { width 3 height 3 depth 2 } }\n" + kCloth + "}\n";
+}
+
+// Where the cloth rests on that top: the thickness above it, less the penalty's static depth
+// rho g / k (mass 1 per unit parameter area, g = 2, k = 2000).
+constexpr double kRestingZ = -0.05 + 0.02 - 2.0 / 2000.0;
+
 // Applies an action so that the surface knows its scene (as rendering does), then steps.
 SoBSplineDeformSurface* prepare(SoSeparator* root) {
   SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
@@ -32,9 +42,7 @@ SoBSplineDeformSurface* prepare(SoSeparator* root) {
 }  // namespace
 
 TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordinates would", "[nodes]") {
-  SoSeparator* a = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
-                                              "Separator { Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 3 height 3 depth 2 } }\n") +
-                                  kCloth + "}\n");
+  SoSeparator* a = testutil::read(clothOnBox());
   SoSeparator* b = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
                                               "Separator { Coordinate3 { point [ -1 -1 -2.05, 2 -1 -2.05, -1 2 -2.05, 2 2 -2.05,"
                                               " -1 -1 -0.05, 2 -1 -0.05, -1 2 -0.05, 2 2 -0.05 ] }\n"
@@ -49,7 +57,7 @@ TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordi
   REQUIRE(sb->stepSimulation(600));
   const double za = sa->simulation().evaluate(0.5, 0.5).position.z();
   const double zb = sb->simulation().evaluate(0.5, 0.5).position.z();
-  CHECK(za == Approx(-0.05 + 0.02 - 2.0 / 2000.0).margin(2e-4));  // resting on the box top
+  CHECK(za == Approx(kRestingZ).margin(2e-4));  // resting on the box top
   // Coin's geometry is single precision: the Cube's corners pass through a float matrix
   CHECK(std::abs(za - zb) < 1e-6);
   CHECK((sa->simulation().current() - sb->simulation().current()).cwiseAbs().maxCoeff() < 1e-6);
@@ -58,9 +66,7 @@ TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordi
 }
 
 TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refits it", "[nodes]") {
-  SoSeparator* root = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
-                                                 "Separator { DEF Move Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 3 height 3 depth 2 } }\n") +
-                                     kCloth + "}\n");
+  SoSeparator* root = testutil::read(clothOnBox("DEF Move Transform { translation 0.5 0.5 -1.05 }"));
   REQUIRE(root);
   SoBSplineDeformSurface* s = prepare(root);
   REQUIRE(s->stepSimulation(50));
@@ -85,9 +91,7 @@ TEST_CASE("Collision: a traversal from a short-lived graph around the scene keep
   // An offscreen image puts a camera and a light above the scene and deletes them afterwards;
   // the surface must keep the scene as its root, or the Cube would lose its Transform (and the
   // cloth would fall through it) after the first image.
-  SoSeparator* root = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
-                                                 "Separator { Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 3 height 3 depth 2 } }\n") +
-                                     kCloth + "}\n");
+  SoSeparator* root = testutil::read(clothOnBox());
   REQUIRE(root);
   SoBSplineDeformSurface* s = prepare(root);
   REQUIRE(s->stepSimulation(100));
@@ -101,7 +105,7 @@ TEST_CASE("Collision: a traversal from a short-lived graph around the scene keep
     around->unref();  // gone, as after an image
   }
   REQUIRE(s->stepSimulation(500));
-  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(-0.05 + 0.02 - 2.0 / 2000.0).margin(2e-4));
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(kRestingZ).margin(2e-4));
   root->unref();
 }
 
@@ -192,7 +196,7 @@ TEST_CASE("Collision: an indexed shape with indices out of range is skipped with
   INFO(all);
   CHECK(all.find("IndexedFaceSet 'Bad' skipped: coordIndex [2] = 40000 with 4 coordinates") != std::string::npos);
   CHECK(all.find("IndexedFaceSet 'BadNormal' skipped: normalIndex [2] = 7 with 2 normals") != std::string::npos);
-  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(-0.05 + 0.02 - 2.0 / 2000.0).margin(2e-4));
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(kRestingZ).margin(2e-4));
   root->unref();
 }
 
