@@ -223,6 +223,15 @@ std::vector<double> randomValues(int count) {
   return v;
 }
 
+// The edge values and `randomCount` random ones, cut to whole points (triples) for a control net.
+std::vector<double> netValues(int randomCount) {
+  std::vector<double> values = edgeValues();
+  const std::vector<double> random = randomValues(randomCount);
+  values.insert(values.end(), random.begin(), random.end());
+  values.resize(values.size() / 3 * 3);
+  return values;
+}
+
 // A node with double fields of every shape, for writing arbitrary values.
 class SceneTextProbe : public SoNode {
   SO_NODE_HEADER(SceneTextProbe);
@@ -299,10 +308,7 @@ TEST_CASE("SceneText: snap15 and coinDoubleText equal the former definitions val
 }
 
 TEST_CASE("SceneText: scene text is byte-identical to the former writer's", "[nodes]") {
-  std::vector<double> values = edgeValues();
-  const std::vector<double> random = randomValues(30000);
-  values.insert(values.end(), random.begin(), random.end());
-  values.resize(values.size() / 3 * 3);
+  const std::vector<double> values = netValues(30000);
   SoSeparator* root = probeScene(values);
   const std::string text = testutil::write(root), expected = reference::sceneText(root);
   CHECK(text.size() > 1000000u);
@@ -329,10 +335,7 @@ struct LocaleScope {
 }  // namespace
 
 TEST_CASE("SceneText: text and snaps do not depend on the process locale (decimal comma)", "[nodes]") {
-  std::vector<double> values = edgeValues();
-  const std::vector<double> random = randomValues(20000);
-  values.insert(values.end(), random.begin(), random.end());
-  values.resize(values.size() / 3 * 3);
+  const std::vector<double> values = netValues(20000);
   SoSeparator* root = probeScene(values);
   const std::string inC = testutil::write(root);
   SoSeparator* surface = probeScene({});  // the surface alone: a scene Coin reads back
