@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-viewer's view: framing, display toggles, plots and help (issue 10, items 1, 4, 5, 8).
+#include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
+#include <Inventor/nodes/SoCamera.h>
+#include <Inventor/nodes/SoSeparator.h>
+#include <Inventor/nodes/SoTranslation.h>
+
+#include <QTest>
+#include <catch2/catch.hpp>
+
+#include "MainWindow.h"
+#include "ViewFraming.h"
+#include "ViewerTestSupport.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+using namespace viewer_test;
+using bsdeform::MainWindow;
+using bsdeform::StandardView;
+using bsdeform::ViewFraming;
+
+namespace {
+void checkFramed(const SbBox2f& box, float minFraction) {
+  float x0, y0, x1, y1;
+  box.getBounds(x0, y0, x1, y1);
+  INFO("projected box " << x0 << " " << y0 << " - " << x1 << " " << y1);
+  CHECK(x0 >= ViewFraming::kEdgeMargin);
+  CHECK(y0 >= ViewFraming::kEdgeMargin);
+  CHECK(x1 <= 1.0f - ViewFraming::kEdgeMargin);
+  CHECK(y1 <= 1.0f - ViewFraming::kEdgeMargin);
+  CHECK(std::max(x1 - x0, y1 - y0) > minFraction);
+}
+}  // namespace
+
+TEST_CASE("Viewer view: a scene without a camera opens in the default oblique view that frames it", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  ViewFraming& f = w->framing();
+  CHECK(f.isFollowing());
+  // the runner's three-quarter view, not SoQt's view straight down
+  SbVec3f look;
+  w->viewer()->getCamera()->orientation.getValue().multVec(SbVec3f(0, 0, -1), look);
+  CHECK((look - bsdeform::viewDirection(StandardView::Default)).length() < 1e-4f);
+  checkFramed(f.projectedSceneBox(), 0.4f);
+  // every standard view frames it too
+  for (StandardView v : {StandardView::Front, StandardView::Top, StandardView::Side, StandardView::Isometric}) {
+    f.setView(v);
+    checkFramed(f.projectedSceneBox(), 0.4f);
+  }
+}
+
+TEST_CASE("Viewer view: Follow re-frames a scene that leaves the view, and only when on", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  ViewFraming& f = w->framing();
+  // the scene moves away (as a deforming surface can): two units along +x
+  auto* move = new SoTranslation;
+  move->translation.setValue(2.0f, 0.0f, 0.0f);
+  w->document().root()->insertChild(move, 0);
+  f.setFollowing(false);
+  move->translation.setValue(2.5f, 0.0f, 0.0f);
+  CHECK_FALSE(f.follow());
+  CHECK(f.projectedSceneBox().getMax()[0] > 1.0f);  // out of the view
+  f.setFollowing(true);  // framing as it is now: outside, so Follow starts from here
+  f.viewAll();
+  checkFramed(f.projectedSceneBox(), 0.4f);
+  CHECK_FALSE(f.follow());  // nothing moved: no re-framing
+  const int reframes = f.followReframes();  // the window's timer also follows (its first show)
+  move->translation.setValue(4.0f, 0.0f, 0.0f);
+  CHECK(f.follow());
+  CHECK(f.followReframes() == reframes + 1);
+  checkFramed(f.projectedSceneBox(), 0.4f);
+  // the user zooms in on a detail: Follow does not fight the user's camera
+  SoCamera* cam = w->viewer()->getCamera();
+  cam->position = cam->position.getValue() + (SbVec3f(4.5f, 0.5f, 0.0f) - cam->position.getValue()) * 0.8f;
+  CHECK_FALSE(f.follow());
+  CHECK(f.followReframes() == reframes + 1);
+}
+
+TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one headlight)", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  QTest::qWait(500);  // the GL view has drawn (a grab before its first paint is black)
+  const QImage view = w->screenshot();
+  const QSize other(view.width() / 2, view.height() / 2);
+  const QImage small = w->screenshot(other);
+  REQUIRE(small.size() == other);
+  view.save(QStringLiteral("viewer_view_screenshot.png"));
+  small.save(QStringLiteral("viewer_view_screenshot_half.png"));
+  // mean brightness of the pixels that are not background, in both pictures
+  auto meanLit = [](const QImage& img) {
+    const QRgb bg = img.pixel(2, 2);
+    double sum = 0.0;
+    long n = 0;
+    for (int y = 0; y < img.height(); ++y)
+      for (int x = 0; x < img.width(); ++x)
+        if (img.pixel(x, y) != bg) {
+          sum += qGray(img.pixel(x, y));
+          ++n;
+        }
+    return n ? sum / n : 0.0;
+  };
+  const double a = meanLit(view), b = meanLit(small);
+  INFO("mean grey of the surface: view " << a << ", offscreen " << b);
+  CHECK(a > 20.0);
+  CHECK(std::abs(a - b) < 0.15 * a);
+}
