@@ -6,7 +6,9 @@
 #include <Inventor/SbViewportRegion.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/actions/SoSearchAction.h>
+#include <Inventor/lists/SoPathList.h>
 #include <Inventor/nodes/SoCamera.h>
+#include <Inventor/nodes/SoShape.h>
 #include <Inventor/nodes/SoOrthographicCamera.h>
 #include <Inventor/nodes/SoPerspectiveCamera.h>
 
@@ -75,11 +77,25 @@ SbViewVolume viewVolume(SoCamera* camera, const SbViewportRegion& viewport, SbVi
 }
 }  // namespace
 
+SbBox3f sceneBoundingBox(SoNode* scene, const SbViewportRegion& viewport) {
+  SbBox3f box;
+  if (!scene) return box;
+  SoSearchAction search;
+  search.setType(SoShape::getClassTypeId());
+  search.setInterest(SoSearchAction::ALL);
+  search.apply(scene);
+  SoGetBoundingBoxAction bba(viewport);
+  const SoPathList& paths = search.getPaths();
+  for (int i = 0; i < paths.getLength(); ++i) {
+    bba.apply(paths[i]);
+    box.extendBy(bba.getBoundingBox());
+  }
+  return box;
+}
+
 void frameScene(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewport) {
   camera->viewAll(scene, viewport);  // a start that sees the whole scene
-  SoGetBoundingBoxAction bba(viewport);
-  bba.apply(scene);
-  const SbBox3f box = bba.getBoundingBox();
+  const SbBox3f box = sceneBoundingBox(scene, viewport);
   auto* ortho = camera->isOfType(SoOrthographicCamera::getClassTypeId()) ? static_cast<SoOrthographicCamera*>(camera) : nullptr;
   if (box.isEmpty() || (!ortho && !camera->isOfType(SoPerspectiveCamera::getClassTypeId())))
     return;  // nothing to frame, or another camera type: viewAll's framing

@@ -2,7 +2,6 @@
 #include "ViewFraming.h"
 
 #include <Inventor/Qt/viewers/SoQtViewer.h>
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/nodes/SoCamera.h>
 
 #include <QAction>
@@ -74,9 +73,7 @@ bool ViewFraming::isFollowing() const { return m_followAction && m_followAction-
 SbBox2f ViewFraming::projectedSceneBox() const {
   SoCamera* camera = m_viewer->getCamera();
   if (!camera || !m_scene) return SbBox2f();
-  SoGetBoundingBoxAction bba(m_viewer->getViewportRegion());
-  bba.apply(m_scene);
-  return projectedBox(camera, bba.getBoundingBox(), m_viewer->getViewportRegion());
+  return projectedBox(camera, sceneBoundingBox(m_scene, m_viewer->getViewportRegion()), m_viewer->getViewportRegion());
 }
 
 ViewFraming::CameraState ViewFraming::cameraState() const {
