@@ -5,9 +5,12 @@
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoTranslation.h>
 
+#include <QFile>
+#include <QTemporaryDir>
 #include <QTest>
 #include <catch2/catch.hpp>
 
+#include "ControlNetDisplay.h"
 #include "MainWindow.h"
 #include "ViewFraming.h"
 #include "ViewerTestSupport.h"
@@ -112,4 +115,70 @@ TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one h
   INFO("mean grey of the surface: view " << a << ", offscreen " << b);
   CHECK(a > 20.0);
   CHECK(std::abs(a - b) < 0.15 * a);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Display: control net and rest ghost
+
+namespace {
+// Pixels of a colour family in a screenshot.
+long countPixels(const QImage& img, bool (*test)(const QColor&)) {
+  long n = 0;
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x) n += test(img.pixelColor(x, y));
+  return n;
+}
+bool yellow(const QColor& c) { return c.red() > 220 && c.green() > 200 && c.blue() < 90; }
+bool red(const QColor& c) { return c.red() > 200 && c.green() < 80 && c.blue() < 80; }
+bool paleGrey(const QColor& c) {
+  return std::abs(c.red() - 179) < 12 && std::abs(c.green() - 184) < 12 && std::abs(c.blue() - 199) < 12;
+}
+}  // namespace
+
+TEST_CASE("Viewer view: the control net shows moving and held points, the ghost the rest surface, neither is saved",
+          "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  bsdeform::ControlNetDisplay& net = w->netDisplay();
+  REQUIRE(net.surfaceCount() == 1);
+  w->setPlaying(false);
+  for (int i = 0; i < 15; ++i) w->step();
+  QTest::qWait(300);
+  const QImage plain = w->screenshot();
+  net.setNetVisible(true);
+  // 5 x 5 bicubic, every side clamped: 25 moving points in a net of 11 x 11
+  CHECK(net.movingPointCount(0) == 25);
+  CHECK(net.heldPointCount(0) == 121 - 25);
+  QTest::qWait(300);
+  const QImage withNet = w->screenshot();
+  withNet.save(QStringLiteral("viewer_control_net.png"));
+  CHECK(countPixels(withNet, yellow) > countPixels(plain, yellow) + 50);
+  CHECK(countPixels(withNet, red) > countPixels(plain, red) + 100);
+  net.setNetVisible(false);
+  net.setGhostVisible(true);
+  QTest::qWait(300);
+  const QImage withGhost = w->screenshot();
+  withGhost.save(QStringLiteral("viewer_rest_ghost.png"));
+  CHECK(countPixels(withGhost, paleGrey) > countPixels(plain, paleGrey) + 200);
+  // display aids are not part of the scene: a saved file has neither
+  net.setNetVisible(true);
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("saved.iv"));
+  REQUIRE(w->saveSceneAs(path));
+  QFile f(path);
+  REQUIRE(f.open(QIODevice::ReadOnly));
+  const QByteArray text = f.readAll();
+  CHECK_FALSE(text.contains("IndexedLineSet"));
+  CHECK_FALSE(text.contains("QuadMesh"));
+  CHECK_FALSE(text.contains("PointSet"));
+}
+
+TEST_CASE("Viewer view: pins count as held points of the control net", "[ui]") {
+  auto w = makeWindow("pinned_cloth.iv");
+  bsdeform::ControlNetDisplay& net = w->netDisplay();
+  net.setNetVisible(true);
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  const bsdeform::Simulation& sim = s->simulation();
+  REQUIRE(!sim.pinnedRows().empty());
+  CHECK(net.movingPointCount(0) == int(sim.space().numMoving()) - int(sim.pinnedRows().size()));
+  CHECK(net.movingPointCount(0) + net.heldPointCount(0) <= int(sim.space().netSize()));
 }

@@ -39,6 +39,7 @@
 #include <QVBoxLayout>
 
 #include "AtomicFile.h"
+#include "ControlNetDisplay.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "PlotPanel.h"
@@ -73,6 +74,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_viewer->setBackgroundColor(SbColor(0.18f, 0.2f, 0.24f));
   m_viewer->setSceneGraph(m_wrapper);
   m_framing = new ViewFraming(m_viewer, this);
+  m_netDisplay = new ControlNetDisplay(this);
 
   createActions();
   createDocks();
@@ -170,6 +172,8 @@ void MainWindow::createActions() {
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
   m_framing->addActions(view);
+  view->addSeparator();
+  m_netDisplay->addActions(view);
 }
 
 void MainWindow::createDocks() {
@@ -248,6 +252,8 @@ void MainWindow::showScene() {
   m_wrapper->addChild(m_frameCounter);
   m_wrapper->addChild(m_drag->node());
   m_wrapper->addChild(m_doc->root());
+  m_wrapper->addChild(m_netDisplay->node());
+  m_netDisplay->setScene(m_doc->root());
   m_viewer->setSceneGraph(m_wrapper);
   m_framing->sceneShown(m_doc->root());
   setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
@@ -572,6 +578,7 @@ void MainWindow::selectionChanged() {
 void MainWindow::tick() {
   m_drag->update();
   m_framing->follow();
+  m_netDisplay->update();
   m_plots->sample();
   if (++m_ticks % 10 == 0) m_editor->refresh();
   updateStatus();
