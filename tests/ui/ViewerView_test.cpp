@@ -8,12 +8,19 @@
 #include <QFile>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QtCharts/QChart>
+#include <QtCharts/QLogValueAxis>
+#include <QtCharts/QValueAxis>
 #include <catch2/catch.hpp>
+#include <cmath>
 
 #include "ControlNetDisplay.h"
 #include "MainWindow.h"
+#include "Plot.h"
+#include "PlotPanel.h"
 #include "ViewFraming.h"
 #include "ViewerTestSupport.h"
+#include "bsdeform/Diagnostics.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -181,4 +188,68 @@ TEST_CASE("Viewer view: pins count as held points of the control net", "[ui]") {
   REQUIRE(!sim.pinnedRows().empty());
   CHECK(net.movingPointCount(0) == int(sim.space().numMoving()) - int(sim.pinnedRows().size()));
   CHECK(net.movingPointCount(0) + net.heldPointCount(0) <= int(sim.space().netSize()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plots
+
+TEST_CASE("Viewer view: norm and energies on separate axes with round ticks, y >= 0, a range after Reset", "[ui]") {
+  using Axis = bsdeform::PlotPanel::Axis;
+  auto w = makeWindow("region_load.iv");
+  bsdeform::PlotPanel& plots = w->plotPanel();
+  auto range = [&](Axis a) { return std::make_pair(plots.axis(a)->min(), plots.axis(a)->max()); };
+  // one sample at t = 0, everything zero: real ranges, not a degenerate axis
+  w->reset();
+  CHECK(range(Axis::Time).first < range(Axis::Time).second);
+  CHECK(range(Axis::Norm) == std::make_pair(0.0, 1.0));
+  CHECK(range(Axis::Energy) == std::make_pair(0.0, 1.0));
+  for (int i = 0; i < 20; ++i) w->step();
+  const bsdeform::Diagnostics d = firstSurface(*w)->simulation().diagnostics();
+  // the norm (about 8 at t = 2) and the energies (below 1) each get their own scale
+  CHECK(plots.axis(Axis::Norm)->min() == 0.0);
+  CHECK(plots.axis(Axis::Energy)->min() == 0.0);
+  CHECK(plots.axis(Axis::Norm)->max() >= d.norm);
+  CHECK(plots.axis(Axis::Energy)->max() >= d.strain.total);
+  CHECK(plots.axis(Axis::Energy)->max() < 0.5 * plots.axis(Axis::Norm)->max());
+  CHECK(plots.axis(Axis::Time)->max() >= 2.0);
+  // round ticks: the range is a whole number of steps of 1, 2 or 5 times a power of ten
+  for (Axis a : {Axis::Time, Axis::Norm, Axis::Energy}) {
+    const auto* axis = plots.axis(a);
+    const double step = (axis->max() - axis->min()) / (axis->tickCount() - 1);
+    const double mantissa = step / std::pow(10.0, std::floor(std::log10(step) + 1e-9));
+    INFO("axis " << int(a) << " " << axis->min() << " .. " << axis->max() << " ticks " << axis->tickCount());
+    CHECK((std::abs(mantissa - 1) < 1e-6 || std::abs(mantissa - 2) < 1e-6 || std::abs(mantissa - 5) < 1e-6));
+    CHECK(std::abs(axis->min() / step - std::round(axis->min() / step)) < 1e-6);
+  }
+  w->reset();
+  CHECK(range(Axis::Norm) == std::make_pair(0.0, 1.0));
+  CHECK(plots.axis(Axis::Time)->max() < 2.0);
+}
+
+TEST_CASE("Plot: a sweep over decades gets a log axis, the fitted line with its equation and r", "[ui]") {
+  ensureApp();
+  bsdeform::PlotSeries s;
+  s.name = QStringLiteral("Surface");
+  for (double x : {0.0, 0.0001, 0.001, 0.01, 0.1, 1.0, 10.0, 100.0, 200.0}) {
+    s.x << x;
+    s.y << 0.4 + 0.038 * x;
+  }
+  bsdeform::PlotOptions o;
+  o.nonNegative = o.logXWhenDecades = o.fitLine = true;
+  std::unique_ptr<QtCharts::QChart> chart(bsdeform::makePlotChart(QStringLiteral("sweep"), QStringLiteral("w10"), QStringLiteral("norm"), {s}, o));
+  const auto horizontal = chart->axes(Qt::Horizontal);
+  REQUIRE(horizontal.size() == 1);
+  CHECK(qobject_cast<QtCharts::QLogValueAxis*>(horizontal.first()) != nullptr);
+  CHECK(chart->title().contains(QStringLiteral("not on the log axis")));  // x = 0
+  QStringList names;
+  for (QtCharts::QAbstractSeries* series : chart->series()) names << series->name();
+  INFO(names.join(QStringLiteral(" | ")).toStdString());
+  CHECK(names.join(QStringLiteral(" | ")).contains(QStringLiteral("n = 0.4 + 0.038 w10, r = 1.0000")));
+  // values within one decade: a linear axis
+  bsdeform::PlotSeries t;
+  t.name = QStringLiteral("Surface");
+  t.x = {1, 2, 3, 5, 8};
+  t.y = {1, 2, 3, 5, 8};
+  std::unique_ptr<QtCharts::QChart> linear(bsdeform::makePlotChart(QStringLiteral("sweep"), QStringLiteral("w10"), QStringLiteral("norm"), {t}, o));
+  CHECK(qobject_cast<QtCharts::QValueAxis*>(linear->axes(Qt::Horizontal).first()) != nullptr);
 }
