@@ -68,14 +68,11 @@ SoCamera* findSceneCamera(SoNode* scene) {
   return sa.getPath() ? static_cast<SoCamera*>(sa.getPath()->getTail()) : nullptr;
 }
 
-namespace {
-// The view volume rendering uses for `viewport` (with the camera's viewport mapping). Coin 4.0
-// reads the aspect ratio from the result argument before setting it: it gets a copy.
-SbViewVolume viewVolume(SoCamera* camera, const SbViewportRegion& viewport, SbViewportRegion& used) {
-  used = viewport;
+SbViewVolume cameraViewVolume(SoCamera* camera, const SbViewportRegion& viewport) {
+  // Coin 4.0 reads the aspect ratio from the result argument before setting it: give it a copy
+  SbViewportRegion used = viewport;
   return camera->getViewVolume(viewport, used, SbMatrix::identity());
 }
-}  // namespace
 
 SbBox3f sceneBoundingBox(SoNode* scene, const SbViewportRegion& viewport) {
   SbBox3f box;
@@ -116,9 +113,8 @@ void frameScene(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewpor
     p.getCenter().getValue(cx, cy);
     const float size = std::max(w, h);
     if (!(size > 0.0f)) break;
-    SbViewportRegion used;
-    const SbViewVolume volume = viewVolume(camera, viewport, used);
     // assumes the view volume covers the viewport (ADJUST_CAMERA, the default)
+    const SbViewVolume volume = cameraViewVolume(camera, viewport);
     target += volume.getPlanePoint(distance, SbVec2f(cx, cy)) - volume.getPlanePoint(distance, SbVec2f(0.5f, 0.5f));
     const float scale = size / kFramedFraction;
     if (ortho)
@@ -142,8 +138,8 @@ void frameView(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewport
 SbBox2f projectedBox(SoCamera* camera, const SbBox3f& box, const SbViewportRegion& viewport) {
   SbBox2f out;
   if (box.isEmpty()) return out;
-  SbViewportRegion used;
-  const SbViewVolume volume = viewVolume(camera, viewport, used);
+  SbViewportRegion used = viewport;  // see cameraViewVolume
+  const SbViewVolume volume = camera->getViewVolume(viewport, used, SbMatrix::identity());
   // the view volume covers `used`, which ADJUST_CAMERA makes the whole viewport; other
   // mappings may leave a border, mapped here to viewport coordinates
   const SbVec2f origin = used.getViewportOrigin(), size = used.getViewportSize();

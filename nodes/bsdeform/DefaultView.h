@@ -11,6 +11,7 @@
 #include <Inventor/SbBox3f.h>
 #include <Inventor/SbRotation.h>
 #include <Inventor/SbVec3f.h>
+#include <Inventor/SbViewVolume.h>
 
 class SoCamera;
 class SoNode;
@@ -36,6 +37,11 @@ SbRotation lookOrientation(const SbVec3f& direction, const SbVec3f& up);
 
 /// Camera orientation of `view` (lookOrientation with z up, y up for Top).
 SbRotation viewOrientation(StandardView view);
+
+/// The view volume `camera` renders `viewport` with (its viewport mapping applied, as
+/// SoCamera::getViewVolume(viewport, ...) does, working around Coin 4.0 reading the aspect
+/// ratio from its result argument).
+SbViewVolume cameraViewVolume(SoCamera* camera, const SbViewportRegion& viewport);
 
 /// The first camera in `scene` (depth first), nullptr if none.
 SoCamera* findSceneCamera(SoNode* scene);

@@ -253,3 +253,15 @@ TEST_CASE("Plot: a sweep over decades gets a log axis, the fitted line with its 
   std::unique_ptr<QtCharts::QChart> linear(bsdeform::makePlotChart(QStringLiteral("sweep"), QStringLiteral("w10"), QStringLiteral("norm"), {t}, o));
   CHECK(qobject_cast<QtCharts::QValueAxis*>(linear->axes(Qt::Horizontal).first()) != nullptr);
 }
+
+TEST_CASE("Viewer view: a scene's own camera is the one the view shows and the mouse moves", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");  // SoQt makes a camera of its own
+  CHECK(bsdeform::findSceneCamera(w->document().root()) == nullptr);
+  REQUIRE(w->openScene(scenePath("pressure_bulge.iv")));       // a scene with its camera
+  SoCamera* own = bsdeform::findSceneCamera(w->document().root());
+  REQUIRE(own);
+  // SoQt used to keep its own camera for the same root: the scene's camera was drawn while the
+  // mouse moved SoQt's, and drag mapped the cursor through the wrong one
+  CHECK(w->viewer()->getCamera() == own);
+  CHECK_FALSE(w->framing().isFollowing());
+}

@@ -254,7 +254,11 @@ void MainWindow::showScene() {
   m_wrapper->addChild(m_doc->root());
   m_wrapper->addChild(m_netDisplay->node());
   m_netDisplay->setScene(m_doc->root());
+  // SoQt looks for a camera only when it gets a new graph: with the same root it kept its own
+  // camera, which the scene's camera overrode in rendering while the mouse moved SoQt's
+  m_viewer->setSceneGraph(nullptr);
   m_viewer->setSceneGraph(m_wrapper);
+  m_drag->setCamera(m_viewer->getCamera());
   m_framing->sceneShown(m_doc->root());
   setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
