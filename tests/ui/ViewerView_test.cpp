@@ -15,6 +15,7 @@
 #include <cmath>
 
 #include "ControlNetDisplay.h"
+#include "HelpDialogs.h"
 #include "MainWindow.h"
 #include "Plot.h"
 #include "PlotPanel.h"
@@ -252,6 +253,35 @@ TEST_CASE("Plot: a sweep over decades gets a log axis, the fitted line with its 
   t.y = {1, 2, 3, 5, 8};
   std::unique_ptr<QtCharts::QChart> linear(bsdeform::makePlotChart(QStringLiteral("sweep"), QStringLiteral("w10"), QStringLiteral("norm"), {t}, o));
   CHECK(qobject_cast<QtCharts::QValueAxis*>(linear->axes(Qt::Horizontal).first()) != nullptr);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Help
+
+TEST_CASE("Viewer view: Help lists every shortcut of the menus, none used twice, and About names the versions", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  const QVector<bsdeform::ShortcutEntry> entries = bsdeform::menuShortcuts(w->menuBar());
+  QStringList keys, actions;
+  for (const bsdeform::ShortcutEntry& e : entries) {
+    keys << e.keys;
+    actions << e.action;
+  }
+  INFO(actions.join(QStringLiteral(", ")).toStdString());
+  CHECK(actions.contains(QStringLiteral("Simulation > Pause")) != actions.contains(QStringLiteral("Simulation > Play")));
+  CHECK(actions.contains(QStringLiteral("View > Follow")));
+  CHECK(actions.contains(QStringLiteral("View > Control Net")));
+  CHECK(actions.contains(QStringLiteral("View > Standard Views > Top")));
+  CHECK(actions.contains(QStringLiteral("File > Open...")));
+  // an ambiguous shortcut triggers nothing in Qt: every key sequence belongs to one action
+  QStringList sorted = keys;
+  sorted.removeDuplicates();
+  CHECK(sorted.size() == keys.size());
+  const QString text = bsdeform::shortcutsText(entries);
+  for (const bsdeform::ShortcutEntry& e : entries) CHECK(text.contains(e.keys.toHtmlEscaped()));
+  const QString about = bsdeform::aboutText();
+  CHECK(about.contains(QStringLiteral(BSDEFORM_VERSION)));
+  for (const char* lib : {"Coin", "SoQt", "Qt", "Eigen", "CHOLMOD", "Embree"}) CHECK(about.contains(QLatin1String(lib)));
+  CHECK(about.contains(QString::fromLatin1(qVersion())));
 }
 
 TEST_CASE("Viewer view: a scene's own camera is the one the view shows and the mouse moves", "[ui]") {

@@ -42,6 +42,7 @@
 #include "ControlNetDisplay.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
+#include "HelpDialogs.h"
 #include "PlotPanel.h"
 #include "ViewFraming.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -174,6 +175,11 @@ void MainWindow::createActions() {
   m_framing->addActions(view);
   view->addSeparator();
   m_netDisplay->addActions(view);
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  a = help->addAction(tr("&Keyboard Shortcuts"), this, [this] { showShortcuts(this, menuBar()); });
+  a->setShortcut(QKeySequence::HelpContents);
+  help->addAction(tr("&About bsdeform-viewer"), this, [this] { showAbout(this); });
 }
 
 void MainWindow::createDocks() {
