@@ -8,6 +8,7 @@
 
 #include "NodesTestUtil.h"
 #include "bsdeform/DefaultView.h"
+#include "bsdeform/OffscreenRenderer.h"
 
 using namespace bsdeform;
 
@@ -71,4 +72,38 @@ TEST_CASE("DefaultView: the framed unit square lies inside the view, centred, an
   CHECK(findSceneCamera(root) == camera);
   CHECK(findSceneCamera(square) == nullptr);
   root->unref();
+}
+
+TEST_CASE("DefaultView: an open surface seen from below is lit like seen from above (two-sided lighting)", "[nodes]") {
+  testutil::Coin::get();
+  SoSeparator* scene = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator { Material { diffuseColor 0.8 0.5 0.2 } SoBSplineDeformSurface { } }");
+  REQUIRE(scene);
+  auto meanLit = [&](const SbVec3f& direction) {
+    auto* root = new SoSeparator;
+    root->ref();
+    auto* camera = new SoPerspectiveCamera;
+    root->addChild(camera);
+    root->addChild(scene);
+    camera->orientation = lookOrientation(direction, SbVec3f(0, 1, 0));
+    frameScene(camera, root, SbViewportRegion(120, 90));
+    bsdeform::Image img;
+    std::string error;
+    REQUIRE(bsdeform::renderOffscreen(root, 120, 90, img, error, SbColor(0, 0, 0)));
+    root->unref();
+    double sum = 0.0;
+    long n = 0;
+    for (size_t i = 0; i < img.rgb.size(); i += 3)
+      if (img.rgb[i] | img.rgb[i + 1] | img.rgb[i + 2]) {
+        sum += img.rgb[i];
+        ++n;
+      }
+    REQUIRE(n > 1000);  // the surface covers a good part of the picture
+    return sum / n;
+  };
+  const double above = meanLit(SbVec3f(0.1f, 0.2f, -1.0f)), below = meanLit(SbVec3f(0.1f, 0.2f, 1.0f));
+  INFO("mean red of the surface from above " << above << ", from below " << below);
+  CHECK(above > 100.0);
+  CHECK(below > 0.8 * above);  // one-sided lighting leaves the underside at the ambient level
+  scene->unref();
 }
