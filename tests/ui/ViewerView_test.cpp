@@ -5,6 +5,7 @@
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoTranslation.h>
 
+#include <QDir>
 #include <QFile>
 #include <QTemporaryDir>
 #include <QTest>
@@ -294,4 +295,24 @@ TEST_CASE("Viewer view: a scene's own camera is the one the view shows and the m
   // mouse moved SoQt's, and drag mapped the cursor through the wrong one
   CHECK(w->viewer()->getCamera() == own);
   CHECK_FALSE(w->framing().isFollowing());
+}
+
+TEST_CASE("Viewer view: control net and ghost on every scene: moving points are the simulation's", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  bsdeform::ControlNetDisplay& net = w->netDisplay();
+  net.setNetVisible(true);
+  net.setGhostVisible(true);
+  const QStringList scenes = QDir(QStringLiteral(BSDEFORM_SCENES_DIR)).entryList({QStringLiteral("*.iv")}, QDir::Files);
+  REQUIRE(scenes.size() >= 14);
+  for (const QString& name : scenes) {
+    INFO(name.toStdString());
+    REQUIRE(w->openScene(scenePath(name.toUtf8().constData())));
+    w->step();  // the window's tick updates the overlay
+    REQUIRE(net.surfaceCount() == w->document().surfaces().size());
+    for (int i = 0; i < net.surfaceCount(); ++i) {
+      const bsdeform::Simulation& sim = w->document().surfaces()[i]->simulation();
+      CHECK(net.movingPointCount(i) == int(sim.space().numMoving()) - int(sim.pinnedRows().size()));
+      CHECK(net.movingPointCount(i) + net.heldPointCount(i) <= int(sim.space().netSize()));
+    }
+  }
 }
