@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/OffscreenRenderer.h"
 
+#include "bsdeform/DefaultView.h"
+
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <Inventor/C/glue/gl.h>
@@ -164,14 +166,11 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
     root->addChild(scene);
   } else {
     auto* camera = new SoPerspectiveCamera;
-    // a three-quarter view from the -y side, looking down at the (u, v) plane
-    const SbVec3f view(0.0f, 0.73f, -0.68f);
-    camera->orientation.setValue(SbRotation(SbVec3f(0, 0, -1), view));
-    headlight->direction = view;  // after the camera: world space
+    headlight->direction = viewDirection(StandardView::Default);  // after the camera: world space
     root->addChild(camera);
     root->addChild(headlight);
     root->addChild(scene);
-    camera->viewAll(scene, viewport);
+    frameView(camera, scene, viewport);  // the viewer's and the README's default view
   }
   SoOffscreenRenderer renderer(viewport);
   renderer.setComponents(SoOffscreenRenderer::RGB);

@@ -117,6 +117,33 @@ TEST_CASE("Scenes: every scene loads without warnings and runs with finite resul
   }
 }
 
+TEST_CASE("Scenes: the default scene rises, overshoots a little and rests within a few seconds", "[scenes]") {
+  // what a new user sees first (issue 10): it must settle while they watch, and stay in view
+  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/region_load.iv"));
+  REQUIRE(root);
+  const auto surfs = surfaces(root);
+  REQUIRE(surfs.size() == 1);
+  SoBSplineDeformSurface* s = surfs[0];
+  double peak = 0.0, at3 = 0.0;
+  for (int step = 1; step <= 50; ++step) {  // t = 0.1 .. 5
+    REQUIRE(s->stepSimulation(1));
+    peak = std::max(peak, s->simulation().deformationNorm());
+    if (step == 30) at3 = s->simulation().deformationNorm();
+  }
+  const bsdeform::Simulation& sim = s->simulation();
+  const double at5 = sim.deformationNorm();
+  INFO("norm at t = 3: " << at3 << ", t = 5: " << at5 << ", peak " << peak);
+  CHECK(std::abs(at5 - at3) < 0.02 * at5);  // at rest from t = 3 on
+  CHECK(sim.kineticEnergy() < 1e-3 * sim.strainEnergy().total);
+  CHECK(peak > 1.05 * at5);  // it visibly moves: a small overshoot, not a creep
+  CHECK(peak < 1.5 * at5);
+  // a clear bump that stays within a unit box around the unit square
+  const double middle = sim.evaluate(0.5, 0.5, 0).position.z();
+  CHECK(middle > 0.3);
+  CHECK(middle < 1.0);
+  root->unref();
+}
+
 TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", "[scenes]") {
   for (const std::string& f : sceneFiles()) {
     INFO(f);

@@ -357,11 +357,11 @@ Failure runScene(const Options& o) {
       const QString plotPath = out.filePath(s.name + QStringLiteral("_history.png"));
       QString perr;
       if (!bsdeform::writePlotPng(plotPath, s.name + QStringLiteral(": deformation over time"), QStringLiteral("time"),
-                                  QStringLiteral("value"),
+                                  QStringLiteral("norm"),
                                   {{QStringLiteral("norm (eq. 15)"), s.t, s.norm},
-                                   {QStringLiteral("kinetic energy"), s.t, s.kinetic},
-                                   {QStringLiteral("strain energy"), s.t, s.strain}},
-                                  800, 500, perr))
+                                   {QStringLiteral("kinetic energy"), s.t, s.kinetic, true},
+                                   {QStringLiteral("strain energy"), s.t, s.strain, true}},
+                                  800, 500, perr, {QStringLiteral("energy"), true, false, false}))
         return writeFailure(perr, written);
       written << plotPath;
     }
@@ -507,7 +507,7 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
     for (auto& kv : bySurface) series << kv.second;
     if (!bsdeform::writePlotPng(out.filePath(QStringLiteral("sweep.png")),
                                 QStringLiteral("Deformation norm (eq. 15) against %1").arg(target), target,
-                                QStringLiteral("final norm ||P - P0||"), series, 800, 500, error))
+                                QStringLiteral("final norm ||P - P0||"), series, 800, 500, error, {QString(), true, true, true}))
       return writeFailure(error, written);
     written << out.filePath(QStringLiteral("sweep.png"));
   }

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
+#include "bsdeform/DefaultView.h"
 #include "DragTool.h"
 
 #include <Inventor/SoPickedPoint.h>
 #include <Inventor/actions/SoGetMatrixAction.h>
 #include <Inventor/actions/SoHandleEventAction.h>
 #include <Inventor/elements/SoViewVolumeElement.h>
+#include <Inventor/nodes/SoCamera.h>
 #include <Inventor/elements/SoViewportRegionElement.h>
 #include <Inventor/events/SoLocation2Event.h>
 #include <Inventor/events/SoMouseButtonEvent.h>
@@ -57,12 +59,23 @@ DragTool::DragTool() {
 
 DragTool::~DragTool() {
   release();
+  setCamera(nullptr);
   m_root->unref();
 }
 
 void DragTool::setEnabled(bool on) {
   m_enabled = on;
   if (!on) release();
+}
+
+void DragTool::setCamera(SoCamera* camera) {
+  if (camera) camera->ref();
+  if (m_camera) m_camera->unref();
+  m_camera = camera;
+}
+
+SbViewVolume DragTool::viewVolume(SoState* state, const SbViewportRegion& vp) const {
+  return m_camera ? cameraViewVolume(m_camera, vp) : SoViewVolumeElement::get(state);
 }
 
 void DragTool::eventCallback(void* data, SoEventCallback* cb) { static_cast<DragTool*>(data)->handle(cb); }
@@ -86,7 +99,7 @@ void DragTool::handle(SoEventCallback* cb) {
     m_u = u;
     m_v = v;
     m_anchorWorld = pp->getPoint();
-    const SbViewVolume& vv = SoViewVolumeElement::get(state);
+    const SbViewVolume vv = viewVolume(state, vp);
     m_plane = SbPlane(-vv.getProjectionDirection(), m_anchorWorld);
     SbVec3f local;
     m_toLocal.multVecMatrix(m_anchorWorld, local);
@@ -108,7 +121,7 @@ void DragTool::handle(SoEventCallback* cb) {
       cb->setHandled();
     }
   } else if (ev->isOfType(SoLocation2Event::getClassTypeId()) && isDragging()) {
-    const SbViewVolume& vv = SoViewVolumeElement::get(state);
+    const SbViewVolume vv = viewVolume(state, vp);
     SbLine ray;
     vv.projectPointToLine(ev->getNormalizedPosition(vp), ray);
     SbVec3f hit;

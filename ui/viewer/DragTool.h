@@ -10,7 +10,10 @@
 #include <Eigen/Core>
 #include <memory>
 
+class SoCamera;
 class SoSeparator;
+class SoState;
+class SbViewportRegion;
 class SoEventCallback;
 class SoCoordinate3;
 class SoSwitch;
@@ -37,12 +40,18 @@ class DragTool {
   void update();
   /// Lets go (also done on release, and before the scene is replaced).
   void release();
+  /// The camera the view shows (referenced; nullptr: none). The tool's node comes before a
+  /// scene's own camera, so the view volume it needs is taken from the camera, not the state.
+  void setCamera(SoCamera* camera);
 
  private:
   static void eventCallback(void* data, SoEventCallback* cb);
   void handle(SoEventCallback* cb);
 
+  SbViewVolume viewVolume(SoState* state, const SbViewportRegion& vp) const;
+
   SoSeparator* m_root = nullptr;
+  SoCamera* m_camera = nullptr;
   SoEventCallback* m_events = nullptr;
   SoSwitch* m_lineSwitch = nullptr;
   SoCoordinate3* m_lineCoords = nullptr;

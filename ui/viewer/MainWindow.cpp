@@ -7,7 +7,6 @@
 #include <Inventor/actions/SoGLRenderAction.h>
 #include <Inventor/nodes/SoCallback.h>
 #include <Inventor/nodes/SoCamera.h>
-#include <Inventor/nodes/SoDirectionalLight.h>
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QAction>
@@ -40,9 +39,12 @@
 #include <QVBoxLayout>
 
 #include "AtomicFile.h"
+#include "ControlNetDisplay.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
+#include "HelpDialogs.h"
 #include "PlotPanel.h"
+#include "ViewFraming.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -72,6 +74,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   layout->addWidget(m_viewer->getWidget());
   m_viewer->setBackgroundColor(SbColor(0.18f, 0.2f, 0.24f));
   m_viewer->setSceneGraph(m_wrapper);
+  m_framing = new ViewFraming(m_viewer, this);
+  m_netDisplay = new ControlNetDisplay(this);
 
   createActions();
   createDocks();
@@ -166,6 +170,16 @@ void MainWindow::createActions() {
     for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(v);
   });
   bar->addWidget(m_speed);
+
+  QMenu* view = menuBar()->addMenu(tr("&View"));
+  m_framing->addActions(view);
+  view->addSeparator();
+  m_netDisplay->addActions(view);
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  a = help->addAction(tr("&Keyboard Shortcuts"), this, [this] { showShortcuts(this, menuBar()); });
+  a->setShortcut(QKeySequence::HelpContents);
+  help->addAction(tr("&About bsdeform-viewer"), this, [this] { showAbout(this); });
 }
 
 void MainWindow::createDocks() {
@@ -244,8 +258,14 @@ void MainWindow::showScene() {
   m_wrapper->addChild(m_frameCounter);
   m_wrapper->addChild(m_drag->node());
   m_wrapper->addChild(m_doc->root());
+  m_wrapper->addChild(m_netDisplay->node());
+  m_netDisplay->setScene(m_doc->root());
+  // SoQt looks for a camera only when it gets a new graph: with the same root it kept its own
+  // camera, which the scene's camera overrode in rendering while the mouse moved SoQt's
+  m_viewer->setSceneGraph(nullptr);
   m_viewer->setSceneGraph(m_wrapper);
-  m_viewer->viewAll();
+  m_drag->setCamera(m_viewer->getCamera());
+  m_framing->sceneShown(m_doc->root());
   setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
   m_frames = m_lastFrames = 0;
@@ -318,18 +338,11 @@ QImage MainWindow::screenshot(const QSize& size) {
     m_viewer->render();
     return gl->grabFrameBuffer();
   }
-  // another size: the same camera and headlight, rendered offscreen (EGL)
+  // another size: the same camera, rendered offscreen (EGL); renderOffscreen adds the one
+  // headlight a viewer has (a second one here made the picture overexposed)
   SoSeparator* root = new SoSeparator;
   root->ref();
-  SoCamera* cam = m_viewer->getCamera();
-  if (cam) {
-    root->addChild(cam->copy());
-    auto* light = new SoDirectionalLight;
-    SbVec3f dir;
-    cam->orientation.getValue().multVec(SbVec3f(0, 0, -1), dir);
-    light->direction = dir;
-    root->addChild(light);
-  }
+  if (SoCamera* cam = m_viewer->getCamera()) root->addChild(cam->copy());
   root->addChild(m_doc->root());
   if (gl) gl->doneCurrent();  // EGL cannot make its context current while SoQt's GLX one is
   Image img;
@@ -574,6 +587,8 @@ void MainWindow::selectionChanged() {
 
 void MainWindow::tick() {
   m_drag->update();
+  m_framing->follow();
+  m_netDisplay->update();
   m_plots->sample();
   if (++m_ticks % 10 == 0) m_editor->refresh();
   updateStatus();

@@ -28,6 +28,8 @@ namespace bsdeform {
 class DragTool;
 class FieldEditor;
 class PlotPanel;
+class ControlNetDisplay;
+class ViewFraming;
 
 /// What to do with a recovery file left by a viewer that died.
 enum class RecoveryChoice {
@@ -69,6 +71,8 @@ class MainWindow : public QMainWindow {
   SoQtExaminerViewer* viewer() const { return m_viewer; }
   DragTool& dragTool() { return *m_drag; }
   PlotPanel& plotPanel() { return *m_plots; }
+  ViewFraming& framing() { return *m_framing; }
+  ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   FieldEditor& fieldEditor() { return *m_editor; }
   Autosave& autosave() { return *m_autosave; }
   /// Frames drawn since the scene was opened.
@@ -117,6 +121,8 @@ class MainWindow : public QMainWindow {
   QTreeWidget* m_tree = nullptr;
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
+  ViewFraming* m_framing = nullptr;
+  ControlNetDisplay* m_netDisplay = nullptr;
   QTimer* m_timer = nullptr;
   Autosave* m_autosave = nullptr;
   bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar

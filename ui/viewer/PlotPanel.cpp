@@ -10,8 +10,11 @@
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QValueAxis>
 #include <algorithm>
+#include <cmath>
 
 #include "AtomicFile.h"
+#include "Plot.h"
+#include "bsdeform/PlotScale.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -23,26 +26,36 @@ constexpr int kMaxSamples = 4000;  // older samples are dropped so plotting stay
 
 PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   using namespace QtCharts;
-  auto* chart = new QChart;
-  m_axisX = new QValueAxis;
-  m_axisY = new QValueAxis;
-  m_axisX->setTitleText(tr("time"));
-  m_axisX->setLabelFormat(QStringLiteral("%.3g"));
-  m_axisY->setLabelFormat(QStringLiteral("%.3g"));
-  chart->addAxis(m_axisX, Qt::AlignBottom);
-  chart->addAxis(m_axisY, Qt::AlignLeft);
-  const char* names[3] = {"norm (eq. 15)", "kinetic energy", "strain energy"};
+  m_charts = new QWidget;
+  auto* row = new QHBoxLayout(m_charts);
+  row->setContentsMargins(0, 0, 0, 0);
+  const char* titles[2] = {QT_TR_NOOP("norm (eq. 15)"), QT_TR_NOOP("energy")};
+  for (int c = 0; c < 2; ++c) {
+    auto* chart = new QChart;
+    m_axisX[c] = new QValueAxis;
+    m_axisY[c] = new QValueAxis;
+    m_axisX[c]->setTitleText(tr("time"));
+    m_axisY[c]->setTitleText(tr(titles[c]));
+    chart->addAxis(m_axisX[c], Qt::AlignBottom);
+    chart->addAxis(m_axisY[c], Qt::AlignLeft);
+    chart->setMargins(QMargins(2, 2, 2, 2));
+    chart->legend()->setAlignment(Qt::AlignTop);
+    m_views[c] = new QChartView(chart);
+    m_views[c]->setRenderHint(QPainter::Antialiasing);
+    m_views[c]->setMinimumHeight(220);
+    row->addWidget(m_views[c]);
+  }
+  const char* names[3] = {QT_TR_NOOP("norm (eq. 15)"), QT_TR_NOOP("kinetic energy"), QT_TR_NOOP("strain energy")};
   for (int i = 0; i < 3; ++i) {
+    const int c = i == 0 ? 0 : 1;
     m_series[i] = new QLineSeries;
     m_series[i]->setName(tr(names[i]));
-    chart->addSeries(m_series[i]);
-    m_series[i]->attachAxis(m_axisX);
-    m_series[i]->attachAxis(m_axisY);
+    m_views[c]->chart()->addSeries(m_series[i]);
+    m_series[i]->attachAxis(m_axisX[c]);
+    m_series[i]->attachAxis(m_axisY[c]);
   }
-  chart->setMargins(QMargins(2, 2, 2, 2));
-  m_view = new QChartView(chart);
-  m_view->setRenderHint(QPainter::Antialiasing);
-  m_view->setMinimumHeight(240);
+  m_views[0]->chart()->legend()->setVisible(false);  // one series: the axis title says it
+  updateAxes();
   auto* png = new QPushButton(tr("Export PNG..."));
   auto* csv = new QPushButton(tr("Export CSV..."));
   auto* buttons = new QHBoxLayout;
@@ -51,7 +64,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
   buttons->addWidget(csv);
   auto* layout = new QVBoxLayout(this);
   layout->setContentsMargins(0, 0, 0, 0);
-  layout->addWidget(m_view);
+  layout->addWidget(m_charts);
   layout->addLayout(buttons);
   connect(png, &QPushButton::clicked, this, [this] {
     const QString path = QFileDialog::getSaveFileName(this, tr("Export plot"), QString(), tr("PNG images (*.png)"));
@@ -73,6 +86,7 @@ void PlotPanel::clearHistory() {
   m_stride = 1;
   m_skipped = 0;
   for (auto* s : m_series) s->clear();
+  updateAxes();
 }
 
 void PlotPanel::setHistoryLimit(int limit) {
@@ -94,7 +108,7 @@ void PlotPanel::thinHistory() {
 
 void PlotPanel::setSurface(SoBSplineDeformSurface* surface, const QString& name) {
   m_surface = surface;
-  m_view->chart()->setTitle(surface ? name : QString());
+  m_views[0]->chart()->setTitle(surface ? name : QString());
   clearHistory();
   sample();
 }
@@ -119,16 +133,30 @@ void PlotPanel::sample() {
     if (m_series[i]->count() >= kMaxSamples) m_series[i]->removePoints(0, m_series[i]->count() - kMaxSamples + 1);
     m_series[i]->append(t, values[i]);
   }
-  // the axes follow what the series show (the latest kMaxSamples samples)
-  double lo = 0.0, hi = 1e-12;
-  for (const auto* series : m_series)
-    for (int i = 0; i < series->count(); ++i) {
-      lo = std::min(lo, series->at(i).y());
-      hi = std::max(hi, series->at(i).y());
-    }
-  const double t0 = m_series[0]->at(0).x();
-  m_axisX->setRange(t0, std::max(t, t0 + 1e-9));
-  m_axisY->setRange(lo, hi * 1.05);
+  updateAxes();
+}
+
+// Round ticks over what the series show (the latest kMaxSamples samples); y >= 0: norms and
+// energies are non-negative. One sample or none (after Reset) still gives a real range.
+void PlotPanel::updateAxes() {
+  const bool any = m_series[0]->count() > 0;
+  const double t0 = any ? m_series[0]->at(0).x() : 0.0, t1 = any ? m_series[0]->at(m_series[0]->count() - 1).x() : 0.0;
+  const AxisTicks time = niceTicks(t0, t1, 6);
+  for (QtCharts::QValueAxis* a : m_axisX) applyTicks(a, time);
+  for (int c = 0; c < 2; ++c) {
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = c == 0 ? 0 : 1; i < (c == 0 ? 1 : 3); ++i)
+      for (int k = 0; k < m_series[i]->count(); ++k) {
+        lo = std::min(lo, m_series[i]->at(k).y());
+        hi = std::max(hi, m_series[i]->at(k).y());
+      }
+    if (!(lo <= hi)) lo = hi = 0.0;
+    applyTicks(m_axisY[c], niceTicks(lo, hi, 6, true));
+  }
+}
+
+const QtCharts::QValueAxis* PlotPanel::axis(Axis which) const {
+  return which == Axis::Time ? m_axisX[0] : which == Axis::Norm ? m_axisY[0] : m_axisY[1];
 }
 
 bool PlotPanel::exportCsv(const QString& path, QString& error) const {
@@ -140,7 +168,7 @@ bool PlotPanel::exportCsv(const QString& path, QString& error) const {
 }
 
 bool PlotPanel::exportPng(const QString& path, QString& error) {
-  return savePngAtomically(path, m_view->grab().toImage(), error);
+  return savePngAtomically(path, m_charts->grab().toImage(), error);
 }
 
 }  // namespace bsdeform

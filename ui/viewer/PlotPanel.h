@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file PlotPanel.h
-/// Live plots of the deformation norm (eq. 15), kinetic and strain energy of one surface.
+/// Live plots of one surface: the deformation norm (eq. 15) in one chart, the kinetic and strain
+/// energies in another (their scales differ by orders of magnitude), with round ticks, y >= 0.
 
 #include <QVector>
 #include <QWidget>
@@ -33,6 +34,9 @@ class PlotPanel : public QWidget {
   int historyStride() const { return m_stride; }
   bool exportCsv(const QString& path, QString& error) const;
   bool exportPng(const QString& path, QString& error);
+  /// The axes (tests): time (both charts share the range), norm, energies.
+  enum class Axis { Time, Norm, Energy };
+  const QtCharts::QValueAxis* axis(Axis which) const;
 
  signals:
   /// An export failed (message names the file).
@@ -42,10 +46,12 @@ class PlotPanel : public QWidget {
   void clearHistory();
   void thinHistory();
   SoBSplineDeformSurface* m_surface = nullptr;
-  QtCharts::QChartView* m_view = nullptr;
-  QtCharts::QLineSeries* m_series[3] = {};
-  QtCharts::QValueAxis* m_axisX = nullptr;
-  QtCharts::QValueAxis* m_axisY = nullptr;
+  void updateAxes();
+  QWidget* m_charts = nullptr;                     // both chart views (exported as one picture)
+  QtCharts::QChartView* m_views[2] = {};           // norm, energies
+  QtCharts::QLineSeries* m_series[3] = {};         // norm, kinetic, strain
+  QtCharts::QValueAxis* m_axisX[2] = {};           // time axis of each chart
+  QtCharts::QValueAxis* m_axisY[2] = {};           // norm, energy
   QVector<double> m_t, m_norm, m_kinetic, m_strain;
   int m_historyLimit = 100000;
   int m_stride = 1;      // keep one sample in m_stride
