@@ -90,12 +90,14 @@ TEST_CASE("Viewer view: Follow re-frames a scene that leaves the view, and only 
 TEST_CASE("Viewer view: the default scene stays framed while it plays", "[ui]") {
   auto w = makeWindow("region_load.iv");
   w->setPlaying(true);
-  for (int i = 0; i < 8; ++i) {
+  // until the bump has passed its peak (t = 0.9) and settled (t = 3), however slowly a loaded
+  // machine runs the simulation (it drops time it cannot keep up with)
+  for (int i = 0; i < 120 && firstSurface(*w)->simulation().time() < 3.0; ++i) {
     QTest::qWait(500);
     // in view: Follow re-frames at its next tick once the growing bump passes its margin
     checkFramed(w->framing().projectedSceneBox(), 0.3f, 0.0f);
   }
-  CHECK(firstSurface(*w)->simulation().time() > 2.0);
+  CHECK(firstSurface(*w)->simulation().time() >= 3.0);
 }
 
 TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one headlight)", "[ui]") {
