@@ -20,15 +20,14 @@
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "ViewerTestSupport.h"
 #include "PlotPanel.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using bsdeform::MainWindow;
-
-// Q_INIT_RESOURCE must be used outside any namespace.
-static void initViewerResources() { Q_INIT_RESOURCE(viewer); }
+using namespace bsdeform::test;
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)
@@ -40,47 +39,6 @@ static void initViewerResources() { Q_INIT_RESOURCE(viewer); }
 #endif
 
 namespace {
-
-void fatal(const SbString msg, SoQt::FatalErrors, void*) {
-  // A missing GL canvas must fail the test, not open a dialog and hang (coin-notes §6).
-  std::fprintf(stderr, "SoQt fatal error: %s\n", msg.getString());
-  std::abort();
-}
-
-void ensureApp() {
-  static QApplication* app = nullptr;
-  if (app) return;
-  static int argc = 1;
-  static char name[] = "bsdeform_ui_tests";
-  static char* argv[] = {name, nullptr};
-  // autosaves and settings of the windows under test stay out of the user's home
-  static QTemporaryDir home;
-  qputenv("XDG_DATA_HOME", QFile::encodeName(home.filePath(QStringLiteral("data"))));
-  app = new QApplication(argc, argv);
-  QApplication::setOrganizationName(QStringLiteral("bsdeform-tests"));
-  initViewerResources();
-  bsdeform::disableDynamicNodeLoading();
-  SoQt::setFatalErrorHandler(fatal, nullptr);
-  SoQt::init(argc, argv, "bsdeform_ui_tests");
-  bsdeform::initNodes();
-}
-
-QString scenePath(const char* name) { return QStringLiteral(BSDEFORM_SCENES_DIR "/") + QLatin1String(name); }
-
-std::unique_ptr<MainWindow> makeWindow(const char* scene) {
-  ensureApp();
-  auto w = std::make_unique<MainWindow>();
-  w->setInteractive(false);
-  REQUIRE(w->openScene(scenePath(scene)));
-  w->show();
-  REQUIRE(QTest::qWaitForWindowExposed(w.get()));
-  return w;
-}
-
-SoBSplineDeformSurface* firstSurface(MainWindow& w) {
-  REQUIRE(!w.document().surfaces().isEmpty());
-  return w.document().surfaces().first();
-}
 
 // Pixel position of a world point in the 3D view.
 QPoint toScreen(MainWindow& w, const SbVec3f& world) {

@@ -19,6 +19,7 @@
 #include <QLineEdit>
 #include <QPushButton>
 #include <QSpinBox>
+#include <memory>
 
 namespace bsdeform {
 
@@ -69,10 +70,7 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       auto* box = new QCheckBox;
       auto* bf = static_cast<SoSFBool*>(f);
       connect(box, &QCheckBox::toggled, this, [this, bf](bool on) {
-        if (bf->getValue() != SbBool(on)) {
-          bf->setValue(on);
-          emit edited();
-        }
+        if (bf->getValue() != SbBool(on)) commit(bf, [bf, on] { bf->setValue(on); });
       });
       m_form->addRow(label, box);
       m_bindings.push_back({f, box, [bf, box] {
@@ -88,8 +86,8 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
         combo->addItem(QString::fromLatin1(en.getString()), value);
       }
       connect(combo, QOverload<int>::of(&QComboBox::activated), this, [this, ef, combo](int index) {
-        ef->setValue(combo->itemData(index).toInt());
-        emit edited();
+        const int value = combo->itemData(index).toInt();
+        if (ef->getValue() != value) commit(ef, [ef, value] { ef->setValue(value); });
       });
       m_form->addRow(label, combo);
       m_bindings.push_back({f, combo, [ef, combo] {
@@ -101,10 +99,8 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       spin->setRange(-1000000, 1000000);
       auto* inf = static_cast<SoSFInt32*>(f);
       connect(spin, &QSpinBox::editingFinished, this, [this, inf, spin] {
-        if (inf->getValue() != spin->value()) {
-          inf->setValue(spin->value());
-          emit edited();
-        }
+        const int value = spin->value();
+        if (inf->getValue() != value) commit(inf, [inf, value] { inf->setValue(value); });
       });
       m_form->addRow(label, spin);
       m_bindings.push_back({f, spin, [inf, spin] {
@@ -119,12 +115,12 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
         f->get(current);
         const QString text = edit->text().trimmed();
         if (text == QString::fromUtf8(current.getString())) return;
-        if (!f->set(text.toUtf8().constData())) {
+        bool parsed = true;
+        commit(f, [f, &text, &parsed] { parsed = f->set(text.toUtf8().constData()); });
+        if (!parsed) {
           emit rejected(QStringLiteral("%1: '%2' is not a valid value").arg(label, text));
           edit->setText(QString::fromUtf8(current.getString()));
-          return;
         }
-        emit edited();
       });
       m_form->addRow(label, edit);
       m_bindings.push_back({f, edit, [f, edit] {
@@ -135,6 +131,24 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
     }
   }
   refresh();
+}
+
+void FieldEditor::commit(SoField* field, const std::function<void()>& apply) {
+  std::unique_ptr<SoField> before(static_cast<SoField*>(field->getTypeId().createInstance()));
+  before->copyFrom(*field);
+  const bool beforeIsDefault = field->isDefault();
+  apply();
+  if (before->isSame(*field)) return;
+  if (m_onChange) m_onChange(m_container, field, *before, beforeIsDefault);
+  emit edited();
+}
+
+QWidget* FieldEditor::editorOf(const QString& name) const {
+  if (!m_container) return nullptr;
+  SoField* f = m_container->getField(SbName(name.toLatin1().constData()));
+  for (const Binding& b : m_bindings)
+    if (b.field == f) return b.widget;
+  return nullptr;
 }
 
 void FieldEditor::refresh() {

@@ -23,6 +23,13 @@ class FieldEditor : public QWidget {
   SoFieldContainer* container() const { return m_container; }
   /// Re-reads every field into its editor (skipping the one being edited).
   void refresh();
+  /// The widget that edits the field called `name` (nullptr if it is not shown).
+  QWidget* editorOf(const QString& name) const;
+  /// Told about every change made from the editor, after the field took the new value:
+  /// `before` is a copy of the old value (the window makes it an undoable command). Without
+  /// one the change simply stays.
+  using ChangeHandler = std::function<void(SoFieldContainer* owner, SoField* field, const SoField& before, bool beforeIsDefault)>;
+  void setChangeHandler(ChangeHandler handler) { m_onChange = std::move(handler); }
 
  signals:
   /// A value was rejected by the field's parser (message names the field and the value).
@@ -37,6 +44,9 @@ class FieldEditor : public QWidget {
     std::function<void()> read;
   };
   void clear();
+  /// Runs `apply` (which sets `field` from its widget) and reports a change.
+  void commit(SoField* field, const std::function<void()>& apply);
+  ChangeHandler m_onChange;
   SoFieldContainer* m_container = nullptr;
   QFormLayout* m_form = nullptr;
   QVector<Binding> m_bindings;

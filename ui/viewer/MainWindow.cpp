@@ -37,10 +37,12 @@
 #include <QTimer>
 #include <QToolBar>
 #include <QTreeWidget>
+#include <QUndoStack>
 #include <QVBoxLayout>
 
 #include "AtomicFile.h"
 #include "DragTool.h"
+#include "EditCommands.h"
 #include "FieldEditor.h"
 #include "PlotPanel.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -53,11 +55,16 @@ namespace bsdeform {
 namespace {
 constexpr int kMaxRecent = 8;
 const char* kRecentKey = "recentFiles";
+const char* kFolderKey = "lastFolder";
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
   setWindowTitle(tr("bsdeform viewer"));
   setAcceptDrops(true);
+  m_undo = new QUndoStack(this);
+  m_edit.reset(new EditContext{*m_doc, [this](SoFieldContainer* o, SoField* f) { fieldChanged(o, f); },
+                               [this](SoBase* focus) { structureChanged(focus); }});
+  connect(m_undo, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean); });
   m_wrapper = new SoSeparator;
   m_wrapper->ref();
   m_frameCounter = new SoCallback;
@@ -74,6 +81,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_viewer->setSceneGraph(m_wrapper);
 
   createActions();
+  createEditActions();
   createDocks();
   createStatusBar();
   updateRecentMenu();
@@ -98,6 +106,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
 }
 
 MainWindow::~MainWindow() {
+  m_undo->clear();  // the commands hold nodes of the scene
   m_drag->release();
   m_viewer->setSceneGraph(nullptr);
   delete m_viewer;
@@ -118,6 +127,8 @@ void MainWindow::createActions() {
   m_recentMenu = file->addMenu(tr("Open &Recent"));
   a = file->addAction(tr("Re&load"), this, &MainWindow::reload);
   a->setShortcut(QKeySequence::Refresh);
+  a = file->addAction(tr("&Save"), this, &MainWindow::save);
+  a->setShortcut(QKeySequence::Save);
   a = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
   a->setShortcut(QKeySequence::SaveAs);
   file->addSeparator();
@@ -168,6 +179,34 @@ void MainWindow::createActions() {
   bar->addWidget(m_speed);
 }
 
+void MainWindow::createEditActions() {
+  QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+  QAction* undo = m_undo->createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = m_undo->createRedoAction(this, tr("&Redo"));
+  redo->setShortcuts({QKeySequence(tr("Ctrl+Shift+Z")), QKeySequence::Redo});
+  edit->addAction(undo);
+  edit->addAction(redo);
+  edit->addSeparator();
+  QAction* del = edit->addAction(tr("&Delete"), this, &MainWindow::deleteSelected);
+  del->setShortcut(QKeySequence::Delete);
+  del->setToolTip(tr("Delete the selected surface or force field"));
+
+  QMenu* insert = menuBar()->addMenu(tr("&Insert"));
+  QMenu* forces = insert->addMenu(tr("&Force Field"));
+  forces->setToolTipsVisible(true);
+  SoForceField* probe = new SoForceField;  // for the names of its types
+  probe->ref();
+  for (int k = 0; k < probe->type.getNumEnums(); ++k) {
+    SbName name;
+    const int type = probe->type.getEnum(k, name);
+    QAction* a = forces->addAction(QString::fromLatin1(name.getString()), this, [this, type] { insertForceField(type); });
+    a->setToolTip(tr("Add a %1 force field to the selected surface").arg(QString::fromLatin1(name.getString())));
+  }
+  probe->unref();
+  insert->addAction(tr("&Surface"), this, &MainWindow::insertSurface);
+}
+
 void MainWindow::createDocks() {
   auto* sceneDock = new QDockWidget(tr("Scene"), this);
   sceneDock->setObjectName(QStringLiteral("sceneDock"));
@@ -176,6 +215,9 @@ void MainWindow::createDocks() {
   m_tree->setHeaderHidden(true);
   connect(m_tree, &QTreeWidget::itemSelectionChanged, this, &MainWindow::selectionChanged);
   m_editor = new FieldEditor;
+  m_editor->setChangeHandler([this](SoFieldContainer* owner, SoField* field, const SoField& before, bool beforeIsDefault) {
+    m_undo->push(new SetFieldCommand(*m_edit, owner, field, before, beforeIsDefault, *field, true));
+  });
   connect(m_editor, &FieldEditor::rejected, this, [this](const QString& m) { statusBar()->showMessage(m, 5000); });
   auto* scroll = new QScrollArea;
   scroll->setWidget(m_editor);
@@ -223,6 +265,7 @@ bool MainWindow::openScene(const QString& path) {
   }
   m_lastError.clear();
   addRecent(QFileInfo(path).absoluteFilePath());
+  rememberFolder(path);
   showScene();
   m_autosave->markClean();
   return true;
@@ -240,13 +283,15 @@ void MainWindow::openDefaultScene() {
 }
 
 void MainWindow::showScene() {
+  m_undo->clear();  // the edits belong to the scene that was shown
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_frameCounter);
   m_wrapper->addChild(m_drag->node());
   m_wrapper->addChild(m_doc->root());
   m_viewer->setSceneGraph(m_wrapper);
   m_viewer->viewAll();
-  setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
+  setWindowTitle(tr("%1[*] - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
+  setWindowModified(false);
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
   m_frames = m_lastFrames = 0;
   m_lastSteps = 0;
@@ -256,11 +301,41 @@ void MainWindow::showScene() {
 }
 
 void MainWindow::open() {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), QString(), tr("Inventor scenes (*.iv);;All files (*)"));
+  if (!maybeSave()) return;
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), openFolder(), tr("Inventor scenes (*.iv);;All files (*)"));
   if (!path.isEmpty()) openScene(path);
 }
 
+void MainWindow::openAfterAsking(const QString& path) {
+  if (maybeSave()) openScene(path);
+}
+
+QString MainWindow::openFolder() const {
+  const QString last = QSettings().value(kFolderKey).toString();
+  if (!last.isEmpty() && QFileInfo(last).isDir()) return last;
+  // the installed scenes, then the source tree's (a build that is run where it was built)
+  for (const QString& dir : {QCoreApplication::applicationDirPath() + QStringLiteral("/../share/bsdeform/scenes"),
+                             QStringLiteral(BSDEFORM_SOURCE_SCENES_DIR)})
+    if (QFileInfo(dir).isDir()) return QFileInfo(dir).canonicalFilePath();
+  return QString();
+}
+
+void MainWindow::rememberFolder(const QString& path) {
+  QSettings().setValue(kFolderKey, QFileInfo(path).absolutePath());
+}
+
+bool MainWindow::maybeSave() {
+  if (m_undo->isClean() || !m_interactive) return true;
+  const QString name = m_doc->path().isEmpty() ? tr("the default scene") : QFileInfo(m_doc->path()).fileName();
+  const auto answer = QMessageBox::warning(this, tr("Unsaved changes"), tr("Save the changes to %1?").arg(name),
+                                           QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  if (answer == QMessageBox::Cancel) return false;
+  if (answer == QMessageBox::Save) return saveScene();
+  return true;
+}
+
 void MainWindow::reload() {
+  if (!maybeSave()) return;
   if (m_doc->path().isEmpty())
     openDefaultScene();
   else
@@ -274,14 +349,31 @@ bool MainWindow::saveSceneAs(const QString& path) {
     return false;
   }
   addRecent(QFileInfo(path).absoluteFilePath());
+  rememberFolder(path);
+  if (m_doc->path() != path) {
+    m_doc->setPath(path);
+    setWindowTitle(tr("%1[*] - bsdeform viewer").arg(QFileInfo(path).fileName()));
+  }
+  m_undo->setClean();
   m_autosave->markClean();  // saved: the recovery file is no longer needed
   statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
   return true;
 }
 
+bool MainWindow::saveScene() {
+  if (m_doc->path().isEmpty()) {
+    saveAs();
+    return m_undo->isClean();
+  }
+  return saveSceneAs(m_doc->path());
+}
+
+void MainWindow::save() { saveScene(); }
+
 void MainWindow::saveAs() {
   // QFileDialog asks before replacing an existing file; the file is written atomically.
-  QString path = QFileDialog::getSaveFileName(this, tr("Save scene as"), m_doc->path(), tr("Inventor scenes (*.iv)"));
+  QString path = QFileDialog::getSaveFileName(this, tr("Save scene as"), m_doc->path().isEmpty() ? openFolder() : m_doc->path(),
+                                              tr("Inventor scenes (*.iv)"));
   if (path.isEmpty()) return;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");
   saveSceneAs(path);
@@ -400,7 +492,7 @@ void MainWindow::updateRecentMenu() {
   m_recentMenu->clear();
   const QStringList recent = QSettings().value(kRecentKey).toStringList();
   for (const QString& path : recent)
-    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openScene(path); })->setToolTip(path);
+    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openAfterAsking(path); })->setToolTip(path);
   m_recentMenu->setEnabled(!recent.isEmpty());
 }
 
@@ -415,12 +507,16 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
 void MainWindow::dropEvent(QDropEvent* e) {
   for (const QUrl& url : e->mimeData()->urls())
     if (url.isLocalFile()) {
-      openScene(url.toLocalFile());
+      openAfterAsking(url.toLocalFile());
       return;
     }
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {
+  if (!maybeSave()) {
+    e->ignore();
+    return;
+  }
   m_timer->stop();
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
@@ -499,6 +595,7 @@ bool MainWindow::isPlaying() const {
 
 void MainWindow::setPlaying(bool on) {
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->on = on;
+  m_editor->refresh();
   m_playAction->setChecked(on);
   m_playAction->setText(on ? tr("Pause") : tr("Play"));
 }
@@ -546,6 +643,86 @@ void MainWindow::populateScenePanel() {
   }
   m_tree->expandAll();
   if (!m_doc->surfaces().isEmpty()) selectSurface(0);
+}
+
+SoBase* MainWindow::selectedNode() const {
+  const QList<QTreeWidgetItem*> sel = m_tree->selectedItems();
+  if (sel.isEmpty() || !sel.first()->data(0, Qt::UserRole).isValid()) return nullptr;
+  const int code = sel.first()->data(0, Qt::UserRole).toInt();
+  if (code >= 0) return code < m_doc->surfaces().size() ? m_doc->surfaces()[code] : nullptr;
+  return -1 - code < m_doc->forceFields().size() ? m_doc->forceFields()[-1 - code] : nullptr;
+}
+
+bool MainWindow::selectNode(SoBase* node) {
+  for (int top = 0; top < m_tree->topLevelItemCount(); ++top) {
+    QTreeWidgetItem* group = m_tree->topLevelItem(top);
+    for (int i = 0; i < group->childCount(); ++i) {
+      const int code = group->child(i)->data(0, Qt::UserRole).toInt();
+      SoBase* n = code >= 0 ? static_cast<SoBase*>(m_doc->surfaces()[code]) : m_doc->forceFields()[-1 - code];
+      if (n == node) {
+        m_tree->setCurrentItem(group->child(i));
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool MainWindow::insertForceField(int type) {
+  SoBase* sel = selectedNode();
+  SoBSplineDeformSurface* surface = nullptr;
+  if (sel && sel->isOfType(SoBSplineDeformSurface::getClassTypeId()))
+    surface = static_cast<SoBSplineDeformSurface*>(sel);
+  else if (!m_doc->surfaces().isEmpty())
+    surface = m_doc->surfaces()[std::max(0, std::min(m_selectedSurface, int(m_doc->surfaces().size()) - 1))];
+  if (!surface) {
+    reportError(tr("Insert force field"), tr("the scene has no surface to add a force field to"));
+    return false;
+  }
+  m_undo->push(new InsertForceCommand(*m_edit, surface, type));
+  return true;
+}
+
+void MainWindow::insertSurface() {
+  if (!m_doc->root()) return;
+  m_undo->push(new InsertSurfaceCommand(*m_edit, m_doc->root()));
+}
+
+bool MainWindow::deleteSelected() {
+  SoBase* sel = selectedNode();
+  if (!sel) return false;
+  if (sel->isOfType(SoBSplineDeformSurface::getClassTypeId()))
+    m_undo->push(new DeleteCommand(*m_edit, static_cast<SoBSplineDeformSurface*>(sel)));
+  else
+    m_undo->push(new DeleteCommand(*m_edit, static_cast<SoForceField*>(sel)));
+  return true;
+}
+
+void MainWindow::fieldChanged(SoFieldContainer* owner, SoField* field) {
+  if (owner->isOfType(SoForceField::getClassTypeId()) && field == &static_cast<SoForceField*>(owner)->type) {
+    structureChanged(owner);  // its label in the panel and the fields it shows change
+    return;
+  }
+  if (m_editor->container() != owner) selectNode(owner);  // an undo shows what it changed
+  m_editor->refresh();
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId()) &&
+      (field == &static_cast<SoBSplineDeformSurface*>(owner)->on))
+    updateStatus();
+}
+
+void MainWindow::structureChanged(SoBase* focus) {
+  m_drag->release();
+  // surfaces that came in run (or not) and at the speed as the others do
+  const bool playing = m_playAction->isChecked();
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) {
+    if (s->on.getValue() != SbBool(playing)) s->on = playing;
+    if (s->speed.getValue() != float(m_speed->value())) s->speed = float(m_speed->value());
+  }
+  populateScenePanel();  // selects the first surface, if any
+  if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
+    m_editor->setContainer(nullptr, QString());
+    m_plots->setSurface(nullptr, QString());
+  }
 }
 
 void MainWindow::selectSurface(int index) {

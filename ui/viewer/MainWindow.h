@@ -19,6 +19,10 @@ class QMenu;
 class QTimer;
 class QTreeWidget;
 class QTreeWidgetItem;
+class QUndoStack;
+class SoBase;
+class SoField;
+class SoFieldContainer;
 class SoQtExaminerViewer;
 class SoSeparator;
 class SoCallback;
@@ -28,6 +32,7 @@ namespace bsdeform {
 class DragTool;
 class FieldEditor;
 class PlotPanel;
+struct EditContext;
 
 /// What to do with a recovery file left by a viewer that died.
 enum class RecoveryChoice {
@@ -47,8 +52,28 @@ class MainWindow : public QMainWindow {
   bool openScene(const QString& path);
   /// Shows the built-in default scene.
   void openDefaultScene();
-  /// Writes the scene with its state (used by Save As).
+  /// Writes the scene with its state (used by Save As); the file becomes the document's.
   bool saveSceneAs(const QString& path);
+  /// Saves to the scene's own file (Save As for the built-in default scene).
+  bool saveScene();
+  /// The edits since the scene was opened or saved: Edit > Undo / Redo, clean after a save.
+  QUndoStack& undoStack() { return *m_undo; }
+  /// Adds a force field of `type` (SoForceField::Type) to the selected surface, undoably.
+  /// False when no surface is selected.
+  bool insertForceField(int type);
+  /// Adds a surface (default fields) beside the scene, undoably, and selects it.
+  void insertSurface();
+  /// Deletes the selected surface or force field, undoably. False when nothing is selected.
+  bool deleteSelected();
+  /// The selected surface or force field in the scene panel (nullptr: none).
+  SoBase* selectedNode() const;
+  /// Selects a surface or force field in the scene panel (false if it is not in the scene).
+  bool selectNode(SoBase* node);
+  /// With unsaved edits, asks whether to save them (interactive only: otherwise they are
+  /// dropped). True when the caller may go on (saved or discarded), false on Cancel.
+  bool maybeSave();
+  /// The folder the Open dialog starts in: the last one used, scenes/ the first time.
+  QString openFolder() const;
   /// Screenshot of the 3D view; at the view's size from the frame buffer, otherwise rendered
   /// offscreen with the same camera.
   QImage screenshot(const QSize& size = QSize());
@@ -82,6 +107,7 @@ class MainWindow : public QMainWindow {
  public slots:
   void open();
   void reload();
+  void save();
   void saveAs();
   void exportMeshDialog();
   void screenshotDialog();
@@ -102,6 +128,12 @@ class MainWindow : public QMainWindow {
   void showScene();
   void populateScenePanel();
   void selectionChanged();
+  void createEditActions();
+  /// Opens `path` after maybeSave() (the menu, recent files, a dropped file).
+  void openAfterAsking(const QString& path);
+  void fieldChanged(SoFieldContainer* owner, SoField* field);
+  void structureChanged(SoBase* focus);
+  void rememberFolder(const QString& path);
   void tick();
   void updateStatus();
   void reportError(const QString& title, const QString& message);
@@ -122,6 +154,8 @@ class MainWindow : public QMainWindow {
   bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
   QAction* m_playAction = nullptr;
   QAction* m_dragAction = nullptr;
+  QUndoStack* m_undo = nullptr;
+  std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
   QDoubleSpinBox* m_speed = nullptr;
   QLabel* m_timeLabel = nullptr;

@@ -32,12 +32,22 @@ void SceneDocument::adopt(SoSeparator* root, const QString& path) {
   if (m_root) m_root->unref();
   m_root = root;
   m_path = path;
+  m_clock.clear();
+  scan();
+}
+
+void SceneDocument::rescan() {
+  if (m_root) scan();
+}
+
+void SceneDocument::scan() {
   m_surfaces.clear();
   m_forceFields.clear();
+  m_clock.capture(m_root);
   SoSearchAction sa;
   sa.setType(SoBSplineDeformSurface::getClassTypeId());
   sa.setInterest(SoSearchAction::ALL);
-  sa.apply(root);
+  sa.apply(m_root);
   for (int i = 0; i < sa.getPaths().getLength(); ++i) {
     auto* s = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
     if (m_surfaces.contains(s)) continue;
@@ -77,11 +87,15 @@ bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QS
 }
 
 QByteArray SceneDocument::toText() const {
-  return m_root ? QByteArray::fromStdString(sceneToText(m_root)) : QByteArray();
+  if (!m_root) return QByteArray();
+  const AuthoredClock::Scope authored(m_clock);
+  return QByteArray::fromStdString(sceneToText(m_root));
 }
 
 bool SceneDocument::writeTo(const TextSink& sink) const {
-  return m_root && writeSceneText(m_root, sink);
+  if (!m_root) return false;
+  const AuthoredClock::Scope authored(m_clock);
+  return writeSceneText(m_root, sink);
 }
 
 bool SceneDocument::save(const QString& path, QString& error) const {

@@ -7,6 +7,7 @@
 #include <QString>
 #include <QVector>
 
+#include "bsdeform/AuthoredClock.h"
 #include "bsdeform/SceneText.h"
 
 class SoSeparator;
@@ -28,7 +29,8 @@ class SceneDocument {
   bool load(const QString& path, QString& error);
   /// Reads a scene from memory (the default scene).
   bool loadFromText(const QByteArray& text, const QString& name, QString& error);
-  /// Writes the scene with the current simulation state to `path` atomically
+  /// Writes the scene with the current simulation state to `path` atomically, with each
+  /// surface's `on` and `speed` as authored (clock()), not as the viewer's Play and speed set them
   /// (saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
@@ -45,6 +47,11 @@ class SceneDocument {
   /// A display name: the DEF name, or "Surface 1", "Force 2", ...
   QString nameOf(SoBSplineDeformSurface* s) const;
   QString nameOf(SoForceField* f) const;
+  /// Finds the surfaces and force fields again after the graph changed (a node inserted or
+  /// removed); newly seen surfaces' `on` and `speed` count as authored.
+  void rescan();
+  /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
+  AuthoredClock& clock() { return m_clock; }
 
   /// Writes the triangles of `surface` (world coordinates, with every transform above it) as
   /// Wavefront OBJ (positions, normals, (u, v) texture coordinates) or binary STL, chosen by
@@ -53,11 +60,13 @@ class SceneDocument {
 
  private:
   void adopt(SoSeparator* root, const QString& path);
+  void scan();
 
   SoSeparator* m_root = nullptr;
   QString m_path;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
+  AuthoredClock m_clock;
 };
 
 }  // namespace bsdeform

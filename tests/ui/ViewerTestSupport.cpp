@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+#include "ViewerTestSupport.h"
+
+#include <Inventor/Qt/SoQt.h>
+
+#include <QApplication>
+#include <QFile>
+#include <QTemporaryDir>
+#include <QTest>
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <cstdlib>
+
+#include "bsdeform/NodesInit.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+// Q_INIT_RESOURCE must be used outside any namespace.
+static void initViewerResources() { Q_INIT_RESOURCE(viewer); }
+
+namespace bsdeform::test {
+
+namespace {
+void fatal(const SbString msg, SoQt::FatalErrors, void*) {
+  // A missing GL canvas must fail the test, not open a dialog and hang (coin-notes §6).
+  std::fprintf(stderr, "SoQt fatal error: %s\n", msg.getString());
+  std::abort();
+}
+}  // namespace
+
+void ensureApp() {
+  static QApplication* app = nullptr;
+  if (app) return;
+  static int argc = 1;
+  static char name[] = "bsdeform_ui_tests";
+  static char* argv[] = {name, nullptr};
+  // autosaves and settings of the windows under test stay out of the user's home
+  static QTemporaryDir home;
+  qputenv("XDG_DATA_HOME", QFile::encodeName(home.filePath(QStringLiteral("data"))));
+  qputenv("XDG_CONFIG_HOME", QFile::encodeName(home.filePath(QStringLiteral("config"))));
+  app = new QApplication(argc, argv);
+  QApplication::setOrganizationName(QStringLiteral("bsdeform-tests"));
+  initViewerResources();
+  bsdeform::disableDynamicNodeLoading();
+  SoQt::setFatalErrorHandler(fatal, nullptr);
+  SoQt::init(argc, argv, "bsdeform_ui_tests");
+  bsdeform::initNodes();
+}
+
+QString scenePath(const char* name) { return QStringLiteral(BSDEFORM_SCENES_DIR "/") + QLatin1String(name); }
+
+std::unique_ptr<MainWindow> makeWindow(const char* scene) {
+  ensureApp();
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  REQUIRE(w->openScene(scenePath(scene)));
+  w->show();
+  REQUIRE(QTest::qWaitForWindowExposed(w.get()));
+  return w;
+}
+
+SoBSplineDeformSurface* firstSurface(MainWindow& w) {
+  REQUIRE(!w.document().surfaces().isEmpty());
+  return w.document().surfaces().first();
+}
+
+}  // namespace bsdeform::test
