@@ -4,6 +4,11 @@
 #include <QAbstractSpinBox>
 #include <QApplication>
 #include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QTextBrowser>
+#include <QToolBar>
 #include <QDir>
 #include <QFile>
 #include <QLineEdit>
@@ -24,6 +29,8 @@
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
+
+#include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
 
 using bsdeform::MainWindow;
 using namespace bsdeform::test;
@@ -241,4 +248,184 @@ TEST_CASE("Editing: the Open dialog starts in scenes/ the first time, then in th
   REQUIRE(QFile::copy(scenePath("region_load.iv"), copy));
   REQUIRE(w.openScene(copy));
   CHECK(QDir(w.openFolder()) == QDir(dir.path()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The field editor (item 3)
+
+namespace {
+
+QString textOf(QWidget* editor) {
+  REQUIRE(editor);
+  if (auto* spin = qobject_cast<QAbstractSpinBox*>(editor)) return spin->text();
+  if (auto* label = qobject_cast<QLabel*>(editor)) return label->text();
+  if (auto* line = qobject_cast<QLineEdit*>(editor)) return line->text();
+  if (auto* spin = editor->findChild<QAbstractSpinBox*>()) return spin->text();
+  FAIL("no text in this editor");
+  return QString();
+}
+
+QWidget* glWidget(MainWindow& w) { return w.viewer()->getGLWidget(); }
+
+// Gives the keyboard focus to `widget` and waits until it has it.
+void focus(QWidget* widget) {
+  widget->activateWindow();
+  widget->setFocus(Qt::OtherFocusReason);
+  QTRY_VERIFY(widget->hasFocus());
+}
+
+}  // namespace
+
+TEST_CASE("Field editor: typed editors with the field's range, values without float noise, tooltips from the field table", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  auto* w10 = qobject_cast<QDoubleSpinBox*>(ed.editorOf(QStringLiteral("w10")));
+  REQUIRE(w10);
+  CHECK(w10->minimum() == 0.0);
+  CHECK(w10->text() == QStringLiteral("0.1"));
+  auto* degree = qobject_cast<QAbstractSpinBox*>(ed.editorOf(QStringLiteral("uDegree")));
+  REQUIRE(degree);
+  CHECK(qobject_cast<QDoubleSpinBox*>(degree)->maximum() == 7.0);
+  CHECK(qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("integrator"))));
+  CHECK(qobject_cast<QCheckBox*>(ed.editorOf(QStringLiteral("on"))));
+  CHECK(ed.editorOf(QStringLiteral("radii"))->findChildren<QDoubleSpinBox*>().size() == 3);
+  // a float field: 0.3f is shown as 0.3
+  s->speed = 0.3f;
+  ed.refresh();
+  CHECK(textOf(ed.editorOf(QStringLiteral("speed"))) == QStringLiteral("0.3"));
+  s->damping = 0.1 + 0.2;  // 0.30000000000000004: shown as the double it is, no more digits
+  ed.refresh();
+  CHECK(textOf(ed.editorOf(QStringLiteral("damping"))) == QStringLiteral("0.30000000000000004"));
+  // the tooltip: meaning, unit, range, paper symbol
+  const QString tip = ed.editorOf(QStringLiteral("w10"))->toolTip();
+  CHECK(tip.contains(QStringLiteral("stretching along u")));
+  CHECK(tip.contains(QStringLiteral("ω10")));
+  CHECK(tip.contains(QStringLiteral("Range: &gt;= 0")));
+  CHECK(tip.contains(QStringLiteral("Unit:")));
+
+  // a force field shows the fields its type reads, and follows a type change
+  REQUIRE(w->insertForceField(SoForceField::POINT));
+  CHECK(ed.editorOf(QStringLiteral("point")));
+  CHECK(ed.editorOf(QStringLiteral("force")));
+  CHECK(!ed.editorOf(QStringLiteral("regionMin")));
+  CHECK(!ed.editorOf(QStringLiteral("coefficient")));
+  auto* type = qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("type")));
+  REQUIRE(type);
+  type->setCurrentIndex(type->findText(QStringLiteral("DRAG")));
+  emit type->activated(type->currentIndex());
+  QTest::qWait(50);  // the rows are rebuilt
+  CHECK(ed.editorOf(QStringLiteral("coefficient")));
+  CHECK(!ed.editorOf(QStringLiteral("point")));
+  CHECK(!ed.editorOf(QStringLiteral("force")));
+  w->undoStack().undo();  // back to POINT
+  QTest::qWait(50);
+  CHECK(ed.editorOf(QStringLiteral("point")));
+  CHECK(!ed.editorOf(QStringLiteral("coefficient")));
+
+  // Help > Field Reference shows the same table
+  w->showFieldReference();
+  auto* browser = w->findChild<QTextBrowser*>();
+  REQUIRE(browser);
+  CHECK(browser->toPlainText().contains(QStringLiteral("regionMin")));
+  CHECK(browser->toPlainText().contains(QStringLiteral("stretching along u")));
+}
+
+TEST_CASE("Field editor: an invalid value is shown in red with the reason and reverted when the editor loses focus", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  // outside the field's range: the text stays, in red, with the reason; the field keeps 0.1
+  QWidget* w10 = ed.editorOf(QStringLiteral("w10"));
+  typeInto(w10, QStringLiteral("-1"));
+  CHECK(textOf(w10) == QStringLiteral("-1"));
+  CHECK(ed.messageOf(QStringLiteral("w10")).contains(QStringLiteral("outside the range >= 0")));
+  CHECK(w10->styleSheet().contains(QStringLiteral("background")));
+  CHECK(s->w10.getValue() == 0.1);
+  CHECK(w->undoStack().count() == 0);
+  focus(glWidget(*w));
+  QTRY_COMPARE(textOf(w10), QStringLiteral("0.1"));
+  CHECK(w10->styleSheet().isEmpty());
+  CHECK(ed.messageOf(QStringLiteral("w10")).startsWith(QStringLiteral("Not applied")));
+
+  // values the node refuses: a rectangle with u0 > u1 (the core's message), and PERIODIC on one side
+  SoEngine* region = s->forces[0];
+  REQUIRE(w->selectNode(region));
+  QWidget* regionMin = ed.editorOf(QStringLiteral("regionMin"));
+  typeInto(regionMin, QStringLiteral("0.8"));
+  CHECK(ed.messageOf(QStringLiteral("regionMin")).contains(QStringLiteral("u0 <= u1")));
+  CHECK(static_cast<SoForceField*>(region)->regionMin.getValue()[0] == 0.3);
+  focus(glWidget(*w));
+  QTRY_COMPARE(textOf(regionMin), QStringLiteral("0.3"));
+  CHECK(w->undoStack().count() == 0);
+
+  REQUIRE(w->selectNode(s));
+  auto* side = qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("boundaryUMin")));
+  REQUIRE(side);
+  emit side->activated(side->findText(QStringLiteral("PERIODIC")));
+  CHECK(ed.messageOf(QStringLiteral("boundaryUMin")).contains(QStringLiteral("PERIODIC")));
+  CHECK(s->boundaryUMin.getValue() == SoBSplineDeformSurface::CLAMPED);
+  CHECK(side->currentText() == QStringLiteral("CLAMPED"));  // a choice goes back at once
+  w->step();
+  CHECK(s->simulation().status() == bsdeform::Status::Ok);
+  CHECK(w->undoStack().count() == 0);
+}
+
+TEST_CASE("Field editor: live time and steps, and a net-size change says that it restarts", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  for (int i = 0; i < 3; ++i) w->step();
+  QTest::qWait(250);  // the window's 10 Hz refresh
+  CHECK(textOf(ed.editorOf(QStringLiteral("stepCount"))) == QStringLiteral("3"));
+  CHECK(textOf(ed.editorOf(QStringLiteral("simulationTime"))) == QStringLiteral("0.3"));
+  CHECK(ed.editorOf(QStringLiteral("numUControlPoints"))->toolTip().contains(QStringLiteral("restarts")));
+  typeInto(ed.editorOf(QStringLiteral("numUControlPoints")), QStringLiteral("12"));
+  CHECK(s->numUControlPoints.getValue() == 12);
+  CHECK(ed.messageOf(QStringLiteral("numUControlPoints")).contains(QStringLiteral("restarted")));
+  CHECK(s->simulation().time() == 0.0);
+  CHECK(s->simulation().parameters().numU == 12);
+}
+
+TEST_CASE("Field editor: Space, S, R and D act on the simulation from the 3D view and the toolbar, never typed into an editor", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  QWidget* gl = glWidget(*w);
+  focus(gl);
+  QTest::keyClick(gl, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 1);
+  QTest::keyClick(gl, Qt::Key_Space);
+  CHECK(w->isPlaying());
+  QTest::keyClick(gl, Qt::Key_Space);
+  CHECK(!w->isPlaying());
+  // the toolbar's speed box lets them through
+  auto* speed = w->findChild<QToolBar*>(QStringLiteral("simulationToolBar"))->findChild<QDoubleSpinBox*>();
+  REQUIRE(speed);
+  focus(speed);
+  QTest::keyClick(speed, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 2);
+  QTest::keyClick(speed, Qt::Key_R);
+  CHECK(s->simulation().stepCount() == 0);
+  CHECK(speed->value() == 1.0);
+  // after an edit confirmed with Return the keyboard is back in the 3D view
+  QWidget* w10 = w->fieldEditor().editorOf(QStringLiteral("w10"));
+  typeInto(w10, QStringLiteral("0.2"));
+  CHECK(s->w10.getValue() == 0.2);
+  QTRY_VERIFY(gl->hasFocus());
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 1);
+  CHECK(textOf(w10) == QStringLiteral("0.2"));
+  // a number editor with focus does not take S as text either
+  focus(w10);
+  QTest::keyClick(w10, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 2);
+  CHECK(textOf(w10) == QStringLiteral("0.2"));
 }

@@ -41,6 +41,24 @@ QString enumName(const SoSFEnum& field) {
 }
 }  // namespace
 
+QString refusalOf(SoFieldContainer* owner) {
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) {
+    auto* s = static_cast<SoBSplineDeformSurface*>(owner);
+    s->simulation();  // rebuilt from the fields now
+    // the node's words for a refused model (other warnings, e.g. a force's, do not refuse it)
+    const std::string& w = s->lastWarning();
+    return w.find("keeping the last valid state") != std::string::npos ? QString::fromStdString(w) : QString();
+  }
+  if (owner->isOfType(SoForceField::getClassTypeId())) {
+    auto* f = static_cast<SoForceField*>(owner);
+    if (f->type.getValue() == SoForceField::COLLISION) return QString();
+    std::string error;
+    f->makeForce(SoForceField::SurfaceInfo(), error);
+    return QString::fromStdString(error);
+  }
+  return QString();
+}
+
 // ---------------------------------------------------------------------------------------------
 
 SetFieldCommand::SetFieldCommand(EditContext& context, SoFieldContainer* owner, SoField* field, const SoField& before,

@@ -5,6 +5,7 @@
 /// a node deleted. Each command holds a reference to the nodes it touches, so an undo brings
 /// back the very node that was removed (with its DEF name, state and connections).
 
+#include <QString>
 #include <QUndoCommand>
 #include <functional>
 #include <memory>
@@ -22,6 +23,12 @@ class SoForceField;
 namespace bsdeform {
 
 class SceneDocument;
+
+/// Why `owner` (a surface or a force field) refuses its current field values: the node's
+/// message, empty when it takes them. A surface rebuilds its model to find out (and keeps its
+/// last valid one when refused); a force field builds its core force (COLLISION, which needs
+/// the scene's obstacles, is taken as it is).
+QString refusalOf(SoFieldContainer* owner);
 
 /// What the commands change and whom they tell.
 struct EditContext {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QDialog>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
@@ -34,6 +35,7 @@
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QTextBrowser>
 #include <QTimer>
 #include <QToolBar>
 #include <QTreeWidget>
@@ -44,7 +46,9 @@
 #include "DragTool.h"
 #include "EditCommands.h"
 #include "FieldEditor.h"
+#include "FieldWidgets.h"
 #include "PlotPanel.h"
+#include "bsdeform/FieldInfo.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -172,7 +176,8 @@ void MainWindow::createActions() {
   m_speed->setDecimals(2);
   m_speed->setValue(1.0);
   m_speed->setSuffix(tr(" x"));
-  m_speed->setToolTip(tr("Simulated seconds per real second"));
+  m_speed->setToolTip(tr("Simulated seconds per real second (not written to the scene file)"));
+  m_speed->installEventFilter(new SimulationKeysPassThrough(m_speed));
   connect(m_speed, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double v) {
     for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(v);
   });
@@ -205,6 +210,23 @@ void MainWindow::createEditActions() {
   }
   probe->unref();
   insert->addAction(tr("&Surface"), this, &MainWindow::insertSurface);
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  help->addAction(tr("&Field Reference"), this, &MainWindow::showFieldReference);
+}
+
+void MainWindow::showFieldReference() {
+  if (!m_fieldReference) {
+    m_fieldReference = new QDialog(this);
+    m_fieldReference->setWindowTitle(tr("Field reference"));
+    auto* text = new QTextBrowser;
+    text->setMarkdown(QString::fromStdString(fieldReferenceMarkdown()));
+    auto* layout = new QVBoxLayout(m_fieldReference);
+    layout->addWidget(text);
+    m_fieldReference->resize(1000, 700);
+  }
+  m_fieldReference->show();
+  m_fieldReference->raise();
 }
 
 void MainWindow::createDocks() {
@@ -215,6 +237,10 @@ void MainWindow::createDocks() {
   m_tree->setHeaderHidden(true);
   connect(m_tree, &QTreeWidget::itemSelectionChanged, this, &MainWindow::selectionChanged);
   m_editor = new FieldEditor;
+  m_editor->setChecker(refusalOf);
+  connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  // after an edit the keyboard goes back to the 3D view, where Space, S, R, D act
+  connect(m_editor, &FieldEditor::done, this, [this] { m_viewer->getGLWidget()->setFocus(Qt::OtherFocusReason); });
   m_editor->setChangeHandler([this](SoFieldContainer* owner, SoField* field, const SoField& before, bool beforeIsDefault) {
     m_undo->push(new SetFieldCommand(*m_edit, owner, field, before, beforeIsDefault, *field, true));
   });
@@ -227,6 +253,7 @@ void MainWindow::createDocks() {
   split->setStretchFactor(1, 3);
   sceneDock->setWidget(split);
   addDockWidget(Qt::RightDockWidgetArea, sceneDock);
+  resizeDocks({sceneDock}, {420}, Qt::Horizontal);  // the field editor's labels and spin boxes side by side
 
   auto* plotDock = new QDockWidget(tr("Plots"), this);
   plotDock->setObjectName(QStringLiteral("plotDock"));
@@ -752,7 +779,7 @@ void MainWindow::selectionChanged() {
 void MainWindow::tick() {
   m_drag->update();
   m_plots->sample();
-  if (++m_ticks % 10 == 0) m_editor->refresh();
+  m_editor->refresh();  // live values (time, steps) included
   updateStatus();
 }
 

@@ -13,6 +13,7 @@
 #include "SceneDocument.h"
 
 class QAction;
+class QDialog;
 class QDoubleSpinBox;
 class QLabel;
 class QMenu;
@@ -111,6 +112,8 @@ class MainWindow : public QMainWindow {
   void saveAs();
   void exportMeshDialog();
   void screenshotDialog();
+  /// Help > Field Reference: the fields of both nodes (bsdeform/FieldInfo.h).
+  void showFieldReference();
   void play();
   void pause();
   void step();
@@ -155,6 +158,7 @@ class MainWindow : public QMainWindow {
   QAction* m_playAction = nullptr;
   QAction* m_dragAction = nullptr;
   QUndoStack* m_undo = nullptr;
+  QDialog* m_fieldReference = nullptr;
   std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
   QDoubleSpinBox* m_speed = nullptr;
@@ -168,7 +172,6 @@ class MainWindow : public QMainWindow {
   long m_lastFrames = 0, m_lastSteps = 0;
   QElapsedTimer m_rateClock;
   double m_fps = 0.0, m_stepsPerSecond = 0.0;
-  int m_ticks = 0;
   int m_selectedSurface = -1;
 };
 
