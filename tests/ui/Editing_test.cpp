@@ -22,6 +22,9 @@
 #include <QTimer>
 #include <QUndoStack>
 #include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <utility>
 
 #include "FieldEditor.h"
 #include "MainWindow.h"
@@ -428,4 +431,117 @@ TEST_CASE("Field editor: Space, S, R and D act on the simulation from the 3D vie
   QTest::keyClick(w10, Qt::Key_S);
   CHECK(s->simulation().stepCount() == 2);
   CHECK(textOf(w10) == QStringLiteral("0.2"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (item 7)
+
+namespace {
+
+// A scene file in `dir`: a 5 x 5 bicubic surface moved by (2, 0, 0), paused, pushed up.
+QString translatedScene(const QTemporaryDir& dir) {
+  const QString path = dir.filePath(QStringLiteral("moved.iv"));
+  QFile f(path);
+  REQUIRE(f.open(QIODevice::WriteOnly));
+  f.write("#Inventor V2.1 ascii\nSeparator { Translation { translation 2 0 0 }\n"
+          "  SoBSplineDeformSurface { on FALSE numUControlPoints 5 numVControlPoints 5\n"
+          "    forces [ SoForceField { type UNIFORM force 0 0 5 } ] } }\n");
+  return path;
+}
+
+QList<QByteArray> linesStartingWith(const QByteArray& text, const char* prefix) {
+  QList<QByteArray> out;
+  for (const QByteArray& line : text.split('\n'))
+    if (line.startsWith(prefix)) out << line;
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Export: the OBJ is one connected grid, (s+1)^2 shared vertices for s^2 quads, with normals and (u, v)", "[ui]") {
+  ensureApp();
+  QTemporaryDir dir;
+  MainWindow w;
+  w.setInteractive(false);
+  REQUIRE(w.openScene(translatedScene(dir)));
+  for (int i = 0; i < 5; ++i) w.step();
+  const QString path = dir.filePath(QStringLiteral("mesh.obj"));
+  REQUIRE(w.exportMesh(path));
+  const QByteArray text = readAll(path);
+  const int vertices = linesStartingWith(text, "v ").size();
+  const QList<QByteArray> faces = linesStartingWith(text, "f ");
+  CHECK(linesStartingWith(text, "vt ").size() == vertices);
+  CHECK(linesStartingWith(text, "vn ").size() == vertices);
+  // a square grid of s x s quads, two triangles each
+  const int s = int(std::lround(std::sqrt(faces.size() / 2.0)));
+  INFO("vertices " << vertices << ", triangles " << faces.size());
+  REQUIRE(s > 4);
+  CHECK(faces.size() == 2 * s * s);
+  CHECK(vertices == (s + 1) * (s + 1));
+  // Blender's view: faces share vertex indices; every edge lies on one face (the border) or two,
+  // and the border is the 4 s edges of the square
+  std::map<std::pair<int, int>, int> edges;
+  for (const QByteArray& face : faces) {
+    const QList<QByteArray> corners = face.mid(2).trimmed().split(' ');
+    REQUIRE(corners.size() == 3);
+    int idx[3];
+    for (int k = 0; k < 3; ++k) {
+      const QList<QByteArray> parts = corners[k].split('/');
+      REQUIRE(parts.size() == 3);
+      idx[k] = parts[0].toInt();
+      CHECK(parts[1].toInt() == idx[k]);  // its (u, v) and normal under the same index
+      CHECK(parts[2].toInt() == idx[k]);
+      CHECK(idx[k] >= 1);
+      CHECK(idx[k] <= vertices);
+    }
+    for (int k = 0; k < 3; ++k) ++edges[std::minmax(idx[k], idx[(k + 1) % 3])];
+  }
+  int border = 0, inner = 0, other = 0;
+  for (const auto& e : edges) (e.second == 1 ? border : e.second == 2 ? inner : other)++;
+  CHECK(other == 0);
+  CHECK(border == 4 * s);
+  // world coordinates: the translation is applied
+  double minX = 1e9;
+  for (const QByteArray& v : linesStartingWith(text, "v ")) minX = std::min(minX, v.split(' ')[1].toDouble());
+  CHECK(minX == Approx(2.0).margin(1e-6));
+  // STL as before: one record per triangle
+  REQUIRE(w.exportMesh(dir.filePath(QStringLiteral("mesh.stl"))));
+  CHECK(readAll(dir.filePath(QStringLiteral("mesh.stl"))).size() == 84 + 50 * faces.size());
+}
+
+TEST_CASE("Export: the control net as x y z points and as OBJ points with the net's lines, in world coordinates", "[ui]") {
+  ensureApp();
+  QTemporaryDir dir;
+  MainWindow w;
+  w.setInteractive(false);
+  REQUIRE(w.openScene(translatedScene(dir)));
+  for (int i = 0; i < 5; ++i) w.step();
+  SoBSplineDeformSurface* s = firstSurface(w);
+  const bsdeform::ControlNet& net = s->simulation().current();
+  const int rows = s->simulation().space().netRows(), cols = s->simulation().space().netCols();
+  REQUIRE(rows == 11);
+  REQUIRE(net.rows() == rows * cols);
+  REQUIRE(w.exportControlNet(dir.filePath(QStringLiteral("net.xyz"))));
+  QList<QByteArray> points;
+  for (const QByteArray& line : readAll(dir.filePath(QStringLiteral("net.xyz"))).split('\n'))
+    if (!line.isEmpty() && !line.startsWith('#')) points << line;
+  REQUIRE(points.size() == rows * cols);
+  double lifted = 0.0;
+  for (int i = 0; i < points.size(); ++i) {
+    const QList<QByteArray> xyz = points[i].split(' ');
+    REQUIRE(xyz.size() == 3);
+    CHECK(xyz[0].toDouble() == Approx(net(i, 0) + 2.0).margin(1e-6));
+    CHECK(xyz[1].toDouble() == Approx(net(i, 1)).margin(1e-6));
+    CHECK(xyz[2].toDouble() == Approx(net(i, 2)).margin(1e-6));
+    lifted = std::max(lifted, xyz[2].toDouble());
+  }
+  CHECK(lifted > 0.0);  // the pushed state, not the rest net
+  REQUIRE(w.exportControlNet(dir.filePath(QStringLiteral("net.obj"))));
+  const QByteArray obj = readAll(dir.filePath(QStringLiteral("net.obj")));
+  CHECK(linesStartingWith(obj, "v ").size() == rows * cols);
+  const QList<QByteArray> lines = linesStartingWith(obj, "l ");
+  REQUIRE(lines.size() == rows + cols);
+  CHECK(lines[0].split(' ').size() == 1 + cols);      // a row: cols points
+  CHECK(lines[rows].split(' ').size() == 1 + rows);   // a column: rows points
+  CHECK(!w.exportControlNet(dir.filePath(QStringLiteral("net.stl"))));
 }

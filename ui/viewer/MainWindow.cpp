@@ -137,6 +137,7 @@ void MainWindow::createActions() {
   a->setShortcut(QKeySequence::SaveAs);
   file->addSeparator();
   file->addAction(tr("&Export Mesh (OBJ, STL)..."), this, &MainWindow::exportMeshDialog);
+  file->addAction(tr("Export &Control Net (XYZ, OBJ)..."), this, &MainWindow::exportControlNetDialog);
   a = file->addAction(tr("Save &Screenshot..."), this, &MainWindow::screenshotDialog);
   a->setShortcut(QKeySequence(tr("Ctrl+P")));
   file->addSeparator();
@@ -406,14 +407,14 @@ void MainWindow::saveAs() {
   saveSceneAs(path);
 }
 
-bool MainWindow::exportMesh(const QString& path) {
+bool MainWindow::exportSurface(const QString& path, bool controlNet) {
   if (m_doc->surfaces().isEmpty()) {
     reportError(tr("Export failed"), tr("the scene has no surface"));
     return false;
   }
-  SoBSplineDeformSurface* s = m_doc->surfaces()[std::max(0, m_selectedSurface)];
+  SoBSplineDeformSurface* s = m_doc->surfaces()[std::max(0, std::min(m_selectedSurface, int(m_doc->surfaces().size()) - 1))];
   QString error;
-  if (!m_doc->exportMesh(s, path, error)) {
+  if (!(controlNet ? m_doc->exportControlNet(s, path, error) : m_doc->exportMesh(s, path, error))) {
     reportError(tr("Export failed"), error);
     return false;
   }
@@ -421,13 +422,25 @@ bool MainWindow::exportMesh(const QString& path) {
   return true;
 }
 
-void MainWindow::exportMeshDialog() {
+bool MainWindow::exportMesh(const QString& path) { return exportSurface(path, false); }
+
+bool MainWindow::exportControlNet(const QString& path) { return exportSurface(path, true); }
+
+void MainWindow::exportMeshDialog() { exportDialog(false); }
+
+void MainWindow::exportControlNetDialog() { exportDialog(true); }
+
+void MainWindow::exportDialog(bool controlNet) {
+  const QStringList filters = controlNet ? QStringList{tr("Points, x y z per line (*.xyz)"), tr("Wavefront OBJ, points and net lines (*.obj)")}
+                                         : QStringList{tr("Wavefront OBJ (*.obj)"), tr("STL (*.stl)")};
   QString filter;
-  QString path = QFileDialog::getSaveFileName(this, tr("Export mesh of the selected surface"), QString(),
-                                              tr("Wavefront OBJ (*.obj);;STL (*.stl)"), &filter);
+  QString path = QFileDialog::getSaveFileName(this, controlNet ? tr("Export the control net of the selected surface")
+                                                               : tr("Export mesh of the selected surface"),
+                                              m_doc->path().isEmpty() ? openFolder() : QFileInfo(m_doc->path()).absolutePath(),
+                                              filters.join(QStringLiteral(";;")), &filter);
   if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) path += filter.contains(QLatin1String("stl")) ? QStringLiteral(".stl") : QStringLiteral(".obj");
-  exportMesh(path);
+  if (QFileInfo(path).suffix().isEmpty()) path += QLatin1Char('.') + filter.section(QStringLiteral("(*."), 1).chopped(1);
+  exportSurface(path, controlNet);
 }
 
 QImage MainWindow::screenshot(const QSize& size) {

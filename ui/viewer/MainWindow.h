@@ -81,7 +81,9 @@ class MainWindow : public QMainWindow {
   bool saveScreenshot(const QString& path, const QSize& size = QSize());
   /// The whole window including the 3D view (QWidget::grab() leaves the GL area black).
   QImage windowScreenshot();
+  /// The selected surface as a mesh (.obj, .stl) or its control net (.xyz, .obj); see SceneDocument.
   bool exportMesh(const QString& path);
+  bool exportControlNet(const QString& path);
   /// Offers the recovery files of viewers that died (newest first). Returns true when one was
   /// restored.
   bool offerRecovery(RecoveryChoice choice);
@@ -111,6 +113,7 @@ class MainWindow : public QMainWindow {
   void save();
   void saveAs();
   void exportMeshDialog();
+  void exportControlNetDialog();
   void screenshotDialog();
   /// Help > Field Reference: the fields of both nodes (bsdeform/FieldInfo.h).
   void showFieldReference();
@@ -137,6 +140,8 @@ class MainWindow : public QMainWindow {
   void fieldChanged(SoFieldContainer* owner, SoField* field);
   void structureChanged(SoBase* focus);
   void rememberFolder(const QString& path);
+  bool exportSurface(const QString& path, bool controlNet);
+  void exportDialog(bool controlNet);
   void tick();
   void updateStatus();
   void reportError(const QString& title, const QString& message);

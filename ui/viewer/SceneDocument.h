@@ -14,6 +14,7 @@ class SoSeparator;
 class SoBSplineDeformSurface;
 class SoForceField;
 class SoNode;
+class SoPath;
 
 namespace bsdeform {
 
@@ -53,14 +54,22 @@ class SceneDocument {
   /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
   AuthoredClock& clock() { return m_clock; }
 
-  /// Writes the triangles of `surface` (world coordinates, with every transform above it) as
-  /// Wavefront OBJ (positions, normals, (u, v) texture coordinates) or binary STL, chosen by
-  /// the file extension (.obj / .stl). Atomic.
+  /// Writes the triangles of `surface` as drawn (world coordinates, with every transform above
+  /// it) as Wavefront OBJ or binary STL, chosen by the file extension (.obj / .stl). Atomic.
+  /// The OBJ is one connected mesh: one vertex per tessellation point (position, (u, v) texture
+  /// coordinate and normal under one index), faces sharing them, so an s x s grid gives
+  /// (s + 1)^2 vertices and 2 s^2 triangles (a periodic seam has its own column of vertices).
   bool exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const;
+  /// Writes the current control net of `surface` (all (N1 + 2 n1)(N2 + 2 n2) points, u-major,
+  /// world coordinates) for a CAD tool: .xyz (one "x y z" line per point) or .obj (the points
+  /// as vertices and the net's rows and columns as polylines). Atomic.
+  bool exportControlNet(SoBSplineDeformSurface* surface, const QString& path, QString& error) const;
 
  private:
   void adopt(SoSeparator* root, const QString& path);
   void scan();
+  /// A ref'ed copy of the path from the root to `surface` (nullptr with `error` if none).
+  SoPath* pathTo(SoBSplineDeformSurface* surface, QString& error) const;
 
   SoSeparator* m_root = nullptr;
   QString m_path;
