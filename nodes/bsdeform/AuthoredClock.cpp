@@ -1,9 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/AuthoredClock.h"
 
-#include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/SoPath.h>
-
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {
@@ -43,13 +41,7 @@ const AuthoredClock::Values* AuthoredClock::find(const SoBSplineDeformSurface* s
 }
 
 void AuthoredClock::capture(SoNode* root) {
-  if (!root) return;
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.apply(root);
-  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
-    auto* s = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
+  for (SoBSplineDeformSurface* s : sceneSurfaces(root)) {
     if (find(s)) continue;
     s->ref();
     m_entries.push_back(Values::of(s));

@@ -270,6 +270,14 @@ QString textOf(QWidget* editor) {
 
 QWidget* glWidget(MainWindow& w) { return w.viewer()->getGLWidget(); }
 
+// A window with `scene`, paused, its first surface selected in the scene panel (and editor).
+std::unique_ptr<MainWindow> pausedWithSurfaceSelected(const char* scene) {
+  auto w = makeWindow(scene);
+  w->pause();
+  REQUIRE(w->selectNode(firstSurface(*w)));
+  return w;
+}
+
 // Gives the keyboard focus to `widget` and waits until it has it.
 void focus(QWidget* widget) {
   widget->activateWindow();
@@ -280,10 +288,8 @@ void focus(QWidget* widget) {
 }  // namespace
 
 TEST_CASE("Field editor: typed editors with the field's range, values without float noise, tooltips from the field table", "[ui]") {
-  auto w = makeWindow("region_load.iv");
-  w->pause();
+  auto w = pausedWithSurfaceSelected("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
-  REQUIRE(w->selectNode(s));
   bsdeform::FieldEditor& ed = w->fieldEditor();
   auto* w10 = qobject_cast<QDoubleSpinBox*>(ed.editorOf(QStringLiteral("w10")));
   REQUIRE(w10);
@@ -337,10 +343,8 @@ TEST_CASE("Field editor: typed editors with the field's range, values without fl
 }
 
 TEST_CASE("Field editor: an invalid value is shown in red with the reason and reverted when the editor loses focus", "[ui]") {
-  auto w = makeWindow("region_load.iv");
-  w->pause();
+  auto w = pausedWithSurfaceSelected("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
-  REQUIRE(w->selectNode(s));
   bsdeform::FieldEditor& ed = w->fieldEditor();
   // outside the field's range: the text stays, in red, with the reason; the field keeps 0.1
   QWidget* w10 = ed.editorOf(QStringLiteral("w10"));
@@ -379,10 +383,8 @@ TEST_CASE("Field editor: an invalid value is shown in red with the reason and re
 }
 
 TEST_CASE("Field editor: live time and steps, and a net-size change says that it restarts", "[ui]") {
-  auto w = makeWindow("region_load.iv");
-  w->pause();
+  auto w = pausedWithSurfaceSelected("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
-  REQUIRE(w->selectNode(s));
   bsdeform::FieldEditor& ed = w->fieldEditor();
   for (int i = 0; i < 3; ++i) w->step();
   QTest::qWait(250);  // the window's 10 Hz refresh
@@ -397,10 +399,8 @@ TEST_CASE("Field editor: live time and steps, and a net-size change says that it
 }
 
 TEST_CASE("Field editor: Space, S, R and D act on the simulation from the 3D view and the toolbar, never typed into an editor", "[ui]") {
-  auto w = makeWindow("region_load.iv");
-  w->pause();
+  auto w = pausedWithSurfaceSelected("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
-  REQUIRE(w->selectNode(s));
   QWidget* gl = glWidget(*w);
   focus(gl);
   QTest::keyClick(gl, Qt::Key_S);
@@ -449,6 +449,16 @@ QString translatedScene(const QTemporaryDir& dir) {
   return path;
 }
 
+// A window with that scene, five steps on.
+std::unique_ptr<MainWindow> pushedForExport(const QTemporaryDir& dir) {
+  ensureApp();
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  REQUIRE(w->openScene(translatedScene(dir)));
+  for (int i = 0; i < 5; ++i) w->step();
+  return w;
+}
+
 QList<QByteArray> linesStartingWith(const QByteArray& text, const char* prefix) {
   QList<QByteArray> out;
   for (const QByteArray& line : text.split('\n'))
@@ -459,12 +469,9 @@ QList<QByteArray> linesStartingWith(const QByteArray& text, const char* prefix) 
 }  // namespace
 
 TEST_CASE("Export: the OBJ is one connected grid, (s+1)^2 shared vertices for s^2 quads, with normals and (u, v)", "[ui]") {
-  ensureApp();
   QTemporaryDir dir;
-  MainWindow w;
-  w.setInteractive(false);
-  REQUIRE(w.openScene(translatedScene(dir)));
-  for (int i = 0; i < 5; ++i) w.step();
+  std::unique_ptr<MainWindow> window = pushedForExport(dir);
+  MainWindow& w = *window;
   const QString path = dir.filePath(QStringLiteral("mesh.obj"));
   REQUIRE(w.exportMesh(path));
   const QByteArray text = readAll(path);
@@ -510,12 +517,9 @@ TEST_CASE("Export: the OBJ is one connected grid, (s+1)^2 shared vertices for s^
 }
 
 TEST_CASE("Export: the control net as x y z points and as OBJ points with the net's lines, in world coordinates", "[ui]") {
-  ensureApp();
   QTemporaryDir dir;
-  MainWindow w;
-  w.setInteractive(false);
-  REQUIRE(w.openScene(translatedScene(dir)));
-  for (int i = 0; i < 5; ++i) w.step();
+  std::unique_ptr<MainWindow> window = pushedForExport(dir);
+  MainWindow& w = *window;
   SoBSplineDeformSurface* s = firstSurface(w);
   const bsdeform::ControlNet& net = s->simulation().current();
   const int rows = s->simulation().space().netRows(), cols = s->simulation().space().netCols();

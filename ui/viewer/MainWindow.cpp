@@ -324,6 +324,7 @@ void MainWindow::showScene() {
   m_frames = m_lastFrames = 0;
   m_lastSteps = 0;
   m_selectedSurface = -1;
+  m_plotted = nullptr;
   populateScenePanel();
   m_playAction->setChecked(isPlaying());
 }
@@ -762,6 +763,7 @@ void MainWindow::structureChanged(SoBase* focus) {
   if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
     m_editor->setContainer(nullptr, QString());
     m_plots->setSurface(nullptr, QString());
+    m_plotted = nullptr;
   }
 }
 
@@ -778,7 +780,8 @@ void MainWindow::selectionChanged() {
     SoBSplineDeformSurface* s = m_doc->surfaces()[code];
     m_selectedSurface = code;
     m_editor->setContainer(s, m_doc->nameOf(s));
-    m_plots->setSurface(s, m_doc->nameOf(s));
+    if (s != m_plotted) m_plots->setSurface(s, m_doc->nameOf(s));  // the same one again (a panel rebuild): its history stays
+    m_plotted = s;
     m_lastSteps = s->simulation().stepCount();
   } else {
     SoForceField* f = m_doc->forceFields()[-1 - code];

@@ -27,6 +27,7 @@ class SoFieldContainer;
 class SoQtExaminerViewer;
 class SoSeparator;
 class SoCallback;
+class SoBSplineDeformSurface;
 class SoAction;
 
 namespace bsdeform {
@@ -164,6 +165,7 @@ class MainWindow : public QMainWindow {
   QAction* m_dragAction = nullptr;
   QUndoStack* m_undo = nullptr;
   QDialog* m_fieldReference = nullptr;
+  SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow
   std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
   QDoubleSpinBox* m_speed = nullptr;

@@ -49,13 +49,7 @@ void SceneDocument::scan() {
   m_surfaces.clear();
   m_forceFields.clear();
   m_clock.capture(m_root);
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.apply(m_root);
-  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
-    auto* s = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
-    if (m_surfaces.contains(s)) continue;
+  for (SoBSplineDeformSurface* s : sceneSurfaces(m_root)) {
     m_surfaces << s;
     for (int k = 0; k < s->forces.getNum(); ++k) {
       SoEngine* e = s->forces[k];
@@ -193,14 +187,20 @@ SoPath* SceneDocument::pathTo(SoBSplineDeformSurface* surface, QString& error) c
   return path;
 }
 
-bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {
+SoPath* SceneDocument::exportPath(SoBSplineDeformSurface* surface, const QString& path, const QString& what,
+                                  const QStringList& extensions, QString& error) const {
   const QString ext = QFileInfo(path).suffix().toLower();
-  if (ext != QLatin1String("obj") && ext != QLatin1String("stl")) {
-    error = QStringLiteral("%1: unknown mesh format '%2' (use .obj or .stl)").arg(path, ext);
-    return false;
+  if (!extensions.contains(ext)) {
+    error = QStringLiteral("%1: unknown %2 format '%3' (use .%4)").arg(path, what, ext, extensions.join(QStringLiteral(" or .")));
+    return nullptr;
   }
-  SoPath* found = pathTo(surface, error);
+  return pathTo(surface, error);
+}
+
+bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {
+  SoPath* found = exportPath(surface, path, QStringLiteral("mesh"), {QStringLiteral("obj"), QStringLiteral("stl")}, error);
   if (!found) return false;
+  const QString ext = QFileInfo(path).suffix().toLower();
   Mesh mesh;
   SoCallbackAction ca;
   ca.addTriangleCallback(SoBSplineDeformSurface::getClassTypeId(), collectTriangle, &mesh);
@@ -253,13 +253,9 @@ bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& p
 }
 
 bool SceneDocument::exportControlNet(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {
-  const QString ext = QFileInfo(path).suffix().toLower();
-  if (ext != QLatin1String("xyz") && ext != QLatin1String("obj")) {
-    error = QStringLiteral("%1: unknown control net format '%2' (use .xyz or .obj)").arg(path, ext);
-    return false;
-  }
-  SoPath* found = pathTo(surface, error);
+  SoPath* found = exportPath(surface, path, QStringLiteral("control net"), {QStringLiteral("xyz"), QStringLiteral("obj")}, error);
   if (!found) return false;
+  const QString ext = QFileInfo(path).suffix().toLower();
   SoGetMatrixAction ma(SbViewportRegion(1, 1));
   ma.apply(found);
   found->unref();

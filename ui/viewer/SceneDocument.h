@@ -5,6 +5,7 @@
 /// state (atomically), the surfaces and force fields it contains, and mesh export.
 
 #include <QString>
+#include <QStringList>
 #include <QVector>
 
 #include "bsdeform/AuthoredClock.h"
@@ -70,6 +71,10 @@ class SceneDocument {
   void scan();
   /// A ref'ed copy of the path from the root to `surface` (nullptr with `error` if none).
   SoPath* pathTo(SoBSplineDeformSurface* surface, QString& error) const;
+  /// pathTo() when `path` ends in one of `extensions` (lower case, no dot), else a message
+  /// naming the file and the `what` format.
+  SoPath* exportPath(SoBSplineDeformSurface* surface, const QString& path, const QString& what, const QStringList& extensions,
+                     QString& error) const;
 
   SoSeparator* m_root = nullptr;
   QString m_path;
