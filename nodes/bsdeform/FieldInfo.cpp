@@ -65,7 +65,7 @@ std::vector<FieldInfo> makeTable() {
       {F, "type", "The kind of force; each type reads only some of the fields below.", "", "", "UNIFORM, POINT, REGION, EXPRESSION, GRAVITY, SPRING, DRAG, PRESSURE, PLANE_COLLISION, SPHERE_COLLISION, COLLISION", 0, 0, 0, false, false},
       {F, "on", "FALSE switches the force off.", "", "", "TRUE, FALSE", 0, 0, 0, false, false},
       {F, "force", "Direction and size: force density (UNIFORM, REGION), point force (POINT), acceleration (GRAVITY); times magnitude.", "force per unit area, force, or acceleration", "f", "", -kOpen, kOpen, kScaled, false, false},
-      {F, "magnitude", "Scale of force, of the expression, of gravity; the pressure p of PRESSURE.", "", "p (PRESSURE)", "finite", -kOpen, kOpen, kScaled | bit(SoForceField::EXPRESSION) | bit(SoForceField::PRESSURE), false, false},
+      {F, "magnitude", "Scale of force, of the expression, of gravity; the pressure p of PRESSURE.", "", "", "finite", -kOpen, kOpen, kScaled | bit(SoForceField::EXPRESSION) | bit(SoForceField::PRESSURE), false, false},
       {F, "point", "Parameter point (u, v) where a POINT force acts or a SPRING is attached.", "", "(u0, v0)", "[0, 1]²", 0, 1, bit(SoForceField::POINT) | bit(SoForceField::SPRING), false, false},
       {F, "regionMin", "Lower corner (u0, v0) of the REGION rectangle.", "", "", "[0, 1]², <= regionMax", 0, 1, bit(SoForceField::REGION), false, false},
       {F, "regionMax", "Upper corner (u1, v1) of the REGION rectangle.", "", "", "[0, 1]², >= regionMin", 0, 1, bit(SoForceField::REGION), false, false},
