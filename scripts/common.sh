@@ -12,10 +12,12 @@ BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 # reports) are for the sanitizer build. python3-dev, python3-pivy, python3-numpy, pybind11-dev
 # and swig build the Python package (docs/python.md), python3-matplotlib runs its examples,
 # dpkg-dev (dpkg-shlibdeps) lets CPack compute the Debian package's dependencies.
+# libavformat-dev, libavcodec-dev and libswscale-dev (FFmpeg) write videos (MP4/H.264, WebM/VP9).
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
   libeigen3-dev libembree-dev libsuitesparse-dev catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
+  libavformat-dev libavcodec-dev libswscale-dev
   qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core
   libsoqt520-dev xvfb xauth
   clang libclang-rt-14-dev llvm

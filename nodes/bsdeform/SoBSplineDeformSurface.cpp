@@ -32,6 +32,7 @@
 #include "bsdeform/Simulation.h"
 #include "bsdeform/Tessellation.h"
 #include "bsdeform/SoForceField.h"
+#include "bsdeform/SurfaceBuffers.h"
 
 using bsdeform::snap15;
 
@@ -646,6 +647,7 @@ void SoBSplineDeformSurface::tessellate(SoState* state) {
   const int segV = segmentsFor(complexity, sp.basisV().numSpans());
   if (m_tessValid && m_tess.segU == segU && m_tess.segV == segV) return;
   bsdeform::tessellate(sp, sim.current(), segU, segV, m_tess);
+  ++m_tessRevision;
   m_tessValid = !m_building;
 }
 
@@ -659,16 +661,19 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
   if (!isClosed()) SoLazyElement::setTwosideLighting(state, TRUE);
   SoMaterialBundle mb(action);
   mb.sendFirst();
-  glEnableClientState(GL_VERTEX_ARRAY);
-  glEnableClientState(GL_NORMAL_ARRAY);
-  glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-  glVertexPointer(3, GL_FLOAT, 0, m_tess.vertices.data());
-  glNormalPointer(GL_FLOAT, 0, m_tess.normals.data());
-  glTexCoordPointer(2, GL_FLOAT, 0, m_tess.texCoords.data());
-  glDrawElements(GL_TRIANGLES, GLsizei(m_tess.indices.size()), GL_UNSIGNED_INT, m_tess.indices.data());
-  glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-  glDisableClientState(GL_NORMAL_ARRAY);
-  glDisableClientState(GL_VERTEX_ARRAY);
+  if (!m_buffers) m_buffers = std::make_unique<bsdeform::SurfaceBuffers>();
+  if (!m_buffers->draw(state, m_tess, m_tessRevision)) {  // a GL without buffer objects
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, m_tess.vertices.data());
+    glNormalPointer(GL_FLOAT, 0, m_tess.normals.data());
+    glTexCoordPointer(2, GL_FLOAT, 0, m_tess.texCoords.data());
+    glDrawElements(GL_TRIANGLES, GLsizei(m_tess.indices.size()), GL_UNSIGNED_INT, m_tess.indices.data());
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+  }
   state->pop();
 }
 
@@ -696,10 +701,16 @@ void SoBSplineDeformSurface::generatePrimitives(SoAction* action) {
 }
 
 void SoBSplineDeformSurface::computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) {
+  // The box of the drawn vertices, found as tessellate() writes them (a hull of the control net
+  // would be larger: a uniform B-spline's control points lie beyond the surface's edges).
   tessellate(action->getState());
   box.makeEmpty();
-  for (size_t i = 0; i + 2 < m_tess.vertices.size(); i += 3)
-    box.extendBy(SbVec3f(m_tess.vertices[i], m_tess.vertices[i + 1], m_tess.vertices[i + 2]));
+  const float* lo = m_tess.boundsMin;
+  const float* hi = m_tess.boundsMax;
+  if (lo[0] <= hi[0] && lo[1] <= hi[1] && lo[2] <= hi[2]) {  // not when every vertex is NaN
+    box.extendBy(SbVec3f(lo[0], lo[1], lo[2]));
+    box.extendBy(SbVec3f(hi[0], hi[1], hi[2]));
+  }
   center = box.getCenter();
 }
 

@@ -66,6 +66,7 @@
 #include <Inventor/nodes/SoShape.h>
 #include <Inventor/nodes/SoSubNode.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -76,6 +77,7 @@ namespace bsdeform {
 class Simulation;
 class Force;
 class SceneObstacles;
+class SurfaceBuffers;
 }  // namespace bsdeform
 
 class SoTimerSensor;
@@ -207,6 +209,8 @@ class SoBSplineDeformSurface : public SoShape {
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
   std::string m_lastWarning;
   bsdeform::SurfaceGrid m_tess;
+  std::uint64_t m_tessRevision = 0;                 ///< counts tessellations (the buffers' uploads)
+  std::unique_ptr<bsdeform::SurfaceBuffers> m_buffers;  ///< GL buffers of m_tess, per context
   SoNode* m_sceneRoot = nullptr;        ///< head of a traversal's path (not ref'ed; see noteSceneRoot)
   SoNodeSensor* m_rootSensor = nullptr; ///< clears m_sceneRoot when that node is deleted
   void noteSceneRoot(SoAction* action);

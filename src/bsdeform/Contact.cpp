@@ -24,6 +24,19 @@ constexpr double kRateCap = 0.3;
 // Obstacles are searched within this many thicknesses.
 constexpr double kSearch = 3.0;
 
+// What CollisionForce asks of the closest-point queries at one quadrature point: a radius of
+// its own (at least the law's search), one hint per obstacle, and in return how far the point
+// may move before any obstacle can act on it (-inf: unknown).
+struct PointQuery {
+  double radius = 0.0;
+  int* hints = nullptr;  // one per obstacle, or null
+  double free = std::numeric_limits<double>::infinity();
+};
+
+Eigen::Vector3d densityAt(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                          const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
+                          double* depthOut, PointQuery* query);
+
 double checked(double x, const char* name, bool positive) {
   if (!std::isfinite(x) || x < 0.0 || (positive && x == 0.0))
     throw std::invalid_argument(std::string("collision ") + name + (positive ? " must be finite and > 0" : " must be finite and >= 0") +
@@ -51,12 +64,17 @@ struct Frame {
 // The density per unit parameter area at a sample (position, velocity, and the normal unless the
 // frame is a similarity): a gamma A^T f_world, the law per unit world area with its caps in the
 // surface's own terms.
-Eigen::Vector3d localDensity(const ContactWorld& w, const ContactParameters& p, const Frame& fr, const SurfaceSample& s) {
+Eigen::Vector3d localDensity(const ContactWorld& w, const ContactParameters& p, const Frame& fr, const SurfaceSample& s,
+                             PointQuery& query) {
   const double gamma = fr.similarity > 0.0 ? fr.similarity : (fr.cofactor * s.normal).norm();
-  if (!(gamma > 0.0)) return Eigen::Vector3d::Zero();  // a degenerate point of the surface
+  if (!(gamma > 0.0)) {  // a degenerate point of the surface: nothing learnt about the distance
+    query.free = -std::numeric_limits<double>::infinity();
+    return Eigen::Vector3d::Zero();
+  }
   const double scale = p.areaScale * gamma;
   const Eigen::Vector3d f =
-      contactDensity(w, p, w.linear * s.position + w.offset, w.linear * s.velocity, s.stepSize, w.linear, scale);
+      densityAt(w, p, w.linear * s.position + w.offset, w.linear * s.velocity, s.stepSize, w.linear, scale, nullptr,
+                &query);
   if (f.isZero(0.0)) return f;
   return scale * (w.linear.transpose() * f);
 }
@@ -148,14 +166,38 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
 Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
                                const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
                                double* depthOut) {
+  return densityAt(world, p, x, v, dt, frame, scale, depthOut, nullptr);
+}
+
+namespace {
+Eigen::Vector3d densityAt(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                          const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
+                          double* depthOut, PointQuery* query) {
   Eigen::Vector3d f = Eigen::Vector3d::Zero();
   double deepest = 0.0;
   // rho / dt share per unit of the surface's own rate (see the declaration)
   const double rateCap = dt > 0.0 && scale > 0.0 ? kRateCap * p.massDensity / (dt * scale) : 0.0;
-  for (const ContactWorld::Obstacle& o : world.obstacles) {
+  for (std::size_t k = 0; k < world.obstacles.size(); ++k) {
+    const ContactWorld::Obstacle& o = world.obstacles[k];
     if (!o.tree) continue;
     ClosestHit hit;
-    if (!o.tree->closest(x, kSearch * p.thickness, hit)) continue;
+    int none = -1;
+    const double search = kSearch * p.thickness;
+    if (!query) {
+      if (!o.tree->closest(x, search, hit)) continue;
+    } else {
+      // The law acts within the thickness outside and, inside a closed obstacle, within the
+      // search; to get there a point crosses the remaining distance (outside it cannot change
+      // sides before it reaches the surface).
+      const bool found = o.tree->closest(x, query->radius, hit, query->hints ? query->hints[k] : none);
+      if (!found) {
+        query->free = std::min(query->free, query->radius - search);
+        continue;
+      }
+      const bool inside = o.closed && hit.signedDistance < 0.0;
+      query->free = std::min(query->free, hit.distance - (inside ? search : p.thickness));
+      if (hit.distance > search) continue;  // the law looks no farther than the search
+    }
     // s: distance from the obstacle, signed for closed obstacles; n: away from the obstacle
     double s = hit.distance;
     Eigen::Vector3d n = hit.normal;
@@ -188,6 +230,7 @@ Eigen::Vector3d contactDensity(const ContactWorld& world, const ContactParameter
   if (depthOut) *depthOut = deepest;
   return f;
 }
+}  // namespace
 
 struct CollisionForce::Cache {
   // The quadrature, which depends on the space only.
@@ -204,6 +247,12 @@ struct CollisionForce::Cache {
   double skin = 0.0;
   double normA = 0.0;
   std::vector<double> clearance;  // per element (su * spansV + sv)
+  // Per quadrature point (i * qv.size() + j): a clearance like the elements' (the point is
+  // farther than the search from every obstacle while the net has moved less than it since the
+  // reference; -inf: unknown), and per point and obstacle the triangle found last (-1: none),
+  // the next query's hint.
+  std::vector<float> pointClearance;
+  std::vector<int> hints;
   Counters counters;
 };
 
@@ -331,9 +380,12 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
       }
       c.clearance[e] = g;
     }
+    c.pointClearance.assign(c.qu.size() * c.qv.size(), -std::numeric_limits<float>::infinity());
     moved = 0.0;
   }
 
+  const std::size_t nObstacles = w.obstacles.size();
+  if (c.hints.size() != c.qu.size() * c.qv.size() * nObstacles) c.hints.assign(c.qu.size() * c.qv.size() * nObstacles, -1);
   const Frame frame(w.linear);
   const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
   for (int su = 0; su < c.spansU; ++su)
@@ -344,9 +396,29 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
         for (int j = c.vBegin[std::size_t(sv)]; j < c.vBegin[std::size_t(sv) + 1]; ++j) {
           const LocalBasis& bu = c.bu[std::size_t(i)];
           const LocalBasis& bv = c.bv[std::size_t(j)];
+          const std::size_t point = std::size_t(i) * c.qv.size() + std::size_t(j);
+          if (c.pointClearance[point] > moved) {
+            ++n.pointsSkipped;
+            continue;
+          }
           const SurfaceSample smp = sampleFromBases(ctx, bu, bv, c.qu[std::size_t(i)].x, c.qv[std::size_t(j)].x, needs);
           ++n.pointQueries;
-          const Eigen::Vector3d f = localDensity(w, m_params, frame, smp);
+          // A point no obstacle can act on skips the queries of the steps to come while the net
+          // moves less than the distance it has left (PointQuery::free) from where it is now:
+          // |S - S_ref| <= the largest control point motion, as the basis functions are >= 0
+          // and sum to 1. Searching as far as the skin makes that distance useful for points
+          // far from every obstacle.
+          PointQuery query;
+          query.radius = search + c.skin;
+          query.hints = c.hints.data() + point * nObstacles;
+          const Eigen::Vector3d f = localDensity(w, m_params, frame, smp, query);
+          const double margin = 1e-9 * (1.0 + smp.position.cwiseAbs().maxCoeff() * c.normA +
+                                        w.offset.cwiseAbs().maxCoeff() + search + c.skin);
+          const double clear = std::min(query.free - moved - margin, 1e30);
+          // rounded down to float: never more than the distance allows (NaN and -inf: query again)
+          c.pointClearance[point] =
+              clear > -1e30 ? std::nextafter(static_cast<float>(clear), -std::numeric_limits<float>::infinity())
+                            : -std::numeric_limits<float>::infinity();
           if (f.isZero(0.0)) continue;
           scatter(s, bu, bv, (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w) * f, load);
         }

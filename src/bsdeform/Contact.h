@@ -110,6 +110,14 @@ class CollisionForce : public Force {
   /// without a query. The reference is renewed when that displacement exceeds a skin (3 tau plus
   /// an element's diagonal), or the obstacles or the frame change (a tree's update(), another
   /// tree, another A or b).
+  ///
+  /// Within an evaluated element each quadrature point keeps a clearance of its own the same
+  /// way: the distance it may move before an obstacle can act on it (outside an obstacle: its
+  /// distance minus tau; inside a closed one, or with nothing within the search: its distance
+  /// minus 3 tau), less the net's motion since the reference when it was measured. Its queries
+  /// search as far as the skin, starting from the triangle it found last (TriangleTree's hint).
+  /// A resting or sliding cloth then queries only the points within tau of an obstacle. The
+  /// load is the same as without either skip (tested against the density at every point).
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
 
   /// What the last addLoad did (for benchmarks and tests).
@@ -118,6 +126,7 @@ class CollisionForce : public Force {
     long long references = 0;     ///< reference nets taken (clearance of every element measured)
     long long elementQueries = 0; ///< clearance queries (one per element and obstacle, per reference)
     long long pointQueries = 0;   ///< quadrature points evaluated (one closest-point query per obstacle)
+    long long pointsSkipped = 0;  ///< quadrature points of evaluated elements skipped by their clearance
     int activeElements = 0;       ///< elements evaluated in the last addLoad
     int elements = 0;             ///< elements of the surface
   };

@@ -15,13 +15,20 @@ void tessellate(const SplineSpace& sp, const ControlNet& net, int segU, int segV
   g.normals.resize(g.vertices.size());
   g.texCoords.resize(size_t(nvU) * nvV * 2);
   // v-direction bases are the same for every row of vertices
-  std::vector<LocalBasis> bv(nvV);
+  std::vector<LocalBasis>& bv = g.scratch.basesV;
+  bv.resize(size_t(nvV));
   for (int j = 0; j < nvV; ++j) sp.basisV().evaluate(double(j) / segV, 1, bv[j]);
-  std::vector<double> c0(size_t(cols) * 3), c1(size_t(cols) * 3);
-  std::vector<char> degenerate(size_t(nvU) * nvV, 0);
-  std::vector<double> rawNormal(size_t(nvU) * nvV * 3);
+  std::vector<double>& c0 = g.scratch.rowSum;
+  std::vector<double>& c1 = g.scratch.rowDerivative;
+  c0.resize(size_t(cols) * 3);
+  c1.resize(size_t(cols) * 3);
+  std::vector<char>& degenerate = g.scratch.degenerate;
+  degenerate.resize(size_t(nvU) * nvV);
+  std::vector<double>& rawNormal = g.scratch.rawNormal;
+  rawNormal.resize(size_t(nvU) * nvV * 3);
   LocalBasis bu;
   double scale = 0.0;
+  float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
   for (int i = 0; i < nvU; ++i) {
     const double u = double(i) / segU;
     sp.basisU().evaluate(u, 1, bu);
@@ -53,7 +60,12 @@ void tessellate(const SplineSpace& sp, const ControlNet& net, int segU, int segV
       n[2] = du[0] * dv[1] - du[1] * dv[0];
       scale = std::max(scale, std::sqrt(du[0] * du[0] + du[1] * du[1] + du[2] * du[2]) *
                                   std::sqrt(dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]));
-      for (int c = 0; c < 3; ++c) g.vertices[vi * 3 + c] = float(p[c]);
+      for (int c = 0; c < 3; ++c) {
+        const float x = float(p[c]);
+        g.vertices[vi * 3 + c] = x;
+        lo[c] = std::min(lo[c], x);
+        hi[c] = std::max(hi[c], x);
+      }
       g.texCoords[vi * 2] = float(u);
       g.texCoords[vi * 2 + 1] = float(double(j) / segV);
     }
@@ -96,6 +108,10 @@ void tessellate(const SplineSpace& sp, const ControlNet& net, int segU, int segV
   }
   g.segU = segU;
   g.segV = segV;
+  for (int c = 0; c < 3; ++c) {
+    g.boundsMin[c] = lo[c];
+    g.boundsMax[c] = hi[c];
+  }
 }
 
 Eigen::Vector2d closestParameter(const SplineSpace& space, const ControlNet& net, const SurfaceGrid& grid,

@@ -18,7 +18,16 @@ struct SurfaceGrid {
   std::vector<float> vertices;   ///< x, y, z per vertex
   std::vector<float> normals;    ///< unit normal per vertex
   std::vector<float> texCoords;  ///< u, v per vertex
-  std::vector<unsigned> indices;
+  std::vector<unsigned> indices; ///< rebuilt only when segU or segV change
+  float boundsMin[3] = {0, 0, 0};  ///< the box of `vertices`, found as they are written
+  float boundsMax[3] = {0, 0, 0};
+  /// Working memory of tessellate(), kept so that tessellating again at the same size (every
+  /// frame of an animation) allocates nothing.
+  struct Scratch {
+    std::vector<LocalBasis> basesV;
+    std::vector<double> rowSum, rowDerivative, rawNormal;
+    std::vector<char> degenerate;
+  } scratch;
 };
 
 /// Evaluates S and its unit normal du x dv on the grid. Where du x dv vanishes (a collapsed

@@ -311,7 +311,21 @@ void TriangleTree::update(const std::vector<Eigen::Vector3d>& vertices) {
 }
 
 bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit) const {
+  int none = -1;
+  return closest(query, maxDistance, hit, none);
+}
+
+bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit, int& hint) const {
+  const int guess = hint;
+  hint = -1;
   if (!m->scene || !usable(query) || std::isnan(maxDistance) || maxDistance < 0.0) return false;
+  double radius = maxDistance;  // of the culling; the answer is still checked against maxDistance
+  if (guess >= 0 && guess < static_cast<int>(m->mesh.triangles.size())) {
+    // Any kept triangle's distance is at least the closest one's: cull no farther.
+    const Eigen::Vector3i& f = m->mesh.triangles[guess];
+    const auto& v = m->mesh.vertices;
+    radius = std::min(radius, (query - closestPointOnTriangle(query, v[f[0]], v[f[1]], v[f[2]]).point).norm());
+  }
   Impl::Search s;
   s.impl = m.get();
   s.q = query;
@@ -328,8 +342,8 @@ bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, Clo
   q.y = static_cast<float>(query.y());
   q.z = static_cast<float>(query.z());
   q.time = 0.0f;
-  q.radius = static_cast<float>(std::min(maxDistance, kMaxCoordinate)) + s.slack;
-  if (std::isinf(maxDistance)) q.radius = std::numeric_limits<float>::infinity();
+  q.radius = static_cast<float>(std::min(radius, kMaxCoordinate)) + s.slack;
+  if (std::isinf(radius)) q.radius = std::numeric_limits<float>::infinity();
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(m->scene, &q, &context, &Impl::visit, &s);
@@ -352,6 +366,7 @@ bool TriangleTree::closest(const Eigen::Vector3d& query, double maxDistance, Clo
   hit.distance = std::sqrt(s.bestSquared);
   hit.signedDistance = (query - hit.point).dot(hit.normal) < 0.0 ? -hit.distance : hit.distance;
   hit.triangle = t;
+  hint = t;
   return true;
 }
 

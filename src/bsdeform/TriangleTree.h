@@ -64,6 +64,13 @@ class TriangleTree {
   /// whole mesh). Thread-safe for concurrent queries (not concurrently with update()).
   bool closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit) const;
 
+  /// The same search started from a guess: when `hint` is a kept triangle, the distance to it
+  /// bounds the search radius, which makes the query several times cheaper when the guess is
+  /// the previous answer for a point that moved little. The answer is the one without the hint
+  /// (the same closest point, normal and distances; of two triangles at exactly the same
+  /// distance either may be named). On return `hint` holds the triangle found, or -1.
+  bool closest(const Eigen::Vector3d& query, double maxDistance, ClosestHit& hit, int& hint) const;
+
   const TriangleMesh& mesh() const;  ///< all vertices as given, the kept triangles
   int droppedTriangles() const;
   /// How many times update() moved the vertices (answers depend on the tree and this number).

@@ -322,6 +322,50 @@ TEST_CASE("TriangleTree: maxDistance is respected to the last digits", "[core]")
   CHECK_FALSE(empty.closest(Vector3d::Zero(), kInf, h));
 }
 
+TEST_CASE("TriangleTree: a hint changes the cost of a query, never its answer", "[core]") {
+  // Hints as CollisionForce gives them (the answer for a nearby point), wrong ones (any
+  // triangle) and invalid ones (out of range), with finite and infinite search radii: the
+  // closest point, normal and distances are those of the query without a hint, and the hint
+  // comes back as the triangle found (-1 when none).
+  std::mt19937 rng(5);
+  const TriangleMesh mesh = torus(60, 30);
+  const TriangleTree tree(mesh);
+  std::uniform_real_distribution<double> u(-1.6, 1.6), small(-0.02, 0.02);
+  std::uniform_int_distribution<int> anyTriangle(0, tree.triangleCount() - 1);
+  int differ = 0, hintNotAnswer = 0, found = 0, missing = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const Vector3d q(u(rng), u(rng), 0.3 * u(rng));
+    const double maxDistance = i % 3 == 0 ? kInf : 0.15;
+    ClosestHit plain;
+    const bool hasPlain = tree.closest(q, maxDistance, plain);
+    ClosestHit nearby;
+    int previous = -1;
+    tree.closest(q + Vector3d(small(rng), small(rng), small(rng)), kInf, nearby, previous);
+    for (int hint : {previous, anyTriangle(rng), tree.triangleCount() + 3, -7}) {
+      ClosestHit h;
+      int io = hint;
+      const bool has = tree.closest(q, maxDistance, h, io);
+      if (has != hasPlain) {
+        ++missing;
+        continue;
+      }
+      if (!has) {
+        if (io != -1) ++hintNotAnswer;
+        continue;
+      }
+      ++found;
+      if (io != h.triangle) ++hintNotAnswer;
+      // equal distance; the point and normal too unless two triangles tie exactly
+      if (h.distance != plain.distance || h.signedDistance != plain.signedDistance) ++differ;
+      if (h.triangle == plain.triangle && !sameHit(h, plain)) ++differ;
+    }
+  }
+  CHECK(found > 4000);
+  CHECK(missing == 0);
+  CHECK(differ == 0);
+  CHECK(hintNotAnswer == 0);
+}
+
 TEST_CASE("TriangleTree: inside and outside of a closed icosphere, at faces, edges and vertices", "[core]") {
   const TriangleMesh mesh = icosphere(2);
   const TriangleTree tree(mesh);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include <Inventor/SbViewportRegion.h>
+#include <Inventor/SoOffscreenRenderer.h>
 #include <Inventor/SoPickedPoint.h>
 #include <Inventor/actions/SoCallbackAction.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
@@ -13,8 +14,10 @@
 #include <limits>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "NodesTestUtil.h"
+#include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoForceField.h"
 
@@ -560,4 +563,43 @@ TEST_CASE("SoBSplineDeformSurface: maxSubSteps refuses a step that would run for
   CHECK(s->stepSimulation(1));
   CHECK(s->simulation().subSteps() > 50);
   root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: drawing from GL buffers follows the simulation and the complexity", "[nodes]") {
+  // One renderer (one GL context, the node's buffers kept in it) against a fresh renderer for
+  // each picture: the kept buffers must be uploaded again after steps (new positions) and
+  // after a complexity change (a new grid size, new indices), and then give the same pixels.
+  std::string error;
+  INFO(error);
+  REQUIRE(bsdeform::installEglOffscreenContexts(&error));
+  SoSeparator* root = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator { PerspectiveCamera { position 0.5 -1.0 1.4 orientation 1 0 0 0.6 } "
+      "DirectionalLight { direction 0.2 0.3 -1 } DEF C Complexity { value 0.5 } "
+      "SoBSplineDeformSurface { numUControlPoints 10 numVControlPoints 10 on FALSE "
+      "forces SoForceField { type REGION force 0.3 0 1 magnitude 80 } } }");
+  REQUIRE(root);
+  const SbViewportRegion viewport(160, 120);
+  auto pixels = [&](SoOffscreenRenderer& r) {
+    REQUIRE(r.render(root));
+    const unsigned char* b = r.getBuffer();
+    return std::vector<unsigned char>(b, b + 160 * 120 * 3);
+  };
+  auto fresh = [&] {
+    SoOffscreenRenderer r(viewport);
+    r.setComponents(SoOffscreenRenderer::RGB);
+    return pixels(r);
+  };
+  SoOffscreenRenderer kept(viewport);
+  kept.setComponents(SoOffscreenRenderer::RGB);
+  const std::vector<unsigned char> flat = pixels(kept);
+  CHECK(flat == fresh());
+  testutil::find<SoBSplineDeformSurface>(root)->stepSimulation(30);
+  const std::vector<unsigned char> bent = pixels(kept);
+  size_t differing = 0;
+  for (size_t i = 0; i < flat.size(); ++i) differing += flat[i] != bent[i];
+  CHECK(differing > flat.size() / 20);  // the picture did change
+  CHECK(bent == fresh());
+  static_cast<SoComplexity*>(SoNode::getByName("C"))->value = 1.0f;
+  const std::vector<unsigned char> fine = pixels(kept);
+  CHECK(fine == fresh());
 }

@@ -12,6 +12,7 @@
 #include <cstdlib>
 
 #include "AtomicFile.h"
+#include "../support/FullDisk.h"
 #include "PlotPanel.h"
 #include "Plot.h"
 #include "SceneDocument.h"
@@ -48,17 +49,9 @@ void put(const QString& path, const QByteArray& data) {
 }
 
 /// The disk under `dir` is full while this lives (after `after` more bytes).
-struct FullDisk {
-  explicit FullDisk(const QString& dir, long after = 0) {
-    INFO("tests/support/enospc_shim.c must be preloaded (LD_PRELOAD, set by CTest)");
-    REQUIRE(qgetenv("LD_PRELOAD").contains("enospc"));
-    setenv("BSDEFORM_ENOSPC_DIR", QFile::encodeName(dir).constData(), 1);
-    setenv("BSDEFORM_ENOSPC_AFTER", std::to_string(after).c_str(), 1);
-  }
-  ~FullDisk() {
-    unsetenv("BSDEFORM_ENOSPC_DIR");
-    unsetenv("BSDEFORM_ENOSPC_AFTER");
-  }
+struct FullDisk : testsupport::FullDisk {
+  explicit FullDisk(const QString& dir, long after = 0)
+      : testsupport::FullDisk(QFile::encodeName(dir).toStdString(), after) {}
 };
 
 QStringList entries(const QString& dir) {
