@@ -111,6 +111,15 @@ TEST_CASE("Editing: undo and redo restore a field value, an inserted and a delet
   undo.redo();
   CHECK(s->w10.getValue() == 0.25);
   CHECK(s->simulation().parameters().weights.w10 == 0.25);
+  // the keys: Ctrl+Z and Ctrl+Shift+Z with the 3D view focused
+  QWidget* gl = w->viewer()->getGLWidget();
+  gl->activateWindow();
+  gl->setFocus();
+  QTRY_VERIFY(gl->hasFocus());
+  QTest::keyClick(gl, Qt::Key_Z, Qt::ControlModifier);
+  CHECK(s->w10.getValue() == w10);
+  QTest::keyClick(gl, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+  CHECK(s->w10.getValue() == 0.25);
 
   // a force field of another type on the selected surface
   REQUIRE(w->selectNode(s));

@@ -190,7 +190,9 @@ void MainWindow::createEditActions() {
   QAction* undo = m_undo->createUndoAction(this, tr("&Undo"));
   undo->setShortcut(QKeySequence::Undo);
   QAction* redo = m_undo->createRedoAction(this, tr("&Redo"));
-  redo->setShortcuts({QKeySequence(tr("Ctrl+Shift+Z")), QKeySequence::Redo});
+  QList<QKeySequence> redoKeys = QKeySequence::keyBindings(QKeySequence::Redo);
+  if (!redoKeys.contains(QKeySequence(tr("Ctrl+Shift+Z")))) redoKeys.prepend(QKeySequence(tr("Ctrl+Shift+Z")));
+  redo->setShortcuts(redoKeys);
   edit->addAction(undo);
   edit->addAction(redo);
   edit->addSeparator();
