@@ -68,7 +68,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_undo = new QUndoStack(this);
   m_edit.reset(new EditContext{*m_doc, [this](SoFieldContainer* o, SoField* f) { fieldChanged(o, f); },
                                [this](SoBase* focus) { structureChanged(focus); }});
-  connect(m_undo, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean); });
+  connect(m_undo, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean || m_restoredUnsaved); });
   m_wrapper = new SoSeparator;
   m_wrapper->ref();
   m_frameCounter = new SoCallback;
@@ -314,6 +314,7 @@ void MainWindow::openDefaultScene() {
 
 void MainWindow::showScene() {
   m_undo->clear();  // the edits belong to the scene that was shown
+  m_restoredUnsaved = false;
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_frameCounter);
   m_wrapper->addChild(m_drag->node());
@@ -356,7 +357,7 @@ void MainWindow::rememberFolder(const QString& path) {
 }
 
 bool MainWindow::maybeSave() {
-  if (m_undo->isClean() || !m_interactive) return true;
+  if ((m_undo->isClean() && !m_restoredUnsaved) || !m_interactive) return true;
   const QString name = m_doc->path().isEmpty() ? tr("the default scene") : QFileInfo(m_doc->path()).fileName();
   const auto answer = QMessageBox::warning(this, tr("Unsaved changes"), tr("Save the changes to %1?").arg(name),
                                            QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
@@ -386,6 +387,8 @@ bool MainWindow::saveSceneAs(const QString& path) {
     setWindowTitle(tr("%1[*] - bsdeform viewer").arg(QFileInfo(path).fileName()));
   }
   m_undo->setClean();
+  m_restoredUnsaved = false;
+  setWindowModified(false);
   m_autosave->markClean();  // saved: the recovery file is no longer needed
   statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
   return true;
@@ -394,7 +397,7 @@ bool MainWindow::saveSceneAs(const QString& path) {
 bool MainWindow::saveScene() {
   if (m_doc->path().isEmpty()) {
     saveAs();
-    return m_undo->isClean();
+    return m_undo->isClean() && !m_restoredUnsaved;
   }
   return saveSceneAs(m_doc->path());
 }
@@ -615,6 +618,8 @@ bool MainWindow::restoreRecovery(const RecoveryFile& file) {
   }
   m_doc->setPath(file.originalPath);
   showScene();
+  m_restoredUnsaved = true;  // the restored work is not in the scene's file yet
+  setWindowModified(true);
   // this viewer's own copy first, then the old file goes: the work is on disk all the time
   if (!m_autosave->saveNow(error)) {
     reportError(tr("Autosave failed"), error);

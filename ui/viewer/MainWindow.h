@@ -165,6 +165,7 @@ class MainWindow : public QMainWindow {
   QAction* m_dragAction = nullptr;
   QUndoStack* m_undo = nullptr;
   QDialog* m_fieldReference = nullptr;
+  bool m_restoredUnsaved = false;  ///< a restored autosave: unsaved although there is nothing to undo
   SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow
   std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
