@@ -168,6 +168,31 @@ TEST_CASE("Editing: undo and redo restore a field value, an inserted and a delet
   CHECK(s->forces.getNum() == 1);
 }
 
+TEST_CASE("Editing: deleting the only surface leaves a scene that steps, saves and comes back with undo", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  REQUIRE(w->deleteSelected());
+  CHECK(w->document().surfaces().isEmpty());
+  CHECK(w->document().forceFields().isEmpty());
+  CHECK(w->fieldEditor().container() == nullptr);
+  CHECK(!w->deleteSelected());  // nothing selected
+  CHECK(!w->insertForceField(SoForceField::UNIFORM));  // no surface to add it to
+  w->step();
+  w->reset();
+  QTest::qWait(250);  // a few ticks of the window with no surface
+  QTemporaryDir dir;
+  REQUIRE(w->saveSceneAs(dir.filePath(QStringLiteral("empty.iv"))));
+  CHECK(!readAll(dir.filePath(QStringLiteral("empty.iv"))).contains("SoBSplineDeformSurface"));
+  w->undoStack().undo();
+  REQUIRE(w->document().surfaces().size() == 1);
+  CHECK(w->document().surfaces().first() == s);
+  CHECK(w->fieldEditor().container() == s);
+  w->step();
+  CHECK(s->simulation().stepCount() == 1);
+}
+
 TEST_CASE("Editing: a save after pausing keeps on TRUE and the file's speed, Save clears the modified state", "[ui]") {
   auto w = makeWindow("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
