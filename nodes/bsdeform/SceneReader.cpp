@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SceneReader.h"
 
+#include "bsdeform/SoBSplineDeformSurface.h"
+
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
+#include <Inventor/SoPath.h>
 #include <Inventor/SoType.h>
+#include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/fields/SoFieldContainer.h>
@@ -20,6 +24,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <climits>
 
 #include <cerrno>
@@ -679,6 +684,20 @@ SoSeparator* readSceneFile(const std::string& path, std::string& error, const Sc
   SoSeparator* root = readSceneText(size ? static_cast<const char*>(map) : "", size, path, error, directory, limits);
   if (map) ::munmap(map, size);
   return root;
+}
+
+std::vector<SoBSplineDeformSurface*> sceneSurfaces(SoNode* root) {
+  std::vector<SoBSplineDeformSurface*> out;
+  if (!root) return out;
+  SoSearchAction sa;
+  sa.setType(SoBSplineDeformSurface::getClassTypeId());
+  sa.setInterest(SoSearchAction::ALL);
+  sa.apply(root);
+  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
+    auto* s = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
+    if (std::find(out.begin(), out.end(), s) == out.end()) out.push_back(s);
+  }
+  return out;
 }
 
 }  // namespace bsdeform

@@ -8,8 +8,11 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 class SoSeparator;
+class SoNode;
+class SoBSplineDeformSurface;
 
 namespace bsdeform {
 
@@ -45,5 +48,9 @@ SoSeparator* readSceneText(const char* data, std::size_t size, const std::string
 /// Reads the file at `path` (bytes first: a directory, a missing or unreadable file is named with
 /// the system's reason), then readSceneText with the file's directory for includes.
 SoSeparator* readSceneFile(const std::string& path, std::string& error, const SceneLimits& limits = SceneLimits());
+
+/// The distinct SoBSplineDeformSurface nodes under `root`, depth first (a surface USEd twice is
+/// listed once).
+std::vector<SoBSplineDeformSurface*> sceneSurfaces(SoNode* root);
 
 }  // namespace bsdeform

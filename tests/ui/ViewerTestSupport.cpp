@@ -36,6 +36,7 @@ void ensureApp() {
   // autosaves and settings of the windows under test stay out of the user's home
   static QTemporaryDir home;
   qputenv("XDG_DATA_HOME", QFile::encodeName(home.filePath(QStringLiteral("data"))));
+  qputenv("XDG_CONFIG_HOME", QFile::encodeName(home.filePath(QStringLiteral("config"))));
   app = new QApplication(argc, argv);
   QApplication::setOrganizationName(QStringLiteral("bsdeform-tests"));
   initViewerResources();

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 // What every test of bsdeform-viewer's window needs: one QApplication with SoQt and our nodes,
-// settings and autosaves kept out of the user's home, and a shown window with a scene.
+// settings and autosaves kept out of the user's home (XDG_DATA_HOME, XDG_CONFIG_HOME), and a shown window with a scene.
 #include <QImage>
 #include <QString>
 #include <memory>

@@ -20,6 +20,7 @@
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "ViewerTestSupport.h"
 #include "PlotPanel.h"
 #include "ViewerTestSupport.h"
 #include "bsdeform/NodesInit.h"
@@ -322,6 +323,7 @@ TEST_CASE("Viewer: the autosave of a viewer that was killed is offered at the ne
   REQUIRE(w->offerRecovery(bsdeform::RecoveryChoice::Restore));
   w->pause();
   CHECK(w->document().path() == scenePath("paper_fig7_sinusoidal.iv"));
+  CHECK(w->isWindowModified());  // the restored work is not in that file: quitting asks
   REQUIRE(!w->document().surfaces().isEmpty());
   CHECK(w->document().surfaces().first()->simulation().time() >= t - 1e-9);
   CHECK(w->document().surfaces().first()->simulation().time() < t + 0.25);

@@ -34,6 +34,7 @@
 
 #include "AtomicFile.h"
 #include "Plot.h"
+#include "bsdeform/AuthoredClock.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
@@ -163,10 +164,11 @@ void record(Surface& s) {
 }
 
 // Streams the scene text into the temporary file: it is never held in memory.
-bool writeScene(SoNode* root, const QString& path, QString& error) {
+bool writeScene(SoNode* root, const bsdeform::AuthoredClock& authored, const QString& path, QString& error) {
   return bsdeform::saveFileAtomically(
       path,
-      [root](QIODevice& device) {
+      [root, &authored](QIODevice& device) {
+        const bsdeform::AuthoredClock::Scope fileValues(authored);
         return bsdeform::writeSceneText(root, [&device](const char* data, std::size_t size) {
           return device.write(data, qint64(size)) == qint64(size);
         });
@@ -259,6 +261,7 @@ Failure runScene(const Options& o) {
     bb.apply(root);
   }
   double dtMin = INFINITY, t0 = INFINITY;
+  const bsdeform::AuthoredClock authored(root);  // final.iv keeps the scene's own `on` and `speed`
   for (Surface& s : surfaces) {
     s.node->on = FALSE;  // the runner drives time itself
     s.node->stepSimulation(0);
@@ -367,7 +370,7 @@ Failure runScene(const Options& o) {
     }
   }
   const QString ivPath = out.filePath(QStringLiteral("final.iv"));
-  if (!writeScene(root, ivPath, error)) return writeFailure(error, written);
+  if (!writeScene(root, authored, ivPath, error)) return writeFailure(error, written);
   written << ivPath;
 
   if (!o.quiet) {

@@ -3,24 +3,66 @@
 
 #include <Inventor/SbString.h>
 #include <Inventor/fields/SoFieldContainer.h>
-#include <Inventor/fields/SoFieldData.h>
 #include <Inventor/fields/SoMFEngine.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
+#include <Inventor/fields/SoSFDouble.h>
 #include <Inventor/fields/SoSFEnum.h>
+#include <Inventor/fields/SoSFFloat.h>
 #include <Inventor/fields/SoSFInt32.h>
 #include <Inventor/fields/SoSFTrigger.h>
+#include <Inventor/fields/SoSFVec2d.h>
+#include <Inventor/fields/SoSFVec3d.h>
 #include <Inventor/lists/SoFieldList.h>
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QComboBox>
 #include <QFormLayout>
+#include <QHBoxLayout>
+#include <QKeyEvent>
 #include <QLabel>
 #include <QLineEdit>
+#include <QPointer>
 #include <QPushButton>
-#include <QSpinBox>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <cmath>
+#include <memory>
+
+#include "FieldWidgets.h"
+#include "bsdeform/FieldInfo.h"
+#include "bsdeform/SoForceField.h"
 
 namespace bsdeform {
+
+namespace {
+const char* const kInvalidStyle = "background-color: #ffd0d0;";
+
+QString tooltipOf(const FieldInfo* info, const QString& name) {
+  if (!info) return name;
+  QString t = QStringLiteral("<b>%1</b>").arg(name);
+  if (*info->symbol) t += QStringLiteral(" &nbsp;(paper: %1)").arg(QString::fromUtf8(info->symbol).toHtmlEscaped());
+  t += QStringLiteral("<br>") + QString::fromUtf8(info->meaning).toHtmlEscaped();
+  if (*info->unit) t += QStringLiteral("<br>Unit: ") + QString::fromUtf8(info->unit).toHtmlEscaped();
+  if (*info->range) t += QStringLiteral("<br>Range: ") + QString::fromUtf8(info->range).toHtmlEscaped();
+  if (info->restarts) t += QStringLiteral("<br><i>Changing it restarts the simulation from rest.</i>");
+  if (info->live) t += QStringLiteral("<br><i>Kept current by the simulation.</i>");
+  return t;
+}
+
+SoField* copyOf(const SoField& f) {
+  auto* copy = static_cast<SoField*>(f.getTypeId().createInstance());
+  copy->copyFrom(f);
+  return copy;
+}
+
+QString coinText(SoField* f) {
+  SbString s;
+  f->get(s);
+  return QString::fromUtf8(s.getString());
+}
+}  // namespace
 
 FieldEditor::FieldEditor(QWidget* parent) : QWidget(parent) {
   m_form = new QFormLayout(this);
@@ -28,59 +70,123 @@ FieldEditor::FieldEditor(QWidget* parent) : QWidget(parent) {
 }
 
 void FieldEditor::clear() {
-  m_bindings.clear();
-  while (m_form->rowCount() > 0) m_form->removeRow(0);
+  // deleteLater: a row's widget may be the sender of the signal that led here (a type change)
+  while (m_form->rowCount() > 0) {
+    const QFormLayout::TakeRowResult r = m_form->takeRow(0);
+    for (QLayoutItem* item : {r.labelItem, r.fieldItem}) {
+      if (!item) continue;
+      if (QWidget* w = item->widget()) {
+        w->hide();
+        w->deleteLater();
+      }
+      delete item;
+    }
+  }
+  m_rows.clear();
+}
+
+FieldEditor::Row* FieldEditor::rowOf(QObject* widget) {
+  for (const auto& r : m_rows)
+    if (widget == r->editor || (widget->isWidgetType() && r->editor->isAncestorOf(static_cast<QWidget*>(widget)))) return r.get();
+  return nullptr;
+}
+
+void FieldEditor::addRow(Row row, const QString& label, const QString& tooltip) {
+  auto* cell = new QWidget;
+  auto* box = new QVBoxLayout(cell);
+  box->setContentsMargins(0, 0, 0, 0);
+  box->setSpacing(1);
+  box->addWidget(row.editor);
+  row.message = new QLabel;
+  row.message->setWordWrap(true);
+  row.message->hide();
+  box->addWidget(row.message);
+  row.editor->setToolTip(tooltip);
+  auto* name = new QLabel(label);
+  name->setToolTip(tooltip);
+  name->setBuddy(row.editor);
+  m_form->addRow(name, cell);
+  // the filter: Return and focus changes of every input of the row
+  const QList<QWidget*> inputs = row.editor->findChildren<QWidget*>() << row.editor;
+  for (QWidget* w : inputs) w->installEventFilter(this);
+  m_rows.push_back(std::make_unique<Row>(std::move(row)));
 }
 
 void FieldEditor::setContainer(SoFieldContainer* container, const QString& title) {
   clear();
   m_container = container;
   if (!container) return;
-  auto* heading = new QLabel(QStringLiteral("<b>%1</b> (%2)").arg(title.toHtmlEscaped(),
-                                                                   QString::fromLatin1(container->getTypeId().getName().getString())));
+  const char* node = container->getTypeId().getName().getString();
+  auto* heading = new QLabel(QStringLiteral("<b>%1</b> (%2)").arg(title.toHtmlEscaped(), QString::fromLatin1(node)));
+  heading->setWordWrap(true);
   m_form->addRow(heading);
+  const int forceType = container->isOfType(SoForceField::getClassTypeId()) ? static_cast<SoForceField*>(container)->type.getValue() : -1;
   SoFieldList fields;
   container->getFields(fields);
   for (int i = 0; i < fields.getLength(); ++i) {
     SoField* f = fields[i];
-    SbName name;
-    container->getFieldName(f, name);
-    const QString label = QString::fromLatin1(name.getString());
+    SbName fieldName;
+    container->getFieldName(f, fieldName);
+    const QString name = QString::fromLatin1(fieldName.getString());
+    if (forceType >= 0 && !forceFieldUses(forceType, fieldName.getString())) continue;  // not read by this type
+    const FieldInfo* info = findFieldInfo(node, fieldName.getString());
+    const QString label = info && *info->symbol ? QStringLiteral("%1  %2").arg(name, QString::fromUtf8(info->symbol)) : name;
+    const double lo = info ? info->min : -HUGE_VAL, hi = info ? info->max : HUGE_VAL;
+    const QString rangeText = info ? QString::fromUtf8(info->range) : QString();
+    Row row;
+    row.field = f;
+    row.name = name;
+    row.restarts = info && info->restarts;
     const SoType t = f->getTypeId();
-    if (t.isDerivedFrom(SoMFVec3d::getClassTypeId())) {
-      auto* info = new QLabel;
-      m_form->addRow(label, info);
-      m_bindings.push_back({f, info, [f, info] {
-                              const int n = static_cast<SoMFVec3d*>(f)->getNum();
-                              info->setText(n ? QStringLiteral("%1 points").arg(n) : QStringLiteral("(derived)"));
-                            }});
-    } else if (t.isDerivedFrom(SoMFEngine::getClassTypeId())) {
-      auto* info = new QLabel;
-      m_form->addRow(label, info);
-      m_bindings.push_back({f, info, [f, info] { info->setText(QStringLiteral("%1 engine(s)").arg(static_cast<SoMFEngine*>(f)->getNum())); }});
+    auto number = [&](NumberSpinBox::Kind kind) {
+      auto* spin = new NumberSpinBox(lo, hi, rangeText, kind);
+      spin->installEventFilter(new SimulationKeysPassThrough(spin));
+      return spin;
+    };
+    if ((info && info->live) || t.isDerivedFrom(SoMFVec3d::getClassTypeId()) || t.isDerivedFrom(SoMFEngine::getClassTypeId())) {
+      // shown, not edited: the state, the nets, the force list
+      auto* show = new QLabel;
+      show->setTextInteractionFlags(Qt::TextSelectableByMouse);
+      row.editor = show;
+      if (t.isDerivedFrom(SoMFVec3d::getClassTypeId()))
+        row.read = [f, show] {
+          const int n = static_cast<SoMFVec3d*>(f)->getNum();
+          show->setText(n ? tr("%1 points").arg(n) : tr("(empty)"));
+        };
+      else if (t.isDerivedFrom(SoMFEngine::getClassTypeId()))
+        row.read = [f, show] { show->setText(tr("%n engine(s)", "", static_cast<SoMFEngine*>(f)->getNum())); };
+      else if (t.isDerivedFrom(SoSFDouble::getClassTypeId()))
+        // a running sum (0.1 + 0.1 + 0.1): 12 digits, as the status bar, not the last ulp
+        row.read = [f, show] { show->setText(QString::number(static_cast<SoSFDouble*>(f)->getValue(), 'g', 12)); };
+      else
+        row.read = [f, show] { show->setText(coinText(f)); };
     } else if (t.isDerivedFrom(SoSFTrigger::getClassTypeId())) {
-      auto* button = new QPushButton(label);
+      auto* button = new QPushButton(name);
+      button->setFocusPolicy(Qt::TabFocus);
       connect(button, &QPushButton::clicked, this, [this, f] {
         f->touch();
         emit edited();
       });
-      m_form->addRow(label, button);
+      row.editor = button;
     } else if (t.isDerivedFrom(SoSFBool::getClassTypeId())) {
-      auto* box = new QCheckBox;
+      auto* check = new QCheckBox;
+      check->setFocusPolicy(Qt::TabFocus);  // a click leaves the keyboard where it was (Space!)
       auto* bf = static_cast<SoSFBool*>(f);
-      connect(box, &QCheckBox::toggled, this, [this, bf](bool on) {
-        if (bf->getValue() != SbBool(on)) {
-          bf->setValue(on);
-          emit edited();
-        }
+      connect(check, &QCheckBox::toggled, this, [this, bf, check](bool on) {
+        if (bf->getValue() == SbBool(on)) return;
+        if (Row* r = rowOf(check)) commit(*r, [bf, on] {
+            bf->setValue(on);
+            return true;
+          });
       });
-      m_form->addRow(label, box);
-      m_bindings.push_back({f, box, [bf, box] {
-                              const QSignalBlocker block(box);
-                              box->setChecked(bf->getValue());
-                            }});
+      row.editor = check;
+      row.read = [bf, check] {
+        const QSignalBlocker block(check);
+        check->setChecked(bf->getValue());
+      };
     } else if (t.isDerivedFrom(SoSFEnum::getClassTypeId())) {
       auto* combo = new QComboBox;
+      combo->setFocusPolicy(Qt::TabFocus);
       auto* ef = static_cast<SoSFEnum*>(f);
       for (int k = 0; k < ef->getNumEnums(); ++k) {
         SbName en;
@@ -88,58 +194,209 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
         combo->addItem(QString::fromLatin1(en.getString()), value);
       }
       connect(combo, QOverload<int>::of(&QComboBox::activated), this, [this, ef, combo](int index) {
-        ef->setValue(combo->itemData(index).toInt());
-        emit edited();
+        const int value = combo->itemData(index).toInt();
+        if (ef->getValue() != value)
+          if (Row* r = rowOf(combo)) commit(*r, [ef, value] {
+              ef->setValue(value);
+              return true;
+            });
+        emit done();
       });
-      m_form->addRow(label, combo);
-      m_bindings.push_back({f, combo, [ef, combo] {
-                              const QSignalBlocker block(combo);
-                              combo->setCurrentIndex(combo->findData(ef->getValue()));
-                            }});
-    } else if (t.isDerivedFrom(SoSFInt32::getClassTypeId())) {
-      auto* spin = new QSpinBox;
-      spin->setRange(-1000000, 1000000);
-      auto* inf = static_cast<SoSFInt32*>(f);
-      connect(spin, &QSpinBox::editingFinished, this, [this, inf, spin] {
-        if (inf->getValue() != spin->value()) {
-          inf->setValue(spin->value());
-          emit edited();
+      row.editor = combo;
+      row.read = [ef, combo] {
+        const QSignalBlocker block(combo);
+        combo->setCurrentIndex(combo->findData(ef->getValue()));
+      };
+    } else if (t.isDerivedFrom(SoSFDouble::getClassTypeId()) || t.isDerivedFrom(SoSFFloat::getClassTypeId()) ||
+               t.isDerivedFrom(SoSFInt32::getClassTypeId())) {
+      const bool isFloat = t.isDerivedFrom(SoSFFloat::getClassTypeId()), isInt = t.isDerivedFrom(SoSFInt32::getClassTypeId());
+      NumberSpinBox* spin = number(isInt ? NumberSpinBox::Integer : isFloat ? NumberSpinBox::Single : NumberSpinBox::Double);
+      auto get = [f, isFloat, isInt]() -> double {
+        return isInt ? static_cast<SoSFInt32*>(f)->getValue() : isFloat ? static_cast<SoSFFloat*>(f)->getValue() : static_cast<SoSFDouble*>(f)->getValue();
+      };
+      connect(spin, &QAbstractSpinBox::editingFinished, this, [this, f, spin, get, isFloat, isInt] {
+        const double v = spin->value();
+        if (v == get() || !spin->problem().isEmpty()) return;
+        if (Row* r = rowOf(spin)) commit(*r, [f, v, isFloat, isInt] {
+            if (isInt)
+              static_cast<SoSFInt32*>(f)->setValue(int(v));
+            else if (isFloat)
+              static_cast<SoSFFloat*>(f)->setValue(float(v));
+            else
+              static_cast<SoSFDouble*>(f)->setValue(v);
+            return true;
+          });
+      });
+      row.editor = spin;
+      row.read = [spin, get] {
+        const QSignalBlocker block(spin);
+        spin->setValue(get());
+      };
+      row.problem = [spin] { return spin->problem(); };
+    } else if (t.isDerivedFrom(SoSFVec2d::getClassTypeId()) || t.isDerivedFrom(SoSFVec3d::getClassTypeId())) {
+      const int n = t.isDerivedFrom(SoSFVec2d::getClassTypeId()) ? 2 : 3;
+      auto* rowWidget = new QWidget;
+      auto* h = new QHBoxLayout(rowWidget);
+      h->setContentsMargins(0, 0, 0, 0);
+      QVector<NumberSpinBox*> spins;
+      for (int k = 0; k < n; ++k) {
+        spins << number(NumberSpinBox::Double);
+        h->addWidget(spins.back());
+      }
+      auto get = [f, n](int k) {
+        return n == 2 ? static_cast<SoSFVec2d*>(f)->getValue()[k] : static_cast<SoSFVec3d*>(f)->getValue()[k];
+      };
+      for (NumberSpinBox* spin : spins)
+        connect(spin, &QAbstractSpinBox::editingFinished, this, [this, f, n, spins, get, rowWidget] {
+          bool same = true;
+          for (int k = 0; k < n; ++k) {
+            if (!spins[k]->problem().isEmpty()) return;
+            same &= spins[k]->value() == get(k);
+          }
+          if (same) return;
+          if (Row* r = rowOf(rowWidget)) commit(*r, [f, n, spins] {
+              if (n == 2)
+                static_cast<SoSFVec2d*>(f)->setValue(spins[0]->value(), spins[1]->value());
+              else
+                static_cast<SoSFVec3d*>(f)->setValue(spins[0]->value(), spins[1]->value(), spins[2]->value());
+              return true;
+            });
+        });
+      row.editor = rowWidget;
+      row.read = [spins, get] {
+        for (int k = 0; k < spins.size(); ++k) {
+          const QSignalBlocker block(spins[k]);
+          spins[k]->setValue(get(k));
         }
-      });
-      m_form->addRow(label, spin);
-      m_bindings.push_back({f, spin, [inf, spin] {
-                              const QSignalBlocker block(spin);
-                              spin->setValue(inf->getValue());
-                            }});
+      };
+      row.problem = [spins] {
+        for (NumberSpinBox* s : spins)
+          if (!s->problem().isEmpty()) return s->problem();
+        return QString();
+      };
     } else {
-      // Every other field through its own text form: numbers, vectors, strings, lists.
+      // every other field in its own text form: lists of points, strings, nodes
       auto* edit = new QLineEdit;
-      connect(edit, &QLineEdit::editingFinished, this, [this, f, edit, label] {
-        SbString current;
-        f->get(current);
+      connect(edit, &QLineEdit::editingFinished, this, [this, f, edit] {
         const QString text = edit->text().trimmed();
-        if (text == QString::fromUtf8(current.getString())) return;
-        if (!f->set(text.toUtf8().constData())) {
-          emit rejected(QStringLiteral("%1: '%2' is not a valid value").arg(label, text));
-          edit->setText(QString::fromUtf8(current.getString()));
-          return;
-        }
-        emit edited();
+        if (text == coinText(f)) return;
+        if (Row* r = rowOf(edit)) commit(*r, [f, text] { return bool(f->set(text.toUtf8().constData())); });
       });
-      m_form->addRow(label, edit);
-      m_bindings.push_back({f, edit, [f, edit] {
-                              SbString s;
-                              f->get(s);
-                              edit->setText(QString::fromUtf8(s.getString()));
-                            }});
+      row.editor = edit;
+      row.read = [f, edit] { edit->setText(coinText(f)); };
     }
+    addRow(std::move(row), label, tooltipOf(info, name));
   }
   refresh();
 }
 
+void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
+  SoField* field = row.field;
+  std::unique_ptr<SoField> before(copyOf(*field));
+  const bool beforeIsDefault = field->isDefault();
+  const QString name = row.name;
+  if (!apply()) {
+    field->copyFrom(*before);
+    field->setDefault(beforeIsDefault);
+    showInvalid(row, tr("not a valid value for this field"));
+    emit rejected(tr("%1: not a valid value").arg(name));
+    return;
+  }
+  if (before->isSame(*field)) return;
+  const QString reason = m_check ? m_check(m_container) : QString();
+  if (!reason.isEmpty()) {
+    field->copyFrom(*before);  // the node keeps its last valid values
+    field->setDefault(beforeIsDefault);
+    showInvalid(row, reason);
+    emit rejected(tr("%1: %2").arg(name, reason));
+    // a choice (combo, check box) keeps no focus to lose: it goes back at once, the reason stays
+    QWidget* focus = QApplication::focusWidget();
+    if (!focus || (focus != row.editor && !row.editor->isAncestorOf(focus))) revert(row);
+    return;
+  }
+  row.invalid = false;
+  row.editor->setStyleSheet(QString());
+  row.message->setVisible(row.restarts);
+  if (row.restarts) {
+    row.message->setStyleSheet(QStringLiteral("color: #805000;"));
+    row.message->setText(tr("The simulation restarted from rest."));
+  }
+  const bool restarts = row.restarts;
+  // the handler may rebuild this editor (a force field's type): `row` is not used afterwards
+  if (m_onChange) m_onChange(m_container, field, *before, beforeIsDefault);
+  if (restarts) emit notice(tr("%1 changed: the simulation restarted from rest").arg(name));
+  emit edited();
+}
+
+void FieldEditor::showInvalid(Row& row, const QString& reason) {
+  row.invalid = true;
+  row.editor->setStyleSheet(QString::fromLatin1(kInvalidStyle));
+  row.message->setStyleSheet(QStringLiteral("color: #c00000;"));
+  row.message->setText(reason);
+  row.message->show();
+}
+
+void FieldEditor::revert(Row& row) {
+  row.invalid = false;
+  row.editor->setStyleSheet(QString());
+  if (row.read) row.read();
+  row.message->setText(tr("Not applied: %1").arg(row.message->text()));
+}
+
+bool FieldEditor::eventFilter(QObject* watched, QEvent* event) {
+  Row* row = rowOf(watched);
+  if (!row) return false;
+  if (event->type() == QEvent::KeyPress) {
+    auto* key = static_cast<QKeyEvent*>(event);
+    if (key->key() == Qt::Key_Escape) {
+      if (row->invalid) revert(*row);
+      else if (row->read) row->read();
+      emit done();
+      return true;
+    }
+    if (key->key() == Qt::Key_Return || key->key() == Qt::Key_Enter) {
+      if (row->problem && !row->problem().isEmpty()) {
+        showInvalid(*row, row->problem());
+        return true;  // the text stays for the user to correct
+      }
+      // after the editor took the Return (and committed): back to the 3D view when accepted
+      QPointer<QObject> w(watched);
+      QTimer::singleShot(0, this, [this, w] {
+        Row* r = w ? rowOf(w) : nullptr;
+        if (r && !r->invalid) emit done();
+      });
+    }
+  } else if (event->type() == QEvent::FocusOut) {
+    if (row->problem && !row->problem().isEmpty()) showInvalid(*row, row->problem());
+    // after the editor's own focus-out handling (which commits): a refused value goes back
+    QPointer<QObject> w(watched);
+    QTimer::singleShot(0, this, [this, w] {
+      Row* r = w ? rowOf(w) : nullptr;
+      if (r && r->invalid) revert(*r);
+    });
+  }
+  return false;
+}
+
+QWidget* FieldEditor::editorOf(const QString& name) const {
+  for (const auto& r : m_rows)
+    if (r->name == name) return r->editor;
+  return nullptr;
+}
+
+QString FieldEditor::messageOf(const QString& name) const {
+  for (const auto& r : m_rows)
+    if (r->name == name) return r->message->isHidden() ? QString() : r->message->text();
+  return QString();
+}
+
 void FieldEditor::refresh() {
-  for (const Binding& b : m_bindings)
-    if (!b.widget->hasFocus()) b.read();
+  QWidget* focus = QApplication::focusWidget();
+  for (const auto& r : m_rows) {
+    if (!r->read || r->invalid) continue;
+    if (focus && (focus == r->editor || r->editor->isAncestorOf(focus))) continue;  // being edited
+    r->read();
+  }
 }
 
 }  // namespace bsdeform

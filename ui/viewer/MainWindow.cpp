@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <QApplication>
 #include <QCloseEvent>
+#include <QDialog>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QDragEnterEvent>
@@ -33,18 +34,23 @@
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QTextBrowser>
 #include <QTimer>
 #include <QToolBar>
 #include <QTreeWidget>
+#include <QUndoStack>
 #include <QVBoxLayout>
 
 #include "AtomicFile.h"
 #include "ControlNetDisplay.h"
 #include "DragTool.h"
+#include "EditCommands.h"
 #include "FieldEditor.h"
+#include "FieldWidgets.h"
 #include "HelpDialogs.h"
 #include "PlotPanel.h"
 #include "ViewFraming.h"
+#include "bsdeform/FieldInfo.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -55,11 +61,16 @@ namespace bsdeform {
 namespace {
 constexpr int kMaxRecent = 8;
 const char* kRecentKey = "recentFiles";
+const char* kFolderKey = "lastFolder";
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
   setWindowTitle(tr("bsdeform viewer"));
   setAcceptDrops(true);
+  m_undo = new QUndoStack(this);
+  m_edit.reset(new EditContext{*m_doc, [this](SoFieldContainer* o, SoField* f) { fieldChanged(o, f); },
+                               [this](SoBase* focus) { structureChanged(focus); }});
+  connect(m_undo, &QUndoStack::cleanChanged, this, [this](bool clean) { setWindowModified(!clean || m_restoredUnsaved); });
   m_wrapper = new SoSeparator;
   m_wrapper->ref();
   m_frameCounter = new SoCallback;
@@ -78,6 +89,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_netDisplay = new ControlNetDisplay(this);
 
   createActions();
+  createEditActions();
+  createHelpMenu();
   createDocks();
   createStatusBar();
   updateRecentMenu();
@@ -102,6 +115,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
 }
 
 MainWindow::~MainWindow() {
+  m_undo->clear();  // the commands hold nodes of the scene
   m_drag->release();
   m_viewer->setSceneGraph(nullptr);
   delete m_viewer;
@@ -122,10 +136,13 @@ void MainWindow::createActions() {
   m_recentMenu = file->addMenu(tr("Open &Recent"));
   a = file->addAction(tr("Re&load"), this, &MainWindow::reload);
   a->setShortcut(QKeySequence::Refresh);
+  a = file->addAction(tr("&Save"), this, &MainWindow::save);
+  a->setShortcut(QKeySequence::Save);
   a = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
   a->setShortcut(QKeySequence::SaveAs);
   file->addSeparator();
   file->addAction(tr("&Export Mesh (OBJ, STL)..."), this, &MainWindow::exportMeshDialog);
+  file->addAction(tr("Export &Control Net (XYZ, OBJ)..."), this, &MainWindow::exportControlNetDialog);
   a = file->addAction(tr("Save &Screenshot..."), this, &MainWindow::screenshotDialog);
   a->setShortcut(QKeySequence(tr("Ctrl+P")));
   file->addSeparator();
@@ -133,6 +150,7 @@ void MainWindow::createActions() {
   a->setShortcut(QKeySequence::Quit);
 
   QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
+  m_simulationMenu = sim;
   QToolBar* bar = addToolBar(tr("Simulation"));
   bar->setObjectName(QStringLiteral("simulationToolBar"));
   m_playAction = new QAction(tr("Play"), this);
@@ -165,7 +183,8 @@ void MainWindow::createActions() {
   m_speed->setDecimals(2);
   m_speed->setValue(1.0);
   m_speed->setSuffix(tr(" x"));
-  m_speed->setToolTip(tr("Simulated seconds per real second"));
+  m_speed->setToolTip(tr("Simulated seconds per real second (not written to the scene file)"));
+  m_speed->installEventFilter(new SimulationKeysPassThrough(m_speed));
   connect(m_speed, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double v) {
     for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(v);
   });
@@ -176,10 +195,62 @@ void MainWindow::createActions() {
   view->addSeparator();
   m_netDisplay->addActions(view);
 
+}
+
+void MainWindow::createHelpMenu() {
   QMenu* help = menuBar()->addMenu(tr("&Help"));
-  a = help->addAction(tr("&Keyboard Shortcuts"), this, [this] { showShortcuts(this, menuBar()); });
+  QAction* a = help->addAction(tr("&Keyboard Shortcuts"), this, [this] { showShortcuts(this, menuBar()); });
   a->setShortcut(QKeySequence::HelpContents);
+  help->addAction(tr("&Field Reference"), this, &MainWindow::showFieldReference);
+  help->addSeparator();
   help->addAction(tr("&About bsdeform-viewer"), this, [this] { showAbout(this); });
+}
+
+void MainWindow::createEditActions() {
+  // File, Edit, Insert, Simulation, View, Help
+  QMenu* edit = new QMenu(tr("&Edit"), this);
+  menuBar()->insertMenu(m_simulationMenu->menuAction(), edit);
+  QAction* undo = m_undo->createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  QAction* redo = m_undo->createRedoAction(this, tr("&Redo"));
+  QList<QKeySequence> redoKeys = QKeySequence::keyBindings(QKeySequence::Redo);
+  if (!redoKeys.contains(QKeySequence(tr("Ctrl+Shift+Z")))) redoKeys.prepend(QKeySequence(tr("Ctrl+Shift+Z")));
+  redo->setShortcuts(redoKeys);
+  edit->addAction(undo);
+  edit->addAction(redo);
+  edit->addSeparator();
+  QAction* del = edit->addAction(tr("&Delete"), this, &MainWindow::deleteSelected);
+  del->setShortcut(QKeySequence::Delete);
+  del->setToolTip(tr("Delete the selected surface or force field"));
+
+  QMenu* insert = new QMenu(tr("&Insert"), this);
+  menuBar()->insertMenu(m_simulationMenu->menuAction(), insert);
+  QMenu* forces = insert->addMenu(tr("&Force Field"));
+  forces->setToolTipsVisible(true);
+  SoForceField* probe = new SoForceField;  // for the names of its types
+  probe->ref();
+  for (int k = 0; k < probe->type.getNumEnums(); ++k) {
+    SbName name;
+    const int type = probe->type.getEnum(k, name);
+    QAction* a = forces->addAction(QString::fromLatin1(name.getString()), this, [this, type] { insertForceField(type); });
+    a->setToolTip(tr("Add a %1 force field to the selected surface").arg(QString::fromLatin1(name.getString())));
+  }
+  probe->unref();
+  insert->addAction(tr("&Surface"), this, &MainWindow::insertSurface);
+}
+
+void MainWindow::showFieldReference() {
+  if (!m_fieldReference) {
+    m_fieldReference = new QDialog(this);
+    m_fieldReference->setWindowTitle(tr("Field reference"));
+    auto* text = new QTextBrowser;
+    text->setMarkdown(QString::fromStdString(fieldReferenceMarkdown()));
+    auto* layout = new QVBoxLayout(m_fieldReference);
+    layout->addWidget(text);
+    m_fieldReference->resize(1000, 700);
+  }
+  m_fieldReference->show();
+  m_fieldReference->raise();
 }
 
 void MainWindow::createDocks() {
@@ -190,6 +261,13 @@ void MainWindow::createDocks() {
   m_tree->setHeaderHidden(true);
   connect(m_tree, &QTreeWidget::itemSelectionChanged, this, &MainWindow::selectionChanged);
   m_editor = new FieldEditor;
+  m_editor->setChecker(refusalOf);
+  connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
+  // after an edit the keyboard goes back to the 3D view, where Space, S, R, D act
+  connect(m_editor, &FieldEditor::done, this, [this] { m_viewer->getGLWidget()->setFocus(Qt::OtherFocusReason); });
+  m_editor->setChangeHandler([this](SoFieldContainer* owner, SoField* field, const SoField& before, bool beforeIsDefault) {
+    m_undo->push(new SetFieldCommand(*m_edit, owner, field, before, beforeIsDefault, *field, true));
+  });
   connect(m_editor, &FieldEditor::rejected, this, [this](const QString& m) { statusBar()->showMessage(m, 5000); });
   auto* scroll = new QScrollArea;
   scroll->setWidget(m_editor);
@@ -199,6 +277,7 @@ void MainWindow::createDocks() {
   split->setStretchFactor(1, 3);
   sceneDock->setWidget(split);
   addDockWidget(Qt::RightDockWidgetArea, sceneDock);
+  resizeDocks({sceneDock}, {420}, Qt::Horizontal);  // the field editor's labels and spin boxes side by side
 
   auto* plotDock = new QDockWidget(tr("Plots"), this);
   plotDock->setObjectName(QStringLiteral("plotDock"));
@@ -237,6 +316,7 @@ bool MainWindow::openScene(const QString& path) {
   }
   m_lastError.clear();
   addRecent(QFileInfo(path).absoluteFilePath());
+  rememberFolder(path);
   showScene();
   m_autosave->markClean();
   return true;
@@ -254,6 +334,8 @@ void MainWindow::openDefaultScene() {
 }
 
 void MainWindow::showScene() {
+  m_undo->clear();  // the edits belong to the scene that was shown
+  m_restoredUnsaved = false;
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_frameCounter);
   m_wrapper->addChild(m_drag->node());
@@ -266,21 +348,53 @@ void MainWindow::showScene() {
   m_viewer->setSceneGraph(m_wrapper);
   m_drag->setCamera(m_viewer->getCamera());
   m_framing->sceneShown(m_doc->root());
-  setWindowTitle(tr("%1 - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
+  setWindowTitle(tr("%1[*] - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
+  setWindowModified(false);
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
   m_frames = m_lastFrames = 0;
   m_lastSteps = 0;
   m_selectedSurface = -1;
+  m_plotted = nullptr;
   populateScenePanel();
   m_playAction->setChecked(isPlaying());
 }
 
 void MainWindow::open() {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), QString(), tr("Inventor scenes (*.iv);;All files (*)"));
+  if (!maybeSave()) return;
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene"), openFolder(), tr("Inventor scenes (*.iv);;All files (*)"));
   if (!path.isEmpty()) openScene(path);
 }
 
+void MainWindow::openAfterAsking(const QString& path) {
+  if (maybeSave()) openScene(path);
+}
+
+QString MainWindow::openFolder() const {
+  const QString last = QSettings().value(kFolderKey).toString();
+  if (!last.isEmpty() && QFileInfo(last).isDir()) return last;
+  // the installed scenes, then the source tree's (a build that is run where it was built)
+  for (const QString& dir : {QCoreApplication::applicationDirPath() + QStringLiteral("/../share/bsdeform/scenes"),
+                             QStringLiteral(BSDEFORM_SOURCE_SCENES_DIR)})
+    if (QFileInfo(dir).isDir()) return QFileInfo(dir).canonicalFilePath();
+  return QString();
+}
+
+void MainWindow::rememberFolder(const QString& path) {
+  QSettings().setValue(kFolderKey, QFileInfo(path).absolutePath());
+}
+
+bool MainWindow::maybeSave() {
+  if ((m_undo->isClean() && !m_restoredUnsaved) || !m_interactive) return true;
+  const QString name = m_doc->path().isEmpty() ? tr("the default scene") : QFileInfo(m_doc->path()).fileName();
+  const auto answer = QMessageBox::warning(this, tr("Unsaved changes"), tr("Save the changes to %1?").arg(name),
+                                           QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  if (answer == QMessageBox::Cancel) return false;
+  if (answer == QMessageBox::Save) return saveScene();
+  return true;
+}
+
 void MainWindow::reload() {
+  if (!maybeSave()) return;
   if (m_doc->path().isEmpty())
     openDefaultScene();
   else
@@ -294,27 +408,46 @@ bool MainWindow::saveSceneAs(const QString& path) {
     return false;
   }
   addRecent(QFileInfo(path).absoluteFilePath());
+  rememberFolder(path);
+  if (m_doc->path() != path) {
+    m_doc->setPath(path);
+    setWindowTitle(tr("%1[*] - bsdeform viewer").arg(QFileInfo(path).fileName()));
+  }
+  m_undo->setClean();
+  m_restoredUnsaved = false;
+  setWindowModified(false);
   m_autosave->markClean();  // saved: the recovery file is no longer needed
   statusBar()->showMessage(tr("Saved %1").arg(path), 5000);
   return true;
 }
 
+bool MainWindow::saveScene() {
+  if (m_doc->path().isEmpty()) {
+    saveAs();
+    return m_undo->isClean() && !m_restoredUnsaved;
+  }
+  return saveSceneAs(m_doc->path());
+}
+
+void MainWindow::save() { saveScene(); }
+
 void MainWindow::saveAs() {
   // QFileDialog asks before replacing an existing file; the file is written atomically.
-  QString path = QFileDialog::getSaveFileName(this, tr("Save scene as"), m_doc->path(), tr("Inventor scenes (*.iv)"));
+  QString path = QFileDialog::getSaveFileName(this, tr("Save scene as"), m_doc->path().isEmpty() ? openFolder() : m_doc->path(),
+                                              tr("Inventor scenes (*.iv)"));
   if (path.isEmpty()) return;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");
   saveSceneAs(path);
 }
 
-bool MainWindow::exportMesh(const QString& path) {
+bool MainWindow::exportSurface(const QString& path, bool controlNet) {
   if (m_doc->surfaces().isEmpty()) {
     reportError(tr("Export failed"), tr("the scene has no surface"));
     return false;
   }
-  SoBSplineDeformSurface* s = m_doc->surfaces()[std::max(0, m_selectedSurface)];
+  SoBSplineDeformSurface* s = m_doc->surfaces()[std::max(0, std::min(m_selectedSurface, int(m_doc->surfaces().size()) - 1))];
   QString error;
-  if (!m_doc->exportMesh(s, path, error)) {
+  if (!(controlNet ? m_doc->exportControlNet(s, path, error) : m_doc->exportMesh(s, path, error))) {
     reportError(tr("Export failed"), error);
     return false;
   }
@@ -322,13 +455,25 @@ bool MainWindow::exportMesh(const QString& path) {
   return true;
 }
 
-void MainWindow::exportMeshDialog() {
+bool MainWindow::exportMesh(const QString& path) { return exportSurface(path, false); }
+
+bool MainWindow::exportControlNet(const QString& path) { return exportSurface(path, true); }
+
+void MainWindow::exportMeshDialog() { exportDialog(false); }
+
+void MainWindow::exportControlNetDialog() { exportDialog(true); }
+
+void MainWindow::exportDialog(bool controlNet) {
+  const QStringList filters = controlNet ? QStringList{tr("Points, x y z per line (*.xyz)"), tr("Wavefront OBJ, points and net lines (*.obj)")}
+                                         : QStringList{tr("Wavefront OBJ (*.obj)"), tr("STL (*.stl)")};
   QString filter;
-  QString path = QFileDialog::getSaveFileName(this, tr("Export mesh of the selected surface"), QString(),
-                                              tr("Wavefront OBJ (*.obj);;STL (*.stl)"), &filter);
+  QString path = QFileDialog::getSaveFileName(this, controlNet ? tr("Export the control net of the selected surface")
+                                                               : tr("Export mesh of the selected surface"),
+                                              m_doc->path().isEmpty() ? openFolder() : QFileInfo(m_doc->path()).absolutePath(),
+                                              filters.join(QStringLiteral(";;")), &filter);
   if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) path += filter.contains(QLatin1String("stl")) ? QStringLiteral(".stl") : QStringLiteral(".obj");
-  exportMesh(path);
+  if (QFileInfo(path).suffix().isEmpty()) path += QLatin1Char('.') + filter.section(QStringLiteral("(*."), 1).chopped(1);
+  exportSurface(path, controlNet);
 }
 
 QImage MainWindow::screenshot(const QSize& size) {
@@ -413,7 +558,7 @@ void MainWindow::updateRecentMenu() {
   m_recentMenu->clear();
   const QStringList recent = QSettings().value(kRecentKey).toStringList();
   for (const QString& path : recent)
-    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openScene(path); })->setToolTip(path);
+    m_recentMenu->addAction(QFileInfo(path).fileName(), this, [this, path] { openAfterAsking(path); })->setToolTip(path);
   m_recentMenu->setEnabled(!recent.isEmpty());
 }
 
@@ -428,12 +573,16 @@ void MainWindow::dragEnterEvent(QDragEnterEvent* e) {
 void MainWindow::dropEvent(QDropEvent* e) {
   for (const QUrl& url : e->mimeData()->urls())
     if (url.isLocalFile()) {
-      openScene(url.toLocalFile());
+      openAfterAsking(url.toLocalFile());
       return;
     }
 }
 
 void MainWindow::closeEvent(QCloseEvent* e) {
+  if (!maybeSave()) {
+    e->ignore();
+    return;
+  }
   m_timer->stop();
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
@@ -489,6 +638,8 @@ bool MainWindow::restoreRecovery(const RecoveryFile& file) {
   }
   m_doc->setPath(file.originalPath);
   showScene();
+  m_restoredUnsaved = true;  // the restored work is not in the scene's file yet
+  setWindowModified(true);
   // this viewer's own copy first, then the old file goes: the work is on disk all the time
   if (!m_autosave->saveNow(error)) {
     reportError(tr("Autosave failed"), error);
@@ -512,6 +663,7 @@ bool MainWindow::isPlaying() const {
 
 void MainWindow::setPlaying(bool on) {
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->on = on;
+  m_editor->refresh();
   m_playAction->setChecked(on);
   m_playAction->setText(on ? tr("Pause") : tr("Play"));
 }
@@ -561,6 +713,87 @@ void MainWindow::populateScenePanel() {
   if (!m_doc->surfaces().isEmpty()) selectSurface(0);
 }
 
+SoBase* MainWindow::selectedNode() const {
+  const QList<QTreeWidgetItem*> sel = m_tree->selectedItems();
+  if (sel.isEmpty() || !sel.first()->data(0, Qt::UserRole).isValid()) return nullptr;
+  const int code = sel.first()->data(0, Qt::UserRole).toInt();
+  if (code >= 0) return code < m_doc->surfaces().size() ? m_doc->surfaces()[code] : nullptr;
+  return -1 - code < m_doc->forceFields().size() ? m_doc->forceFields()[-1 - code] : nullptr;
+}
+
+bool MainWindow::selectNode(SoBase* node) {
+  for (int top = 0; top < m_tree->topLevelItemCount(); ++top) {
+    QTreeWidgetItem* group = m_tree->topLevelItem(top);
+    for (int i = 0; i < group->childCount(); ++i) {
+      const int code = group->child(i)->data(0, Qt::UserRole).toInt();
+      SoBase* n = code >= 0 ? static_cast<SoBase*>(m_doc->surfaces()[code]) : m_doc->forceFields()[-1 - code];
+      if (n == node) {
+        m_tree->setCurrentItem(group->child(i));
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool MainWindow::insertForceField(int type) {
+  SoBase* sel = selectedNode();
+  SoBSplineDeformSurface* surface = nullptr;
+  if (sel && sel->isOfType(SoBSplineDeformSurface::getClassTypeId()))
+    surface = static_cast<SoBSplineDeformSurface*>(sel);
+  else if (!m_doc->surfaces().isEmpty())
+    surface = m_doc->surfaces()[std::max(0, std::min(m_selectedSurface, int(m_doc->surfaces().size()) - 1))];
+  if (!surface) {
+    reportError(tr("Insert force field"), tr("the scene has no surface to add a force field to"));
+    return false;
+  }
+  m_undo->push(new InsertForceCommand(*m_edit, surface, type));
+  return true;
+}
+
+void MainWindow::insertSurface() {
+  if (!m_doc->root()) return;
+  m_undo->push(new InsertSurfaceCommand(*m_edit, m_doc->root()));
+}
+
+bool MainWindow::deleteSelected() {
+  SoBase* sel = selectedNode();
+  if (!sel) return false;
+  if (sel->isOfType(SoBSplineDeformSurface::getClassTypeId()))
+    m_undo->push(new DeleteCommand(*m_edit, static_cast<SoBSplineDeformSurface*>(sel)));
+  else
+    m_undo->push(new DeleteCommand(*m_edit, static_cast<SoForceField*>(sel)));
+  return true;
+}
+
+void MainWindow::fieldChanged(SoFieldContainer* owner, SoField* field) {
+  if (owner->isOfType(SoForceField::getClassTypeId()) && field == &static_cast<SoForceField*>(owner)->type) {
+    structureChanged(owner);  // its label in the panel and the fields it shows change
+    return;
+  }
+  if (m_editor->container() != owner) selectNode(owner);  // an undo shows what it changed
+  m_editor->refresh();
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId()) &&
+      (field == &static_cast<SoBSplineDeformSurface*>(owner)->on))
+    updateStatus();
+}
+
+void MainWindow::structureChanged(SoBase* focus) {
+  m_drag->release();
+  // surfaces that came in run (or not) and at the speed as the others do
+  const bool playing = m_playAction->isChecked();
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) {
+    if (s->on.getValue() != SbBool(playing)) s->on = playing;
+    if (s->speed.getValue() != float(m_speed->value())) s->speed = float(m_speed->value());
+  }
+  populateScenePanel();  // selects the first surface, if any
+  if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
+    m_editor->setContainer(nullptr, QString());
+    m_plots->setSurface(nullptr, QString());
+    m_plotted = nullptr;
+  }
+}
+
 void MainWindow::selectSurface(int index) {
   QTreeWidgetItem* surfaces = m_tree->topLevelItem(0);
   if (surfaces && index >= 0 && index < surfaces->childCount()) m_tree->setCurrentItem(surfaces->child(index));
@@ -574,7 +807,8 @@ void MainWindow::selectionChanged() {
     SoBSplineDeformSurface* s = m_doc->surfaces()[code];
     m_selectedSurface = code;
     m_editor->setContainer(s, m_doc->nameOf(s));
-    m_plots->setSurface(s, m_doc->nameOf(s));
+    if (s != m_plotted) m_plots->setSurface(s, m_doc->nameOf(s));  // the same one again (a panel rebuild): its history stays
+    m_plotted = s;
     m_lastSteps = s->simulation().stepCount();
   } else {
     SoForceField* f = m_doc->forceFields()[-1 - code];
@@ -590,7 +824,7 @@ void MainWindow::tick() {
   m_framing->follow();
   m_netDisplay->update();
   m_plots->sample();
-  if (++m_ticks % 10 == 0) m_editor->refresh();
+  m_editor->refresh();  // live values (time, steps) included
   updateStatus();
 }
 

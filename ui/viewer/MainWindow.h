@@ -13,15 +13,21 @@
 #include "SceneDocument.h"
 
 class QAction;
+class QDialog;
 class QDoubleSpinBox;
 class QLabel;
 class QMenu;
 class QTimer;
 class QTreeWidget;
 class QTreeWidgetItem;
+class QUndoStack;
+class SoBase;
+class SoField;
+class SoFieldContainer;
 class SoQtExaminerViewer;
 class SoSeparator;
 class SoCallback;
+class SoBSplineDeformSurface;
 class SoAction;
 
 namespace bsdeform {
@@ -30,6 +36,7 @@ class FieldEditor;
 class PlotPanel;
 class ControlNetDisplay;
 class ViewFraming;
+struct EditContext;
 
 /// What to do with a recovery file left by a viewer that died.
 enum class RecoveryChoice {
@@ -49,15 +56,37 @@ class MainWindow : public QMainWindow {
   bool openScene(const QString& path);
   /// Shows the built-in default scene.
   void openDefaultScene();
-  /// Writes the scene with its state (used by Save As).
+  /// Writes the scene with its state (used by Save As); the file becomes the document's.
   bool saveSceneAs(const QString& path);
+  /// Saves to the scene's own file (Save As for the built-in default scene).
+  bool saveScene();
+  /// The edits since the scene was opened or saved: Edit > Undo / Redo, clean after a save.
+  QUndoStack& undoStack() { return *m_undo; }
+  /// Adds a force field of `type` (SoForceField::Type) to the selected surface, undoably.
+  /// False when no surface is selected.
+  bool insertForceField(int type);
+  /// Adds a surface (default fields) beside the scene, undoably, and selects it.
+  void insertSurface();
+  /// Deletes the selected surface or force field, undoably. False when nothing is selected.
+  bool deleteSelected();
+  /// The selected surface or force field in the scene panel (nullptr: none).
+  SoBase* selectedNode() const;
+  /// Selects a surface or force field in the scene panel (false if it is not in the scene).
+  bool selectNode(SoBase* node);
+  /// With unsaved edits, asks whether to save them (interactive only: otherwise they are
+  /// dropped). True when the caller may go on (saved or discarded), false on Cancel.
+  bool maybeSave();
+  /// The folder the Open dialog starts in: the last one used, scenes/ the first time.
+  QString openFolder() const;
   /// Screenshot of the 3D view; at the view's size from the frame buffer, otherwise rendered
   /// offscreen with the same camera.
   QImage screenshot(const QSize& size = QSize());
   bool saveScreenshot(const QString& path, const QSize& size = QSize());
   /// The whole window including the 3D view (QWidget::grab() leaves the GL area black).
   QImage windowScreenshot();
+  /// The selected surface as a mesh (.obj, .stl) or its control net (.xyz, .obj); see SceneDocument.
   bool exportMesh(const QString& path);
+  bool exportControlNet(const QString& path);
   /// Offers the recovery files of viewers that died (newest first). Returns true when one was
   /// restored.
   bool offerRecovery(RecoveryChoice choice);
@@ -86,9 +115,13 @@ class MainWindow : public QMainWindow {
  public slots:
   void open();
   void reload();
+  void save();
   void saveAs();
   void exportMeshDialog();
+  void exportControlNetDialog();
   void screenshotDialog();
+  /// Help > Field Reference: the fields of both nodes (bsdeform/FieldInfo.h).
+  void showFieldReference();
   void play();
   void pause();
   void step();
@@ -106,6 +139,15 @@ class MainWindow : public QMainWindow {
   void showScene();
   void populateScenePanel();
   void selectionChanged();
+  void createEditActions();
+  void createHelpMenu();  ///< after the others: its shortcut list reads every menu
+  /// Opens `path` after maybeSave() (the menu, recent files, a dropped file).
+  void openAfterAsking(const QString& path);
+  void fieldChanged(SoFieldContainer* owner, SoField* field);
+  void structureChanged(SoBase* focus);
+  void rememberFolder(const QString& path);
+  bool exportSurface(const QString& path, bool controlNet);
+  void exportDialog(bool controlNet);
   void tick();
   void updateStatus();
   void reportError(const QString& title, const QString& message);
@@ -128,7 +170,13 @@ class MainWindow : public QMainWindow {
   bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
   QAction* m_playAction = nullptr;
   QAction* m_dragAction = nullptr;
+  QUndoStack* m_undo = nullptr;
+  QDialog* m_fieldReference = nullptr;
+  bool m_restoredUnsaved = false;  ///< a restored autosave: unsaved although there is nothing to undo
+  SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow
+  std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
+  QMenu* m_simulationMenu = nullptr;
   QDoubleSpinBox* m_speed = nullptr;
   QLabel* m_timeLabel = nullptr;
   QLabel* m_rateLabel = nullptr;
@@ -140,7 +188,6 @@ class MainWindow : public QMainWindow {
   long m_lastFrames = 0, m_lastSteps = 0;
   QElapsedTimer m_rateClock;
   double m_fps = 0.0, m_stepsPerSecond = 0.0;
-  int m_ticks = 0;
   int m_selectedSurface = -1;
 };
 

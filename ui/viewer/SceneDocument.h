@@ -5,14 +5,17 @@
 /// state (atomically), the surfaces and force fields it contains, and mesh export.
 
 #include <QString>
+#include <QStringList>
 #include <QVector>
 
+#include "bsdeform/AuthoredClock.h"
 #include "bsdeform/SceneText.h"
 
 class SoSeparator;
 class SoBSplineDeformSurface;
 class SoForceField;
 class SoNode;
+class SoPath;
 
 namespace bsdeform {
 
@@ -28,7 +31,8 @@ class SceneDocument {
   bool load(const QString& path, QString& error);
   /// Reads a scene from memory (the default scene).
   bool loadFromText(const QByteArray& text, const QString& name, QString& error);
-  /// Writes the scene with the current simulation state to `path` atomically
+  /// Writes the scene with the current simulation state to `path` atomically, with each
+  /// surface's `on` and `speed` as authored (clock()), not as the viewer's Play and speed set them
   /// (saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
@@ -45,19 +49,38 @@ class SceneDocument {
   /// A display name: the DEF name, or "Surface 1", "Force 2", ...
   QString nameOf(SoBSplineDeformSurface* s) const;
   QString nameOf(SoForceField* f) const;
+  /// Finds the surfaces and force fields again after the graph changed (a node inserted or
+  /// removed); newly seen surfaces' `on` and `speed` count as authored.
+  void rescan();
+  /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
+  AuthoredClock& clock() { return m_clock; }
 
-  /// Writes the triangles of `surface` (world coordinates, with every transform above it) as
-  /// Wavefront OBJ (positions, normals, (u, v) texture coordinates) or binary STL, chosen by
-  /// the file extension (.obj / .stl). Atomic.
+  /// Writes the triangles of `surface` as drawn (world coordinates, with every transform above
+  /// it) as Wavefront OBJ or binary STL, chosen by the file extension (.obj / .stl). Atomic.
+  /// The OBJ is one connected mesh: one vertex per tessellation point (position, (u, v) texture
+  /// coordinate and normal under one index), faces sharing them, so an s x s grid gives
+  /// (s + 1)^2 vertices and 2 s^2 triangles (a periodic seam has its own column of vertices).
   bool exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const;
+  /// Writes the current control net of `surface` (all (N1 + 2 n1)(N2 + 2 n2) points, u-major,
+  /// world coordinates) for a CAD tool: .xyz (one "x y z" line per point) or .obj (the points
+  /// as vertices and the net's rows and columns as polylines). Atomic.
+  bool exportControlNet(SoBSplineDeformSurface* surface, const QString& path, QString& error) const;
 
  private:
   void adopt(SoSeparator* root, const QString& path);
+  void scan();
+  /// A ref'ed copy of the path from the root to `surface` (nullptr with `error` if none).
+  SoPath* pathTo(SoBSplineDeformSurface* surface, QString& error) const;
+  /// pathTo() when `path` ends in one of `extensions` (lower case, no dot), else a message
+  /// naming the file and the `what` format.
+  SoPath* exportPath(SoBSplineDeformSurface* surface, const QString& path, const QString& what, const QStringList& extensions,
+                     QString& error) const;
 
   SoSeparator* m_root = nullptr;
   QString m_path;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
+  AuthoredClock m_clock;
 };
 
 }  // namespace bsdeform

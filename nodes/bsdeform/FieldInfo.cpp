@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/FieldInfo.h"
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <utility>
+
+#include "bsdeform/SoForceField.h"
+
+namespace bsdeform {
+
+namespace {
+constexpr double kOpen = HUGE_VAL;
+constexpr unsigned bit(SoForceField::Type t) { return 1u << t; }
+const char* const kSurface = "SoBSplineDeformSurface";
+const char* const kForce = "SoForceField";
+
+constexpr unsigned kScaled = bit(SoForceField::UNIFORM) | bit(SoForceField::POINT) | bit(SoForceField::REGION) |
+                             bit(SoForceField::GRAVITY);
+constexpr unsigned kPenalty = bit(SoForceField::PLANE_COLLISION) | bit(SoForceField::SPHERE_COLLISION);
+
+std::vector<FieldInfo> makeTable() {
+  const char* S = kSurface;
+  const char* F = kForce;
+  return {
+      // node, name, meaning, unit, symbol, range, min, max, usedBy, restarts, live
+      {S, "numUControlPoints", "Free control points along u (the net has N1 + 2 n1 points along u).", "", "N1", ">= 1", 1, 100000, 0, true, false},
+      {S, "numVControlPoints", "Free control points along v.", "", "N2", ">= 1", 1, 100000, 0, true, false},
+      {S, "uDegree", "B-spline degree along u.", "", "n1", "1..7", 1, 7, 0, true, false},
+      {S, "vDegree", "B-spline degree along v.", "", "n2", "1..7", 1, 7, 0, true, false},
+      {S, "w10", "Resistance to stretching along u: weight of |S_u - S0_u|² in the deformation energy.", "energy per length²", "ω10", ">= 0", 0, kOpen, 0, false, false},
+      {S, "w01", "Resistance to stretching along v: weight of |S_v - S0_v|².", "energy per length²", "ω01", ">= 0", 0, kOpen, 0, false, false},
+      {S, "w11", "Resistance to twist: weight of |S_uv - S0_uv|².", "energy per length²", "ω11", ">= 0", 0, kOpen, 0, false, false},
+      {S, "w20", "Resistance to bending along u: weight of |S_uu - S0_uu|².", "energy per length²", "ω20", ">= 0", 0, kOpen, 0, false, false},
+      {S, "w02", "Resistance to bending along v: weight of |S_vv - S0_vv|².", "energy per length²", "ω02", ">= 0", 0, kOpen, 0, false, false},
+      {S, "massModel", "NODAL: M = m I, mass m per control point. LUMPED: M = m h1 h2 I, m per unit parameter area.", "", "M", "NODAL, LUMPED", 0, 0, 0, false, false},
+      {S, "mass", "Mass per control point (NODAL) or per unit parameter area (LUMPED).", "mass", "m", "> 0", 1e-300, kOpen, 0, false, false},
+      {S, "damping", "Viscous damping, same convention as mass.", "mass per time", "c", ">= 0", 0, kOpen, 0, false, false},
+      {S, "timeStep", "Simulated time per step; the explicit scheme takes sub-steps below its stability limit.", "s", "Δt", "> 0", 1e-300, kOpen, 0, false, false},
+      {S, "integrator", "EXPLICIT: central differences, sub-stepped. IMPLICIT: Newmark (unconditionally stable).", "", "", "EXPLICIT, IMPLICIT", 0, 0, 0, false, false},
+      {S, "maxSubSteps", "EXPLICIT: a step that needs more sub-steps is refused instead of running for minutes.", "", "", ">= 1", 1, 2147483647, 0, false, false},
+      {S, "reference", "REST: energy of the displacement S - S_rest. ABSOLUTE: the paper's energy of S itself.", "", "", "REST, ABSOLUTE", 0, 0, 0, false, false},
+      {S, "boundaryUMin", "Side u = 0: CLAMPED (n outer layers held, as in the paper), FREE (natural boundary) or PERIODIC (with boundaryUMax).", "", "", "CLAMPED, FREE, PERIODIC", 0, 0, 0, true, false},
+      {S, "boundaryUMax", "Side u = 1, as boundaryUMin.", "", "", "CLAMPED, FREE, PERIODIC", 0, 0, 0, true, false},
+      {S, "boundaryVMin", "Side v = 0, as boundaryUMin.", "", "", "CLAMPED, FREE, PERIODIC", 0, 0, 0, true, false},
+      {S, "boundaryVMax", "Side v = 1, as boundaryUMin.", "", "", "CLAMPED, FREE, PERIODIC", 0, 0, 0, true, false},
+      {S, "pins", "Parameter points (u, v); each holds the control points of its knot span.", "", "", "(u, v) in [0, 1]²", 0, 1, 0, false, false},
+      {S, "start", "SECOND_ORDER: P(-Δt) = P(0) + Δt²/2 a(0), a consistent release from rest. PAPER: P(-Δt) = P(0).", "", "", "SECOND_ORDER, PAPER", 0, 0, 0, false, false},
+      {S, "restShape", "Rest net generated when restNet is empty, centred at the origin with axis z; shapes other than PLANE impose the boundaries they need.", "", "S0", "PLANE, CYLINDER, CONE, SPHERE, ELLIPSOID, TORUS", 0, 0, 0, true, false},
+      {S, "radius", "CYLINDER, CONE (base), SPHERE radius; TORUS: distance to the tube's centre.", "length", "R", "> 0", 0, kOpen, 0, true, false},
+      {S, "height", "CYLINDER and CONE height (z from -H/2 to H/2).", "length", "H", "> 0", 0, kOpen, 0, true, false},
+      {S, "minorRadius", "TORUS tube radius.", "length", "r", "> 0", 0, kOpen, 0, true, false},
+      {S, "radii", "ELLIPSOID semi-axes along x, y, z.", "length", "(a, b, c)", "> 0 each", 0, kOpen, 0, true, false},
+      {S, "on", "Animate with the real-time clock (the viewer's Play / Pause sets it while it runs; a save keeps the value set here).", "", "", "TRUE, FALSE", 0, 0, 0, false, false},
+      {S, "speed", "Simulated seconds per real second while on (the viewer's speed box overrides it while it runs).", "", "", "> 0", 0, 1e4, 0, false, false},
+      {S, "reset", "Trigger: back to the rest state at t = 0.", "", "", "", 0, 0, 0, false, false},
+      {S, "restNet", "Rest control net, (N1 + 2 n1)(N2 + 2 n2) points u-major; empty: the plane (u, v, 0) or restShape.", "length", "P0", "", 0, 0, 0, true, true},
+      {S, "controlNet", "Current control net (state); empty: the rest net.", "length", "P(t)", "", 0, 0, 0, false, true},
+      {S, "previousNet", "Control net one sub-step earlier (state); empty: controlNet.", "length", "P(t - Δt)", "", 0, 0, 0, false, true},
+      {S, "simulationTime", "Simulated time of controlNet.", "s", "t", ">= 0", 0, kOpen, 0, false, true},
+      {S, "stepCount", "Steps taken since rest.", "", "", ">= 0", 0, 2147483647, 0, false, true},
+      {S, "forces", "SoForceField engines acting on the surface.", "", "f", "", 0, 0, 0, false, false},
+
+      {F, "type", "The kind of force; each type reads only some of the fields below.", "", "", "UNIFORM, POINT, REGION, EXPRESSION, GRAVITY, SPRING, DRAG, PRESSURE, PLANE_COLLISION, SPHERE_COLLISION, COLLISION", 0, 0, 0, false, false},
+      {F, "on", "FALSE switches the force off.", "", "", "TRUE, FALSE", 0, 0, 0, false, false},
+      {F, "force", "Direction and size: force density (UNIFORM, REGION), point force (POINT), acceleration (GRAVITY); times magnitude.", "force per unit area, force, or acceleration", "f", "", -kOpen, kOpen, kScaled, false, false},
+      {F, "magnitude", "Scale of force, of the expression, of gravity; the pressure p of PRESSURE.", "", "", "finite", -kOpen, kOpen, kScaled | bit(SoForceField::EXPRESSION) | bit(SoForceField::PRESSURE), false, false},
+      {F, "point", "Parameter point (u, v) where a POINT force acts or a SPRING is attached.", "", "(u0, v0)", "[0, 1]²", 0, 1, bit(SoForceField::POINT) | bit(SoForceField::SPRING), false, false},
+      {F, "regionMin", "Lower corner (u0, v0) of the REGION rectangle.", "", "", "[0, 1]², <= regionMax", 0, 1, bit(SoForceField::REGION), false, false},
+      {F, "regionMax", "Upper corner (u1, v1) of the REGION rectangle.", "", "", "[0, 1]², >= regionMin", 0, 1, bit(SoForceField::REGION), false, false},
+      {F, "expression", "x, y, z force density as three muParser formulas of u, v, x, y, z, t (pi is defined).", "force per unit area", "", "3 formulas", 0, 0, bit(SoForceField::EXPRESSION), false, false},
+      {F, "anchor", "Point the SPRING pulls toward.", "length", "", "", -kOpen, kOpen, bit(SoForceField::SPRING), false, false},
+      {F, "center", "PLANE_COLLISION: a point of the plane. SPHERE_COLLISION: the centre.", "length", "", "", -kOpen, kOpen, kPenalty, false, false},
+      {F, "normal", "PLANE_COLLISION plane normal, pointing to the free side.", "", "", "not zero", -kOpen, kOpen, bit(SoForceField::PLANE_COLLISION), false, false},
+      {F, "radius", "SPHERE_COLLISION radius.", "length", "", "> 0", 0, kOpen, bit(SoForceField::SPHERE_COLLISION), false, false},
+      {F, "stiffness", "SPRING constant k; collision penalty per unit area and depth.", "force per length (SPRING), pressure per length (collisions)", "k", ">= 0", 0, kOpen, bit(SoForceField::SPRING) | kPenalty | bit(SoForceField::COLLISION), false, false},
+      {F, "coefficient", "DRAG: force density = -coefficient · velocity.", "force per unit area per speed", "", ">= 0", 0, kOpen, bit(SoForceField::DRAG), false, false},
+      {F, "obstacles", "COLLISION: subgraphs the surface collides with.", "", "", "", 0, 0, bit(SoForceField::COLLISION), false, false},
+      {F, "obstacleNames", "COLLISION: DEF names of further obstacles, looked up in the surface's scene.", "", "", "", 0, 0, bit(SoForceField::COLLISION), false, false},
+      {F, "thickness", "COLLISION: contact offset from the obstacles.", "length", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
+      {F, "damping", "COLLISION: normal damping per unit world area (pressure per approach speed).", "pressure per speed", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
+      {F, "friction", "COLLISION: Coulomb friction coefficient.", "", "μ", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
+  };
+}
+
+// Markdown cell text: a '|' would end the cell.
+std::string cell(const char* text) {
+  std::string s;
+  for (const char* p = text; *p; ++p) s += *p == '|' ? std::string("\\|") : std::string(1, *p);
+  return s;
+}
+}  // namespace
+
+const std::vector<FieldInfo>& fieldInfos() {
+  static const std::vector<FieldInfo> table = makeTable();
+  return table;
+}
+
+const FieldInfo* findFieldInfo(const char* node, const char* field) {
+  for (const FieldInfo& f : fieldInfos())
+    if (std::strcmp(f.node, node) == 0 && std::strcmp(f.name, field) == 0) return &f;
+  return nullptr;
+}
+
+bool forceFieldUses(int type, const char* field) {
+  const FieldInfo* f = findFieldInfo(kForce, field);
+  return f && (f->usedBy == 0 || (type >= 0 && type < 32 && (f->usedBy >> type) & 1u));
+}
+
+std::string fieldReferenceMarkdown() {
+  // the type names as the node spells them (initNodes() must have run)
+  std::vector<std::pair<int, std::string>> typeNames;
+  SoForceField* probe = new SoForceField;
+  probe->ref();
+  for (int k = 0; k < probe->type.getNumEnums(); ++k) {
+    SbName name;
+    const int value = probe->type.getEnum(k, name);
+    typeNames.emplace_back(value, name.getString());
+  }
+  probe->unref();
+  std::ostringstream out;
+  for (const char* node : {kSurface, kForce}) {
+    const bool force = node == kForce;
+    out << "### " << node << "\n\n";
+    out << (force ? "| field | meaning | unit | range | symbol | read by types |\n|---|---|---|---|---|---|\n"
+                  : "| field | meaning | unit | range | symbol |\n|---|---|---|---|---|\n");
+    for (const FieldInfo& f : fieldInfos()) {
+      if (f.node != node) continue;
+      std::string notes = cell(f.meaning);
+      if (f.restarts) notes += " Changing it restarts the simulation from rest.";
+      if (f.live) notes += " Kept current by the node.";
+      out << "| `" << f.name << "` | " << notes << " | " << cell(f.unit) << " | " << cell(f.range) << " | " << cell(f.symbol)
+          << " |";
+      if (force) {
+        std::string types;
+        for (const auto& t : typeNames)
+          if ((f.usedBy >> t.first) & 1u) types += (types.empty() ? "" : ", ") + t.second;
+        out << ' ' << (f.usedBy == 0 ? std::string("all") : types) << " |";
+      }
+      out << '\n';
+    }
+    out << '\n';
+  }
+  return out.str();
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,585 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-viewer as an editor (issue 10, items 2, 3, 7): undo/redo, insert/delete, save,
+// the unsaved-changes prompt, the field editor, export. Under xvfb-run (tests/CMakeLists.txt).
+#include <QAbstractSpinBox>
+#include <QApplication>
+#include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QTextBrowser>
+#include <QToolBar>
+#include <QDir>
+#include <QFile>
+#include <QLineEdit>
+#include <QMessageBox>
+#include <QProcess>
+#include <QPushButton>
+#include <QRegularExpression>
+#include <QSettings>
+#include <QTemporaryDir>
+#include <QTest>
+#include <QTimer>
+#include <QUndoStack>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "FieldEditor.h"
+#include "MainWindow.h"
+#include "ViewerTestSupport.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
+
+#include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
+
+using bsdeform::MainWindow;
+using namespace viewer_test;
+
+namespace {
+
+// Types `text` into a field's editor (a line edit or a spin box, or the first of a row of
+// them) and presses Return, as a user would.
+void typeInto(QWidget* editor, const QString& text) {
+  REQUIRE(editor);
+  QWidget* target = editor;
+  if (!qobject_cast<QLineEdit*>(editor) && !qobject_cast<QAbstractSpinBox*>(editor)) {
+    if (auto* spin = editor->findChild<QAbstractSpinBox*>())
+      target = spin;
+    else
+      target = editor->findChild<QLineEdit*>();
+  }
+  REQUIRE(target);
+  target->setFocus();
+  if (auto* spin = qobject_cast<QAbstractSpinBox*>(target))
+    spin->selectAll();
+  else
+    qobject_cast<QLineEdit*>(target)->selectAll();
+  QTest::keyClicks(target, text);
+  QTest::keyClick(target, Qt::Key_Return);
+}
+
+// Whether the scene text gives `field` a value (a line starting with its name; the `fields [...]`
+// declaration of our nodes names every field).
+bool setsField(const QByteArray& text, const char* field) {
+  return QString::fromUtf8(text).contains(QRegularExpression(QStringLiteral("^\\s*%1 ").arg(QLatin1String(field)),
+                                                             QRegularExpression::MultilineOption));
+}
+
+QByteArray readAll(const QString& path) {
+  QFile f(path);
+  REQUIRE(f.open(QIODevice::ReadOnly));
+  return f.readAll();
+}
+
+// Answers the next modal message box with `button` (from a timer: the box runs its own event
+// loop); `seen` gets its text.
+void answerNextMessageBox(QMessageBox::StandardButton button, QString& seen) {
+  auto* poll = new QTimer;
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, button, &seen] {
+    auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+    if (!box) return;
+    seen = box->text();
+    QAbstractButton* b = box->button(button);
+    if (b) QTest::mouseClick(b, Qt::LeftButton);
+    poll->deleteLater();
+  });
+  poll->start(50);
+}
+
+}  // namespace
+
+TEST_CASE("Editing: undo and redo restore a field value, an inserted and a deleted force field and surface", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  QUndoStack& undo = w->undoStack();
+  CHECK(undo.isClean());
+  // a field through the editor
+  REQUIRE(w->selectNode(s));
+  const double w10 = s->w10.getValue();
+  typeInto(w->fieldEditor().editorOf(QStringLiteral("w10")), QStringLiteral("0.25"));
+  CHECK(s->w10.getValue() == 0.25);
+  CHECK(undo.count() == 1);
+  CHECK(!undo.isClean());
+  CHECK(w->isWindowModified());
+  undo.undo();
+  CHECK(s->w10.getValue() == w10);
+  CHECK(s->simulation().parameters().weights.w10 == w10);
+  undo.redo();
+  CHECK(s->w10.getValue() == 0.25);
+  CHECK(s->simulation().parameters().weights.w10 == 0.25);
+  // the keys: Ctrl+Z and Ctrl+Shift+Z with the 3D view focused
+  QWidget* gl = w->viewer()->getGLWidget();
+  gl->activateWindow();
+  gl->setFocus();
+  QTRY_VERIFY(gl->hasFocus());
+  QTest::keyClick(gl, Qt::Key_Z, Qt::ControlModifier);
+  CHECK(s->w10.getValue() == w10);
+  QTest::keyClick(gl, Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
+  CHECK(s->w10.getValue() == 0.25);
+
+  // a force field of another type on the selected surface
+  REQUIRE(w->selectNode(s));
+  REQUIRE(w->insertForceField(SoForceField::GRAVITY));
+  REQUIRE(s->forces.getNum() == 2);
+  auto* gravity = static_cast<SoForceField*>(s->forces[1]);
+  CHECK(gravity->type.getValue() == SoForceField::GRAVITY);
+  CHECK(w->document().forceFields().size() == 2);
+  CHECK(w->selectedNode() == gravity);  // the new node is selected
+  CHECK(w->fieldEditor().container() == gravity);
+  undo.undo();
+  CHECK(s->forces.getNum() == 1);
+  CHECK(w->document().forceFields().size() == 1);
+  undo.redo();
+  CHECK(s->forces.getNum() == 2);
+  CHECK(s->forces[1] == gravity);
+
+  // delete the original force field (selected), undo puts the same node back at its place
+  SoEngine* region = s->forces[0];
+  REQUIRE(w->selectNode(region));
+  REQUIRE(w->deleteSelected());
+  CHECK(s->forces.getNum() == 1);
+  CHECK(s->forces[0] == gravity);
+  undo.undo();
+  REQUIRE(s->forces.getNum() == 2);
+  CHECK(s->forces[0] == region);
+  CHECK(s->forces[1] == gravity);
+
+  // a surface added, deleted and brought back
+  w->insertSurface();
+  REQUIRE(w->document().surfaces().size() == 2);
+  SoBSplineDeformSurface* added = w->document().surfaces()[1];
+  CHECK(w->selectedNode() == added);
+  CHECK(!added->on.getValue());  // paused like the rest of the scene
+  REQUIRE(w->deleteSelected());
+  CHECK(w->document().surfaces().size() == 1);
+  undo.undo();
+  REQUIRE(w->document().surfaces().size() == 2);
+  CHECK(w->document().surfaces()[1] == added);
+  undo.undo();  // the insertion
+  CHECK(w->document().surfaces().size() == 1);
+  // back to the file's contents: clean again
+  while (undo.canUndo()) undo.undo();
+  CHECK(undo.isClean());
+  CHECK(s->w10.getValue() == w10);
+  CHECK(s->forces.getNum() == 1);
+}
+
+TEST_CASE("Editing: deleting the only surface leaves a scene that steps, saves and comes back with undo", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  REQUIRE(w->selectNode(s));
+  REQUIRE(w->deleteSelected());
+  CHECK(w->document().surfaces().isEmpty());
+  CHECK(w->document().forceFields().isEmpty());
+  CHECK(w->fieldEditor().container() == nullptr);
+  CHECK(!w->deleteSelected());  // nothing selected
+  CHECK(!w->insertForceField(SoForceField::UNIFORM));  // no surface to add it to
+  w->step();
+  w->reset();
+  QTest::qWait(250);  // a few ticks of the window with no surface
+  QTemporaryDir dir;
+  REQUIRE(w->saveSceneAs(dir.filePath(QStringLiteral("empty.iv"))));
+  CHECK(!readAll(dir.filePath(QStringLiteral("empty.iv"))).contains("SoBSplineDeformSurface"));
+  w->undoStack().undo();
+  REQUIRE(w->document().surfaces().size() == 1);
+  CHECK(w->document().surfaces().first() == s);
+  CHECK(w->fieldEditor().container() == s);
+  w->step();
+  CHECK(s->simulation().stepCount() == 1);
+}
+
+TEST_CASE("Editing: a save after pausing keeps on TRUE and the file's speed, Save clears the modified state", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->setSpeed(3.0);
+  w->pause();
+  w->step();
+  CHECK(!s->on.getValue());
+  CHECK(s->speed.getValue() == 3.0f);
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("paused.iv"));
+  REQUIRE(w->saveSceneAs(path));
+  QByteArray text = readAll(path);
+  CHECK(!text.contains("on FALSE"));
+  CHECK(!setsField(text, "speed"));
+  CHECK(text.contains("stepCount 1"));
+  // the viewer's own values are back after the write
+  CHECK(!s->on.getValue());
+  CHECK(s->speed.getValue() == 3.0f);
+  // what the author sets in the field editor is written
+  REQUIRE(w->selectNode(s));
+  QWidget* on = w->fieldEditor().editorOf(QStringLiteral("on"));
+  REQUIRE(on);
+  auto* box = qobject_cast<QCheckBox*>(on);
+  REQUIRE(box);
+  CHECK(!box->isChecked());  // it shows the paused state
+  box->click();              // plays
+  CHECK(s->on.getValue());
+  CHECK(w->isPlaying());
+  box->click();  // and pauses: `on FALSE` as the author's choice
+  CHECK(!s->on.getValue());
+  CHECK(w->undoStack().count() == 2);
+  REQUIRE(w->saveScene());  // Ctrl+S: to the same file
+  CHECK(w->undoStack().isClean());
+  CHECK(!w->isWindowModified());
+  text = readAll(path);
+  CHECK(text.contains("on FALSE"));
+  CHECK(!setsField(text, "speed"));
+}
+
+TEST_CASE("Editing: bsdeform-run's final.iv keeps the scene's on and speed", "[ui]") {
+  QTemporaryDir dir;
+  QProcess run;
+  run.start(QStringLiteral(BSDEFORM_RUN), {scenePath("region_load.iv"), QStringLiteral("-n"), QStringLiteral("3"),
+                                           QStringLiteral("-o"), dir.path(), QStringLiteral("--overwrite"), QStringLiteral("--quiet")});
+  REQUIRE(run.waitForFinished(60000));
+  INFO(run.readAllStandardError().toStdString());
+  REQUIRE(run.exitCode() == 0);
+  const QByteArray text = readAll(dir.filePath(QStringLiteral("final.iv")));
+  CHECK(text.contains("stepCount 3"));
+  CHECK(!text.contains("on FALSE"));
+}
+
+TEST_CASE("Editing: the unsaved-changes prompt on quit and reload, Cancel keeps the window and the edit", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  w->setInteractive(true);
+  // no edit: no question
+  QString seen;
+  REQUIRE(w->maybeSave());
+  REQUIRE(w->selectNode(s));
+  typeInto(w->fieldEditor().editorOf(QStringLiteral("w10")), QStringLiteral("0.3"));
+  REQUIRE(!w->undoStack().isClean());
+  // quit: Cancel keeps the window open with the edit
+  answerNextMessageBox(QMessageBox::Cancel, seen);
+  CHECK(!w->close());
+  CHECK(seen.contains(QStringLiteral("region_load.iv")));
+  CHECK(w->isVisible());
+  CHECK(s->w10.getValue() == Approx(0.3));
+  // reload: Discard reads the file again
+  seen.clear();
+  answerNextMessageBox(QMessageBox::Discard, seen);
+  w->reload();
+  CHECK(!seen.isEmpty());
+  SoBSplineDeformSurface* r = firstSurface(*w);
+  CHECK(r != s);
+  CHECK(r->w10.getValue() == Approx(0.1));
+  CHECK(w->undoStack().isClean());
+  w->setInteractive(false);
+}
+
+TEST_CASE("Editing: the Open dialog starts in scenes/ the first time, then in the last folder used", "[ui]") {
+  ensureApp();
+  QSettings().remove(QStringLiteral("lastFolder"));
+  MainWindow w;
+  w.setInteractive(false);
+  CHECK(QDir(w.openFolder()) == QDir(QStringLiteral(BSDEFORM_SCENES_DIR)));
+  QTemporaryDir dir;
+  const QString copy = dir.filePath(QStringLiteral("copy.iv"));
+  REQUIRE(QFile::copy(scenePath("region_load.iv"), copy));
+  REQUIRE(w.openScene(copy));
+  CHECK(QDir(w.openFolder()) == QDir(dir.path()));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The field editor (item 3)
+
+namespace {
+
+QString textOf(QWidget* editor) {
+  REQUIRE(editor);
+  if (auto* spin = qobject_cast<QAbstractSpinBox*>(editor)) return spin->text();
+  if (auto* label = qobject_cast<QLabel*>(editor)) return label->text();
+  if (auto* line = qobject_cast<QLineEdit*>(editor)) return line->text();
+  if (auto* spin = editor->findChild<QAbstractSpinBox*>()) return spin->text();
+  FAIL("no text in this editor");
+  return QString();
+}
+
+QWidget* glWidget(MainWindow& w) { return w.viewer()->getGLWidget(); }
+
+// A window with `scene`, paused, its first surface selected in the scene panel (and editor).
+std::unique_ptr<MainWindow> pausedWithSurfaceSelected(const char* scene) {
+  auto w = makeWindow(scene);
+  w->pause();
+  REQUIRE(w->selectNode(firstSurface(*w)));
+  return w;
+}
+
+// Gives the keyboard focus to `widget` and waits until it has it.
+void focus(QWidget* widget) {
+  widget->activateWindow();
+  widget->setFocus(Qt::OtherFocusReason);
+  QTRY_VERIFY(widget->hasFocus());
+}
+
+}  // namespace
+
+TEST_CASE("Field editor: typed editors with the field's range, values without float noise, tooltips from the field table", "[ui]") {
+  auto w = pausedWithSurfaceSelected("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  auto* w10 = qobject_cast<QDoubleSpinBox*>(ed.editorOf(QStringLiteral("w10")));
+  REQUIRE(w10);
+  CHECK(w10->minimum() == 0.0);
+  CHECK(w10->text() == QStringLiteral("0.1"));
+  auto* degree = qobject_cast<QAbstractSpinBox*>(ed.editorOf(QStringLiteral("uDegree")));
+  REQUIRE(degree);
+  CHECK(qobject_cast<QDoubleSpinBox*>(degree)->maximum() == 7.0);
+  CHECK(qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("integrator"))));
+  CHECK(qobject_cast<QCheckBox*>(ed.editorOf(QStringLiteral("on"))));
+  CHECK(ed.editorOf(QStringLiteral("radii"))->findChildren<QDoubleSpinBox*>().size() == 3);
+  // a float field: 0.3f is shown as 0.3
+  s->speed = 0.3f;
+  ed.refresh();
+  CHECK(textOf(ed.editorOf(QStringLiteral("speed"))) == QStringLiteral("0.3"));
+  s->damping = 0.1 + 0.2;  // 0.30000000000000004: shown as the double it is, no more digits
+  ed.refresh();
+  CHECK(textOf(ed.editorOf(QStringLiteral("damping"))) == QStringLiteral("0.30000000000000004"));
+  // the tooltip: meaning, unit, range, paper symbol
+  const QString tip = ed.editorOf(QStringLiteral("w10"))->toolTip();
+  CHECK(tip.contains(QStringLiteral("stretching along u")));
+  CHECK(tip.contains(QStringLiteral("ω10")));
+  CHECK(tip.contains(QStringLiteral("Range: &gt;= 0")));
+  CHECK(tip.contains(QStringLiteral("Unit:")));
+
+  // a force field shows the fields its type reads, and follows a type change
+  REQUIRE(w->insertForceField(SoForceField::POINT));
+  CHECK(ed.editorOf(QStringLiteral("point")));
+  CHECK(ed.editorOf(QStringLiteral("force")));
+  CHECK(!ed.editorOf(QStringLiteral("regionMin")));
+  CHECK(!ed.editorOf(QStringLiteral("coefficient")));
+  auto* type = qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("type")));
+  REQUIRE(type);
+  type->setCurrentIndex(type->findText(QStringLiteral("DRAG")));
+  emit type->activated(type->currentIndex());
+  QTest::qWait(50);  // the rows are rebuilt
+  CHECK(ed.editorOf(QStringLiteral("coefficient")));
+  CHECK(!ed.editorOf(QStringLiteral("point")));
+  CHECK(!ed.editorOf(QStringLiteral("force")));
+  w->undoStack().undo();  // back to POINT
+  QTest::qWait(50);
+  CHECK(ed.editorOf(QStringLiteral("point")));
+  CHECK(!ed.editorOf(QStringLiteral("coefficient")));
+
+  // Help > Field Reference shows the same table
+  w->showFieldReference();
+  auto* browser = w->findChild<QTextBrowser*>();
+  REQUIRE(browser);
+  CHECK(browser->toPlainText().contains(QStringLiteral("regionMin")));
+  CHECK(browser->toPlainText().contains(QStringLiteral("stretching along u")));
+}
+
+TEST_CASE("Field editor: an invalid value is shown in red with the reason and reverted when the editor loses focus", "[ui]") {
+  auto w = pausedWithSurfaceSelected("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  // outside the field's range: the text stays, in red, with the reason; the field keeps 0.1
+  QWidget* w10 = ed.editorOf(QStringLiteral("w10"));
+  typeInto(w10, QStringLiteral("-1"));
+  CHECK(textOf(w10) == QStringLiteral("-1"));
+  CHECK(ed.messageOf(QStringLiteral("w10")).contains(QStringLiteral("outside the range >= 0")));
+  CHECK(w10->styleSheet().contains(QStringLiteral("background")));
+  CHECK(s->w10.getValue() == 0.1);
+  CHECK(w->undoStack().count() == 0);
+  focus(glWidget(*w));
+  QTRY_COMPARE(textOf(w10), QStringLiteral("0.1"));
+  CHECK(w10->styleSheet().isEmpty());
+  CHECK(ed.messageOf(QStringLiteral("w10")).startsWith(QStringLiteral("Not applied")));
+
+  // values the node refuses: a rectangle with u0 > u1 (the core's message), and PERIODIC on one side
+  SoEngine* region = s->forces[0];
+  REQUIRE(w->selectNode(region));
+  QWidget* regionMin = ed.editorOf(QStringLiteral("regionMin"));
+  typeInto(regionMin, QStringLiteral("0.8"));
+  CHECK(ed.messageOf(QStringLiteral("regionMin")).contains(QStringLiteral("u0 <= u1")));
+  CHECK(static_cast<SoForceField*>(region)->regionMin.getValue()[0] == 0.3);
+  focus(glWidget(*w));
+  QTRY_COMPARE(textOf(regionMin), QStringLiteral("0.3"));
+  CHECK(w->undoStack().count() == 0);
+
+  REQUIRE(w->selectNode(s));
+  auto* side = qobject_cast<QComboBox*>(ed.editorOf(QStringLiteral("boundaryUMin")));
+  REQUIRE(side);
+  emit side->activated(side->findText(QStringLiteral("PERIODIC")));
+  CHECK(ed.messageOf(QStringLiteral("boundaryUMin")).contains(QStringLiteral("PERIODIC")));
+  CHECK(s->boundaryUMin.getValue() == SoBSplineDeformSurface::CLAMPED);
+  CHECK(side->currentText() == QStringLiteral("CLAMPED"));  // a choice goes back at once
+  w->step();
+  CHECK(s->simulation().status() == bsdeform::Status::Ok);
+  CHECK(w->undoStack().count() == 0);
+}
+
+TEST_CASE("Field editor: live time and steps, and a net-size change says that it restarts", "[ui]") {
+  auto w = pausedWithSurfaceSelected("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  for (int i = 0; i < 3; ++i) w->step();
+  QTest::qWait(250);  // the window's 10 Hz refresh
+  CHECK(textOf(ed.editorOf(QStringLiteral("stepCount"))) == QStringLiteral("3"));
+  CHECK(textOf(ed.editorOf(QStringLiteral("simulationTime"))) == QStringLiteral("0.3"));
+  CHECK(ed.editorOf(QStringLiteral("numUControlPoints"))->toolTip().contains(QStringLiteral("restarts")));
+  typeInto(ed.editorOf(QStringLiteral("numUControlPoints")), QStringLiteral("12"));
+  CHECK(s->numUControlPoints.getValue() == 12);
+  CHECK(ed.messageOf(QStringLiteral("numUControlPoints")).contains(QStringLiteral("restarted")));
+  CHECK(s->simulation().time() == 0.0);
+  CHECK(s->simulation().parameters().numU == 12);
+}
+
+TEST_CASE("Field editor: Space, S, R and D act on the simulation from the 3D view and the toolbar, never typed into an editor", "[ui]") {
+  auto w = pausedWithSurfaceSelected("region_load.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  QWidget* gl = glWidget(*w);
+  focus(gl);
+  QTest::keyClick(gl, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 1);
+  QTest::keyClick(gl, Qt::Key_Space);
+  CHECK(w->isPlaying());
+  QTest::keyClick(gl, Qt::Key_Space);
+  CHECK(!w->isPlaying());
+  // the toolbar's speed box lets them through
+  auto* speed = w->findChild<QToolBar*>(QStringLiteral("simulationToolBar"))->findChild<QDoubleSpinBox*>();
+  REQUIRE(speed);
+  focus(speed);
+  QTest::keyClick(speed, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 2);
+  QTest::keyClick(speed, Qt::Key_R);
+  CHECK(s->simulation().stepCount() == 0);
+  CHECK(speed->value() == 1.0);
+  // after an edit confirmed with Return the keyboard is back in the 3D view
+  QWidget* w10 = w->fieldEditor().editorOf(QStringLiteral("w10"));
+  typeInto(w10, QStringLiteral("0.2"));
+  CHECK(s->w10.getValue() == 0.2);
+  QTRY_VERIFY(gl->hasFocus());
+  QTest::keyClick(QApplication::focusWidget(), Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 1);
+  CHECK(textOf(w10) == QStringLiteral("0.2"));
+  // a number editor with focus does not take S as text either
+  focus(w10);
+  QTest::keyClick(w10, Qt::Key_S);
+  CHECK(s->simulation().stepCount() == 2);
+  CHECK(textOf(w10) == QStringLiteral("0.2"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Export (item 7)
+
+namespace {
+
+// A scene file in `dir`: a 5 x 5 bicubic surface moved by (2, 0, 0), paused, pushed up.
+QString translatedScene(const QTemporaryDir& dir) {
+  const QString path = dir.filePath(QStringLiteral("moved.iv"));
+  QFile f(path);
+  REQUIRE(f.open(QIODevice::WriteOnly));
+  f.write("#Inventor V2.1 ascii\nSeparator { Translation { translation 2 0 0 }\n"
+          "  SoBSplineDeformSurface { on FALSE numUControlPoints 5 numVControlPoints 5\n"
+          "    forces [ SoForceField { type UNIFORM force 0 0 5 } ] } }\n");
+  return path;
+}
+
+// A window with that scene, five steps on.
+std::unique_ptr<MainWindow> pushedForExport(const QTemporaryDir& dir) {
+  ensureApp();
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  REQUIRE(w->openScene(translatedScene(dir)));
+  for (int i = 0; i < 5; ++i) w->step();
+  return w;
+}
+
+QList<QByteArray> linesStartingWith(const QByteArray& text, const char* prefix) {
+  QList<QByteArray> out;
+  for (const QByteArray& line : text.split('\n'))
+    if (line.startsWith(prefix)) out << line;
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("Export: the OBJ is one connected grid, (s+1)^2 shared vertices for s^2 quads, with normals and (u, v)", "[ui]") {
+  QTemporaryDir dir;
+  std::unique_ptr<MainWindow> window = pushedForExport(dir);
+  MainWindow& w = *window;
+  const QString path = dir.filePath(QStringLiteral("mesh.obj"));
+  REQUIRE(w.exportMesh(path));
+  const QByteArray text = readAll(path);
+  const int vertices = linesStartingWith(text, "v ").size();
+  const QList<QByteArray> faces = linesStartingWith(text, "f ");
+  CHECK(linesStartingWith(text, "vt ").size() == vertices);
+  CHECK(linesStartingWith(text, "vn ").size() == vertices);
+  // a square grid of s x s quads, two triangles each
+  const int s = int(std::lround(std::sqrt(faces.size() / 2.0)));
+  INFO("vertices " << vertices << ", triangles " << faces.size());
+  REQUIRE(s > 4);
+  CHECK(faces.size() == 2 * s * s);
+  CHECK(vertices == (s + 1) * (s + 1));
+  // Blender's view: faces share vertex indices; every edge lies on one face (the border) or two,
+  // and the border is the 4 s edges of the square
+  std::map<std::pair<int, int>, int> edges;
+  for (const QByteArray& face : faces) {
+    const QList<QByteArray> corners = face.mid(2).trimmed().split(' ');
+    REQUIRE(corners.size() == 3);
+    int idx[3];
+    for (int k = 0; k < 3; ++k) {
+      const QList<QByteArray> parts = corners[k].split('/');
+      REQUIRE(parts.size() == 3);
+      idx[k] = parts[0].toInt();
+      CHECK(parts[1].toInt() == idx[k]);  // its (u, v) and normal under the same index
+      CHECK(parts[2].toInt() == idx[k]);
+      CHECK(idx[k] >= 1);
+      CHECK(idx[k] <= vertices);
+    }
+    for (int k = 0; k < 3; ++k) ++edges[std::minmax(idx[k], idx[(k + 1) % 3])];
+  }
+  int border = 0, inner = 0, other = 0;
+  for (const auto& e : edges) (e.second == 1 ? border : e.second == 2 ? inner : other)++;
+  CHECK(other == 0);
+  CHECK(border == 4 * s);
+  // world coordinates: the translation is applied
+  double minX = 1e9;
+  for (const QByteArray& v : linesStartingWith(text, "v ")) minX = std::min(minX, v.split(' ')[1].toDouble());
+  CHECK(minX == Approx(2.0).margin(1e-6));
+  // STL as before: one record per triangle
+  REQUIRE(w.exportMesh(dir.filePath(QStringLiteral("mesh.stl"))));
+  CHECK(readAll(dir.filePath(QStringLiteral("mesh.stl"))).size() == 84 + 50 * faces.size());
+}
+
+TEST_CASE("Export: the control net as x y z points and as OBJ points with the net's lines, in world coordinates", "[ui]") {
+  QTemporaryDir dir;
+  std::unique_ptr<MainWindow> window = pushedForExport(dir);
+  MainWindow& w = *window;
+  SoBSplineDeformSurface* s = firstSurface(w);
+  const bsdeform::ControlNet& net = s->simulation().current();
+  const int rows = s->simulation().space().netRows(), cols = s->simulation().space().netCols();
+  REQUIRE(rows == 11);
+  REQUIRE(net.rows() == rows * cols);
+  REQUIRE(w.exportControlNet(dir.filePath(QStringLiteral("net.xyz"))));
+  QList<QByteArray> points;
+  for (const QByteArray& line : readAll(dir.filePath(QStringLiteral("net.xyz"))).split('\n'))
+    if (!line.isEmpty() && !line.startsWith('#')) points << line;
+  REQUIRE(points.size() == rows * cols);
+  double lifted = 0.0;
+  for (int i = 0; i < points.size(); ++i) {
+    const QList<QByteArray> xyz = points[i].split(' ');
+    REQUIRE(xyz.size() == 3);
+    CHECK(xyz[0].toDouble() == Approx(net(i, 0) + 2.0).margin(1e-6));
+    CHECK(xyz[1].toDouble() == Approx(net(i, 1)).margin(1e-6));
+    CHECK(xyz[2].toDouble() == Approx(net(i, 2)).margin(1e-6));
+    lifted = std::max(lifted, xyz[2].toDouble());
+  }
+  CHECK(lifted > 0.0);  // the pushed state, not the rest net
+  REQUIRE(w.exportControlNet(dir.filePath(QStringLiteral("net.obj"))));
+  const QByteArray obj = readAll(dir.filePath(QStringLiteral("net.obj")));
+  CHECK(linesStartingWith(obj, "v ").size() == rows * cols);
+  const QList<QByteArray> lines = linesStartingWith(obj, "l ");
+  REQUIRE(lines.size() == rows + cols);
+  CHECK(lines[0].split(' ').size() == 1 + cols);      // a row: cols points
+  CHECK(lines[rows].split(' ').size() == 1 + rows);   // a column: rows points
+  CHECK(!w.exportControlNet(dir.filePath(QStringLiteral("net.stl"))));
+}

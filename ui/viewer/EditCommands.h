@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file EditCommands.h
+/// The viewer's edits as QUndoCommands: a field change, a force field or a surface inserted,
+/// a node deleted. Each command holds a reference to the nodes it touches, so an undo brings
+/// back the very node that was removed (with its DEF name, state and connections).
+
+#include <QString>
+#include <QUndoCommand>
+#include <functional>
+#include <memory>
+#include <utility>
+#include <vector>
+
+class SoBase;
+class SoField;
+class SoFieldContainer;
+class SoGroup;
+class SoNode;
+class SoBSplineDeformSurface;
+class SoForceField;
+
+namespace bsdeform {
+
+class SceneDocument;
+
+/// Why `owner` (a surface or a force field) refuses its current field values: the node's
+/// message, empty when it takes them. A surface rebuilds its model to find out (and keeps its
+/// last valid one when refused); a force field builds its core force (COLLISION, which needs
+/// the scene's obstacles, is taken as it is).
+QString refusalOf(SoFieldContainer* owner);
+
+/// What the commands change and whom they tell.
+struct EditContext {
+  SceneDocument& doc;
+  /// After a field of `owner` changed (from a command's redo or undo).
+  std::function<void(SoFieldContainer* owner, SoField* field)> fieldChanged;
+  /// After nodes were inserted or removed; the document is already rescanned. `focus`: the
+  /// node to select (may no longer be in the scene).
+  std::function<void(SoBase* focus)> structureChanged;
+};
+
+/// A field of a node or engine from one value to another.
+class SetFieldCommand : public QUndoCommand {
+ public:
+  /// `field` (of `owner`) goes from `before` to `after`. `alreadySet`: the field holds `after`
+  /// already (the editor applied and checked it), so the first redo() only reports it.
+  SetFieldCommand(EditContext& context, SoFieldContainer* owner, SoField* field, const SoField& before, bool beforeIsDefault,
+                  const SoField& after, bool alreadySet);
+  ~SetFieldCommand() override;
+  void undo() override;
+  void redo() override;
+
+ private:
+  void set(const SoField& value, bool isDefault);
+  EditContext& m_context;
+  SoFieldContainer* m_owner;
+  SoField* m_field;
+  SoField* m_before;
+  SoField* m_after;
+  bool m_beforeIsDefault;
+  bool m_skipRedo;
+};
+
+/// A new SoForceField of `type` appended to a surface's `forces`.
+class InsertForceCommand : public QUndoCommand {
+ public:
+  InsertForceCommand(EditContext& context, SoBSplineDeformSurface* surface, int type);
+  ~InsertForceCommand() override;
+  void undo() override;
+  void redo() override;
+  SoForceField* force() const { return m_force; }
+
+ private:
+  EditContext& m_context;
+  SoBSplineDeformSurface* m_surface;
+  SoForceField* m_force;
+};
+
+/// A new surface (default fields, the plane (u, v, 0)) in its own Separator, moved along x
+/// beside what the scene already shows.
+class InsertSurfaceCommand : public QUndoCommand {
+ public:
+  InsertSurfaceCommand(EditContext& context, SoGroup* root);
+  ~InsertSurfaceCommand() override;
+  void undo() override;
+  void redo() override;
+  SoBSplineDeformSurface* surface() const { return m_surface; }
+
+ private:
+  EditContext& m_context;
+  SoGroup* m_root;
+  SoNode* m_group;
+  SoBSplineDeformSurface* m_surface;
+};
+
+/// Removes a surface from every group that holds it, or a force field from every surface that
+/// lists it.
+class DeleteCommand : public QUndoCommand {
+ public:
+  DeleteCommand(EditContext& context, SoBSplineDeformSurface* surface);
+  DeleteCommand(EditContext& context, SoForceField* force);
+  ~DeleteCommand() override;
+  void undo() override;
+  void redo() override;
+
+ private:
+  struct Place {
+    SoBase* holder;  ///< an SoGroup holding a surface, or a surface listing a force
+    int index;
+  };
+  EditContext& m_context;
+  SoBase* m_target;
+  bool m_isSurface;
+  std::vector<Place> m_places;  ///< in increasing index order per holder
+};
+
+}  // namespace bsdeform
