@@ -1,12 +1,6 @@
 // SPDX-License-Identifier: MIT
 // VideoWriter: the files read back with libavformat/libavcodec (container, codec, size, frame
 // count, the pictures themselves), atomic replacement, and a full disk (enospc_shim preloaded).
-extern "C" {
-#include <libavcodec/avcodec.h>
-#include <libavformat/avformat.h>
-#include <libswscale/swscale.h>
-}
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -16,10 +10,13 @@ extern "C" {
 #include <vector>
 
 #include "../support/FullDisk.h"
+#include "../support/VideoReadBack.h"
 #include "VideoWriter.h"
 
 namespace fs = std::filesystem;
 using bsdeform::VideoWriter;
+using testsupport::readVideo;
+using testsupport::ReadBack;
 
 namespace {
 
@@ -36,63 +33,6 @@ std::vector<unsigned char> picture(int w, int h, int k) {
       p[2] = disc ? 60 : 130;
     }
   return rgb;
-}
-
-struct ReadBack {
-  std::string codec;
-  int width = 0, height = 0, frames = 0;
-  double fps = 0.0;
-  std::vector<std::vector<unsigned char>> rgb;  // every decoded frame, RGB24 top-down
-};
-
-ReadBack readVideo(const std::string& path) {
-  ReadBack out;
-  AVFormatContext* format = nullptr;
-  REQUIRE(avformat_open_input(&format, path.c_str(), nullptr, nullptr) == 0);
-  REQUIRE(avformat_find_stream_info(format, nullptr) >= 0);
-  const int s = av_find_best_stream(format, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
-  REQUIRE(s >= 0);
-  const AVCodecParameters* par = format->streams[s]->codecpar;
-  out.codec = avcodec_get_name(par->codec_id);
-  out.width = par->width;
-  out.height = par->height;
-  out.fps = av_q2d(format->streams[s]->avg_frame_rate);
-  const AVCodec* decoder = avcodec_find_decoder(par->codec_id);
-  REQUIRE(decoder);
-  AVCodecContext* dec = avcodec_alloc_context3(decoder);
-  REQUIRE(avcodec_parameters_to_context(dec, par) >= 0);
-  REQUIRE(avcodec_open2(dec, decoder, nullptr) == 0);
-  AVPacket* packet = av_packet_alloc();
-  AVFrame* frame = av_frame_alloc();
-  SwsContext* sws = nullptr;
-  auto drain = [&] {
-    while (avcodec_receive_frame(dec, frame) == 0) {
-      if (!sws)
-        sws = sws_getContext(frame->width, frame->height, AVPixelFormat(frame->format), frame->width, frame->height,
-                             AV_PIX_FMT_RGB24, SWS_BICUBIC, nullptr, nullptr, nullptr);
-      std::vector<unsigned char> rgb(size_t(frame->width) * frame->height * 3);
-      uint8_t* planes[1] = {rgb.data()};
-      const int strides[1] = {3 * frame->width};
-      sws_scale(sws, frame->data, frame->linesize, 0, frame->height, planes, strides);
-      out.rgb.push_back(std::move(rgb));
-    }
-  };
-  while (av_read_frame(format, packet) >= 0) {
-    if (packet->stream_index == s) {
-      ++out.frames;
-      REQUIRE(avcodec_send_packet(dec, packet) == 0);
-      drain();
-    }
-    av_packet_unref(packet);
-  }
-  avcodec_send_packet(dec, nullptr);
-  drain();
-  sws_freeContext(sws);
-  av_frame_free(&frame);
-  av_packet_free(&packet);
-  avcodec_free_context(&dec);
-  avformat_close_input(&format);
-  return out;
 }
 
 /// Mean absolute difference per channel over the w x h pixels of a (row length aw) and b.

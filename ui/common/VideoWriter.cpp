@@ -17,6 +17,7 @@ extern "C" {
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <vector>
 
 namespace bsdeform {
 
@@ -40,6 +41,8 @@ std::string extensionOf(const std::string& path) {
 struct VideoWriter::Impl {
   std::string path, temporary;
   int sourceWidth = 0;  // of the RGB frames given
+  std::vector<uint8_t> staging;  // the frame's rows at stagingStride, padded for swscale
+  int stagingStride = 0;
   AVFormatContext* format = nullptr;
   AVCodecContext* codec = nullptr;
   AVStream* stream = nullptr;
@@ -94,6 +97,7 @@ VideoWriter::~VideoWriter() = default;
 
 std::unique_ptr<VideoWriter> VideoWriter::open(const std::string& path, int width, int height, double fps,
                                                std::string& error) {
+  av_log_set_level(AV_LOG_ERROR);  // the encoders' statistics are not for our users' terminals
   std::unique_ptr<VideoWriter> w(new VideoWriter);
   Impl& m = *w->m;
   m.path = path;
@@ -198,6 +202,8 @@ std::unique_ptr<VideoWriter> VideoWriter::open(const std::string& path, int widt
     return nullptr;
   }
   m.sourceWidth = width;
+  m.stagingStride = (3 * evenWidth + 63) / 64 * 64;
+  m.staging.assign(size_t(m.stagingStride) * evenHeight + 64, 0);
   return w;
 }
 
@@ -211,9 +217,14 @@ bool VideoWriter::addFrame(const unsigned char* rgb, std::string& error) {
     error = m->fail("frame buffer", r);
     return false;
   }
-  const uint8_t* planes[1] = {rgb};
-  const int strides[1] = {3 * m->sourceWidth};  // the odd column, if any, is skipped
-  sws_scale(m->scale, planes, strides, 0, m->codec->height, m->frame->data, m->frame->linesize);
+  // swscale's SIMD reads whole blocks past the end of a row: hand it rows in a padded, aligned
+  // copy (the odd column, if any, is left out)
+  const int w = m->codec->width, h = m->codec->height;
+  for (int y = 0; y < h; ++y)
+    std::memcpy(m->staging.data() + size_t(y) * m->stagingStride, rgb + size_t(y) * 3 * m->sourceWidth, size_t(3 * w));
+  const uint8_t* planes[1] = {m->staging.data()};
+  const int strides[1] = {m->stagingStride};
+  sws_scale(m->scale, planes, strides, 0, h, m->frame->data, m->frame->linesize);
   m->frame->pts = m->frames;
   if (!m->encode(m->frame, error)) return false;
   ++m->frames;

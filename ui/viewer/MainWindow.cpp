@@ -23,6 +23,7 @@
 #include <QGLWidget>
 #include <QHeaderView>
 #include <QInputDialog>
+#include <QSignalBlocker>
 #include <QLabel>
 #include <QLocale>
 #include <QMenuBar>
@@ -49,6 +50,7 @@
 #include "FieldWidgets.h"
 #include "HelpDialogs.h"
 #include "PlotPanel.h"
+#include "Recorder.h"
 #include "ViewFraming.h"
 #include "bsdeform/FieldInfo.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -99,6 +101,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_timer = new QTimer(this);
   connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
   m_timer->start(100);
+  m_recorder = std::make_unique<Recorder>();
+  m_recordTimer = new QTimer(this);
+  connect(m_recordTimer, &QTimer::timeout, this, &MainWindow::recordFrames);
   m_rateClock.start();
 
   m_autosave = new Autosave(*m_doc, this);
@@ -172,7 +177,11 @@ void MainWindow::createActions() {
   m_dragAction->setShortcut(QKeySequence(tr("D")));
   m_dragAction->setToolTip(tr("Drag mode: press on a surface and pull (D); off: camera mode"));
   connect(m_dragAction, &QAction::toggled, this, &MainWindow::setDragMode);
-  for (QAction* act : {m_playAction, stepAction, resetAction, m_dragAction}) {
+  m_recordAction = new QAction(tr("Record"), this);
+  m_recordAction->setCheckable(true);
+  m_recordAction->setToolTip(tr("Record the 3D view into a video (MP4, WebM) or PNG images, at a rate in simulated time"));
+  connect(m_recordAction, &QAction::toggled, this, &MainWindow::recordToggled);
+  for (QAction* act : {m_playAction, stepAction, resetAction, m_dragAction, m_recordAction}) {
     sim->addAction(act);
     bar->addAction(act);
   }
@@ -334,6 +343,7 @@ void MainWindow::openDefaultScene() {
 }
 
 void MainWindow::showScene() {
+  if (m_recorder && m_recorder->active()) stopRecording();  // its surfaces leave the view
   m_undo->clear();  // the edits belong to the scene that was shown
   m_restoredUnsaved = false;
   m_wrapper->removeAllChildren();
@@ -544,6 +554,74 @@ void MainWindow::screenshotDialog() {
   saveScreenshot(path, QSize(w, h));
 }
 
+bool MainWindow::isRecording() const { return m_recorder->active(); }
+
+bool MainWindow::startRecording(const QString& path, double fps) {
+  if (m_doc->surfaces().isEmpty()) {
+    reportError(tr("Record"), tr("the scene has no surface: recording follows a surface's simulated time"));
+    return false;
+  }
+  QString error;
+  const double t = m_doc->surfaces().first()->simulation().time();
+  if (!m_recorder->start(path, fps, m_viewer->getGLWidget()->size(), t, error)) {
+    reportError(tr("Record"), error);
+    return false;
+  }
+  m_recordTimer->start(15);
+  const QSignalBlocker block(m_recordAction);
+  m_recordAction->setChecked(true);
+  recordFrames();  // the first frame: the state when the recording starts
+  return true;
+}
+
+bool MainWindow::stopRecording() {
+  m_recordTimer->stop();
+  const QSignalBlocker block(m_recordAction);
+  m_recordAction->setChecked(false);
+  if (!m_recorder->active()) return true;
+  const long long frames = m_recorder->frames();
+  QString error;
+  if (!m_recorder->stop(error)) {
+    reportError(tr("Record"), error);
+    return false;
+  }
+  statusBar()->showMessage(tr("Recorded %1 frames to %2").arg(frames).arg(m_recorder->path()), 8000);
+  return true;
+}
+
+void MainWindow::recordFrames() {
+  if (!m_recorder->active() || m_doc->surfaces().isEmpty()) return;
+  QString error;
+  const double t = m_doc->surfaces().first()->simulation().time();
+  if (!m_recorder->capture(t, [this] { return screenshot(); }, error)) {
+    m_recordTimer->stop();
+    const QSignalBlocker block(m_recordAction);
+    m_recordAction->setChecked(false);
+    reportError(tr("Record"), error);
+    return;
+  }
+  statusBar()->showMessage(tr("Recording %1: %2 frames, t = %3 s").arg(QFileInfo(m_recorder->path()).fileName())
+                               .arg(m_recorder->frames()).arg(t, 0, 'f', 2));
+}
+
+void MainWindow::recordToggled(bool on) {
+  if (!on) {
+    stopRecording();
+    return;
+  }
+  QString path = QFileDialog::getSaveFileName(this, tr("Record the 3D view"), QString(),
+                                              tr("Videos (*.mp4 *.webm);;PNG images, numbered (*.png)"));
+  bool ok = !path.isEmpty();
+  if (ok && QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".mp4");
+  const double fps = ok ? QInputDialog::getDouble(this, tr("Record"), tr("Frames per simulated second:"), 25.0, 1.0,
+                                                  240.0, 1, &ok)
+                        : 0.0;
+  if (!ok || !startRecording(path, fps)) {
+    const QSignalBlocker block(m_recordAction);
+    m_recordAction->setChecked(false);
+  }
+}
+
 void MainWindow::addRecent(const QString& path) {
   QSettings settings;
   QStringList recent = settings.value(kRecentKey).toStringList();
@@ -584,6 +662,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
     return;
   }
   m_timer->stop();
+  if (isRecording()) stopRecording();  // a finished video rather than a lost one
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
   QMainWindow::closeEvent(e);

@@ -35,6 +35,7 @@ class DragTool;
 class FieldEditor;
 class PlotPanel;
 class ControlNetDisplay;
+class Recorder;
 class ViewFraming;
 struct EditContext;
 
@@ -82,6 +83,13 @@ class MainWindow : public QMainWindow {
   /// offscreen with the same camera.
   QImage screenshot(const QSize& size = QSize());
   bool saveScreenshot(const QString& path, const QSize& size = QSize());
+  /// Records the 3D view at `fps` frames per simulated second into `path` (.mp4, .webm, or
+  /// .png for a numbered sequence) until stopRecording(); see Recorder.h.
+  bool startRecording(const QString& path, double fps);
+  /// Finishes the recording; false (and the reason in lastError()) when the file could not be
+  /// completed.
+  bool stopRecording();
+  bool isRecording() const;
   /// The whole window including the 3D view (QWidget::grab() leaves the GL area black).
   QImage windowScreenshot();
   /// The selected surface as a mesh (.obj, .stl) or its control net (.xyz, .obj); see SceneDocument.
@@ -120,6 +128,8 @@ class MainWindow : public QMainWindow {
   void exportMeshDialog();
   void exportControlNetDialog();
   void screenshotDialog();
+  /// Simulation > Record: asks for the file and the rate, or stops the recording.
+  void recordToggled(bool on);
   /// Help > Field Reference: the fields of both nodes (bsdeform/FieldInfo.h).
   void showFieldReference();
   void play();
@@ -177,6 +187,10 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<EditContext> m_edit;
   QMenu* m_recentMenu = nullptr;
   QMenu* m_simulationMenu = nullptr;
+  std::unique_ptr<Recorder> m_recorder;
+  QAction* m_recordAction = nullptr;
+  QTimer* m_recordTimer = nullptr;  ///< looks for due frames more often than the 10 Hz tick
+  void recordFrames();
   QDoubleSpinBox* m_speed = nullptr;
   QLabel* m_timeLabel = nullptr;
   QLabel* m_rateLabel = nullptr;

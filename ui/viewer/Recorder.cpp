@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+#include "Recorder.h"
+
+#include <QFileInfo>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "AtomicFile.h"
+#include "VideoWriter.h"
+
+namespace bsdeform {
+
+namespace {
+/// At most this many repeated frames per capture (a jump of simulated time by minutes at a
+/// high speed must not stall the window for seconds).
+constexpr int kMaxFramesPerCapture = 250;
+}  // namespace
+
+Recorder::Recorder() = default;
+Recorder::~Recorder() = default;
+
+bool Recorder::start(const QString& path, double fps, const QSize& size, double simulatedTime, QString& error) {
+  if (m_active) {
+    error = tr("already recording to '%1'").arg(m_path);
+    return false;
+  }
+  if (!(fps > 0.0) || fps > 1000.0) {
+    error = tr("cannot record to '%1': frame rate %2 out of (0, 1000]").arg(path).arg(fps);
+    return false;
+  }
+  const QString suffix = QFileInfo(path).suffix().toLower();
+  m_pngSequence = suffix == QLatin1String("png");
+  m_size = QSize(size.width() & ~1, size.height() & ~1);
+  if (!m_pngSequence) {
+    std::string why;
+    m_video = VideoWriter::open(path.toStdString(), m_size.width(), m_size.height(), fps, why);
+    if (!m_video) {
+      error = QString::fromStdString(why);
+      return false;
+    }
+  } else if (m_size.width() < 2 || m_size.height() < 2) {
+    error = tr("cannot record to '%1': the view is %2 x %3 pixels").arg(path).arg(size.width()).arg(size.height());
+    return false;
+  }
+  m_path = path;
+  m_period = 1.0 / fps;
+  m_next = m_last = simulatedTime;
+  m_frames = 0;
+  m_active = true;
+  return true;
+}
+
+bool Recorder::addFrame(const QImage& picture, QString& error) {
+  QImage rgb = picture.convertToFormat(QImage::Format_RGB888);
+  if (rgb.size() != m_size) rgb = rgb.scaled(m_size, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+  if (m_pngSequence) {
+    const QFileInfo info(m_path);
+    const QString name = info.path() + QLatin1Char('/') + info.completeBaseName() +
+                         QStringLiteral("_%1.png").arg(m_frames, 5, 10, QLatin1Char('0'));
+    if (!savePngAtomically(name, rgb, error)) return false;
+  } else {
+    // VideoWriter takes packed rows: QImage pads each row to 4 bytes
+    std::vector<unsigned char> packed(size_t(m_size.width()) * m_size.height() * 3);
+    for (int y = 0; y < m_size.height(); ++y)
+      std::copy_n(rgb.constScanLine(y), m_size.width() * 3, packed.data() + size_t(y) * m_size.width() * 3);
+    std::string why;
+    if (!m_video->addFrame(packed.data(), why)) {
+      error = QString::fromStdString(why);
+      return false;
+    }
+  }
+  ++m_frames;
+  return true;
+}
+
+bool Recorder::capture(double simulatedTime, const std::function<QImage()>& grab, QString& error) {
+  if (!m_active) return true;
+  if (simulatedTime < m_last) m_next = simulatedTime;  // a reset: go on from the new time
+  m_last = simulatedTime;
+  // the frames due: at m_next, m_next + period, ... up to the simulated time (rounding allowed)
+  const double tolerance = 1e-9 * std::max(1.0, std::abs(simulatedTime));
+  int due = 0;
+  while (m_next <= simulatedTime + tolerance && due < kMaxFramesPerCapture) {
+    ++due;
+    m_next += m_period;
+  }
+  if (m_next <= simulatedTime) m_next = simulatedTime + m_period;  // more than the cap: skip ahead
+  if (!due) return true;
+  const QImage picture = grab();
+  if (picture.isNull()) {
+    error = tr("cannot record to '%1': the view could not be read").arg(m_path);
+  } else {
+    for (int k = 0; k < due; ++k)
+      if (!addFrame(picture, error)) break;
+    if (error.isEmpty()) return true;
+  }
+  m_active = false;
+  m_video.reset();  // discards the unfinished video; the previous file stays
+  return false;
+}
+
+bool Recorder::stop(QString& error) {
+  if (!m_active) return true;
+  m_active = false;
+  if (!m_video) return true;
+  std::string why;
+  const bool ok = m_video->finish(why);
+  if (!ok) error = QString::fromStdString(why);
+  m_video.reset();
+  return ok;
+}
+
+}  // namespace bsdeform
