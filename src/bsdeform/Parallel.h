@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Parallel.h
+/// A small persistent thread pool for the kernels that split a net into row blocks (the
+/// explicit step, the history diagnostics).
+///
+/// Determinism: callers split their work into parts whose results do not depend on which
+/// thread computes them or how many threads there are (each part writes its own rows or its
+/// own partial sums, combined afterwards in part order). So a result is bit-identical for any
+/// thread count; threads only change the wall time.
+
+#include <functional>
+
+namespace bsdeform {
+
+/// Threads the kernels may use, including the caller's. Default: the BSDEFORM_THREADS
+/// environment variable if it is a number >= 1, else min(2, hardware threads).
+int kernelThreads();
+/// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
+void setKernelThreads(int threads);
+
+/// Runs fn(part) once for every part = 0..parts-1 and returns when all are done. Parts are
+/// handed out in order to the calling thread and up to kernelThreads() - 1 pool threads. Runs
+/// everything on the caller when there is one thread or one part, or when the pool is busy (a
+/// call from another thread, or from inside a part).
+void runParts(int parts, const std::function<void(int)>& fn);
+
+}  // namespace bsdeform
