@@ -286,10 +286,12 @@ Failure runScene(const Options& o) {
   QDir out(o.outDir);
   QStringList written;
   QString error;
+  // One renderer (GL context, Coin's shaders and caches) and one image buffer for every frame.
+  bsdeform::OffscreenRenderer renderer;
+  bsdeform::Image img;
   auto image = [&](long frame) -> Failure {
-    bsdeform::Image img;
     std::string err;
-    if (!bsdeform::renderOffscreen(root, o.width, o.height, img, err))
+    if (!renderer.render(root, o.width, o.height, img, err))
       return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
     const QString path = out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
     if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err))
