@@ -11,6 +11,7 @@
 #include <Inventor/nodes/SoDirectionalLight.h>
 #include <Inventor/nodes/SoPerspectiveCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
+#include <fcntl.h>
 #include <png.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -236,7 +237,7 @@ bool encodePng(const Image& image, std::vector<unsigned char>& out, const PngSet
   return true;
 }
 
-bool writePng(const Image& image, const std::string& path, std::string& error) {
+bool writePng(const Image& image, const std::string& path, std::string& error, bool syncToDisk) {
   if (image.width < 1 || image.height < 1 || image.rgb.size() != size_t(image.width) * image.height * 3) {
     error = "writePng: empty or inconsistent image for " + path;
     return false;
@@ -262,7 +263,7 @@ bool writePng(const Image& image, const std::string& path, std::string& error) {
     if (n <= 0) why = n < 0 ? errno : EIO;
     else done += std::size_t(n);
   }
-  if (!why && ::fsync(fd) != 0) why = errno;
+  if (!why && syncToDisk && ::fsync(fd) != 0) why = errno;
   if (::close(fd) != 0 && !why) why = errno;
   if (!why && std::rename(tmp.c_str(), path.c_str()) != 0) why = errno;
   if (why) {
@@ -271,6 +272,15 @@ bool writePng(const Image& image, const std::string& path, std::string& error) {
     return false;
   }
   return true;
+}
+
+bool syncFileSystem(const std::string& directory, std::string& error) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  int why = fd < 0 ? errno : 0;
+  if (!why && ::syncfs(fd) != 0) why = errno;
+  if (fd >= 0) ::close(fd);
+  if (why) error = "cannot sync the files written to '" + directory + "': " + std::strerror(why);
+  return why == 0;
 }
 
 }  // namespace bsdeform

@@ -74,6 +74,12 @@ bool encodePng(const Image& image, std::vector<unsigned char>& out, const PngSet
 
 /// Writes `image` as PNG to `path` atomically (a temporary file in the same directory,
 /// renamed over the target). Returns false with a message naming the file on failure.
-bool writePng(const Image& image, const std::string& path, std::string& error);
+/// @param syncToDisk fsync the file before the rename (about 4 ms on this project's VM); a
+///        writer of many frames may pass false and sync the file system once at the end
+bool writePng(const Image& image, const std::string& path, std::string& error, bool syncToDisk = true);
+
+/// syncfs() of the file system holding `directory`: makes every file written there without
+/// syncing durable. False with a message naming the directory on failure.
+bool syncFileSystem(const std::string& directory, std::string& error);
 
 }  // namespace bsdeform
