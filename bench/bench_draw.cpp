@@ -60,12 +60,16 @@ Scene makeScene(int N, bool camera = true) {
   return s;
 }
 
-void draw(benchmark::State& state, bool animate) {
+// False (and the benchmark skipped with the reason) without EGL offscreen contexts.
+bool eglReady(benchmark::State& state) {
   std::string error;
-  if (!bsdeform::installEglOffscreenContexts(&error)) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
+  if (bsdeform::installEglOffscreenContexts(&error)) return true;
+  state.SkipWithError(error.c_str());
+  return false;
+}
+
+void draw(benchmark::State& state, bool animate) {
+  if (!eglReady(state)) return;
   Scene s = makeScene(static_cast<int>(state.range(0)));
   SoOffscreenRenderer renderer(SbViewportRegion(800, 600));
   renderer.render(s.root);  // context creation and first-frame set-up are not measured
@@ -79,11 +83,8 @@ void draw(benchmark::State& state, bool animate) {
 }
 
 void RunnerFrame(benchmark::State& state) {
+  if (!eglReady(state)) return;
   std::string error;
-  if (!bsdeform::installEglOffscreenContexts(&error)) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
   Scene s = makeScene(static_cast<int>(state.range(0)), false);
   const bool kept = state.range(1) != 0;
   bsdeform::PngSettings png;
@@ -107,11 +108,8 @@ void RunnerFrame(benchmark::State& state) {
 }
 
 void PngEncode(benchmark::State& state) {
+  if (!eglReady(state)) return;
   std::string error;
-  if (!bsdeform::installEglOffscreenContexts(&error)) {
-    state.SkipWithError(error.c_str());
-    return;
-  }
   Scene s = makeScene(128, false);
   bsdeform::Image image;
   if (!bsdeform::renderOffscreen(s.root, 640, 480, image, error)) {
