@@ -429,8 +429,11 @@ void setExplicitParallelMinPoints(long points) { g_explicitParallelMinPoints.sto
 
 int StiffnessStencil::explicitStepParts() const {
   const long points = long(m_rowsInterior.count) * m_colsInterior.count;
-  if (points < explicitParallelMinPoints()) return 1;
-  return std::max(1, std::min({kernelThreads(), kMaxStepParts, m_rowsInterior.count}));
+  const int threads = kernelThreads();
+  if (threads < 2 || points < explicitParallelMinPoints()) return 1;
+  // Four blocks per thread: on a shared machine a thread that is descheduled while it holds a
+  // block delays the step by one small block, not by half of it.
+  return std::max(1, std::min({4 * threads, kMaxStepParts, m_rowsInterior.count}));
 }
 
 bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,

@@ -134,7 +134,7 @@ class StiffnessStencil {
   /// that fold onto the same column come separately and add).
   template <typename EntryFunction>
   void forEachMovingEntry(EntryFunction&& fn) const;
-  /// Blocks of interior rows of one explicit update: kernelThreads() above the threshold, else 1.
+  /// Blocks of interior rows of one explicit update: 4 kernelThreads() above the threshold, else 1.
   int explicitStepParts() const;
   static constexpr int kMaxStepParts = 64;
   /// fn(i, rowStart, q) for the interior rows i in [rowBegin, rowEnd); q = folded row sums.
