@@ -210,7 +210,7 @@ void DiagnosticsPerTerm(benchmark::State& state) {
 
 // <N>/<threads>: wall time (UseRealTime), since the second thread's time is not the caller's CPU time
 BENCHMARK(ExplicitStep)
-    ->ArgsProduct({{32, 64, 128, 256, 512, 1024}, {1, 2}})
+    ->ArgsProduct({{32, 48, 64, 96, 128, 256, 512, 1024}, {1, 2}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(ExplicitStepFree)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
@@ -219,7 +219,7 @@ BENCHMARK(SparseMatrixStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark
 BENCHMARK(StreamBound)->Arg(256)->Arg(1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(Build)->RangeMultiplier(2)->Range(128, 2048)->Unit(benchmark::kMillisecond);
 BENCHMARK(Diagnostics)
-    ->ArgsProduct({{32, 64, 128, 256, 512, 1024}, {1, 2}})
+    ->ArgsProduct({{32, 48, 64, 96, 128, 256, 512, 1024}, {1, 2}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(DiagnosticsPerTerm)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);

@@ -420,7 +420,7 @@ void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const
 }
 
 namespace {
-std::atomic<long> g_explicitParallelMinPoints{256L * 256};
+std::atomic<long> g_explicitParallelMinPoints{96L * 96};
 }  // namespace
 
 long explicitParallelMinPoints() { return g_explicitParallelMinPoints.load(std::memory_order_relaxed); }
