@@ -92,15 +92,15 @@ class Pool {
     // When the other cores are busy (a shared machine), a worker that took a part may be
     // descheduled and the caller waits for it far longer than the part takes: measured, the
     // 128^2 step then took 1.45x its one-thread time. After such a job the next ones run on the
-    // caller alone, 16 of them, twice as many after every further such job (up to 4096), none
-    // after a job without. Only the time changes: the results are the same bits.
+    // caller alone, 16 of them, twice as many after every further such job (up to 4096, halved
+    // again by every job without). Only the time changes: the results are the same bits.
     const auto waited = std::chrono::steady_clock::now() - ownEnd;
     const auto perPart = (ownEnd - start) / std::max(ownParts, 1);
     if (ownParts > 0 && waited > 2 * perPart + std::chrono::microseconds(20)) {
       m_backoff = std::min(m_backoff == 0 ? 16 : 2 * m_backoff, 4096);
       m_serialJobs = m_backoff;
     } else {
-      m_backoff = 0;
+      m_backoff /= 2;  // a machine that stays busy fails again soon: come back down slowly
     }
     return true;
   }
