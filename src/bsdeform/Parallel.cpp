@@ -20,8 +20,7 @@ int defaultThreads() {
     const long n = std::strtol(env, &end, 10);
     if (end != env && *end == '\0' && n >= 1) return int(std::min(n, 64L));
   }
-  const unsigned hw = std::thread::hardware_concurrency();
-  return int(std::clamp(hw, 1u, 2u));
+  return 1;  // opt-in: see Parallel.h
 }
 
 std::atomic<int> g_threads{defaultThreads()};

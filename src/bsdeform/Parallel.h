@@ -14,7 +14,10 @@
 namespace bsdeform {
 
 /// Threads the kernels may use, including the caller's. Default: the BSDEFORM_THREADS
-/// environment variable if it is a number >= 1, else min(2, hardware threads).
+/// environment variable if it is a number >= 1, else 1. Not more by default: two threads make
+/// the explicit step 1.9-2.1x faster from 128^2 on when the second core is idle, but 1.45x
+/// slower when other programs keep it busy (measured on this project's shared 2-core VM,
+/// docs/benchmarks.md), and a library cannot tell which it will get.
 int kernelThreads();
 /// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
 void setKernelThreads(int threads);
