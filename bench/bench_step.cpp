@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: MIT
 // Cost of one explicit central-difference step (design.md §4):
-//   ExplicitStep/<N>      the product: the fused stencil kernel of bsdeform::Simulation
+//   ExplicitStep/<N>/<T>  the product: the fused stencil kernel of bsdeform::Simulation, on T
+//                         threads (issue 11 item 6; split at every size, wall time)
 //   SparseMatrixStep/<N>  the baseline a user would write: the same update with an Eigen
 //                         SparseMatrix product A_II P_I + A_IB P_B
 //   StreamBound/<N>       the same memory traffic without the stencil: the bandwidth bound
 //   Build/<N>             construction of a model with a whole-domain constant force (issue 11
 //                         item 7): Simulation + addForce, as a node builds it
-//   Diagnostics/<N>       what the runner records per history row: eq. 15 norm, kinetic energy
+//   Diagnostics/<N>/<T>   what the runner records per history row: eq. 15 norm, kinetic energy
 //                         and the five strain-energy terms in one pass (issue 11 item 1)
 //   DiagnosticsPerTerm/<N> the same from deformationNorm(), kineticEnergy(), strainEnergy()
 // N is the number of free control points per side (N^2 in all), bicubic, paper weights.
@@ -16,6 +17,7 @@
 #include <Eigen/Sparse>
 #include <memory>
 
+#include "bsdeform/Parallel.h"
 #include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
 
@@ -29,8 +31,26 @@ bsdeform::ModelParameters params(int N) {
   return p;
 }
 
+// Runs a benchmark with `threads` kernel threads, splitting at every size (issue 11 item 6), and
+// puts back one thread, the setting of every other benchmark here.
+class KernelThreads {
+ public:
+  explicit KernelThreads(int threads) {
+    bsdeform::setKernelThreads(threads);
+    bsdeform::setExplicitParallelMinPoints(0);
+  }
+  ~KernelThreads() {
+    bsdeform::setKernelThreads(1);
+    bsdeform::setExplicitParallelMinPoints(m_minPoints);
+  }
+
+ private:
+  long m_minPoints = bsdeform::explicitParallelMinPoints();
+};
+
 void ExplicitStep(benchmark::State& state) {
   const int N = static_cast<int>(state.range(0));
+  const KernelThreads threads(static_cast<int>(state.range(1)));
   bsdeform::Simulation sim(params(N));
   sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 1)));
   for (auto _ : state) {
@@ -166,6 +186,7 @@ std::unique_ptr<bsdeform::Simulation> deformedModel(int N) {
 void Diagnostics(benchmark::State& state) {
   const int N = static_cast<int>(state.range(0));
   const auto sim = deformedModel(N);
+  const KernelThreads threads(static_cast<int>(state.range(1)));
   for (auto _ : state) {
     const bsdeform::Diagnostics d = sim->diagnostics();
     benchmark::DoNotOptimize(d.strain.total + d.norm + d.kinetic);
@@ -187,13 +208,27 @@ void DiagnosticsPerTerm(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(ExplicitStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+// <N>/<threads>: wall time (UseRealTime), since the second thread's time is not the caller's CPU time
+BENCHMARK(ExplicitStep)
+    ->ArgsProduct({{32, 48, 64, 96, 128, 256, 512, 1024}, {1, 2}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(ExplicitStepFree)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(ExplicitStepPeriodic)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SparseMatrixStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(StreamBound)->Arg(256)->Arg(1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(Build)->RangeMultiplier(2)->Range(128, 2048)->Unit(benchmark::kMillisecond);
-BENCHMARK(Diagnostics)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(Diagnostics)
+    ->ArgsProduct({{32, 48, 64, 96, 128, 256, 512, 1024}, {1, 2}})
+    ->Unit(benchmark::kMicrosecond)
+    ->UseRealTime();
 BENCHMARK(DiagnosticsPerTerm)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  bsdeform::setKernelThreads(1);  // one thread unless a benchmark asks for more
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -13,6 +13,7 @@
 #include <Inventor/nodes/SoDirectionalLight.h>
 #include <Inventor/nodes/SoPerspectiveCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
+#include <fcntl.h>
 #include <png.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -148,7 +149,11 @@ bool installEglOffscreenContexts(std::string* error) {
   return ok;
 }
 
-bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::string& error, const SbColor& background) {
+OffscreenRenderer::OffscreenRenderer() = default;
+OffscreenRenderer::~OffscreenRenderer() = default;
+
+bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::string& error, const SbColor& background,
+                     OffscreenRenderer* reuse) {
   if (!scene || width < 1 || height < 1 || width > 16384 || height > 16384) {
     error = "renderOffscreen: no scene or image size out of 1..16384: " + std::to_string(width) + " x " +
             std::to_string(height);
@@ -172,15 +177,22 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
     root->addChild(scene);
     frameView(camera, scene, viewport);  // the viewer's and the README's default view
   }
-  SoOffscreenRenderer renderer(viewport);
-  renderer.setComponents(SoOffscreenRenderer::RGB);
-  renderer.setBackgroundColor(background);
-  const bool ok = renderer.render(root);
+  // A kept SoOffscreenRenderer keeps its GL context. For a smaller size Coin would keep it too
+  // and draw into a corner of the larger canvas, which llvmpipe rasterises a little
+  // differently (seen: one byte off by one): a new size gets a new renderer, so that a kept
+  // renderer's images equal a fresh one's.
+  std::unique_ptr<SoOffscreenRenderer> fresh;
+  std::unique_ptr<SoOffscreenRenderer>& renderer = reuse ? reuse->m_renderer : fresh;
+  if (!renderer || renderer->getViewportRegion().getWindowSize() != viewport.getWindowSize())
+    renderer = std::make_unique<SoOffscreenRenderer>(viewport);
+  renderer->setComponents(SoOffscreenRenderer::RGB);
+  renderer->setBackgroundColor(background);
+  const bool ok = renderer->render(root);
   if (ok) {
     out.width = width;
     out.height = height;
     out.rgb.resize(size_t(width) * height * 3);
-    const unsigned char* buf = renderer.getBuffer();
+    const unsigned char* buf = renderer->getBuffer();
     const size_t row = size_t(width) * 3;
     for (int y = 0; y < height; ++y)  // Coin's buffer is bottom-up
       std::memcpy(out.rgb.data() + row * y, buf + row * (height - 1 - y), row);
@@ -197,10 +209,13 @@ void appendPng(png_structp png, png_bytep data, png_size_t size) {
   out->insert(out->end(), data, data + size);
 }
 
+}  // namespace
+
 // Into memory (a frame is small): the file is then written with plain write(2) calls whose
 // every error is seen. libpng reports errors by longjmp; the setjmp frame has no locals that
 // change after it.
-bool encodePng(const Image& image, std::vector<unsigned char>& out) {
+bool encodePng(const Image& image, std::vector<unsigned char>& out, const PngSettings& settings) {
+  out.clear();
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -209,6 +224,8 @@ bool encodePng(const Image& image, std::vector<unsigned char>& out) {
     return false;
   }
   png_set_write_fn(png, &out, appendPng, nullptr);
+  png_set_compression_level(png, settings.zlibLevel);
+  if (settings.subFilterOnly) png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
   png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -218,9 +235,8 @@ bool encodePng(const Image& image, std::vector<unsigned char>& out) {
   png_destroy_write_struct(&png, &info);
   return true;
 }
-}  // namespace
 
-bool writePng(const Image& image, const std::string& path, std::string& error) {
+bool writePng(const Image& image, const std::string& path, std::string& error, bool syncToDisk) {
   if (image.width < 1 || image.height < 1 || image.rgb.size() != size_t(image.width) * image.height * 3) {
     error = "writePng: empty or inconsistent image for " + path;
     return false;
@@ -246,7 +262,7 @@ bool writePng(const Image& image, const std::string& path, std::string& error) {
     if (n <= 0) why = n < 0 ? errno : EIO;
     else done += std::size_t(n);
   }
-  if (!why && ::fsync(fd) != 0) why = errno;
+  if (!why && syncToDisk && ::fsync(fd) != 0) why = errno;
   if (::close(fd) != 0 && !why) why = errno;
   if (!why && std::rename(tmp.c_str(), path.c_str()) != 0) why = errno;
   if (why) {
@@ -255,6 +271,15 @@ bool writePng(const Image& image, const std::string& path, std::string& error) {
     return false;
   }
   return true;
+}
+
+bool syncFileSystem(const std::string& directory, std::string& error) {
+  const int fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  int why = fd < 0 ? errno : 0;
+  if (!why && ::syncfs(fd) != 0) why = errno;
+  if (fd >= 0) ::close(fd);
+  if (why) error = "cannot sync the files written to '" + directory + "': " + std::strerror(why);
+  return why == 0;
 }
 
 }  // namespace bsdeform

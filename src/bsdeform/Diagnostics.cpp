@@ -5,6 +5,8 @@
 #include <cassert>
 #include <vector>
 
+#include "bsdeform/Parallel.h"
+
 namespace bsdeform {
 
 namespace {
@@ -26,6 +28,9 @@ BSDEFORM_INLINE double sum4(v4 x) { return (x[0] + x[1]) + (x[2] + x[3]); }
 #endif
 
 constexpr int kTaps = 2 * kMaxDegree + 1;
+// Rows per block of the sums. Blocks are summed separately and then added in block order, so
+// the result does not depend on how many threads computed them.
+constexpr int kDiagnosticBlockRows = 32;
 
 // dst = a - b over len entries.
 BSDEFORM_MULTIVERSION
@@ -198,21 +203,24 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
     for (int t = 0; t <= n1; ++t) guInterior[q][t] = gu.entry(q, 0, t);
   }
 
-  // D = current - rest of the net layers i - n1 .. i + n1 in a ring, keyed by the layer before
-  // the periodic wrap (consecutive keys, different slots).
-  const int slots = 2 * n1 + 1;
-  std::vector<double> ring(size_t(slots) * rowLen);
-  std::vector<int> key(size_t(slots), -1);
-  auto dRow = [&](int unwrapped) -> const double* {  // null: no such layer
-    const int l = neighbourU(unwrapped);
-    if (l < 0) return nullptr;
-    const int slot = unwrapped % slots;
-    double* d = ring.data() + size_t(slot) * rowLen;
-    if (key[size_t(slot)] != unwrapped) {
-      key[size_t(slot)] = unwrapped;
-      difference(current.data() + long(l) * rowLen, rest.data() + long(l) * rowLen, d, rowLen);
-    }
-    return d;
+  // The sums of the rows [rowBegin, rowEnd), with their own buffers (blocks may run on
+  // different threads).
+  auto blockSums = [&](int rowBegin, int rowEnd) {
+    // D = current - rest of the net layers i - n1 .. i + n1 in a ring, keyed by the layer before
+    // the periodic wrap (consecutive keys, different slots).
+    const int slots = 2 * n1 + 1;
+    std::vector<double> ring(size_t(slots) * rowLen);
+    std::vector<int> key(size_t(slots), -1);
+    auto dRow = [&](int unwrapped) -> const double* {  // null: no such layer
+      const int l = neighbourU(unwrapped);
+      if (l < 0) return nullptr;
+      const int slot = unwrapped % slots;
+      double* d = ring.data() + size_t(slot) * rowLen;
+      if (key[size_t(slot)] != unwrapped) {
+        key[size_t(slot)] = unwrapped;
+        difference(current.data() + long(l) * rowLen, rest.data() + long(l) * rowLen, d, rowLen);
+      }
+      return d;
   };
   const std::vector<double> zeros(size_t(rowLen), 0.0);  // the layers beyond the net
   std::vector<double> z(3 * size_t(movLen));
@@ -221,7 +229,7 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
   double* z2 = z1 + movLen;
 
   DiagnosticSums out;
-  for (int i = mu.first; i < mu.first + mu.count; ++i) {
+  for (int i = rowBegin; i < rowEnd; ++i) {
     const double* d = dRow(i);
     const double* up[kMaxDegree + 1] = {nullptr};
     const double* down[kMaxDegree + 1] = {nullptr};
@@ -298,6 +306,28 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
     }
   }
   return out;
+  };
+
+  // Fixed blocks of rows, summed in block order: the same bits for any number of threads.
+  const int blocks = (mu.count + kDiagnosticBlockRows - 1) / kDiagnosticBlockRows;
+  std::vector<DiagnosticSums> partial(size_t(std::max(blocks, 1)));
+  auto block = [&](int b) {
+    partial[size_t(b)] = blockSums(mu.first + b * kDiagnosticBlockRows,
+                                   mu.first + std::min(mu.count, (b + 1) * kDiagnosticBlockRows));
+  };
+  if (long(mu.count) * mv.count >= explicitParallelMinPoints()) {
+    runParts(blocks, block);
+  } else {
+    for (int b = 0; b < blocks; ++b) block(b);
+  }
+  DiagnosticSums total = partial[0];
+  for (int b = 1; b < blocks; ++b) {
+    const DiagnosticSums& p = partial[size_t(b)];
+    for (int k = 0; k < 5; ++k) total.terms[k] += p.terms[k];
+    total.displacement += p.displacement;
+    total.velocity += p.velocity;
+  }
+  return total;
 }
 
 }  // namespace bsdeform

@@ -3,12 +3,14 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include "bsdeform/GaussLegendre.h"
 #include "bsdeform/HugePages.h"
+#include "bsdeform/Parallel.h"
 
 namespace bsdeform {
 
@@ -371,7 +373,7 @@ bool updateRow(const double* const* q, const double* half, int ru, int rv, long 
 }  // namespace
 
 template <typename RowFunction>
-void StiffnessStencil::forEachInteriorRow(const ControlNet& net, RowFunction&& fn) const {
+void StiffnessStencil::forEachInteriorRow(const ControlNet& net, int rowBegin, int rowEnd, RowFunction&& fn) const {
   const SplineSpace& s = *m_space;
   const long rowLen = 3L * s.netCols();
   // A periodic v direction reads n2 layers past the end of a row: they are the row's layers
@@ -384,7 +386,7 @@ void StiffnessStencil::forEachInteriorRow(const ControlNet& net, RowFunction&& f
   thread_local std::vector<double> qbuf;
   qbuf.resize(size_t(m_ru + (padV ? 1 : 0)) * padLen);
   const double* q[kMaxDegree + 1];
-  for (int i = m_rowsInterior.first; i < m_rowsInterior.first + m_rowsInterior.count; ++i) {
+  for (int i = rowBegin; i < rowEnd; ++i) {
     double* buf = qbuf.data();
     if (padV) {
       std::copy(rowPtr(i), rowPtr(i) + rowLen, buf);
@@ -409,11 +411,29 @@ void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const
   allocateNet(out, s.numMoving());
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
-  forEachInteriorRow(net, [&](int i, long, const double* const* q) {
+  forEachInteriorRow(net, m_rowsInterior.first, m_rowsInterior.first + m_rowsInterior.count,
+                     [&](int i, long, const double* const* q) {
     double* dst = out.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
     applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
   });
   for (const BandPoint& b : m_band) out.row(b.m) = bandRow(net, b);
+}
+
+namespace {
+std::atomic<long> g_explicitParallelMinPoints{96L * 96};
+}  // namespace
+
+long explicitParallelMinPoints() { return g_explicitParallelMinPoints.load(std::memory_order_relaxed); }
+
+void setExplicitParallelMinPoints(long points) { g_explicitParallelMinPoints.store(points, std::memory_order_relaxed); }
+
+int StiffnessStencil::explicitStepParts() const {
+  const long points = long(m_rowsInterior.count) * m_colsInterior.count;
+  const int threads = kernelThreads();
+  if (threads < 2 || points < explicitParallelMinPoints()) return 1;
+  // Four blocks per thread: on a shared machine a thread that is descheduled while it holds a
+  // block delays the step by one small block, not by half of it.
+  return std::max(1, std::min({4 * threads, kMaxStepParts, m_rowsInterior.count}));
 }
 
 bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
@@ -422,12 +442,23 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   const SplineSpace& s = *m_space;
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
-  bool ok = true;
-  forEachInteriorRow(current, [&](int i, long rowStart, const double* const* q) {
-    const double* lrow = load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
-    ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart, previous.data() + rowStart,
-                    lrow, alpha, gamma, limit);
+  // Rows are independent (each writes only its own entries of `previous`), so blocks of rows
+  // may run on several threads with the same bits as one thread.
+  const int parts = explicitStepParts();
+  bool partOk[kMaxStepParts];
+  runParts(parts, [&](int part) {
+    const int first = m_rowsInterior.first, count = m_rowsInterior.count;
+    bool ok = true;
+    forEachInteriorRow(current, first + int(long(count) * part / parts), first + int(long(count) * (part + 1) / parts),
+                       [&](int i, long rowStart, const double* const* q) {
+                         const double* lrow = load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count +
+                                                                  (m_colsInterior.first - mv.first));
+                         ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart,
+                                         previous.data() + rowStart, lrow, alpha, gamma, limit);
+                       });
+    partOk[part] = ok;
   });
+  bool ok = std::all_of(partOk, partOk + parts, [](bool b) { return b; });
   const Eigen::Index cols = s.netCols();
   for (const BandPoint& b : m_band) {
     const double a = alphaScale ? alpha * alphaScale(b.i, b.j) : alpha;

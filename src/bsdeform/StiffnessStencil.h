@@ -60,6 +60,13 @@ class GramRows1D {
   std::vector<double> m_rowSum;
 };
 
+/// Moving points from which StiffnessStencil::centralDifferenceUpdate() splits its interior
+/// rows over kernelThreads() (bsdeform/Parallel.h); below, waking a thread costs more than
+/// it saves (the crossover is measured in docs/benchmarks.md). The result is the same bits
+/// either way. Benchmarks and tests may change it (0: always split).
+long explicitParallelMinPoints();
+void setExplicitParallelMinPoints(long points);
+
 class StiffnessStencil {
  public:
   /// @throws std::invalid_argument for a negative or non-finite weight (names it)
@@ -127,8 +134,12 @@ class StiffnessStencil {
   /// that fold onto the same column come separately and add).
   template <typename EntryFunction>
   void forEachMovingEntry(EntryFunction&& fn) const;
+  /// Blocks of interior rows of one explicit update: 4 kernelThreads() above the threshold, else 1.
+  int explicitStepParts() const;
+  static constexpr int kMaxStepParts = 64;
+  /// fn(i, rowStart, q) for the interior rows i in [rowBegin, rowEnd); q = folded row sums.
   template <typename RowFunction>
-  void forEachInteriorRow(const ControlNet& net, RowFunction&& fn) const;
+  void forEachInteriorRow(const ControlNet& net, int rowBegin, int rowEnd, RowFunction&& fn) const;
   /// sum_d C(d) P(i+d1, j+d2) for a band point (d = -n..n, wrapped or skipped at the ends)
   Eigen::RowVector3d bandRow(const ControlNet& net, const BandPoint& b) const;
   /// Net layer of neighbour layer `l` in u / v (periodic wrap), or -1 if there is no B-spline.

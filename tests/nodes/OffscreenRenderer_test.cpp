@@ -3,7 +3,9 @@
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <catch2/catch.hpp>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
+#include <png.h>
 
 #include "NodesTestUtil.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -103,4 +105,58 @@ TEST_CASE("OffscreenRenderer: SoMaterial, SoTexture2 and SoTransform compose wit
   green->unref();
   tex->unref();
   moved->unref();
+}
+
+TEST_CASE("OffscreenRenderer: a renderer kept across frames gives the pixels of a fresh one", "[nodes]") {
+  // the runner keeps one renderer (one GL context, Coin's caches) for all frames of a run
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { Material { diffuseColor 0.9 0.5 0.2 } "
+                                     "SoBSplineDeformSurface { numUControlPoints 12 numVControlPoints 12 on FALSE "
+                                     "forces SoForceField { type REGION force 0.3 0 1 magnitude 80 } } }");
+  REQUIRE(root);
+  auto* surface = testutil::find<SoBSplineDeformSurface>(root);
+  bsdeform::OffscreenRenderer kept;
+  const int sizes[][2] = {{160, 120}, {160, 120}, {160, 120}, {96, 80}, {160, 120}};  // a new size: a new context
+  bsdeform::Image previous;
+  for (const auto& size : sizes) {
+    surface->stepSimulation(10);
+    bsdeform::Image fromKept, fromFresh;
+    std::string error;
+    REQUIRE(kept.render(root, size[0], size[1], fromKept, error));
+    REQUIRE(bsdeform::renderOffscreen(root, size[0], size[1], fromFresh, error));
+    CHECK(coverage(fromKept) > 0.2);
+    CHECK(fromKept.width == size[0]);
+    CHECK(fromKept.height == size[1]);
+    INFO("frame " << &size - sizes);
+    CHECK(fromKept.rgb == fromFresh.rgb);
+    if (previous.width == size[0]) CHECK(previous.rgb != fromKept.rgb);  // the frames do change
+    previous = fromKept;
+  }
+  root->unref();
+}
+
+TEST_CASE("OffscreenRenderer: the PNG decodes to the same pixels for every setting", "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE "
+                                     "forces SoForceField { type REGION force 0.3 0 1 magnitude 80 } } }");
+  REQUIRE(root);
+  testutil::find<SoBSplineDeformSurface>(root)->stepSimulation(20);
+  const bsdeform::Image img = render(root, 123, 77);  // rows not a multiple of 4 bytes
+  root->unref();
+  std::vector<bsdeform::PngSettings> settings{bsdeform::PngSettings()};
+  for (int level : {0, 1, 6, 9})
+    for (bool sub : {false, true}) settings.push_back(bsdeform::PngSettings{level, sub});
+  for (const bsdeform::PngSettings& s : settings) {
+    INFO("zlib level " << s.zlibLevel << (s.subFilterOnly ? ", SUB filter" : ", adaptive filters"));
+    std::vector<unsigned char> png;
+    REQUIRE(bsdeform::encodePng(img, png, s));
+    png_image decoded;
+    std::memset(&decoded, 0, sizeof decoded);
+    decoded.version = PNG_IMAGE_VERSION;
+    REQUIRE(png_image_begin_read_from_memory(&decoded, png.data(), png.size()));
+    decoded.format = PNG_FORMAT_RGB;
+    CHECK(decoded.width == png_uint_32(img.width));
+    CHECK(decoded.height == png_uint_32(img.height));
+    std::vector<unsigned char> pixels(PNG_IMAGE_SIZE(decoded));
+    REQUIRE(png_image_finish_read(&decoded, nullptr, pixels.data(), 0, nullptr));
+    CHECK(pixels == img.rgb);
+  }
 }

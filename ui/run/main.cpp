@@ -289,15 +289,20 @@ Failure runScene(const Options& o) {
   QDir out(o.outDir);
   QStringList written;
   QString error;
+  // One renderer (GL context, Coin's shaders and caches) and one image buffer for every frame.
+  bsdeform::OffscreenRenderer renderer;
+  bsdeform::Image img;
+  long imagesWritten = 0;
   auto image = [&](long frame) -> Failure {
-    bsdeform::Image img;
     std::string err;
-    if (!bsdeform::renderOffscreen(root, o.width, o.height, img, err))
+    if (!renderer.render(root, o.width, o.height, img, err))
       return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
     const QString path = out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
-    if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err))
+    // not synced one by one (a frame's fsync cost about as much as its PNG): once at the end
+    if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err, false))
       return writeFailure(QString::fromStdString(err), written);
     written << path;
+    ++imagesWritten;
     return {kOk, {}};
   };
   QVector<long> imageFrames;
@@ -368,6 +373,11 @@ Failure runScene(const Options& o) {
         return writeFailure(perr, written);
       written << plotPath;
     }
+  }
+  if (imagesWritten > 0) {
+    std::string err;
+    if (!bsdeform::syncFileSystem(QFile::encodeName(o.outDir).toStdString(), err))
+      return writeFailure(QString::fromStdString(err), written);
   }
   const QString ivPath = out.filePath(QStringLiteral("final.iv"));
   if (!writeScene(root, authored, ivPath, error)) return writeFailure(error, written);

@@ -1,0 +1,172 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/Parallel.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdlib>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace bsdeform {
+
+namespace {
+
+int defaultThreads() {
+  if (const char* env = std::getenv("BSDEFORM_THREADS")) {
+    char* end = nullptr;
+    const long n = std::strtol(env, &end, 10);
+    if (end != env && *end == '\0' && n >= 1) return int(std::min(n, 64L));
+  }
+  return 1;  // opt-in: see Parallel.h
+}
+
+std::atomic<int> g_threads{defaultThreads()};
+
+// Spins for up to kSpinTime until done() holds; false if it did not. Waking a sleeping thread
+// costs tens of microseconds on this project's VM (measured: a 128^2 explicit sub-step of
+// 120 us took 111 us on two threads that slept between sub-steps), more than the work saved on
+// small nets; consecutive sub-steps come within a few microseconds, so a short spin catches
+// them. Idle threads still sleep: a shared machine loses at most kSpinTime per job.
+template <typename Done>
+bool spinUntil(Done&& done) {
+  constexpr auto kSpinTime = std::chrono::microseconds(200);
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 1;; ++i) {
+    if (done()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
+    if (i % 64 == 0 && std::chrono::steady_clock::now() - start > kSpinTime) return done();
+  }
+}
+
+// A job's parts are taken from an atomic counter, so a worker that comes late finds them done
+// by the caller and nothing waits for it. Handshake: a job's fields are written before
+// m_helpers (release); a worker counts itself in m_active before it claims a helper slot, and
+// run() returns only after setting m_helpers to 0 and seeing m_active at 0, so no worker can
+// be inside a finished job when the next one is set up.
+class Pool {
+ public:
+  ~Pool() {
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      m_stop = true;
+    }
+    m_wake.notify_all();
+    for (std::thread& t : m_workers) t.join();
+  }
+
+  // false if another job is running (the caller then runs its parts itself)
+  bool run(int parts, int threads, const std::function<void(int)>& fn) {
+    std::unique_lock<std::mutex> busy(m_busy, std::try_to_lock);
+    if (!busy.owns_lock()) return false;
+    if (m_serialJobs > 0) {  // backing off: see below
+      --m_serialJobs;
+      return false;
+    }
+    while (int(m_workers.size()) < threads - 1) m_workers.emplace_back([this] { work(); });
+    m_fn = &fn;
+    m_parts = parts;
+    m_next.store(0, std::memory_order_relaxed);
+    m_pending.store(parts, std::memory_order_relaxed);
+    m_helpers.store(threads - 1, std::memory_order_release);
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);  // a worker about to sleep sees it or is woken
+      m_generation.fetch_add(1, std::memory_order_release);
+    }
+    m_wake.notify_all();
+    const auto start = std::chrono::steady_clock::now();
+    const int ownParts = runAvailable();
+    const auto ownEnd = std::chrono::steady_clock::now();
+    m_helpers.store(0, std::memory_order_seq_cst);  // no worker joins from now on
+    auto finished = [this] { return m_pending.load() == 0 && m_active.load() == 0; };
+    if (!spinUntil(finished)) {
+      std::unique_lock<std::mutex> lock(m_mutex);
+      m_done.wait(lock, finished);
+    }
+    m_fn = nullptr;
+    // When the other cores are busy (a shared machine), a worker that took a part may be
+    // descheduled and the caller waits for it far longer than the part takes: measured, the
+    // 128^2 step then took 1.45x its one-thread time. After such a job the next ones run on the
+    // caller alone, 16 of them, twice as many after every further such job (up to 4096, halved
+    // again by every job without). Only the time changes: the results are the same bits.
+    const auto waited = std::chrono::steady_clock::now() - ownEnd;
+    const auto perPart = (ownEnd - start) / std::max(ownParts, 1);
+    if (ownParts > 0 && waited > 2 * perPart + std::chrono::microseconds(20)) {
+      m_backoff = std::min(m_backoff == 0 ? 16 : 2 * m_backoff, 4096);
+      m_serialJobs = m_backoff;
+    } else {
+      m_backoff /= 2;  // a machine that stays busy fails again soon: come back down slowly
+    }
+    return true;
+  }
+
+ private:
+  int runAvailable() {
+    int done = 0;
+    for (int p; (p = m_next.fetch_add(1)) < m_parts; ++done) (*m_fn)(p);
+    if (done > 0 && m_pending.fetch_sub(done) == done) notifyDone();
+    return done;
+  }
+
+  void notifyDone() {
+    { std::lock_guard<std::mutex> lock(m_mutex); }  // the caller is waiting or will see the count
+    m_done.notify_all();
+  }
+
+  void work() {
+    long seen = 0;
+    for (;;) {
+      auto news = [&] { return m_stop.load() || m_generation.load(std::memory_order_acquire) != seen; };
+      if (!spinUntil(news)) {
+        std::unique_lock<std::mutex> lock(m_mutex);
+        m_wake.wait(lock, news);
+      }
+      if (m_stop.load()) return;
+      seen = m_generation.load(std::memory_order_acquire);
+      m_active.fetch_add(1);
+      int wanted = m_helpers.load(std::memory_order_acquire);
+      while (wanted > 0 && !m_helpers.compare_exchange_weak(wanted, wanted - 1, std::memory_order_acquire)) {
+      }
+      if (wanted > 0) runAvailable();
+      if (m_active.fetch_sub(1) == 1) notifyDone();
+    }
+  }
+
+  std::mutex m_busy;   // one job at a time
+  std::mutex m_mutex;  // with the condition variables
+  std::condition_variable m_wake, m_done;
+  std::vector<std::thread> m_workers;
+  const std::function<void(int)>* m_fn = nullptr;
+  int m_parts = 0;
+  std::atomic<int> m_next{0};
+  std::atomic<int> m_pending{0};  // parts not finished
+  std::atomic<int> m_active{0};   // workers between joining and leaving a job
+  std::atomic<int> m_helpers{0};  // workers the job still takes
+  std::atomic<long> m_generation{0};
+  std::atomic<bool> m_stop{false};
+  int m_backoff = 0;     // serial jobs after the last slow one (0: none)
+  int m_serialJobs = 0;  // serial jobs still to run
+};
+
+Pool& pool() {
+  static Pool p;
+  return p;
+}
+
+}  // namespace
+
+int kernelThreads() { return g_threads.load(std::memory_order_relaxed); }
+
+void setKernelThreads(int threads) { g_threads.store(std::clamp(threads, 1, 64), std::memory_order_relaxed); }
+
+void runParts(int parts, const std::function<void(int)>& fn) {
+  const int threads = std::min(kernelThreads(), parts);
+  if (threads > 1 && pool().run(parts, threads, fn)) return;
+  for (int p = 0; p < parts; ++p) fn(p);
+}
+
+}  // namespace bsdeform
