@@ -12,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../support/VideoReadBack.h"
 #include "../nodes/NodesTestUtil.h"
 #include <Inventor/SbTime.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
@@ -643,4 +644,52 @@ TEST_CASE("bsdeform-run: a sweep whose runs cannot start says so and stops", "[s
   CHECK(r.err.find("/nonexistent/bsdeform-run") != std::string::npos);
   CHECK(r.err.find("No such file or directory") != std::string::npos);
   CHECK(!exists(dir.path + "/sweep/sweep.csv"));
+}
+
+TEST_CASE("bsdeform-run --video: a frame per 1/fps of simulated time, the size asked for, atomic", "[scenes]") {
+  TempDir dir;
+  // region_load: time step 0.1, the bump rises to its peak by t = 0.9
+  Run r = run(scene("region_load.iv") + " --until 2 --size 320x240 --video clip.webm --video-fps 10 -o out", dir.path);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("clip.webm (21 frames)") != std::string::npos);
+  const testsupport::ReadBack v = testsupport::readVideo(dir.path + "/clip.webm");
+  CHECK(v.codec == "vp9");
+  CHECK(v.width == 320);
+  CHECK(v.height == 240);
+  CHECK(v.fps == Approx(10.0));
+  CHECK(v.frames == 21);  // t = 0, 0.1, ..., 2
+  REQUIRE(v.rgb.size() == 21);
+  auto differing = [](const std::vector<unsigned char>& a, const std::vector<unsigned char>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size(); ++i) n += std::abs(int(a[i]) - int(b[i])) > 24;
+    return double(n) / a.size();
+  };
+  CHECK(differing(v.rgb[0], v.rgb[9]) > 0.01);    // the bump rose
+  CHECK(differing(v.rgb[19], v.rgb[20]) < 0.01);  // and has settled
+
+  // 25 frames per second of a 0.1 s step: the state is repeated between steps
+  r = run(scene("region_load.iv") + " --until 0.4 --size 160x120 --video slow.mp4 -o out2", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(testsupport::readVideo(dir.path + "/slow.mp4").frames == 11);  // 0, 0.04, ..., 0.4
+
+  // refused before anything runs: the extension, the rate
+  r = run(scene("region_load.iv") + " --until 1 --video clip.avi -o out3", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("clip.avi") != std::string::npos);
+  r = run(scene("region_load.iv") + " --until 1 --video clip.mp4 --video-fps 0 -o out4", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("--video-fps") != std::string::npos);
+
+  // a full disk where the video goes: exit 4, the previous video byte for byte, no temporary file
+  REQUIRE(std::system(("mkdir '" + dir.path + "/videos' && cp '" + dir.path + "/clip.webm' '" + dir.path + "/videos/'").c_str()) == 0);
+  const std::string before = slurp(dir.path + "/videos/clip.webm");
+  r = run(scene("region_load.iv") + " --until 2 --size 320x240 --video videos/clip.webm --video-fps 10 -o out5", dir.path,
+          fullDisk(dir.path + "/videos", 3000));
+  INFO(r.err);
+  CHECK(r.code == 4);
+  CHECK(r.err.find("videos/clip.webm") != std::string::npos);
+  CHECK(r.err.find("No space left on device") != std::string::npos);
+  CHECK(slurp(dir.path + "/videos/clip.webm") == before);
+  CHECK(listDir(dir.path + "/videos") == std::vector<std::string>{"clip.webm"});
 }

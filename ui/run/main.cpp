@@ -30,9 +30,11 @@
 #include <cstring>
 #include <functional>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "AtomicFile.h"
+#include "VideoWriter.h"
 #include "Plot.h"
 #include "bsdeform/AuthoredClock.h"
 #include "bsdeform/NodesInit.h"
@@ -79,6 +81,8 @@ struct Options {
   QString sweep;
   bool plot = false;
   long recordEvery = 1;
+  QString video;          // --video FILE (.mp4, .webm)
+  double videoFps = 25.0; // --video-fps: frames per simulated second
   bool quiet = false;
   bool resultOnly = false;  // internal: a sweep child prints RESULT lines and writes nothing
   QString sweepProgram;     // internal: the program started per sweep value (default: this one)
@@ -293,10 +297,18 @@ Failure runScene(const Options& o) {
   bsdeform::OffscreenRenderer renderer;
   bsdeform::Image img;
   long imagesWritten = 0;
+  long renderedFrame = -1;  // the frame img holds
+  auto render = [&](long frame) -> Failure {
+    std::string err;
+    if (renderedFrame != frame && !renderer.render(root, o.width, o.height, img, err))
+      return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
+    renderedFrame = frame;
+    return {kOk, {}};
+  };
   auto image = [&](long frame) -> Failure {
     std::string err;
-    if (!renderer.render(root, o.width, o.height, img, err))
-      return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
+    const Failure rendered = render(frame);
+    if (rendered.code != kOk) return rendered;
     const QString path = out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
     // not synced one by one (a frame's fsync cost about as much as its PNG): once at the end
     if (!bsdeform::writePng(img, QFile::encodeName(path).toStdString(), err, false))
@@ -307,6 +319,26 @@ Failure runScene(const Options& o) {
   };
   QVector<long> imageFrames;
   for (double t : o.pngAt) imageFrames << long(std::llround((t - t0) / dtMin));
+  // --video: a frame at t0 and at every 1/fps of simulated time after it, each the picture of
+  // the last state reached by then (a frame repeats when the time step is longer than 1/fps)
+  std::unique_ptr<bsdeform::VideoWriter> video;
+  double nextVideoTime = t0;
+  if (!o.video.isEmpty() && !o.resultOnly) {
+    std::string err;
+    video = bsdeform::VideoWriter::open(QFile::encodeName(o.video).toStdString(), o.width, o.height, o.videoFps, err);
+    if (!video) return {kBadInput, QString::fromStdString(err)};
+  }
+  auto videoFrames = [&](long frame) -> Failure {
+    const double now = t0 + frame * dtMin;
+    while (video && nextVideoTime <= now + 1e-9 * std::max(1.0, std::abs(now))) {
+      const Failure rendered = render(frame);
+      if (rendered.code != kOk) return rendered;
+      std::string err;
+      if (!video->addFrame(img.rgb.data(), err)) return writeFailure(QString::fromStdString(err), written);
+      nextVideoTime = t0 + double(video->frames()) / o.videoFps;
+    }
+    return {kOk, {}};
+  };
 
   QElapsedTimer timer;
   timer.start();
@@ -337,6 +369,8 @@ Failure runScene(const Options& o) {
       f = image(frame);
       if (f.code != kOk) return f;
     }
+    f = videoFrames(frame);
+    if (f.code != kOk) return f;
     progress(o, frame, frames, t0 + frame * dtMin);
     if (blewUp) break;
   }
@@ -373,6 +407,11 @@ Failure runScene(const Options& o) {
         return writeFailure(perr, written);
       written << plotPath;
     }
+  }
+  if (video) {
+    std::string err;
+    if (!video->finish(err)) return writeFailure(QString::fromStdString(err), written);
+    written << o.video + QStringLiteral(" (%1 frames)").arg(video->frames());
   }
   if (imagesWritten > 0) {
     std::string err;
@@ -584,6 +623,11 @@ int main(int argc, char** argv) {
                                        QStringLiteral("history rows (CSV, plot): the first state, every state whose step "
                                                       "count is a multiple of K, and the last state (default 1: every step)"),
                                        QStringLiteral("K"));
+  const QCommandLineOption video(QStringLiteral("video"),
+                                  QStringLiteral("also write a video of the run: .mp4 (H.264) or .webm (VP9), at --size"),
+                                  QStringLiteral("FILE"));
+  const QCommandLineOption videoFps(QStringLiteral("video-fps"),
+                                     QStringLiteral("video frames per simulated second (default 25)"), QStringLiteral("F"));
   const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
@@ -592,7 +636,8 @@ int main(int argc, char** argv) {
                                   QStringLiteral("PATH"));
   sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, size, set, sweep, plot, recordEvery, quiet, resultOnly, sweepProgram});
+      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, resultOnly,
+       sweepProgram});
   parser.process(app);
 
   auto fail = [](const Failure& f) {
@@ -639,6 +684,14 @@ int main(int argc, char** argv) {
     if (!ok || o.recordEvery < 1)
       return fail({kBadInput, QStringLiteral("--record-every '%1' is not a count >= 1").arg(parser.value(recordEvery))});
   }
+  o.video = parser.value(video);
+  if (parser.isSet(videoFps)) {
+    o.videoFps = parser.value(videoFps).toDouble(&ok);
+    if (!ok || !(o.videoFps > 0.0) || o.videoFps > 1000.0)
+      return fail({kBadInput, QStringLiteral("--video-fps '%1' is not a rate in (0, 1000]").arg(parser.value(videoFps))});
+  }
+  if (!o.video.isEmpty() && !o.sweep.isEmpty())
+    return fail({kBadInput, QStringLiteral("--video and --sweep: a sweep runs many simulations, record one with --set")});
   o.quiet = parser.isSet(quiet);
   o.resultOnly = parser.isSet(resultOnly);
   o.sweepProgram = parser.value(sweepProgram);
