@@ -6,6 +6,7 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QTimer>
+#include <malloc.h>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -24,6 +25,13 @@ void fatal(const SbString msg, SoQt::FatalErrors, void*) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Mesa's software rasteriser (llvmpipe) bins each frame's triangles into 64 KB blocks (about
+  // 17 MB a frame at 128^2) and frees them when the frame is done; glibc then hands the top of
+  // the heap back to the system and the next frame faults the same pages in again: a third of
+  // the viewer's time went to page faults (docs/benchmarks.md, "Viewer"). Those allocations are
+  // Mesa's, not ours to keep (ours are: buffer objects, an allocation-free tessellation), so the
+  // viewer keeps up to 256 MB of freed heap instead of trimming it. The library does not.
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   QApplication app(argc, argv);
   Q_INIT_RESOURCE(viewer);  // the default scene lives in the static viewer library's resources
   QApplication::setOrganizationName(QStringLiteral("bsdeform"));
