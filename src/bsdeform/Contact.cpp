@@ -247,10 +247,9 @@ struct CollisionForce::Cache {
   double skin = 0.0;
   double normA = 0.0;
   std::vector<double> clearance;  // per element (su * spansV + sv)
-  // Per quadrature point (i * qv.size() + j): a clearance like the elements' (the point is
-  // farther than the search from every obstacle while the net has moved less than it since the
-  // reference; -inf: unknown), and per point and obstacle the triangle found last (-1: none),
-  // the next query's hint.
+  // Per quadrature point (i * qv.size() + j): a clearance like the elements' (no obstacle can
+  // act on the point while the net has moved less than it since the reference; -inf: unknown),
+  // and per point and obstacle the triangle found last (-1: none), the next query's hint.
   std::vector<float> pointClearance;
   std::vector<int> hints;
   Counters counters;
