@@ -7,7 +7,6 @@
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
-#include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/fields/SoSFTime.h>
@@ -127,17 +126,11 @@ Failure applySet(const QString& spec) {
   return {kOk, {}};
 }
 
+// The scene's distinct surfaces (bsdeform::sceneSurfaces), each named by its DEF name or, when
+// it has none, "surfaceN" after its place among them: the output files are named after it.
 QVector<Surface> findSurfaces(SoNode* root) {
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.apply(root);
   QVector<Surface> out;
-  std::map<SoNode*, bool> seen;
-  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
-    auto* node = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
-    if (seen[node]) continue;  // the same node USEd twice is one surface
-    seen[node] = true;
+  for (SoBSplineDeformSurface* node : bsdeform::sceneSurfaces(root)) {
     Surface s;
     s.node = node;
     const SbName n = node->getName();
