@@ -53,6 +53,7 @@
 #include "Recorder.h"
 #include "ViewFraming.h"
 #include "bsdeform/FieldInfo.h"
+#include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -495,8 +496,7 @@ QImage MainWindow::screenshot(const QSize& size) {
   }
   // another size: the same camera, rendered offscreen (EGL); renderOffscreen adds the one
   // headlight a viewer has (a second one here made the picture overexposed)
-  SoSeparator* root = new SoSeparator;
-  root->ref();
+  const NodeRef<SoSeparator> root(new SoSeparator);
   if (SoCamera* cam = m_viewer->getCamera()) root->addChild(cam->copy());
   root->addChild(m_doc->root());
   if (gl) gl->doneCurrent();  // EGL cannot make its context current while SoQt's GLX one is
@@ -504,12 +504,11 @@ QImage MainWindow::screenshot(const QSize& size) {
   std::string error;
   QImage out;
   const SbColor bg = m_viewer->getBackgroundColor();
-  if (renderOffscreen(root, size.width(), size.height(), img, error, bg)) {
+  if (renderOffscreen(root.get(), size.width(), size.height(), img, error, bg)) {
     out = QImage(img.rgb.data(), img.width, img.height, img.width * 3, QImage::Format_RGB888).copy();
   } else {
     reportError(tr("Screenshot failed"), QString::fromStdString(error));
   }
-  root->unref();
   return out;
 }
 
