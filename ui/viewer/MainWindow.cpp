@@ -65,6 +65,8 @@ namespace {
 constexpr int kMaxRecent = 8;
 const char* kRecentKey = "recentFiles";
 const char* kFolderKey = "lastFolder";
+const char* kGeometryKey = "window/geometry";  // size and place of the window
+const char* kLayoutKey = "window/layout";      // docks and tool bar (QMainWindow::saveState)
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
@@ -98,6 +100,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   createStatusBar();
   updateRecentMenu();
   resize(1200, 800);
+  restoreLayout();
 
   m_timer = new QTimer(this);
   connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
@@ -664,7 +667,21 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   if (isRecording()) stopRecording();  // a finished video rather than a lost one
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
+  saveLayout();
   QMainWindow::closeEvent(e);
+}
+
+void MainWindow::saveLayout() {
+  QSettings settings;
+  settings.setValue(kGeometryKey, saveGeometry());
+  settings.setValue(kLayoutKey, saveState());
+}
+
+void MainWindow::restoreLayout() {
+  // nothing saved yet (or unreadable): the default size and docks stay
+  const QSettings settings;
+  restoreGeometry(settings.value(kGeometryKey).toByteArray());
+  restoreState(settings.value(kLayoutKey).toByteArray());
 }
 
 bool MainWindow::offerRecovery(RecoveryChoice choice) {
