@@ -19,6 +19,7 @@
 #include <Inventor/fields/SoSFTime.h>
 
 #include "../support/FpTraps.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/Simulation.h"
 
 using testutil::Coin;
@@ -43,17 +44,6 @@ std::string slurp(const std::string& path) {
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
-}
-
-std::vector<SoBSplineDeformSurface*> surfaces(SoNode* root) {
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.apply(root);
-  std::vector<SoBSplineDeformSurface*> out;
-  for (int i = 0; i < sa.getPaths().getLength(); ++i)
-    out.push_back(static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail()));
-  return out;
 }
 
 struct TempDir {
@@ -99,7 +89,7 @@ TEST_CASE("Scenes: every scene loads without warnings and runs with finite resul
     realTime->setValue(SbTime(0.0));
     SoSeparator* root = testutil::read(slurp(f));
     REQUIRE(root);
-    const auto surfs = surfaces(root);
+    const auto surfs = bsdeform::sceneSurfaces(root);
     REQUIRE(!surfs.empty());
     for (SoBSplineDeformSurface* s : surfs) {
       bsdeform::test::FpTrapScope traps;  // Debug builds: a NaN in our numerics raises SIGFPE
@@ -122,7 +112,7 @@ TEST_CASE("Scenes: the default scene rises, overshoots a little and rests within
   // what a new user sees first (issue 10): it must settle while they watch, and stay in view
   SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/region_load.iv"));
   REQUIRE(root);
-  const auto surfs = surfaces(root);
+  const auto surfs = bsdeform::sceneSurfaces(root);
   REQUIRE(surfs.size() == 1);
   SoBSplineDeformSurface* s = surfs[0];
   double peak = 0.0, at3 = 0.0;
@@ -150,10 +140,10 @@ TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", 
     INFO(f);
     SoSeparator* a = testutil::read(slurp(f));
     REQUIRE(a);
-    for (auto* s : surfaces(a)) s->stepSimulation(10);
+    for (auto* s : bsdeform::sceneSurfaces(a)) s->stepSimulation(10);
     SoSeparator* b = testutil::read(testutil::write(a));
     REQUIRE(b);
-    const auto sa = surfaces(a), sb = surfaces(b);
+    const auto sa = bsdeform::sceneSurfaces(a), sb = bsdeform::sceneSurfaces(b);
     REQUIRE(sa.size() == sb.size());
     for (size_t i = 0; i < sa.size(); ++i) {
       sa[i]->stepSimulation(10);
@@ -279,7 +269,7 @@ TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and
   REQUIRE(root);
   SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));  // tells the surface its scene
   bb.apply(root);
-  SoBSplineDeformSurface* s = surfaces(root).at(0);
+  SoBSplineDeformSurface* s = bsdeform::sceneSurfaces(root).at(0);
   const double tau = 0.015, radius = 0.25;
   auto runTo = [&](double t) {
     while (s->simulation().time() + 1e-9 < t) {

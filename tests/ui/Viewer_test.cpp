@@ -7,10 +7,12 @@
 
 #include <QApplication>
 #include <QDir>
+#include <QDockWidget>
 #include <QFile>
 #include <QGLWidget>
 #include <QMouseEvent>
 #include <QProcess>
+#include <QSettings>
 #include <QTemporaryDir>
 #include <QTest>
 #include <catch2/catch.hpp>
@@ -365,4 +367,43 @@ TEST_CASE("bsdeform-viewer: --restore-recovery, --discard-recovery and CI=true k
   err = runViewer({QStringLiteral("--discard-recovery")});
   CHECK(!QFile::exists(orphan));
   CHECK(recoveryFiles(recovery).isEmpty());
+}
+
+TEST_CASE("Viewer: a new window comes back with the size and dock layout the last one was closed with", "[ui]") {
+  auto docks = [](bsdeform::MainWindow& w) {
+    auto* scene = w.findChild<QDockWidget*>(QStringLiteral("sceneDock"));
+    auto* plots = w.findChild<QDockWidget*>(QStringLiteral("plotDock"));
+    REQUIRE(scene);
+    REQUIRE(plots);
+    return std::make_pair(scene, plots);
+  };
+  QSize closedSize;
+  {
+    auto w = makeWindow("region_load.iv");
+    const auto [scene, plots] = docks(*w);
+    REQUIRE(w->dockWidgetArea(plots) == Qt::BottomDockWidgetArea);  // the default layout
+    REQUIRE(!scene->isHidden());
+    w->resize(900, 640);
+    w->addDockWidget(Qt::LeftDockWidgetArea, plots);
+    scene->hide();
+    QTest::qWait(100);
+    closedSize = w->size();
+    REQUIRE(closedSize != QSize(1200, 800));
+    REQUIRE(w->close());
+  }
+  {
+    auto w = makeWindow("region_load.iv");
+    const auto [scene, plots] = docks(*w);
+    CHECK(w->size() == closedSize);
+    CHECK(w->dockWidgetArea(plots) == Qt::LeftDockWidgetArea);
+    CHECK(scene->isHidden());
+    CHECK(!plots->isHidden());
+  }
+  // nothing saved (a first start): the default size and docks
+  QSettings().remove(QStringLiteral("window"));
+  auto w = makeWindow("region_load.iv");
+  const auto [scene, plots] = docks(*w);
+  CHECK(w->size() == QSize(1200, 800));
+  CHECK(w->dockWidgetArea(plots) == Qt::BottomDockWidgetArea);
+  CHECK(!scene->isHidden());
 }

@@ -7,7 +7,6 @@
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
-#include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/errors/SoReadError.h>
 #include <Inventor/fields/SoSFTime.h>
@@ -37,6 +36,7 @@
 #include "VideoWriter.h"
 #include "Plot.h"
 #include "bsdeform/AuthoredClock.h"
+#include "bsdeform/NodeRef.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
@@ -90,7 +90,7 @@ struct Options {
 
 // ------------------------------------------------------------------------------------------
 
-Failure loadScene(const QString& path, SoSeparator*& root) {
+Failure loadScene(const QString& path, bsdeform::NodeRef<SoSeparator>& root) {
   const QFileInfo info(path);
   if (info.isDir()) return {kBadInput, QStringLiteral("cannot open scene '%1': it is a directory").arg(path)};
   if (!info.exists()) return {kBadInput, QStringLiteral("cannot open scene '%1': no such file").arg(path)};
@@ -101,10 +101,9 @@ Failure loadScene(const QString& path, SoSeparator*& root) {
       return {kBadInput, QStringLiteral("cannot open scene '%1': %2").arg(path, probe.errorString())};
   }
   std::string error;  // the guarded reader (docs/reliability.md): FILE:LINE: reason, or Coin's errors
-  root = bsdeform::readSceneFile(QFile::encodeName(path).toStdString(), error);
+  root.reset(bsdeform::readSceneFile(QFile::encodeName(path).toStdString(), error));
   if (!root)
     return {kBadInput, QStringLiteral("cannot read scene: %1").arg(QString::fromStdString(error).replace(QLatin1Char('\n'), QStringLiteral("; ")))};
-  root->ref();
   return {kOk, {}};
 }
 
@@ -127,17 +126,11 @@ Failure applySet(const QString& spec) {
   return {kOk, {}};
 }
 
+// The scene's distinct surfaces (bsdeform::sceneSurfaces), each named by its DEF name or, when
+// it has none, "surfaceN" after its place among them: the output files are named after it.
 QVector<Surface> findSurfaces(SoNode* root) {
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.apply(root);
   QVector<Surface> out;
-  std::map<SoNode*, bool> seen;
-  for (int i = 0; i < sa.getPaths().getLength(); ++i) {
-    auto* node = static_cast<SoBSplineDeformSurface*>(sa.getPaths()[i]->getTail());
-    if (seen[node]) continue;  // the same node USEd twice is one surface
-    seen[node] = true;
+  for (SoBSplineDeformSurface* node : bsdeform::sceneSurfaces(root)) {
     Surface s;
     s.node = node;
     const SbName n = node->getName();
@@ -248,24 +241,24 @@ SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(S
 Failure runScene(const Options& o) {
   SoDB::enableRealTimeSensor(FALSE);
   realTimeField()->setValue(SbTime(0.0));  // before reading: engines start their clocks at 0
-  SoSeparator* root = nullptr;
+  bsdeform::NodeRef<SoSeparator> root;  // given back on every return
   Failure f = loadScene(o.scene, root);
   if (f.code != kOk) return f;
   for (const QString& s : o.sets) {
     f = applySet(s);
     if (f.code != kOk) return f;
   }
-  QVector<Surface> surfaces = findSurfaces(root);
+  QVector<Surface> surfaces = findSurfaces(root.get());
   if (surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
   // Build every model and force now: bad values show up as warnings before anything runs.
   // A traversal first tells each surface its scene (the frames of COLLISION obstacles).
   g_coinMessages.clear();
   {
     SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
-    bb.apply(root);
+    bb.apply(root.get());
   }
   double dtMin = INFINITY, t0 = INFINITY;
-  const bsdeform::AuthoredClock authored(root);  // final.iv keeps the scene's own `on` and `speed`
+  const bsdeform::AuthoredClock authored(root.get());  // final.iv keeps the scene's own `on` and `speed`
   for (Surface& s : surfaces) {
     s.node->on = FALSE;  // the runner drives time itself
     s.node->stepSimulation(0);
@@ -300,7 +293,7 @@ Failure runScene(const Options& o) {
   long renderedFrame = -1;  // the frame img holds
   auto render = [&](long frame) -> Failure {
     std::string err;
-    if (renderedFrame != frame && !renderer.render(root, o.width, o.height, img, err))
+    if (renderedFrame != frame && !renderer.render(root.get(), o.width, o.height, img, err))
       return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
     renderedFrame = frame;
     return {kOk, {}};
@@ -387,7 +380,7 @@ Failure runScene(const Options& o) {
                   num(d.kinetic).toUtf8().constData(), num(d.strain.total).toUtf8().constData(),
                   sim.status() == bsdeform::Status::Ok ? "ok" : "blew-up");
     }
-    root->unref();
+    root.reset();
     return {blewUp ? kBlowUp : kOk, {}};
   }
 
@@ -419,7 +412,7 @@ Failure runScene(const Options& o) {
       return writeFailure(QString::fromStdString(err), written);
   }
   const QString ivPath = out.filePath(QStringLiteral("final.iv"));
-  if (!writeScene(root, authored, ivPath, error)) return writeFailure(error, written);
+  if (!writeScene(root.get(), authored, ivPath, error)) return writeFailure(error, written);
   written << ivPath;
 
   if (!o.quiet) {
@@ -443,7 +436,7 @@ Failure runScene(const Options& o) {
     blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
     refused |= s.node->simulation().status() == bsdeform::Status::Refused;
   }
-  root->unref();  // the surfaces are gone after this
+  root.reset();  // the surfaces are gone after this
   if (blewUp) return {refused ? kBadInput : kBlowUp, blowUps.join(QStringLiteral("; "))};
   return {kOk, {}};
 }
@@ -461,14 +454,13 @@ Failure runSweep(const Options& o, const QStringList& passThrough) {
   if (values.isEmpty()) return {kBadInput, QStringLiteral("--sweep '%1': no values").arg(o.sweep)};
   // Validate names and every value in this process first: bad input is reported before any run.
   {
-    SoSeparator* root = nullptr;
+    bsdeform::NodeRef<SoSeparator> root;
     Failure f = loadScene(o.scene, root);
     if (f.code != kOk) return f;
     for (const QString& s : o.sets)
       if ((f = applySet(s)).code != kOk) return f;
     for (const QString& v : values)
       if ((f = applySet(target + QLatin1Char('=') + v)).code != kOk) return f;
-    root->unref();
   }
   Failure f = prepareOutDir(o);
   if (f.code != kOk) return f;

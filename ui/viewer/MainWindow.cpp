@@ -53,6 +53,7 @@
 #include "Recorder.h"
 #include "ViewFraming.h"
 #include "bsdeform/FieldInfo.h"
+#include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -64,6 +65,8 @@ namespace {
 constexpr int kMaxRecent = 8;
 const char* kRecentKey = "recentFiles";
 const char* kFolderKey = "lastFolder";
+const char* kGeometryKey = "window/geometry";  // size and place of the window
+const char* kLayoutKey = "window/layout";      // docks and tool bar (QMainWindow::saveState)
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
@@ -97,6 +100,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   createStatusBar();
   updateRecentMenu();
   resize(1200, 800);
+  restoreLayout();
 
   m_timer = new QTimer(this);
   connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
@@ -495,8 +499,7 @@ QImage MainWindow::screenshot(const QSize& size) {
   }
   // another size: the same camera, rendered offscreen (EGL); renderOffscreen adds the one
   // headlight a viewer has (a second one here made the picture overexposed)
-  SoSeparator* root = new SoSeparator;
-  root->ref();
+  const NodeRef<SoSeparator> root(new SoSeparator);
   if (SoCamera* cam = m_viewer->getCamera()) root->addChild(cam->copy());
   root->addChild(m_doc->root());
   if (gl) gl->doneCurrent();  // EGL cannot make its context current while SoQt's GLX one is
@@ -504,12 +507,11 @@ QImage MainWindow::screenshot(const QSize& size) {
   std::string error;
   QImage out;
   const SbColor bg = m_viewer->getBackgroundColor();
-  if (renderOffscreen(root, size.width(), size.height(), img, error, bg)) {
+  if (renderOffscreen(root.get(), size.width(), size.height(), img, error, bg)) {
     out = QImage(img.rgb.data(), img.width, img.height, img.width * 3, QImage::Format_RGB888).copy();
   } else {
     reportError(tr("Screenshot failed"), QString::fromStdString(error));
   }
-  root->unref();
   return out;
 }
 
@@ -665,7 +667,21 @@ void MainWindow::closeEvent(QCloseEvent* e) {
   if (isRecording()) stopRecording();  // a finished video rather than a lost one
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
+  saveLayout();
   QMainWindow::closeEvent(e);
+}
+
+void MainWindow::saveLayout() {
+  QSettings settings;
+  settings.setValue(kGeometryKey, saveGeometry());
+  settings.setValue(kLayoutKey, saveState());
+}
+
+void MainWindow::restoreLayout() {
+  // nothing saved yet (or unreadable): the default size and docks stay
+  const QSettings settings;
+  restoreGeometry(settings.value(kGeometryKey).toByteArray());
+  restoreState(settings.value(kLayoutKey).toByteArray());
 }
 
 bool MainWindow::offerRecovery(RecoveryChoice choice) {

@@ -163,6 +163,9 @@ class MainWindow : public QMainWindow {
   void reportError(const QString& title, const QString& message);
   void addRecent(const QString& path);
   void updateRecentMenu();
+  /// The window's geometry and dock layout (QSettings): saved on close, restored on start.
+  void saveLayout();
+  void restoreLayout();
   static void countFrame(void* data, SoAction* action);
 
   std::unique_ptr<SceneDocument> m_doc;

@@ -28,14 +28,10 @@ namespace bsdeform {
 
 SceneDocument::SceneDocument() = default;
 
-SceneDocument::~SceneDocument() {
-  if (m_root) m_root->unref();
-}
+SceneDocument::~SceneDocument() = default;
 
 void SceneDocument::adopt(SoSeparator* root, const QString& path) {
-  root->ref();
-  if (m_root) m_root->unref();
-  m_root = root;
+  m_root.reset(root);
   m_path = path;
   m_clock.clear();
   scan();
@@ -48,8 +44,8 @@ void SceneDocument::rescan() {
 void SceneDocument::scan() {
   m_surfaces.clear();
   m_forceFields.clear();
-  m_clock.capture(m_root);
-  for (SoBSplineDeformSurface* s : sceneSurfaces(m_root)) {
+  m_clock.capture(m_root.get());
+  for (SoBSplineDeformSurface* s : sceneSurfaces(m_root.get())) {
     m_surfaces << s;
     for (int k = 0; k < s->forces.getNum(); ++k) {
       SoEngine* e = s->forces[k];
@@ -88,13 +84,13 @@ bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QS
 QByteArray SceneDocument::toText() const {
   if (!m_root) return QByteArray();
   const AuthoredClock::Scope authored(m_clock);
-  return QByteArray::fromStdString(sceneToText(m_root));
+  return QByteArray::fromStdString(sceneToText(m_root.get()));
 }
 
 bool SceneDocument::writeTo(const TextSink& sink) const {
   if (!m_root) return false;
   const AuthoredClock::Scope authored(m_clock);
-  return writeSceneText(m_root, sink);
+  return writeSceneText(m_root.get(), sink);
 }
 
 bool SceneDocument::save(const QString& path, QString& error) const {
@@ -177,7 +173,7 @@ SoPath* SceneDocument::pathTo(SoBSplineDeformSurface* surface, QString& error) c
   }
   SoSearchAction sa;
   sa.setNode(surface);
-  sa.apply(m_root);
+  sa.apply(m_root.get());
   if (!sa.getPath()) {
     error = QStringLiteral("the surface is not in the scene");
     return nullptr;

@@ -9,6 +9,7 @@
 #include <QVector>
 
 #include "bsdeform/AuthoredClock.h"
+#include "bsdeform/NodeRef.h"
 #include "bsdeform/SceneText.h"
 
 class SoSeparator;
@@ -40,7 +41,7 @@ class SceneDocument {
   /// Streams that text into `sink`; false without a scene or when the sink failed.
   bool writeTo(const TextSink& sink) const;
 
-  SoSeparator* root() const { return m_root; }
+  SoSeparator* root() const { return m_root.get(); }
   const QString& path() const { return m_path; }
   /// The file the scene belongs to (a restored recovery file belongs to the scene it came from).
   void setPath(const QString& path) { m_path = path; }
@@ -76,7 +77,7 @@ class SceneDocument {
   SoPath* exportPath(SoBSplineDeformSurface* surface, const QString& path, const QString& what, const QStringList& extensions,
                      QString& error) const;
 
-  SoSeparator* m_root = nullptr;
+  NodeRef<SoSeparator> m_root;
   QString m_path;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
