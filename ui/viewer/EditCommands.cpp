@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "EditCommands.h"
 
-#include <Inventor/SoFullPath.h>
+#include <Inventor/SoPath.h>
 #include <Inventor/SbViewportRegion.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/actions/SoSearchAction.h>
@@ -178,7 +178,7 @@ DeleteCommand::DeleteCommand(EditContext& context, SoBSplineDeformSurface* surfa
   sa.setInterest(SoSearchAction::ALL);
   sa.apply(context.doc.root());
   for (int i = 0; i < sa.getPaths().getLength(); ++i) {
-    const auto* path = static_cast<const SoFullPath*>(sa.getPaths()[i]);
+    const SoPath* path = sa.getPaths()[i];  // no node kits here: the visible path is the whole path
     if (path->getLength() < 2) continue;
     SoNode* parent = path->getNodeFromTail(1);
     const int index = path->getIndexFromTail(0);
