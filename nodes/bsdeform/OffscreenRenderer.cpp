@@ -8,7 +8,6 @@
 #include <Inventor/C/glue/gl.h>
 #include <Inventor/SbViewportRegion.h>
 #include <Inventor/SoOffscreenRenderer.h>
-#include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/nodes/SoCamera.h>
 #include <Inventor/nodes/SoDirectionalLight.h>
 #include <Inventor/nodes/SoPerspectiveCamera.h>
@@ -123,14 +122,6 @@ void destruct(void* data) {
   delete ctx;
 }
 
-SoCamera* findCamera(SoNode* scene) {
-  SoSearchAction sa;
-  sa.setType(SoCamera::getClassTypeId());
-  sa.setInterest(SoSearchAction::FIRST);
-  sa.apply(scene);
-  return sa.getPath() ? static_cast<SoCamera*>(sa.getPath()->getTail()) : nullptr;
-}
-
 }  // namespace
 
 bool installEglOffscreenContexts(std::string* error) {
@@ -164,7 +155,7 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
   SoSeparator* root = new SoSeparator;
   root->ref();
   auto* headlight = new SoDirectionalLight;  // as every viewer has, along the view direction
-  if (findCamera(scene)) {
+  if (findSceneCamera(scene)) {
     // traversed before the scene's camera, the light is placed in eye space: -z is the view
     headlight->direction.setValue(0, 0, -1);
     root->addChild(headlight);
