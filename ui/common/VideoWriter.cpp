@@ -207,7 +207,7 @@ std::unique_ptr<VideoWriter> VideoWriter::open(const std::string& path, int widt
   return w;
 }
 
-bool VideoWriter::addFrame(const unsigned char* rgb, std::string& error) {
+bool VideoWriter::addFrame(const unsigned char* rgb, std::string& error, int rowBytes) {
   if (m->finished || !rgb) {
     error = "cannot write '" + m->path + "': " + (m->finished ? "the video is already finished" : "no frame");
     return false;
@@ -220,8 +220,9 @@ bool VideoWriter::addFrame(const unsigned char* rgb, std::string& error) {
   // swscale's SIMD reads whole blocks past the end of a row: hand it rows in a padded, aligned
   // copy (the odd column, if any, is left out)
   const int w = m->codec->width, h = m->codec->height;
+  const size_t row = rowBytes > 0 ? size_t(rowBytes) : size_t(3) * size_t(m->sourceWidth);
   for (int y = 0; y < h; ++y)
-    std::memcpy(m->staging.data() + size_t(y) * m->stagingStride, rgb + size_t(y) * 3 * m->sourceWidth, size_t(3 * w));
+    std::memcpy(m->staging.data() + size_t(y) * m->stagingStride, rgb + size_t(y) * row, size_t(3 * w));
   const uint8_t* planes[1] = {m->staging.data()};
   const int strides[1] = {m->stagingStride};
   sws_scale(m->scale, planes, strides, 0, h, m->frame->data, m->frame->linesize);

@@ -25,8 +25,9 @@ class VideoWriter {
   VideoWriter(const VideoWriter&) = delete;
   VideoWriter& operator=(const VideoWriter&) = delete;
 
-  /// Encodes one frame: `rgb` holds width x height pixels, 3 bytes each, rows top-down.
-  bool addFrame(const unsigned char* rgb, std::string& error);
+  /// Encodes one frame: `rgb` holds width x height pixels, 3 bytes each, rows top-down, each
+  /// row `rowBytes` after the previous (0: packed, 3 x the width given to open()).
+  bool addFrame(const unsigned char* rgb, std::string& error, int rowBytes = 0);
   /// Flushes the encoder, writes the trailer, syncs and renames into place. The writer cannot
   /// be used afterwards.
   bool finish(std::string& error);

@@ -4,7 +4,6 @@
 #include <QFileInfo>
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
 #include "AtomicFile.h"
 #include "VideoWriter.h"
@@ -60,12 +59,8 @@ bool Recorder::addFrame(const QImage& picture, QString& error) {
                          QStringLiteral("_%1.png").arg(m_frames, 5, 10, QLatin1Char('0'));
     if (!savePngAtomically(name, rgb, error)) return false;
   } else {
-    // VideoWriter takes packed rows: QImage pads each row to 4 bytes
-    std::vector<unsigned char> packed(size_t(m_size.width()) * m_size.height() * 3);
-    for (int y = 0; y < m_size.height(); ++y)
-      std::copy_n(rgb.constScanLine(y), m_size.width() * 3, packed.data() + size_t(y) * m_size.width() * 3);
     std::string why;
-    if (!m_video->addFrame(packed.data(), why)) {
+    if (!m_video->addFrame(rgb.constBits(), why, int(rgb.bytesPerLine()))) {  // QImage pads rows to 4 bytes
       error = QString::fromStdString(why);
       return false;
     }
