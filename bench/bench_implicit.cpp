@@ -7,6 +7,7 @@
 //   ImplicitStep/<N>        one implicit step of that model (a moving state)
 //   ImplicitFactorDirect/<N>, ImplicitStepDirect/<N>  the same with LinearSolver::Direct
 //   ImplicitFactorCG/<N>,     ImplicitStepCG/<N>      the same with LinearSolver::ConjugateGradient
+//   ImplicitFactorMG/<N>,     ImplicitStepMG/<N>      the same with LinearSolver::Multigrid
 // Large N take seconds to minutes per iteration: those run one iteration (Iterations(1)); peak
 // memory is measured from outside (/usr/bin/time -v on one filtered benchmark, docs/benchmarks.md).
 #include <benchmark/benchmark.h>
@@ -72,6 +73,8 @@ void ImplicitFactorDirect(benchmark::State& s) { factor(s, LinearSolver::Direct)
 void ImplicitStepDirect(benchmark::State& s) { step(s, LinearSolver::Direct); }
 void ImplicitFactorCG(benchmark::State& s) { factor(s, LinearSolver::ConjugateGradient); }
 void ImplicitStepCG(benchmark::State& s) { step(s, LinearSolver::ConjugateGradient); }
+void ImplicitFactorMG(benchmark::State& s) { factor(s, LinearSolver::Multigrid); }
+void ImplicitStepMG(benchmark::State& s) { step(s, LinearSolver::Multigrid); }
 
 }  // namespace
 
@@ -86,5 +89,7 @@ BSDEFORM_IMPLICIT_BENCH(ImplicitFactorDirect);
 BSDEFORM_IMPLICIT_BENCH(ImplicitStepDirect);
 BSDEFORM_IMPLICIT_BENCH(ImplicitFactorCG);
 BSDEFORM_IMPLICIT_BENCH(ImplicitStepCG);
+BSDEFORM_IMPLICIT_BENCH(ImplicitFactorMG);
+BSDEFORM_IMPLICIT_BENCH(ImplicitStepMG);
 
 BENCHMARK_MAIN();

@@ -5,6 +5,7 @@
 #include <cassert>
 #include <vector>
 
+#include "bsdeform/Multiversion.h"
 #include "bsdeform/Parallel.h"
 
 namespace bsdeform {
@@ -21,11 +22,6 @@ BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
 BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
 BSDEFORM_INLINE double sum4(v4 x) { return (x[0] + x[1]) + (x[2] + x[3]); }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define BSDEFORM_MULTIVERSION __attribute__((target_clones("avx2", "default")))
-#else
-#define BSDEFORM_MULTIVERSION
-#endif
 
 constexpr int kTaps = 2 * kMaxDegree + 1;
 // Rows per block of the sums. Blocks are summed separately and then added in block order, so

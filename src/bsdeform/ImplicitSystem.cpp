@@ -34,10 +34,14 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
   // kappa(K) <= (max D + lambda_max(A)/4) / min D: A_act is positive semi-definite and its
   // largest eigenvalue is at most A_II's (a principal submatrix), which the symbol bounds.
   m_kappa = (m_mass.maxCoeff() + 0.25 * stencil.eigenvalueBound()) / m_mass.minCoeff();
-  if (m_method == LinearSolver::Automatic)
-    m_method = n <= kAutomaticDirectPoints || predictedIterations() > kAutomaticIterationLimit
-                   ? LinearSolver::Direct
-                   : LinearSolver::ConjugateGradient;
+  if (m_method == LinearSolver::Automatic) {
+    if (n <= kAutomaticDirectPoints || predictedIterations() > kAutomaticIterationLimit)
+      m_method = LinearSolver::Direct;
+    else if (predictedIterations() > kAutomaticMultigridIterations)
+      m_method = LinearSolver::Multigrid;
+    else
+      m_method = LinearSolver::ConjugateGradient;
+  }
 
   if (m_method == LinearSolver::Direct) {
     // Lower triangle of K: A_II without pinned rows and columns, / 4, plus D.
@@ -61,16 +65,42 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     return;
   }
 
+  allocateNet(m_net, space.netSize());
+  m_net.setZero();
+  if (m_method == LinearSolver::Multigrid) {
+    m_multigrid = std::make_unique<MultigridPreconditioner>(space, stencil, stencil.weights(), m_mass);
+    // the finest level smooths with K itself (the stencil, pins included)
+    Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
+    for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
+    m_multigrid->useExactOperator(
+        [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); }, diag);
+    return;
+  }
   // Jacobi scaling: diag(K) = D + diag(A)/4 off the pins. Where it is one constant (all sides
   // clamped, nodal mass) it changes nothing and is skipped.
   Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
   for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
   if (diag.maxCoeff() != diag.minCoeff()) m_inverseDiag = diag.cwiseInverse();
-  allocateNet(m_net, space.netSize());
-  m_net.setZero();
 }
 
 ImplicitSystem::~ImplicitSystem() = default;
+
+namespace {
+/// dot[c] = sum_f a(f, c) b(f, c), in one pass over both (a column dot is a strided pass each).
+void dotPerCoordinate(const ControlNet& a, const ControlNet& b, double dot[3]) {
+  const double* pa = a.data();
+  const double* pb = b.data();
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+  for (Eigen::Index f = 0; f < a.rows(); ++f) {
+    s0 += pa[3 * f] * pb[3 * f];
+    s1 += pa[3 * f + 1] * pb[3 * f + 1];
+    s2 += pa[3 * f + 2] * pb[3 * f + 2];
+  }
+  dot[0] = s0;
+  dot[1] = s1;
+  dot[2] = s2;
+}
+}  // namespace
 
 double ImplicitSystem::predictedIterations() const {
   return 0.5 * std::sqrt(m_kappa) * std::log(2.0 / m_tolerance);
@@ -114,6 +144,25 @@ void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[
   dot[2] = s2;
 }
 
+void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlNet& out) {
+  // out = b - (A x~ / 4 + D x), pinned rows b - D x, in one pass after the stencil
+  scatterDirection(x);
+  m_stencil.applyMoving(m_net, out);
+  for (Eigen::Index f : m_pinned) out.row(f).setZero();
+  const Eigen::Index n = x.rows();
+  const double* px = x.data();
+  const double* pb = b.data();
+  double* po = out.data();
+  const double* d = m_mass.data();
+  for (Eigen::Index f = 0; f < n; ++f) {
+    const double m = d[f];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index k = 3 * f + c;
+      po[k] = pb[k] - (0.25 * po[k] + m * px[k]);
+    }
+  }
+}
+
 void ImplicitSystem::apply(const ControlNet& x, ControlNet& y) {
   scatterDirection(x);
   m_stencil.applyMoving(m_net, y);
@@ -130,9 +179,10 @@ bool ImplicitSystem::solve(const ControlNet& b, ControlNet& x) {
   }
   // Conjugate gradients for each coordinate (three independent recurrences sharing the passes
   // over memory): p = z + beta p (written into the stencil's net too), q = K p, then x, r and
-  // z = r / diag(K) with the dot products.
+  // z = r / diag(K) with the dot products; or z = B r, one V-cycle.
   const Eigen::Index n = b.rows();
   const bool jacobi = m_inverseDiag.size() > 0;
+  const bool multigrid = m_multigrid != nullptr;
   double bb[3], goal[3];
   for (int c = 0; c < 3; ++c) {
     bb[c] = b.col(c).squaredNorm();
@@ -142,12 +192,11 @@ bool ImplicitSystem::solve(const ControlNet& b, ControlNet& x) {
   apply(x, m_q);
   m_r = b - m_q;
   if (jacobi) m_z = m_inverseDiag.asDiagonal() * m_r;
-  const ControlNet& z = jacobi ? m_z : m_r;
+  if (multigrid) m_multigrid->apply(m_r, m_z);
+  const ControlNet& z = jacobi || multigrid ? m_z : m_r;
   double rr[3], rz[3];
-  for (int c = 0; c < 3; ++c) {
-    rr[c] = m_r.col(c).squaredNorm();
-    rz[c] = m_r.col(c).dot(z.col(c));
-  }
+  dotPerCoordinate(m_r, m_r, rr);
+  dotPerCoordinate(m_r, z, rz);
   allocateNet(m_p, n);
   m_p.setZero();
   double beta[3] = {0.0, 0.0, 0.0};
@@ -181,6 +230,10 @@ bool ImplicitSystem::solve(const ControlNet& b, ControlNet& x) {
         s[c] += r * r;
         s[3 + c] += r * zk;
       }
+    if (multigrid) {
+      m_multigrid->apply(m_r, m_z);
+      dotPerCoordinate(m_r, m_z, s + 3);
+    }
     for (int c = 0; c < 3; ++c) {
       rr[c] = s[c];
       beta[c] = active[c] ? s[3 + c] / rz[c] : 0.0;

@@ -16,11 +16,15 @@
 ///    nothing to factorise), Jacobi-scaled; it stops at a relative residual
 ///    \f$\|r_c\| \le \mathrm{tol}\,\|b_c\|\f$ in every coordinate c. Its iteration count grows
 ///    like \f$\sqrt{\kappa(K)}\f$, \f$\kappa \le (\max D + \lambda_{max}(A)/4) / \min D\f$.
+///  - Multigrid: the same CG, preconditioned by a multigrid V-cycle (Multigrid.h) instead of
+///    Jacobi: a few times the work per iteration, and an iteration count that grows slowly
+///    with the net instead of like sqrt(kappa).
 
 #include <Eigen/Core>
 #include <memory>
 #include <vector>
 
+#include "bsdeform/Multigrid.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
 
@@ -29,16 +33,22 @@ namespace bsdeform {
 enum class LinearSolver {
   Automatic,          ///< Direct for small nets (at most kAutomaticDirectPoints moving points:
                       ///< exact, and factorised in well under 0.1 s) and for ill-conditioned
-                      ///< systems (predicted CG iterations above kAutomaticIterationLimit),
-                      ///< ConjugateGradient otherwise
+                      ///< systems (predicted CG iterations above kAutomaticIterationLimit);
+                      ///< otherwise Multigrid where Jacobi-CG would need more than
+                      ///< kAutomaticMultigridIterations iterations, ConjugateGradient below
   Direct,             ///< CHOLMOD supernodal Cholesky, factorised once
   ConjugateGradient,  ///< matrix-free Jacobi-preconditioned conjugate gradients on the stencil
+  Multigrid,          ///< matrix-free conjugate gradients preconditioned by a multigrid V-cycle
 };
 
 /// Automatic picks CG when \f$\tfrac12\sqrt{\kappa}\,\ln(2/\mathrm{tol})\f$ (the CG/Chebyshev
 /// bound on iterations for the bound on kappa) is at most this: about where one CG solve costs
 /// what one CHOLMOD solve costs (docs/benchmarks.md).
 constexpr double kAutomaticIterationLimit = 300.0;
+/// Automatic preconditions CG with multigrid above this many predicted Jacobi-CG iterations: a
+/// multigrid iteration costs 7-9 Jacobi ones and 7-8 of them reach 1e-10 at every size
+/// measured (docs/benchmarks.md).
+constexpr double kAutomaticMultigridIterations = 100.0;
 /// Automatic factorises nets up to this many moving points (64^2: 0.06 s, docs/benchmarks.md).
 constexpr Eigen::Index kAutomaticDirectPoints = 4096;
 
@@ -57,7 +67,7 @@ class ImplicitSystem {
 
   /// Moving-point numbers held by pins, sorted.
   const std::vector<Eigen::Index>& pinned() const { return m_pinned; }
-  /// Direct or ConjugateGradient (Automatic resolved at construction).
+  /// Direct, ConjugateGradient or Multigrid (Automatic resolved at construction).
   LinearSolver method() const { return m_method; }
   /// Upper bound of the condition number of K (from the stencil's symbol bound).
   double conditionBound() const { return m_kappa; }
@@ -77,6 +87,8 @@ class ImplicitSystem {
 
   /// y = K x, matrix-free (numMoving x 3).
   void apply(const ControlNet& x, ControlNet& y);
+  /// out = b - K x, matrix-free, in one pass after the stencil.
+  void residual(const ControlNet& x, const ControlNet& b, ControlNet& out);
 
  private:
   struct Factor;
@@ -97,6 +109,7 @@ class ImplicitSystem {
   double m_kappa = 1.0;
   double m_factorNonZeros = 0.0;
   std::unique_ptr<Factor> m_factor;
+  std::unique_ptr<MultigridPreconditioner> m_multigrid;
   ControlNet m_net;  ///< scratch full net for the stencil (held points stay zero)
   ControlNet m_r, m_z, m_p, m_q;
   int m_lastIterations = 0;

@@ -10,6 +10,7 @@
 
 #include "bsdeform/GaussLegendre.h"
 #include "bsdeform/HugePages.h"
+#include "bsdeform/Multiversion.h"
 #include "bsdeform/Parallel.h"
 
 namespace bsdeform {
@@ -314,11 +315,6 @@ BSDEFORM_INLINE double stencil1(const double* const* q, const double* half, int 
   return acc;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define BSDEFORM_MULTIVERSION __attribute__((target_clones("avx2", "default")))
-#else
-#define BSDEFORM_MULTIVERSION
-#endif
 
 // dst = up + down over one net row.
 BSDEFORM_MULTIVERSION

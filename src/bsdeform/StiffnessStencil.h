@@ -72,6 +72,7 @@ class StiffnessStencil {
   /// @throws std::invalid_argument for a negative or non-finite weight (names it)
   StiffnessStencil(const SplineSpace& space, const Weights& weights);
 
+  const Weights& weights() const { return m_weights; }
   int radiusU() const { return m_ru; }
   int radiusV() const { return m_rv; }
   /// Interior stencil \f$a(B_k, B_{k+d})\f$ for a B-spline k inside [0,1]^2 (whole-line

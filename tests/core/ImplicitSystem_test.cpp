@@ -11,6 +11,7 @@
 #include <string>
 
 #include "bsdeform/ImplicitSystem.h"
+#include "bsdeform/Multigrid.h"
 #include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
 
@@ -117,6 +118,15 @@ TEST_CASE("ImplicitSystem: CHOLMOD and CG solve K x = b like a dense solve, ever
     CHECK(cg.lastResidual() <= 1e-12);
     for (int col = 0; col < 3; ++col)  // |e| / |x| <= kappa |r| / |b| in every coordinate
       CHECK((x.col(col) - ref.col(col)).norm() <= kappa * 1e-12 * ref.col(col).norm());
+
+    // the same with the multigrid preconditioner
+    ImplicitSystem mg(s, st, D, pinned, LinearSolver::Multigrid, 1e-12, 1000);
+    REQUIRE(mg.method() == LinearSolver::Multigrid);
+    x = ControlNet::Zero(s.numMoving(), 3);
+    REQUIRE(mg.solve(b, x));
+    CHECK(mg.lastResidual() <= 1e-12);
+    for (int col = 0; col < 3; ++col)
+      CHECK((x.col(col) - ref.col(col)).norm() <= kappa * 1e-12 * ref.col(col).norm());
   }
 }
 
@@ -172,12 +182,23 @@ TEST_CASE("ImplicitSystem: Automatic factorises small or ill-conditioned systems
   CHECK(method(8, MassModel::Nodal) == LinearSolver::Direct);
   CHECK(method(80, MassModel::Nodal) == LinearSolver::ConjugateGradient);
   CHECK(method(80, MassModel::Lumped) == LinearSolver::Direct);  // kappa ~ 6e3: ~950 predicted iterations
+  // a longer step makes the mass term smaller: kappa and the predicted Jacobi-CG iterations grow
+  ModelParameters q;
+  q.numU = q.numV = 80;
+  q.integrator = Integrator::Implicit;
+  q.timeStep = 1.0;
+  Simulation slow(q);
+  INFO("predicted Jacobi-CG iterations " << slow.implicitSystem()->predictedIterations());
+  CHECK(slow.implicitSystem()->predictedIterations() > kAutomaticMultigridIterations);
+  CHECK(slow.implicitSystem()->predictedIterations() <= kAutomaticIterationLimit);
+  CHECK(slow.implicitSystem()->method() == LinearSolver::Multigrid);
   ModelParameters p;
   p.integrator = Integrator::Explicit;
   CHECK(Simulation(p).implicitSystem() == nullptr);
 }
 
-TEST_CASE("Simulation: implicit runs with CG agree with runs with CHOLMOD for every boundary kind", "[core]") {
+TEST_CASE("Simulation: implicit runs with CG and multigrid agree with runs with CHOLMOD for every boundary kind",
+          "[core]") {
   for (const Case& c : cases()) {
     auto run = [&](LinearSolver solver) {
       ModelParameters p;
@@ -203,10 +224,12 @@ TEST_CASE("Simulation: implicit runs with CG agree with runs with CHOLMOD for ev
       REQUIRE(sim->status() == Status::Ok);
       return ControlNet(sim->current() - sim->rest());
     };
-    const ControlNet direct = run(LinearSolver::Direct), cg = run(LinearSolver::ConjugateGradient);
+    const ControlNet direct = run(LinearSolver::Direct), cg = run(LinearSolver::ConjugateGradient),
+                     mg = run(LinearSolver::Multigrid);
     INFO(c.name << ": largest displacement " << direct.cwiseAbs().maxCoeff());
     CHECK(direct.cwiseAbs().maxCoeff() > 1e-3);  // something moved
     CHECK((cg - direct).cwiseAbs().maxCoeff() <= 1e-9 * direct.cwiseAbs().maxCoeff());
+    CHECK((mg - direct).cwiseAbs().maxCoeff() <= 1e-9 * direct.cwiseAbs().maxCoeff());
   }
 }
 
@@ -227,4 +250,97 @@ TEST_CASE("Simulation: a CG solve that does not converge fails the step and keep
     q.solverTolerance = 1.0;
     Simulation s(q);
   }(), Catch::Contains("solverTolerance"));
+}
+
+TEST_CASE("Multigrid: the Kronecker operator is K, and the V-cycle is symmetric positive definite, every boundary kind",
+          "[core]") {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> X(-1.0, 1.0);
+  auto random = [&](Eigen::Index n) {
+    ControlNet v(n, 3);
+    for (Eigen::Index i = 0; i < v.size(); ++i) v.data()[i] = X(rng);
+    return v;
+  };
+  for (const Case& c : cases()) {
+    const SplineSpace s(3, 2, 56, 48, c.sides);
+    const StiffnessStencil st(s, Weights{0.5, 0.3, 0.05, 0.02, 0.04});
+    const Eigen::VectorXd D = massTerm(s, st, c.lumped, c.lumped ? 0.01 : 0.1);
+    INFO(c.name << ", " << s.numMoving() << " moving points");
+    MultigridPreconditioner mg(s, st, st.weights(), D);
+    CHECK(mg.levels() >= 3);
+    for (int l = 1; l < mg.levels(); ++l) CHECK(mg.levelPoints(l) < mg.levelPoints(l - 1));
+
+    // K~ (no pins: the separable mass fit is exact for nodal and for lumped mass of one density)
+    const Eigen::MatrixXd K = denseK(st, D, {});
+    const ControlNet x = random(s.numMoving()), y = random(s.numMoving());
+    ControlNet Kx;
+    mg.applyOperator(x, Kx);
+    const Eigen::MatrixXd ref = K * Eigen::MatrixXd(x);
+    CHECK((Kx - ref).norm() <= 1e-13 * ref.norm());
+
+    // B = one V-cycle: x.By = y.Bx, x.Bx > 0, and B K is close to the identity on a smooth and a
+    // rough vector (a useless preconditioner, e.g. a wrong coarse operator, fails this)
+    ControlNet Bx, By;
+    mg.apply(x, Bx);
+    mg.apply(y, By);
+    const double xBy = (x.array() * By.array()).sum(), yBx = (y.array() * Bx.array()).sum();
+    CHECK(std::abs(xBy - yBx) <= 1e-12 * x.norm() * By.norm());
+    CHECK((x.array() * Bx.array()).sum() > 0.0);
+    ControlNet smooth(s.numMoving(), 3);
+    for (Eigen::Index f = 0; f < s.numMoving(); ++f)
+      smooth.row(f) << std::sin(0.05 * double(f)), 1.0, std::cos(0.01 * double(f));
+    for (const ControlNet& v : {x, smooth}) {
+      ControlNet Kv, BKv;
+      mg.applyOperator(v, Kv);
+      mg.apply(Kv, BKv);
+      CHECK((BKv - v).norm() <= 0.6 * v.norm());
+    }
+  }
+}
+
+TEST_CASE("Multigrid: conjugate gradients with the V-cycle solve K x = b on multi-level nets with pins", "[core]") {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> X(-1.0, 1.0);
+  for (const Case& c : cases()) {
+    const SplineSpace s(3, 3, 30, 26, c.sides);
+    const StiffnessStencil st(s, Weights{});
+    const Eigen::VectorXd D = massTerm(s, st, c.lumped, c.lumped ? 0.01 : 0.1);
+    const std::vector<Eigen::Index> pinned = pinnedMoving(s, c.pins);
+    const Eigen::MatrixXd K = denseK(st, D, pinned);
+    ControlNet b(s.numMoving(), 3);
+    for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = X(rng);
+    const Eigen::MatrixXd ref = K.llt().solve(Eigen::MatrixXd(b));
+    ImplicitSystem mg(s, st, D, pinned, LinearSolver::Multigrid, 1e-11, 200);
+    ControlNet x = ControlNet::Zero(s.numMoving(), 3);
+    REQUIRE(mg.solve(b, x));
+    INFO(c.name << ": " << mg.lastIterations() << " iterations, " << pinned.size() << " pinned");
+    CHECK(mg.lastIterations() <= 25);
+    CHECK(relativeError(x, ref) <= mg.conditionBound() * 1e-11);
+  }
+}
+
+TEST_CASE("Multigrid: the iteration count grows far slower than Jacobi-CG's as the net grows", "[core]") {
+  std::vector<int> mgIterations, cgIterations;
+  for (int N : {32, 64, 128}) {
+    const SplineSpace s(3, 3, N, N);
+    const StiffnessStencil st(s, Weights{});
+    const Eigen::VectorXd D = massTerm(s, st, false, 0.5);  // a long step: kappa grows like N^2
+    ControlNet b(s.numMoving(), 3);
+    std::mt19937 rng(N);
+    std::uniform_real_distribution<double> X(-1.0, 1.0);
+    for (Eigen::Index i = 0; i < b.size(); ++i) b.data()[i] = X(rng);
+    for (LinearSolver kind : {LinearSolver::Multigrid, LinearSolver::ConjugateGradient}) {
+      ImplicitSystem sys(s, st, D, {}, kind, 1e-10, 5000);
+      ControlNet x = ControlNet::Zero(s.numMoving(), 3);
+      REQUIRE(sys.solve(b, x));
+      (kind == LinearSolver::Multigrid ? mgIterations : cgIterations).push_back(sys.lastIterations());
+    }
+  }
+  INFO("multigrid " << mgIterations[0] << ", " << mgIterations[1] << ", " << mgIterations[2] << "; Jacobi-CG "
+                    << cgIterations[0] << ", " << cgIterations[1] << ", " << cgIterations[2]);
+  // Jacobi-CG follows sqrt(kappa) ~ N; the V-cycle grows far slower (not flat: B-spline
+  // multigrid with point smoothers is known to lose some efficiency as the stiffness dominates)
+  CHECK(cgIterations[2] > 3 * cgIterations[0]);
+  CHECK(double(mgIterations[2]) / mgIterations[0] < 0.5 * double(cgIterations[2]) / cgIterations[0]);
+  CHECK(mgIterations[2] <= 15);
 }

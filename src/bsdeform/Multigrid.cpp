@@ -1,0 +1,518 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/Multigrid.h"
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "bsdeform/HugePages.h"
+#include "bsdeform/Multiversion.h"
+
+namespace bsdeform {
+
+BandMatrix::BandMatrix(int size, int bandwidth, bool periodic)
+    : m_size(size), m_bw(bandwidth), m_periodic(periodic), m_v(size_t(size) * size_t(2 * bandwidth + 1), 0.0) {
+  if (periodic && size <= 2 * bandwidth)
+    throw std::invalid_argument("multigrid: a periodic direction needs more than " + std::to_string(2 * bandwidth) +
+                                " moving layers, got " + std::to_string(size));
+}
+
+void BandMatrix::findToeplitzRows() {
+  // the longest run of rows equal to the middle row, all of whose columns exist unwrapped
+  const int mid = m_size / 2;
+  auto same = [&](int i) {
+    if (i - m_bw < 0 || i + m_bw >= m_size) return false;
+    for (int d = -m_bw; d <= m_bw; ++d)
+      if (at(i, d) != at(mid, d)) return false;
+    return true;
+  };
+  if (!same(mid)) {
+    m_toeplitzBegin = m_toeplitzEnd = 0;
+    return;
+  }
+  m_toeplitzBegin = m_toeplitzEnd = mid;
+  while (same(m_toeplitzBegin - 1)) --m_toeplitzBegin;
+  while (same(m_toeplitzEnd)) ++m_toeplitzEnd;
+}
+
+int BandMatrix::column(int i, int d) const {
+  const int j = i + d;
+  if (m_periodic) return ((j % m_size) + m_size) % m_size;
+  return j >= 0 && j < m_size ? j : -1;
+}
+
+namespace {
+
+// y = c x (set) or y += c x over n entries.
+BSDEFORM_MULTIVERSION
+void axpy(double c, const double* __restrict x, double* __restrict y, long n, bool set) {
+  if (set)
+    for (long m = 0; m < n; ++m) y[m] = c * x[m];
+  else
+    for (long m = 0; m < n; ++m) y[m] += c * x[m];
+}
+
+// x += y
+BSDEFORM_MULTIVERSION
+void addTo(const ControlNet& y, ControlNet& x) {
+  const double* __restrict py = y.data();
+  double* __restrict px = x.data();
+  for (Eigen::Index m = 0; m < x.size(); ++m) px[m] += py[m];
+}
+
+// y = b - y over n entries.
+BSDEFORM_MULTIVERSION
+void subtractFrom(const double* __restrict b, double* __restrict y, long n) {
+  for (long m = 0; m < n; ++m) y[m] = b[m] - y[m];
+}
+
+/// c * U[u] (x) V[v]
+struct Term {
+  double c;
+  int u, v;
+};
+
+/// 1-D transfer between a fine and a coarse index set: coarse function j is the sum of
+/// w * fine function f over children[j]; parents[f] lists the same pairs by fine index.
+struct Transfer1D {
+  std::vector<std::vector<std::pair<int, double>>> children, parents;
+  int coarseSize() const { return int(children.size()); }
+};
+
+Transfer1D identityTransfer(int n) {
+  Transfer1D t;
+  t.children.resize(size_t(n));
+  t.parents.resize(size_t(n));
+  for (int i = 0; i < n; ++i) t.children[size_t(i)] = t.parents[size_t(i)] = {{i, 1.0}};
+  return t;
+}
+
+/// Dyadic knot insertion for uniform B-splines of degree n on the fine index set of `dir`.
+/// Returns false (and leaves `t` alone) when the direction is too small to coarsen.
+bool subdivisionTransfer(const MultigridDirection& dir, int degree, Transfer1D& t) {
+  const int nf = dir.size();
+  std::vector<double> w(size_t(degree + 2));
+  w[0] = std::ldexp(1.0, -degree);
+  for (int k = 1; k <= degree + 1; ++k) w[size_t(k)] = w[size_t(k - 1)] * double(degree + 2 - k) / double(k);
+  int jmin, jmax;
+  if (dir.periodic) {
+    jmin = 0;
+    jmax = (nf + 1) / 2 - 1;
+    if (jmax + 1 <= 2 * degree + 2) return false;
+  } else {
+    jmin = dir.clampedMin ? 0 : -((degree + 1) / 2);
+    jmax = dir.clampedMax ? (nf - 1 - (degree + 1)) / 2 : (nf - 1) / 2;
+    if (jmax - jmin + 1 < degree + 2 || jmax - jmin + 1 >= nf) return false;
+  }
+  t.children.assign(size_t(jmax - jmin + 1), {});
+  t.parents.assign(size_t(nf), {});
+  for (int j = jmin; j <= jmax; ++j)
+    for (int k = 0; k <= degree + 1; ++k) {
+      int f = 2 * j + k;
+      if (dir.periodic) f %= nf;
+      if (f < 0 || f >= nf) continue;
+      t.children[size_t(j - jmin)].emplace_back(f, w[size_t(k)]);
+      t.parents[size_t(f)].emplace_back(j - jmin, w[size_t(k)]);
+    }
+  return true;
+}
+
+/// P^T B P for the transfer P.
+BandMatrix galerkin(const BandMatrix& B, const Transfer1D& t) {
+  const int nc = t.coarseSize();
+  auto offset = [&](int i, int j) {
+    int d = j - i;
+    if (B.periodic()) {
+      d = ((d % nc) + nc) % nc;
+      if (d > nc / 2) d -= nc;
+    }
+    return d;
+  };
+  auto forEach = [&](auto&& fn) {
+    for (int i = 0; i < nc; ++i)
+      for (const auto& [f, wf] : t.children[size_t(i)])
+        for (int d = -B.bandwidth(); d <= B.bandwidth(); ++d) {
+          const int g = B.column(f, d);
+          const double v = B.at(f, d);
+          if (g < 0 || v == 0.0) continue;
+          for (const auto& [j, wg] : t.parents[size_t(g)]) fn(i, j, wf * v * wg);
+        }
+  };
+  int bw = 0;
+  forEach([&](int i, int j, double) { bw = std::max(bw, std::abs(offset(i, j))); });
+  BandMatrix C(nc, bw, B.periodic());
+  forEach([&](int i, int j, double v) { C.at(i, offset(i, j)) += v; });
+  return C;
+}
+
+/// The 1-D Gram matrix G^p of the moving layers of one direction (StiffnessStencil.h).
+BandMatrix gramMatrix(const GramRows1D& g, const LayerRange& moving, int netLayers, bool periodic, int p,
+                      int (SplineSpace::*movingLayer)(int) const, const SplineSpace& space) {
+  const int n = g.degree();
+  BandMatrix B(moving.count, n, periodic);
+  for (int a = 0; a < moving.count; ++a) {
+    const int i = moving.first + a;
+    const int type = g.rowType(i);
+    for (int d = -n; d <= n; ++d) {
+      if (!periodic) {
+        const int l = i + d;
+        if (l < 0 || l >= netLayers || (space.*movingLayer)(l) < 0) continue;
+      }
+      B.at(a, d) = g.entry(p, type, d);
+    }
+  }
+  return B;
+}
+
+BandMatrix diagonalMatrix(const Eigen::VectorXd& d) {
+  BandMatrix B(int(d.size()), 0, false);
+  for (int i = 0; i < int(d.size()); ++i) B.at(i, 0) = d[i];
+  return B;
+}
+
+}  // namespace
+
+struct MultigridPreconditioner::Level {
+  MultigridDirection u, v;
+  int degreeU = 0, degreeV = 0;
+  std::vector<Term> terms;
+  int mu = 0, mv = 0;
+  Eigen::VectorXd invDiag;  ///< per point
+  double lambda = 1.0;      ///< upper estimate of lambda_max(diag^-1 K~)
+  bool coarsest = false;
+  Transfer1D toCoarseU, toCoarseV;
+  Eigen::LLT<Eigen::MatrixXd> llt;  ///< coarsest level only
+  ControlNet r, x, res, y, t, s;    ///< right-hand side, solution, residual, correction, transfer and smoother scratch
+  // operator scratch: one row per u matrix and one padded row per v matrix
+  std::vector<std::vector<double>> zRows, wRows;
+  /// vExpanded[j][d + bw][3 b + c] = V_j(b, d)
+  std::vector<std::vector<std::vector<double>>> vExpanded;
+
+  Eigen::Index points() const { return Eigen::Index(mu) * mv; }
+
+  void prepare() {
+    // the v factors, expanded per coordinate
+    vExpanded.assign(v.matrices.size(), {});
+    wRows.assign(v.matrices.size(), {});
+    for (size_t j = 0; j < v.matrices.size(); ++j) {
+      const BandMatrix& V = v.matrices[j];
+      const int bw = V.bandwidth();
+      vExpanded[j].assign(size_t(2 * bw + 1), std::vector<double>(size_t(3 * mv), 0.0));
+      for (int b = 0; b < mv; ++b)
+        for (int d = -bw; d <= bw; ++d)
+          for (int c = 0; c < 3; ++c) vExpanded[j][size_t(d + bw)][size_t(3 * b + c)] = V.at(b, d);
+      wRows[j].assign(size_t(3 * (mv + 2 * bw)), 0.0);
+    }
+    zRows.assign(u.matrices.size(), std::vector<double>(size_t(3 * mv), 0.0));
+    for (BandMatrix& V : v.matrices) V.findToeplitzRows();
+    // diagonal and Gershgorin bound of diag^-1 K~
+    Eigen::VectorXd diag = Eigen::VectorXd::Zero(points()), absSum = Eigen::VectorXd::Zero(points());
+    for (const Term& term : terms) {
+      const BandMatrix& U = u.matrices[size_t(term.u)];
+      const BandMatrix& V = v.matrices[size_t(term.v)];
+      for (int a = 0; a < mu; ++a) {
+        double ru = 0.0;
+        for (int d = -U.bandwidth(); d <= U.bandwidth(); ++d) ru += std::abs(U.at(a, d));
+        for (int b = 0; b < mv; ++b) {
+          double rv = 0.0;
+          for (int d = -V.bandwidth(); d <= V.bandwidth(); ++d) rv += std::abs(V.at(b, d));
+          const Eigen::Index k = Eigen::Index(a) * mv + b;
+          diag[k] += term.c * U.at(a, 0) * V.at(b, 0);
+          absSum[k] += std::abs(term.c) * ru * rv;
+        }
+      }
+    }
+    if (!(diag.minCoeff() > 0.0)) throw std::runtime_error("multigrid: a level's operator has a diagonal entry <= 0");
+    invDiag = diag.cwiseInverse();
+    const double gershgorin = absSum.cwiseProduct(invDiag).maxCoeff();
+    for (ControlNet* m : {&r, &x, &res, &y, &s}) allocateNet(*m, points());
+    lambda = std::min(gershgorin, estimateLambda());
+  }
+
+  /// 1.15 times a power-iteration estimate of lambda_max(diag^-1 K) (a lower estimate): the
+  /// smoother still reduces every mode up to 9/8 of its upper end.
+  double estimateLambda() {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> X(-1.0, 1.0);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = X(rng);
+    double estimate = 0.0;
+    for (int it = 0; it < 20; ++it) {
+      apply(x, nullptr, y);
+      y = invDiag.asDiagonal() * y;
+      estimate = std::sqrt(y.squaredNorm() / x.squaredNorm());
+      x = y / y.norm();
+    }
+    return 1.15 * estimate;
+  }
+
+  /// The finest level's own operator K (pins and all), when given: used instead of K~.
+  MultigridPreconditioner::Operator exact;
+
+  /// out = K x (K~ x), or out = rhs - K x when rhs is given.
+  void apply(const ControlNet& xNet, const ControlNet* rhsNet, ControlNet& outNet) {
+    if (exact) {
+      exact(xNet, rhsNet, outNet);
+      return;
+    }
+    const double* x = xNet.data();
+    double* out = outNet.data();
+    const long rowLen = 3L * mv;
+    for (int a = 0; a < mu; ++a) {
+      // z_i = (U_i (x) I) x, row a
+      for (size_t i = 0; i < u.matrices.size(); ++i) {
+        const BandMatrix& U = u.matrices[i];
+        double* z = zRows[i].data();
+        bool first = true;
+        for (int d = -U.bandwidth(); d <= U.bandwidth(); ++d) {
+          const int col = U.column(a, d);
+          const double c = U.at(a, d);
+          if (col < 0 || c == 0.0) continue;
+          axpy(c, x + long(col) * rowLen, z, rowLen, first);
+          first = false;
+        }
+        if (first) std::fill(z, z + rowLen, 0.0);
+      }
+      // w_j = sum of c z_u over the terms with v = j (inside the padding)
+      for (size_t j = 0; j < v.matrices.size(); ++j) {
+        const int bw = v.matrices[j].bandwidth();
+        double* w = wRows[j].data() + 3L * bw;
+        bool first = true;
+        for (const Term& term : terms) {
+          if (size_t(term.v) != j) continue;
+          axpy(term.c, zRows[size_t(term.u)].data(), w, rowLen, first);
+          first = false;
+        }
+        if (first) std::fill(w, w + rowLen, 0.0);
+        if (v.periodic && bw > 0) {  // wrapped halo
+          std::copy(w + rowLen - 3L * bw, w + rowLen, w - 3L * bw);
+          std::copy(w, w + 3L * bw, w + rowLen);
+        }
+      }
+      // out row = sum_j (I (x) V_j) w_j: Toeplitz rows as shifted axpys, the others entry by entry
+      double* o = out + long(a) * rowLen;
+      std::fill(o, o + rowLen, 0.0);
+      for (size_t j = 0; j < v.matrices.size(); ++j) {
+        const BandMatrix& V = v.matrices[j];
+        const int bw = V.bandwidth();
+        const double* w = wRows[j].data() + 3L * bw;
+        const int t0 = V.toeplitzBegin(), t1 = V.toeplitzEnd();
+        if (t1 > t0)
+          for (int d = -bw; d <= bw; ++d)
+            axpy(V.at(t0, d), w + 3L * (t0 + d), o + 3L * t0, 3L * (t1 - t0), false);
+        for (int b = 0; b < mv; ++b) {
+          if (b == t0 && t1 > t0) b = t1;
+          if (b >= mv) break;
+          for (int d = -bw; d <= bw; ++d) {
+            const double c = V.at(b, d);
+            const double* wb = w + 3L * (b + d);  // the padding holds zeros or the wrapped halo
+            o[3 * b] += c * wb[0];
+            o[3 * b + 1] += c * wb[1];
+            o[3 * b + 2] += c * wb[2];
+          }
+        }
+      }
+      if (rhsNet) subtractFrom(rhsNet->data() + long(a) * rowLen, o, rowLen);
+    }
+  }
+
+  /// out = p(diag^-1 K) diag^-1 b from zero: the Chebyshev polynomial of smoothingDegree (1 or 2)
+  /// on [lambda/8, lambda]; degree 2 takes one product with K (`s` is its scratch).
+  void smooth(const ControlNet& b, ControlNet& out) {
+    const double hi = lambda, lo = lambda / 8.0;
+    const double theta = 0.5 * (hi + lo), delta = 0.5 * (hi - lo);
+    const double sigma = theta / delta, rho0 = 1.0 / sigma, rho1 = 1.0 / (2.0 * sigma - rho0);
+    out = invDiag.asDiagonal() * b / theta;
+    if (smoothingDegree < 2) return;
+    apply(out, &b, s);
+    out = (1.0 + rho1 * rho0) * out + (2.0 * rho1 / delta) * (invDiag.asDiagonal() * s);
+  }
+  int smoothingDegree = 2;  ///< 1: damped Jacobi (no product with K)
+};
+
+namespace {
+
+/// out (coarse, mc rows of 3 nc) = (Pu (x) Pv)^T in (fine)
+void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, ControlNet& scratch,
+                ControlNet& out) {
+  const int muFine = int(tu.parents.size()), nvc = tv.coarseSize(), nuc = tu.coarseSize();
+  allocateNet(scratch, Eigen::Index(muFine) * nvc);
+  for (int a = 0; a < muFine; ++a)
+    for (int j = 0; j < nvc; ++j) {
+      double s[3] = {0, 0, 0};
+      for (const auto& [b, w] : tv.children[size_t(j)])
+        for (int c = 0; c < 3; ++c) s[c] += w * in(Eigen::Index(a) * mvFine + b, c);
+      for (int c = 0; c < 3; ++c) scratch(Eigen::Index(a) * nvc + j, c) = s[c];
+    }
+  allocateNet(out, Eigen::Index(nuc) * nvc);
+  out.setZero();
+  const long len = 3L * nvc;
+  for (int i = 0; i < nuc; ++i) {
+    double* o = out.data() + long(i) * len;
+    for (const auto& [a, w] : tu.children[size_t(i)]) {
+      const double* s = scratch.data() + long(a) * len;
+      for (long m = 0; m < len; ++m) o[m] += w * s[m];
+    }
+  }
+}
+
+/// out (fine) += (Pu (x) Pv) in (coarse)
+void prolongAdd(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, ControlNet& scratch,
+                ControlNet& out) {
+  const int muFine = int(tu.parents.size()), nvc = tv.coarseSize();
+  allocateNet(scratch, Eigen::Index(muFine) * nvc);
+  const long len = 3L * nvc;
+  for (int a = 0; a < muFine; ++a) {
+    double* s = scratch.data() + long(a) * len;
+    std::fill(s, s + len, 0.0);
+    for (const auto& [i, w] : tu.parents[size_t(a)]) {
+      const double* c = in.data() + long(i) * len;
+      for (long m = 0; m < len; ++m) s[m] += w * c[m];
+    }
+  }
+  for (int a = 0; a < muFine; ++a)
+    for (int b = 0; b < mvFine; ++b) {
+      double s[3] = {0, 0, 0};
+      for (const auto& [j, w] : tv.parents[size_t(b)])
+        for (int c = 0; c < 3; ++c) s[c] += w * scratch(Eigen::Index(a) * nvc + j, c);
+      for (int c = 0; c < 3; ++c) out(Eigen::Index(a) * mvFine + b, c) += s[c];
+    }
+}
+
+constexpr Eigen::Index kCoarsestPoints = 400;
+
+}  // namespace
+
+MultigridPreconditioner::MultigridPreconditioner(const SplineSpace& space, const StiffnessStencil& stencil,
+                                                 const Weights& weights, const Eigen::VectorXd& massTerm) {
+  auto fine = std::make_unique<Level>();
+  Level& L = *fine;
+  L.mu = space.movingU().count;
+  L.mv = space.movingV().count;
+  L.degreeU = space.degreeU();
+  L.degreeV = space.degreeV();
+  if (massTerm.size() != L.points()) throw std::invalid_argument("multigrid: the mass term needs one entry per moving point");
+  const Boundaries& sides = space.boundaries();
+  L.u.periodic = space.periodicU();
+  L.v.periodic = space.periodicV();
+  L.u.clampedMin = sides.uMin == Boundary::Clamped;
+  L.u.clampedMax = sides.uMax == Boundary::Clamped;
+  L.v.clampedMin = sides.vMin == Boundary::Clamped;
+  L.v.clampedMax = sides.vMax == Boundary::Clamped;
+
+  // separable fit of the mass term: D_ab ~ du(a) dv(b) / mean(D)
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> D(massTerm.data(), L.mu, L.mv);
+  const Eigen::VectorXd du = D.rowwise().mean(), dv = D.colwise().mean().transpose();
+  L.u.matrices.push_back(diagonalMatrix(du));
+  L.v.matrices.push_back(diagonalMatrix(dv));
+  L.terms.push_back({1.0 / D.mean(), 0, 0});
+  // the five energy terms, c G_u^p (x) G_v^q / 4; index p + 1 in each direction's list
+  for (int p = 0; p <= 2; ++p) {
+    L.u.matrices.push_back(gramMatrix(stencil.gramU(), space.movingU(), space.netRows(), L.u.periodic, p,
+                                      &SplineSpace::movingLayerU, space));
+    L.v.matrices.push_back(gramMatrix(stencil.gramV(), space.movingV(), space.netCols(), L.v.periodic, p,
+                                      &SplineSpace::movingLayerV, space));
+  }
+  const struct {
+    double w;
+    int p, q;
+  } energy[] = {{weights.w10, 1, 0}, {weights.w01, 0, 1}, {2.0 * weights.w11, 1, 1}, {weights.w20, 2, 0}, {weights.w02, 0, 2}};
+  for (const auto& e : energy)
+    if (e.w > 0.0 && e.p <= L.degreeU && e.q <= L.degreeV) L.terms.push_back({0.25 * e.w, e.p + 1, e.q + 1});
+  m_levels.push_back(std::move(fine));
+
+  // coarser levels: Galerkin products, until small or neither direction coarsens
+  for (;;) {
+    Level& f = *m_levels.back();
+    const bool cu = subdivisionTransfer(f.u, f.degreeU, f.toCoarseU);
+    const bool cv = subdivisionTransfer(f.v, f.degreeV, f.toCoarseV);
+    if (f.points() <= kCoarsestPoints || (!cu && !cv)) {
+      f.coarsest = true;
+      break;
+    }
+    if (!cu) f.toCoarseU = identityTransfer(f.mu);
+    if (!cv) f.toCoarseV = identityTransfer(f.mv);
+    auto c = std::make_unique<Level>();
+    c->u = f.u;
+    c->v = f.v;
+    c->degreeU = f.degreeU;
+    c->degreeV = f.degreeV;
+    c->terms = f.terms;
+    for (BandMatrix& B : c->u.matrices) B = galerkin(B, f.toCoarseU);
+    for (BandMatrix& B : c->v.matrices) B = galerkin(B, f.toCoarseV);
+    c->mu = f.toCoarseU.coarseSize();
+    c->mv = f.toCoarseV.coarseSize();
+    m_levels.push_back(std::move(c));
+  }
+  // degree 2 on the finest level, 1 (damped Jacobi) below: measured fastest (docs/benchmarks.md)
+  for (size_t l = 1; l < m_levels.size(); ++l) m_levels[l]->smoothingDegree = 1;
+  for (auto& level : m_levels) level->prepare();
+
+  // the coarsest level: K~ assembled densely and factorised
+  Level& c = *m_levels.back();
+  const Eigen::Index n = c.points();
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  for (const Term& term : c.terms) {
+    const BandMatrix& U = c.u.matrices[size_t(term.u)];
+    const BandMatrix& V = c.v.matrices[size_t(term.v)];
+    for (int a = 0; a < c.mu; ++a)
+      for (int du2 = -U.bandwidth(); du2 <= U.bandwidth(); ++du2) {
+        const int a2 = U.column(a, du2);
+        if (a2 < 0) continue;
+        for (int b = 0; b < c.mv; ++b)
+          for (int dv2 = -V.bandwidth(); dv2 <= V.bandwidth(); ++dv2) {
+            const int b2 = V.column(b, dv2);
+            if (b2 < 0) continue;
+            K(Eigen::Index(a) * c.mv + b, Eigen::Index(a2) * c.mv + b2) += term.c * U.at(a, du2) * V.at(b, dv2);
+          }
+      }
+  }
+  c.llt.compute(K);
+  if (c.llt.info() != Eigen::Success) throw std::runtime_error("multigrid: the coarsest level is not positive definite");
+}
+
+MultigridPreconditioner::~MultigridPreconditioner() = default;
+
+int MultigridPreconditioner::levels() const { return int(m_levels.size()); }
+
+Eigen::Index MultigridPreconditioner::levelPoints(int level) const { return m_levels[size_t(level)]->points(); }
+
+void MultigridPreconditioner::useExactOperator(Operator op, const Eigen::VectorXd& diagonal) {
+  Level& L = *m_levels.front();
+  if (L.coarsest) return;  // a one-level hierarchy solves K~ directly
+  L.exact = std::move(op);
+  L.invDiag = diagonal.cwiseInverse();
+  L.lambda = L.estimateLambda();
+}
+
+void MultigridPreconditioner::applyOperator(const ControlNet& x, ControlNet& y) {
+  Level& L = *m_levels.front();
+  allocateNet(y, L.points());
+  L.apply(x, nullptr, y);
+}
+
+void MultigridPreconditioner::cycle(int level, const ControlNet& r, ControlNet& x) {
+  Level& L = *m_levels[size_t(level)];
+  if (L.coarsest) {
+    x = L.llt.solve(r);
+    return;
+  }
+  Level& C = *m_levels[size_t(level) + 1];
+  allocateNet(x, L.points());
+  L.smooth(r, x);
+  L.apply(x, &r, L.res);
+  restrictTo(L.res, L.toCoarseU, L.toCoarseV, L.mv, L.t, C.r);
+  cycle(level + 1, C.r, C.x);
+  prolongAdd(C.x, L.toCoarseU, L.toCoarseV, L.mv, L.t, x);
+  L.apply(x, &r, L.res);
+  L.smooth(L.res, L.y);
+  addTo(L.y, x);
+}
+
+void MultigridPreconditioner::apply(const ControlNet& r, ControlNet& z) { cycle(0, r, z); }
+
+}  // namespace bsdeform

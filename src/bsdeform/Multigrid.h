@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Multigrid.h
+/// A geometric multigrid V-cycle for the implicit system K = D + A/4 (ImplicitSystem.h), used as
+/// the preconditioner of conjugate gradients on large nets.
+///
+/// K is, up to pins and a non-separable mass, a sum of Kronecker products of 1-D matrices:
+/// \f[ \tilde K = \tilde D_u \otimes \tilde D_v + \tfrac14 \sum_{(p,q)} c_{pq}\, G_u^p \otimes G_v^q \f]
+/// (StiffnessStencil.h: the five energy terms on the moving layers; \f$\tilde D\f$ is the
+/// separable fit \f$D_{ab} \approx d_u(a) d_v(b) / \bar d\f$, exact for nodal mass and for lumped
+/// mass of constant density). Coarse spaces are B-spline spaces of twice the knot spacing: a
+/// coarse B-spline of degree n is \f$2^{-n} \sum_{k=0}^{n+1} \binom{n+1}{k}\f$ times the fine ones
+/// 2j .. 2j+n+1 (knot insertion), so the prolongation P is a Kronecker product of 1-D
+/// subdivision matrices and the Galerkin operators \f$P^T \tilde K P\f$ stay sums of Kronecker
+/// products of banded 1-D matrices: every level is applied with 1-D passes, O(points).
+///
+/// The finest level is smoothed with the true K (the stencil, pins included; useExactOperator())
+/// by a degree-2 Chebyshev polynomial in \f$\mathrm{diag}^{-1} K\f$ on \f$[\lambda/8, \lambda]\f$,
+/// the coarser ones by damped Jacobi (the degree-1 polynomial of the same interval), λ 1.15 times
+/// a power-iteration estimate of the largest eigenvalue (the smoothers reduce every mode up to
+/// 9/8 λ); the same polynomial before and after the coarse correction keeps the V-cycle
+/// symmetric. The coarsest level is solved by a dense Cholesky factorisation. The V-cycle is a
+/// symmetric positive definite approximation of \f$K^{-1}\f$: conjugate gradients on K converge
+/// with it whatever the pins (they make \f$\tilde K\f$ differ from K by a low-rank term).
+/// docs/benchmarks.md ("Implicit at scale") has the measurements behind the choices.
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "bsdeform/SplineSpace.h"
+#include "bsdeform/StiffnessStencil.h"
+
+namespace bsdeform {
+
+/// A square banded matrix: entries (i, i + d) for |d| <= bandwidth; in a periodic matrix column
+/// i + d wraps modulo the size.
+class BandMatrix {
+ public:
+  BandMatrix() = default;
+  BandMatrix(int size, int bandwidth, bool periodic);
+  int size() const { return m_size; }
+  int bandwidth() const { return m_bw; }
+  bool periodic() const { return m_periodic; }
+  double& at(int i, int d) { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
+  double at(int i, int d) const { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
+  /// Column of offset d in row i, or -1 outside a non-periodic matrix.
+  int column(int i, int d) const;
+  /// Finds the rows [toeplitzBegin, toeplitzEnd) around the middle that are one row shifted
+  /// (same entries, no column wrapped or missing); call after the entries are set.
+  void findToeplitzRows();
+  int toeplitzBegin() const { return m_toeplitzBegin; }
+  int toeplitzEnd() const { return m_toeplitzEnd; }
+
+ private:
+  int m_size = 0;
+  int m_bw = 0;
+  bool m_periodic = false;
+  int m_toeplitzBegin = 0, m_toeplitzEnd = 0;
+  std::vector<double> m_v;
+};
+
+/// One direction of one level: the 1-D matrices of the Kronecker terms and how the level's
+/// points coarsen.
+struct MultigridDirection {
+  std::vector<BandMatrix> matrices;  ///< the distinct 1-D factors of this direction
+  /// Kinds of the two ends: a clamped end keeps only coarse B-splines whose children all exist,
+  /// a free end every coarse B-spline that has a child.
+  bool clampedMin = true, clampedMax = true, periodic = false;
+  int size() const { return matrices.empty() ? 0 : matrices.front().size(); }
+};
+
+class MultigridPreconditioner {
+ public:
+  /// @param massTerm D per moving point (order of SplineSpace::movingToNet), > 0
+  /// @param weights  the stencil's weights (the five terms)
+  MultigridPreconditioner(const SplineSpace& space, const StiffnessStencil& stencil, const Weights& weights,
+                          const Eigen::VectorXd& massTerm);
+  ~MultigridPreconditioner();
+  MultigridPreconditioner(const MultigridPreconditioner&) = delete;
+  MultigridPreconditioner& operator=(const MultigridPreconditioner&) = delete;
+
+  /// The finest level's operator: out = K x, or out = b - K x when b is given.
+  using Operator = std::function<void(const ControlNet& x, const ControlNet* b, ControlNet& out)>;
+  /// Smooth the finest level with the true operator K and its diagonal instead of K~: what the
+  /// conjugate gradients iterate on, pins included.
+  void useExactOperator(Operator op, const Eigen::VectorXd& diagonal);
+  /// z = B r: one V-cycle from zero (numMoving x 3 each).
+  void apply(const ControlNet& r, ControlNet& z);
+  /// y = K~ x: the finest level's Kronecker operator (for tests).
+  void applyOperator(const ControlNet& x, ControlNet& y);
+
+  /// Number of levels, the finest first; points of level l.
+  int levels() const;
+  Eigen::Index levelPoints(int level) const;
+
+  struct Level;
+
+ private:
+  /// x = one V-cycle for K_level x = r from zero.
+  void cycle(int level, const ControlNet& r, ControlNet& x);
+  std::vector<std::unique_ptr<Level>> m_levels;
+};
+
+}  // namespace bsdeform
