@@ -35,9 +35,10 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
   // largest eigenvalue is at most A_II's (a principal submatrix), which the symbol bounds.
   m_kappa = (m_mass.maxCoeff() + 0.25 * stencil.eigenvalueBound()) / m_mass.minCoeff();
   if (m_method == LinearSolver::Automatic) {
-    if (n <= kAutomaticDirectPoints || predictedIterations() > kAutomaticIterationLimit)
+    const double iterations = predictedIterations();
+    if (n <= kAutomaticDirectPoints || (iterations > kAutomaticIterationLimit && n <= kAutomaticFactorPoints))
       m_method = LinearSolver::Direct;
-    else if (predictedIterations() > kAutomaticMultigridIterations)
+    else if (iterations > kAutomaticMultigridIterations)
       m_method = LinearSolver::Multigrid;
     else
       m_method = LinearSolver::ConjugateGradient;

@@ -33,8 +33,9 @@ namespace bsdeform {
 enum class LinearSolver {
   Automatic,          ///< Direct for small nets (at most kAutomaticDirectPoints moving points:
                       ///< exact, and factorised in well under 0.1 s) and for ill-conditioned
-                      ///< systems (predicted CG iterations above kAutomaticIterationLimit);
-                      ///< otherwise Multigrid where Jacobi-CG would need more than
+                      ///< systems (predicted CG iterations above kAutomaticIterationLimit) of at
+                      ///< most kAutomaticFactorPoints moving points; Multigrid for larger
+                      ///< ill-conditioned ones and where Jacobi-CG would need more than
                       ///< kAutomaticMultigridIterations iterations, ConjugateGradient below
   Direct,             ///< CHOLMOD supernodal Cholesky, factorised once
   ConjugateGradient,  ///< matrix-free Jacobi-preconditioned conjugate gradients on the stencil
@@ -49,6 +50,10 @@ constexpr double kAutomaticIterationLimit = 300.0;
 /// multigrid iteration costs 7-9 Jacobi ones and 7-8 of them reach 1e-10 at every size
 /// measured (docs/benchmarks.md).
 constexpr double kAutomaticMultigridIterations = 100.0;
+/// Automatic factorises ill-conditioned systems up to this many moving points (300^2: CHOLMOD
+/// takes about 6 s; at 512^2 46 s and 1.1 GB for a step no faster than multigrid's,
+/// docs/benchmarks.md).
+constexpr Eigen::Index kAutomaticFactorPoints = 90000;
 /// Automatic factorises nets up to this many moving points (64^2: 0.06 s, docs/benchmarks.md).
 constexpr Eigen::Index kAutomaticDirectPoints = 4096;
 

@@ -169,7 +169,8 @@ TEST_CASE("ImplicitSystem: the CG tolerance controls the error", "[core]") {
   CHECK(errors.front() > 1e6 * errors.back());
 }
 
-TEST_CASE("ImplicitSystem: Automatic factorises small or ill-conditioned systems and iterates on large ones",
+TEST_CASE("ImplicitSystem: Automatic factorises small or ill-conditioned systems and iterates on large ones "
+          "(multigrid for the hardest)",
           "[core]") {
   auto method = [](int N, MassModel mass) {
     ModelParameters p;
@@ -192,6 +193,14 @@ TEST_CASE("ImplicitSystem: Automatic factorises small or ill-conditioned systems
   CHECK(slow.implicitSystem()->predictedIterations() > kAutomaticMultigridIterations);
   CHECK(slow.implicitSystem()->predictedIterations() <= kAutomaticIterationLimit);
   CHECK(slow.implicitSystem()->method() == LinearSolver::Multigrid);
+  // an ill-conditioned system too large to factorise quickly: multigrid
+  ModelParameters big;
+  big.numU = big.numV = 304;
+  big.integrator = Integrator::Implicit;
+  big.massModel = MassModel::Lumped;
+  Simulation large(big);
+  CHECK(large.implicitSystem()->predictedIterations() > kAutomaticIterationLimit);
+  CHECK(large.implicitSystem()->method() == LinearSolver::Multigrid);
   ModelParameters p;
   p.integrator = Integrator::Explicit;
   CHECK(Simulation(p).implicitSystem() == nullptr);
