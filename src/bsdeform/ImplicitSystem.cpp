@@ -74,7 +74,11 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
     for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
     m_multigrid->useExactOperator(
-        [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); }, diag);
+        [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); },
+        [this](ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& inv) {
+          smoothingStep(x, b, alpha, beta, inv);
+        },
+        diag);
     return;
   }
   // Jacobi scaling: diag(K) = D + diag(A)/4 off the pins. Where it is one constant (all sides
@@ -160,6 +164,26 @@ void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlN
     for (int c = 0; c < 3; ++c) {
       const Eigen::Index k = 3 * f + c;
       po[k] = pb[k] - (0.25 * po[k] + m * px[k]);
+    }
+  }
+}
+
+void ImplicitSystem::smoothingStep(ControlNet& x, const ControlNet& b, double alpha, double beta,
+                                   const Eigen::VectorXd& invDiag) {
+  scatterDirection(x);
+  m_stencil.applyMoving(m_net, m_smooth);
+  for (Eigen::Index f : m_pinned) m_smooth.row(f).setZero();
+  const Eigen::Index n = x.rows();
+  double* px = x.data();
+  const double* pb = b.data();
+  const double* py = m_smooth.data();
+  const double* d = m_mass.data();
+  const double* inv = invDiag.data();
+  for (Eigen::Index f = 0; f < n; ++f) {
+    const double m = d[f], w = beta * inv[f];
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Index k = 3 * f + c;
+      px[k] = alpha * px[k] + w * (pb[k] - (0.25 * py[k] + m * px[k]));
     }
   }
 }

@@ -94,6 +94,9 @@ class ImplicitSystem {
   void apply(const ControlNet& x, ControlNet& y);
   /// out = b - K x, matrix-free, in one pass after the stencil.
   void residual(const ControlNet& x, const ControlNet& b, ControlNet& out);
+  /// x = alpha x + beta diag(invDiag) (b - K x), in one pass after the stencil (multigrid's
+  /// smoothing step on the finest level).
+  void smoothingStep(ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& invDiag);
 
  private:
   struct Factor;
@@ -116,7 +119,7 @@ class ImplicitSystem {
   std::unique_ptr<Factor> m_factor;
   std::unique_ptr<MultigridPreconditioner> m_multigrid;
   ControlNet m_net;  ///< scratch full net for the stencil (held points stay zero)
-  ControlNet m_r, m_z, m_p, m_q;
+  ControlNet m_r, m_z, m_p, m_q, m_smooth;
   int m_lastIterations = 0;
   double m_lastResidual = 0.0;
 };

@@ -252,6 +252,7 @@ struct MultigridPreconditioner::Level {
 
   /// The finest level's own operator K (pins and all), when given: used instead of K~.
   MultigridPreconditioner::Operator exact;
+  MultigridPreconditioner::SmoothingStep exactStep;
 
   /// out = K x (K~ x), or out = rhs - K x when rhs is given.
   void apply(const ControlNet& xNet, const ControlNet* rhsNet, ControlNet& outNet) {
@@ -328,6 +329,10 @@ struct MultigridPreconditioner::Level {
     const double sigma = theta / delta, rho0 = 1.0 / sigma, rho1 = 1.0 / (2.0 * sigma - rho0);
     out = invDiag.asDiagonal() * b / theta;
     if (smoothingDegree < 2) return;
+    if (exactStep) {
+      exactStep(out, b, 1.0 + rho1 * rho0, 2.0 * rho1 / delta, invDiag);
+      return;
+    }
     apply(out, &b, s);
     out = (1.0 + rho1 * rho0) * out + (2.0 * rho1 / delta) * (invDiag.asDiagonal() * s);
   }
@@ -481,10 +486,11 @@ int MultigridPreconditioner::levels() const { return int(m_levels.size()); }
 
 Eigen::Index MultigridPreconditioner::levelPoints(int level) const { return m_levels[size_t(level)]->points(); }
 
-void MultigridPreconditioner::useExactOperator(Operator op, const Eigen::VectorXd& diagonal) {
+void MultigridPreconditioner::useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal) {
   Level& L = *m_levels.front();
   if (L.coarsest) return;  // a one-level hierarchy solves K~ directly
   L.exact = std::move(op);
+  L.exactStep = std::move(step);
   L.invDiag = diagonal.cwiseInverse();
   L.lambda = L.estimateLambda();
 }

@@ -83,9 +83,12 @@ class MultigridPreconditioner {
 
   /// The finest level's operator: out = K x, or out = b - K x when b is given.
   using Operator = std::function<void(const ControlNet& x, const ControlNet* b, ControlNet& out)>;
+  /// x = alpha x + beta diag^-1 (b - K x), in one pass after the product (a smoothing step).
+  using SmoothingStep =
+      std::function<void(ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& invDiag)>;
   /// Smooth the finest level with the true operator K and its diagonal instead of K~: what the
   /// conjugate gradients iterate on, pins included.
-  void useExactOperator(Operator op, const Eigen::VectorXd& diagonal);
+  void useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal);
   /// z = B r: one V-cycle from zero (numMoving x 3 each).
   void apply(const ControlNet& r, ControlNet& z);
   /// y = K~ x: the finest level's Kronecker operator (for tests).
