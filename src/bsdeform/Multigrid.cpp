@@ -190,24 +190,14 @@ struct MultigridPreconditioner::Level {
   ControlNet r, x, res, y, t, s;    ///< right-hand side, solution, residual, correction, transfer and smoother scratch
   // operator scratch: one row per u matrix and one padded row per v matrix
   std::vector<std::vector<double>> zRows, wRows;
-  /// vExpanded[j][d + bw][3 b + c] = V_j(b, d)
-  std::vector<std::vector<std::vector<double>>> vExpanded;
 
   Eigen::Index points() const { return Eigen::Index(mu) * mv; }
 
   void prepare() {
-    // the v factors, expanded per coordinate
-    vExpanded.assign(v.matrices.size(), {});
+    // rows of w_j padded by the bandwidth on both sides (zeros, or the wrapped halo)
     wRows.assign(v.matrices.size(), {});
-    for (size_t j = 0; j < v.matrices.size(); ++j) {
-      const BandMatrix& V = v.matrices[j];
-      const int bw = V.bandwidth();
-      vExpanded[j].assign(size_t(2 * bw + 1), std::vector<double>(size_t(3 * mv), 0.0));
-      for (int b = 0; b < mv; ++b)
-        for (int d = -bw; d <= bw; ++d)
-          for (int c = 0; c < 3; ++c) vExpanded[j][size_t(d + bw)][size_t(3 * b + c)] = V.at(b, d);
-      wRows[j].assign(size_t(3 * (mv + 2 * bw)), 0.0);
-    }
+    for (size_t j = 0; j < v.matrices.size(); ++j)
+      wRows[j].assign(size_t(3 * (mv + 2 * v.matrices[j].bandwidth())), 0.0);
     zRows.assign(u.matrices.size(), std::vector<double>(size_t(3 * mv), 0.0));
     for (BandMatrix& V : v.matrices) V.findToeplitzRows();
     // diagonal and Gershgorin bound of diag^-1 K~
