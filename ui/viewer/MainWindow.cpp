@@ -487,7 +487,7 @@ void MainWindow::exportDialog(bool controlNet) {
 QImage MainWindow::screenshot(const QSize& size) {
   QString error;
   const QImage img = Screenshot(m_viewer).view(m_doc->root(), size, error);
-  if (img.isNull()) reportError(tr("Screenshot failed"), error);
+  if (!error.isEmpty()) reportError(tr("Screenshot failed"), error);
   return img;
 }
 
