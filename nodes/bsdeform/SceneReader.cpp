@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SceneReader.h"
+#include "bsdeform/CoinMessageCapture.h"
 
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -9,7 +10,6 @@
 #include <Inventor/SoType.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/engines/SoEngine.h>
-#include <Inventor/errors/SoReadError.h>
 #include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/fields/SoFieldData.h>
 #include <Inventor/fields/SoMFEngine.h>
@@ -594,25 +594,6 @@ SceneCheck Scanner::run() {
   return m_result;
 }
 
-// Coin's read errors for the current read.
-struct ReadErrors {
-  std::string text;
-  SoErrorCB* oldCb = nullptr;
-  void* oldData = nullptr;
-  ReadErrors() {
-    oldCb = SoReadError::getHandlerCallback();
-    oldData = SoReadError::getHandlerData();
-    SoReadError::setHandlerCallback(
-        [](const SoError* e, void* data) {
-          auto* self = static_cast<ReadErrors*>(data);
-          if (!self->text.empty()) self->text += "\n";
-          self->text += e->getDebugString().getString();
-        },
-        this);
-  }
-  ~ReadErrors() { SoReadError::setHandlerCallback(oldCb, oldData); }
-};
-
 }  // namespace
 
 SceneCheck checkSceneText(const char* data, std::size_t size, const std::string& name, const std::string& directory,
@@ -637,13 +618,13 @@ SoSeparator* readSceneText(const char* data, std::size_t size, const std::string
     error = check.message();
     return nullptr;
   }
-  ReadErrors errors;
+  CoinMessageCapture errors(CoinMessageCapture::ReadErrors);
   SoInput in;
   if (!directory.empty()) SoInput::addDirectoryFirst(directory.c_str());
   in.setBuffer(data, size);
   SoSeparator* root = SoDB::readAll(&in);
   if (!directory.empty()) SoInput::removeDirectory(directory.c_str());
-  if (!root) error = name + ": " + (errors.text.empty() ? std::string("not an Inventor file") : errors.text);
+  if (!root) error = name + ": " + (errors.messages.empty() ? std::string("not an Inventor file") : errors.joined("\n"));
   return root;
 }
 

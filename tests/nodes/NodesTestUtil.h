@@ -3,13 +3,12 @@
 #include <Inventor/SoDB.h>
 #include <Inventor/SoInput.h>
 #include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/errors/SoDebugError.h>
-#include <Inventor/errors/SoReadError.h>
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <string>
 #include <vector>
 
+#include "bsdeform/CoinMessageCapture.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
@@ -21,24 +20,22 @@
 namespace testutil {
 
 /// Initialises Coin and our nodes once and collects Coin warnings and errors.
-struct Coin {
-  std::vector<std::string> messages;
+class Coin {
+  static bool init() {
+    bsdeform::disableDynamicNodeLoading();
+    bsdeform::initNodes();
+    return true;
+  }
+  Coin() = default;
+  bool m_initialised = init();             // first: SoDB::init() sets Coin's default handlers
+  bsdeform::CoinMessageCapture m_capture;  // for the whole test run
+
+ public:
   static Coin& get() {
     static Coin c;
     return c;
   }
-
- private:
-  Coin() {
-    bsdeform::disableDynamicNodeLoading();
-    bsdeform::initNodes();
-    SoDebugError::setHandlerCallback(
-        [](const SoError* e, void* data) { static_cast<Coin*>(data)->messages.push_back(e->getDebugString().getString()); },
-        this);
-    SoReadError::setHandlerCallback(
-        [](const SoError* e, void* data) { static_cast<Coin*>(data)->messages.push_back(e->getDebugString().getString()); },
-        this);
-  }
+  std::vector<std::string>& messages = m_capture.messages;
 };
 
 /// Reads a scene from a string (null on failure). The result is ref'ed.

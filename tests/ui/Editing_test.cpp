@@ -476,11 +476,9 @@ namespace {
 // A scene file in `dir`: a 5 x 5 bicubic surface moved by (2, 0, 0), paused, pushed up.
 QString translatedScene(const QTemporaryDir& dir) {
   const QString path = dir.filePath(QStringLiteral("moved.iv"));
-  QFile f(path);
-  REQUIRE(f.open(QIODevice::WriteOnly));
-  f.write("#Inventor V2.1 ascii\nSeparator { Translation { translation 2 0 0 }\n"
-          "  SoBSplineDeformSurface { on FALSE numUControlPoints 5 numVControlPoints 5\n"
-          "    forces [ SoForceField { type UNIFORM force 0 0 5 } ] } }\n");
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator { Translation { translation 2 0 0 }\n"
+                  "  SoBSplineDeformSurface { on FALSE numUControlPoints 5 numVControlPoints 5\n"
+                  "    forces [ SoForceField { type UNIFORM force 0 0 5 } ] } }\n");
   return path;
 }
 

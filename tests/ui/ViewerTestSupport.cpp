@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "AtomicFile.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -61,6 +62,13 @@ std::unique_ptr<bsdeform::MainWindow> makeWindow(const char* scene) {
 SoBSplineDeformSurface* firstSurface(bsdeform::MainWindow& w) {
   REQUIRE(!w.document().surfaces().isEmpty());
   return w.document().surfaces().first();
+}
+
+void writeFile(const QString& path, const QByteArray& contents) {
+  QString error;
+  const bool written = bsdeform::saveFileAtomically(path, contents, error);
+  INFO(error.toStdString());
+  REQUIRE(written);
 }
 
 double nonBackgroundFraction(const QImage& img) {

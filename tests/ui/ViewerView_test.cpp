@@ -5,10 +5,14 @@
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoTranslation.h>
 
+#include <QApplication>
 #include <QDir>
 #include <QFile>
+#include <QFileDialog>
+#include <QInputDialog>
 #include <QTemporaryDir>
 #include <QTest>
+#include <QTimer>
 #include <QtCharts/QChart>
 #include <QtCharts/QLogValueAxis>
 #include <QtCharts/QValueAxis>
@@ -129,6 +133,45 @@ TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one h
   INFO("mean grey of the surface: view " << a << ", offscreen " << b);
   CHECK(a > 20.0);
   CHECK(std::abs(a - b) < 0.15 * a);
+}
+
+namespace {
+// Answers the Save Screenshot dialogs as a user would (from a timer: each dialog runs its own
+// event loop): the file dialog with `path`, the size dialog with `size`.
+void answerScreenshotDialogs(const QString& path, const QString& size) {
+  auto* poll = new QTimer;
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, path, size] {
+    QWidget* modal = QApplication::activeModalWidget();
+    if (auto* files = qobject_cast<QFileDialog*>(modal)) {
+      QWidget* name = files->focusWidget();  // the file name field
+      if (!name) return;
+      QTest::keyClicks(name, path);
+      QTest::keyClick(name, Qt::Key_Return);
+    } else if (auto* input = qobject_cast<QInputDialog*>(modal)) {
+      input->setTextValue(size);
+      input->accept();
+      poll->deleteLater();
+    }
+  });
+  poll->start(50);
+}
+}  // namespace
+
+TEST_CASE("Viewer view: Save Screenshot asks for the file and the size and writes the picture at that size", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  QTest::qWait(500);  // the GL view has drawn
+  QTemporaryDir dir;
+  answerScreenshotDialogs(dir.filePath(QStringLiteral("shot")), QStringLiteral("320 x 200"));
+  w->screenshotDialog();
+  const QImage shot(dir.filePath(QStringLiteral("shot.png")));  // ".png" added to a name without one
+  REQUIRE(shot.size() == QSize(320, 200));
+  CHECK(nonBackgroundFraction(shot) > 0.05);  // the surface is in the picture
+  // a size that is not WxH within 1..8192: the message names it and nothing is written
+  answerScreenshotDialogs(dir.filePath(QStringLiteral("bad.png")), QStringLiteral("0x5"));
+  w->screenshotDialog();
+  CHECK(w->lastError() == QStringLiteral("'0x5' is not a size WxH within 1..8192"));
+  CHECK(!QFile::exists(dir.filePath(QStringLiteral("bad.png"))));
+  CHECK(QDir(dir.path()).entryList(QDir::Files) == QStringList{QStringLiteral("shot.png")});
 }
 
 // ---------------------------------------------------------------------------------------------

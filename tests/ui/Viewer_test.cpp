@@ -47,6 +47,7 @@ using viewer_test::firstSurface;
 using viewer_test::makeWindow;
 using viewer_test::nonBackgroundFraction;
 using viewer_test::scenePath;
+using viewer_test::writeFile;
 
 // Pixel position of a world point in the 3D view.
 QPoint toScreen(MainWindow& w, const SbVec3f& world) {
@@ -153,10 +154,7 @@ TEST_CASE("Viewer: a bad file shows the error and keeps the current scene", "[ui
   SoBSplineDeformSurface* before = firstSurface(*w);
   QTemporaryDir dir;
   const QString bad = dir.filePath(QStringLiteral("broken.iv"));
-  QFile f(bad);
-  REQUIRE(f.open(QIODevice::WriteOnly));
-  f.write("#Inventor V2.1 ascii\nSeparator {\n  SoBSplineDeformSurface { integrator SIDEWAYS }\n}\n");
-  f.close();
+  writeFile(bad, "#Inventor V2.1 ascii\nSeparator {\n  SoBSplineDeformSurface { integrator SIDEWAYS }\n}\n");
   CHECK(!w->openScene(bad));
   CHECK(w->lastError().contains(QStringLiteral("broken.iv")));
   CHECK(w->lastError().contains(QStringLiteral("line")));
@@ -251,12 +249,8 @@ TEST_CASE("Viewer: autosave writes the advanced state only when it changed and r
   QTemporaryDir dir;
   // a paused scene: nothing changes until the test steps it
   const QString scene = dir.filePath(QStringLiteral("paused.iv"));
-  {
-    QFile f(scene);
-    REQUIRE(f.open(QIODevice::WriteOnly));
-    f.write("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE numUControlPoints 6 "
-            "numVControlPoints 6 forces [ SoForceField { } ] } }\n");
-  }
+  writeFile(scene, "#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE numUControlPoints 6 "
+                   "numVControlPoints 6 forces [ SoForceField { } ] } }\n");
   auto w = std::make_unique<MainWindow>();
   w->setInteractive(false);
   const QString recovery = dir.filePath(QStringLiteral("recovery"));

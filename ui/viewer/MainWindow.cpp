@@ -3,10 +3,8 @@
 
 #include <Inventor/Qt/SoQt.h>
 #include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
-#include <Inventor/SbViewportRegion.h>
 #include <Inventor/actions/SoGLRenderAction.h>
 #include <Inventor/nodes/SoCallback.h>
-#include <Inventor/nodes/SoCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QAction>
@@ -20,8 +18,6 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QGLWidget>
-#include <QHeaderView>
 #include <QInputDialog>
 #include <QSignalBlocker>
 #include <QLabel>
@@ -29,7 +25,6 @@
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
-#include <QPainter>
 #include <QPushButton>
 #include <QScrollArea>
 #include <QSettings>
@@ -38,7 +33,6 @@
 #include <QTextBrowser>
 #include <QTimer>
 #include <QToolBar>
-#include <QTreeWidget>
 #include <QUndoStack>
 #include <QVBoxLayout>
 
@@ -51,10 +45,10 @@
 #include "HelpDialogs.h"
 #include "PlotPanel.h"
 #include "Recorder.h"
+#include "ScenePanel.h"
+#include "Screenshot.h"
 #include "ViewFraming.h"
 #include "bsdeform/FieldInfo.h"
-#include "bsdeform/NodeRef.h"
-#include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
@@ -270,9 +264,9 @@ void MainWindow::createDocks() {
   auto* sceneDock = new QDockWidget(tr("Scene"), this);
   sceneDock->setObjectName(QStringLiteral("sceneDock"));
   auto* split = new QSplitter(Qt::Vertical);
-  m_tree = new QTreeWidget;
-  m_tree->setHeaderHidden(true);
-  connect(m_tree, &QTreeWidget::itemSelectionChanged, this, &MainWindow::selectionChanged);
+  m_scenePanel = new ScenePanel(*m_doc);
+  connect(m_scenePanel, &ScenePanel::surfaceSelected, this, &MainWindow::surfaceSelected);
+  connect(m_scenePanel, &ScenePanel::forceFieldSelected, this, &MainWindow::forceFieldSelected);
   m_editor = new FieldEditor;
   m_editor->setChecker(refusalOf);
   connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { statusBar()->showMessage(m, 8000); });
@@ -285,7 +279,7 @@ void MainWindow::createDocks() {
   auto* scroll = new QScrollArea;
   scroll->setWidget(m_editor);
   scroll->setWidgetResizable(true);
-  split->addWidget(m_tree);
+  split->addWidget(m_scenePanel);
   split->addWidget(scroll);
   split->setStretchFactor(1, 3);
   sceneDock->setWidget(split);
@@ -369,7 +363,7 @@ void MainWindow::showScene() {
   m_lastSteps = 0;
   m_selectedSurface = -1;
   m_plotted = nullptr;
-  populateScenePanel();
+  m_scenePanel->populate();
   m_playAction->setChecked(isPlaying());
 }
 
@@ -491,40 +485,13 @@ void MainWindow::exportDialog(bool controlNet) {
 }
 
 QImage MainWindow::screenshot(const QSize& size) {
-  auto* gl = qobject_cast<QGLWidget*>(m_viewer->getGLWidget());
-  const QSize viewSize = gl ? gl->size() : QSize();
-  if (gl && (!size.isValid() || size == viewSize)) {
-    m_viewer->render();
-    return gl->grabFrameBuffer();
-  }
-  // another size: the same camera, rendered offscreen (EGL); renderOffscreen adds the one
-  // headlight a viewer has (a second one here made the picture overexposed)
-  const NodeRef<SoSeparator> root(new SoSeparator);
-  if (SoCamera* cam = m_viewer->getCamera()) root->addChild(cam->copy());
-  root->addChild(m_doc->root());
-  if (gl) gl->doneCurrent();  // EGL cannot make its context current while SoQt's GLX one is
-  Image img;
-  std::string error;
-  QImage out;
-  const SbColor bg = m_viewer->getBackgroundColor();
-  if (renderOffscreen(root.get(), size.width(), size.height(), img, error, bg)) {
-    out = QImage(img.rgb.data(), img.width, img.height, img.width * 3, QImage::Format_RGB888).copy();
-  } else {
-    reportError(tr("Screenshot failed"), QString::fromStdString(error));
-  }
-  return out;
+  QString error;
+  const QImage img = Screenshot(m_viewer).view(m_doc->root(), size, error);
+  if (!error.isEmpty()) reportError(tr("Screenshot failed"), error);
+  return img;
 }
 
-QImage MainWindow::windowScreenshot() {
-  QImage window = grab().toImage();
-  QWidget* glw = m_viewer->getGLWidget();
-  if (auto* gl = qobject_cast<QGLWidget*>(glw)) {
-    m_viewer->render();
-    QPainter painter(&window);
-    painter.drawImage(glw->mapTo(this, QPoint(0, 0)), gl->grabFrameBuffer());
-  }
-  return window;
-}
+QImage MainWindow::windowScreenshot() { return Screenshot(m_viewer).window(this); }
 
 bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
   const QImage img = screenshot(size);
@@ -539,21 +506,12 @@ bool MainWindow::saveScreenshot(const QString& path, const QSize& size) {
 }
 
 void MainWindow::screenshotDialog() {
-  QString path = QFileDialog::getSaveFileName(this, tr("Save screenshot"), QString(), tr("PNG images (*.png)"));
-  if (path.isEmpty()) return;
-  if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
-  const QSize view = m_viewer->getGLWidget()->size();
-  bool ok = false;
-  const QString text = QInputDialog::getText(this, tr("Screenshot size"), tr("Width x height in pixels:"), QLineEdit::Normal,
-                                             QStringLiteral("%1x%2").arg(view.width()).arg(view.height()), &ok);
-  if (!ok) return;
-  const QStringList wh = text.split(QLatin1Char('x'));
-  const int w = wh.size() == 2 ? wh[0].trimmed().toInt() : 0, h = wh.size() == 2 ? wh[1].trimmed().toInt() : 0;
-  if (w < 1 || h < 1 || w > 8192 || h > 8192) {
-    reportError(tr("Screenshot"), tr("'%1' is not a size WxH within 1..8192").arg(text));
-    return;
-  }
-  saveScreenshot(path, QSize(w, h));
+  QString path, error;
+  QSize size;
+  if (Screenshot(m_viewer).ask(this, path, size, error))
+    saveScreenshot(path, size);
+  else if (!error.isEmpty())
+    reportError(tr("Screenshot"), error);
 }
 
 bool MainWindow::isRecording() const { return m_recorder->active(); }
@@ -789,47 +747,9 @@ void MainWindow::setDragMode(bool on) {
 // ---------------------------------------------------------------------------------------------
 // Scene panel
 
-void MainWindow::populateScenePanel() {
-  m_tree->clear();
-  auto* surfaces = new QTreeWidgetItem(m_tree, {tr("Surfaces")});
-  for (int i = 0; i < m_doc->surfaces().size(); ++i) {
-    auto* item = new QTreeWidgetItem(surfaces, {m_doc->nameOf(m_doc->surfaces()[i])});
-    item->setData(0, Qt::UserRole, i);
-  }
-  auto* forces = new QTreeWidgetItem(m_tree, {tr("Force fields")});
-  for (int i = 0; i < m_doc->forceFields().size(); ++i) {
-    SoForceField* f = m_doc->forceFields()[i];
-    SbName type;
-    f->type.getEnum(f->type.getValue(), type);
-    auto* item = new QTreeWidgetItem(forces, {QStringLiteral("%1 (%2)").arg(m_doc->nameOf(f), QString::fromLatin1(type.getString()))});
-    item->setData(0, Qt::UserRole, -1 - i);
-  }
-  m_tree->expandAll();
-  if (!m_doc->surfaces().isEmpty()) selectSurface(0);
-}
+SoBase* MainWindow::selectedNode() const { return m_scenePanel->selectedNode(); }
 
-SoBase* MainWindow::selectedNode() const {
-  const QList<QTreeWidgetItem*> sel = m_tree->selectedItems();
-  if (sel.isEmpty() || !sel.first()->data(0, Qt::UserRole).isValid()) return nullptr;
-  const int code = sel.first()->data(0, Qt::UserRole).toInt();
-  if (code >= 0) return code < m_doc->surfaces().size() ? m_doc->surfaces()[code] : nullptr;
-  return -1 - code < m_doc->forceFields().size() ? m_doc->forceFields()[-1 - code] : nullptr;
-}
-
-bool MainWindow::selectNode(SoBase* node) {
-  for (int top = 0; top < m_tree->topLevelItemCount(); ++top) {
-    QTreeWidgetItem* group = m_tree->topLevelItem(top);
-    for (int i = 0; i < group->childCount(); ++i) {
-      const int code = group->child(i)->data(0, Qt::UserRole).toInt();
-      SoBase* n = code >= 0 ? static_cast<SoBase*>(m_doc->surfaces()[code]) : m_doc->forceFields()[-1 - code];
-      if (n == node) {
-        m_tree->setCurrentItem(group->child(i));
-        return true;
-      }
-    }
-  }
-  return false;
-}
+bool MainWindow::selectNode(SoBase* node) { return m_scenePanel->selectNode(node); }
 
 bool MainWindow::insertForceField(int type) {
   SoBase* sel = selectedNode();
@@ -881,7 +801,7 @@ void MainWindow::structureChanged(SoBase* focus) {
     if (s->on.getValue() != SbBool(playing)) s->on = playing;
     if (s->speed.getValue() != float(m_speed->value())) s->speed = float(m_speed->value());
   }
-  populateScenePanel();  // selects the first surface, if any
+  m_scenePanel->populate();  // selects the first surface, if any
   if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
     m_editor->setContainer(nullptr, QString());
     m_plots->setSurface(nullptr, QString());
@@ -889,26 +809,20 @@ void MainWindow::structureChanged(SoBase* focus) {
   }
 }
 
-void MainWindow::selectSurface(int index) {
-  QTreeWidgetItem* surfaces = m_tree->topLevelItem(0);
-  if (surfaces && index >= 0 && index < surfaces->childCount()) m_tree->setCurrentItem(surfaces->child(index));
+void MainWindow::selectSurface(int index) { m_scenePanel->selectSurface(index); }
+
+void MainWindow::surfaceSelected(int index) {
+  SoBSplineDeformSurface* s = m_doc->surfaces()[index];
+  m_selectedSurface = index;
+  m_editor->setContainer(s, m_doc->nameOf(s));
+  if (s != m_plotted) m_plots->setSurface(s, m_doc->nameOf(s));  // the same one again (a panel rebuild): its history stays
+  m_plotted = s;
+  m_lastSteps = s->simulation().stepCount();
 }
 
-void MainWindow::selectionChanged() {
-  const QList<QTreeWidgetItem*> sel = m_tree->selectedItems();
-  if (sel.isEmpty() || !sel.first()->data(0, Qt::UserRole).isValid()) return;
-  const int code = sel.first()->data(0, Qt::UserRole).toInt();
-  if (code >= 0) {
-    SoBSplineDeformSurface* s = m_doc->surfaces()[code];
-    m_selectedSurface = code;
-    m_editor->setContainer(s, m_doc->nameOf(s));
-    if (s != m_plotted) m_plots->setSurface(s, m_doc->nameOf(s));  // the same one again (a panel rebuild): its history stays
-    m_plotted = s;
-    m_lastSteps = s->simulation().stepCount();
-  } else {
-    SoForceField* f = m_doc->forceFields()[-1 - code];
-    m_editor->setContainer(f, m_doc->nameOf(f));
-  }
+void MainWindow::forceFieldSelected(int index) {
+  SoForceField* f = m_doc->forceFields()[index];
+  m_editor->setContainer(f, m_doc->nameOf(f));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -18,8 +18,6 @@ class QDoubleSpinBox;
 class QLabel;
 class QMenu;
 class QTimer;
-class QTreeWidget;
-class QTreeWidgetItem;
 class QUndoStack;
 class SoBase;
 class SoField;
@@ -36,6 +34,7 @@ class FieldEditor;
 class PlotPanel;
 class ControlNetDisplay;
 class Recorder;
+class ScenePanel;
 class ViewFraming;
 struct EditContext;
 
@@ -79,8 +78,8 @@ class MainWindow : public QMainWindow {
   bool maybeSave();
   /// The folder the Open dialog starts in: the last one used, scenes/ the first time.
   QString openFolder() const;
-  /// Screenshot of the 3D view; at the view's size from the frame buffer, otherwise rendered
-  /// offscreen with the same camera.
+  /// Screenshot of the 3D view (see Screenshot.h); at the view's size from the frame buffer,
+  /// otherwise rendered offscreen with the same camera.
   QImage screenshot(const QSize& size = QSize());
   bool saveScreenshot(const QString& path, const QSize& size = QSize());
   /// Records the 3D view at `fps` frames per simulated second into `path` (.mp4, .webm, or
@@ -147,8 +146,9 @@ class MainWindow : public QMainWindow {
   void createDocks();
   void createStatusBar();
   void showScene();
-  void populateScenePanel();
-  void selectionChanged();
+  /// The scene panel's selection: the field editor shows it, the plots follow a surface.
+  void surfaceSelected(int index);
+  void forceFieldSelected(int index);
   void createEditActions();
   void createHelpMenu();  ///< after the others: its shortcut list reads every menu
   /// Opens `path` after maybeSave() (the menu, recent files, a dropped file).
@@ -173,7 +173,7 @@ class MainWindow : public QMainWindow {
   SoQtExaminerViewer* m_viewer = nullptr;
   SoSeparator* m_wrapper = nullptr;
   SoCallback* m_frameCounter = nullptr;
-  QTreeWidget* m_tree = nullptr;
+  ScenePanel* m_scenePanel = nullptr;
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
   ViewFraming* m_framing = nullptr;

@@ -79,10 +79,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
 }
 
 void PlotPanel::clearHistory() {
-  m_t.clear();
-  m_norm.clear();
-  m_kinetic.clear();
-  m_strain.clear();
+  m_history.clear();
   m_stride = 1;
   m_skipped = 0;
   for (auto* s : m_series) s->clear();
@@ -91,17 +88,12 @@ void PlotPanel::clearHistory() {
 
 void PlotPanel::setHistoryLimit(int limit) {
   m_historyLimit = std::max(4, limit + (limit & 1));  // even: thinning keeps the spacing uniform
-  while (m_t.size() >= m_historyLimit) thinHistory();
+  while (m_history.size() >= m_historyLimit) thinHistory();
 }
 
-// Drops every second sample (the first is kept) and halves the rate of new ones.
+// Drops every second sample and halves the rate of new ones.
 void PlotPanel::thinHistory() {
-  for (QVector<double>* v : {&m_t, &m_norm, &m_kinetic, &m_strain}) {
-    int k = 0;
-    for (int i = 0; i < v->size(); i += 2) (*v)[k++] = (*v)[i];
-    v->resize(k);
-    v->squeeze();
-  }
+  m_history.thin();
   m_stride *= 2;
   m_skipped = 0;
 }
@@ -117,16 +109,13 @@ void PlotPanel::sample() {
   if (!m_surface) return;
   const Simulation& sim = m_surface->simulation();
   const double t = sim.time();
-  if (!m_t.isEmpty() && t < m_t.back()) clearHistory();  // reset
-  if (!m_t.isEmpty() && t == m_t.back()) return;
+  if (!m_history.isEmpty() && t < m_history.time().back()) clearHistory();  // reset
+  if (!m_history.isEmpty() && t == m_history.time().back()) return;
   const bsdeform::Diagnostics d = sim.diagnostics();  // one pass over the nets (issue 11)
   const double values[3] = {d.norm, d.kinetic, d.strain.total};
-  if (m_t.isEmpty() || ++m_skipped >= m_stride) {
-    if (m_t.size() >= m_historyLimit) thinHistory();
-    m_t << t;
-    m_norm << values[0];
-    m_kinetic << values[1];
-    m_strain << values[2];
+  if (m_history.isEmpty() || ++m_skipped >= m_stride) {
+    if (m_history.size() >= m_historyLimit) thinHistory();
+    m_history.append(t, d);
     m_skipped = 0;
   }
   for (int i = 0; i < 3; ++i) {
@@ -160,11 +149,7 @@ const QtCharts::QValueAxis* PlotPanel::axis(Axis which) const {
 }
 
 bool PlotPanel::exportCsv(const QString& path, QString& error) const {
-  QByteArray text = "time,norm,kinetic,strain\n";
-  for (int i = 0; i < m_t.size(); ++i)
-    text += QByteArray::number(m_t[i], 'g', 17) + ',' + QByteArray::number(m_norm[i], 'g', 17) + ',' +
-            QByteArray::number(m_kinetic[i], 'g', 17) + ',' + QByteArray::number(m_strain[i], 'g', 17) + '\n';
-  return saveFileAtomically(path, text, error);
+  return saveFileAtomically(path, m_history.csv(), error);
 }
 
 bool PlotPanel::exportPng(const QString& path, QString& error) {

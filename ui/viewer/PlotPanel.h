@@ -4,8 +4,9 @@
 /// Live plots of one surface: the deformation norm (eq. 15) in one chart, the kinetic and strain
 /// energies in another (their scales differ by orders of magnitude), with round ticks, y >= 0.
 
-#include <QVector>
 #include <QWidget>
+
+#include "History.h"
 
 class SoBSplineDeformSurface;
 namespace QtCharts {
@@ -25,7 +26,7 @@ class PlotPanel : public QWidget {
   /// Appends a sample when the surface's time moved; restarts after a reset.
   void sample();
   /// Samples kept in the history (for export).
-  int sampleCount() const { return m_t.size(); }
+  int sampleCount() const { return m_history.size(); }
   /// At most `limit` samples are kept (default 100000, about 3 MB): when the history is full,
   /// every second sample is dropped and from then on only every second new one is kept, so a
   /// long run keeps its whole time span at a uniform, coarser spacing and memory stays flat.
@@ -52,7 +53,7 @@ class PlotPanel : public QWidget {
   QtCharts::QLineSeries* m_series[3] = {};         // norm, kinetic, strain
   QtCharts::QValueAxis* m_axisX[2] = {};           // time axis of each chart
   QtCharts::QValueAxis* m_axisY[2] = {};           // norm, energy
-  QVector<double> m_t, m_norm, m_kinetic, m_strain;
+  History m_history;
   int m_historyLimit = 100000;
   int m_stride = 1;      // keep one sample in m_stride
   long m_skipped = 0;    // samples seen since the last one kept

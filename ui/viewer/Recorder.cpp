@@ -2,9 +2,6 @@
 #include "Recorder.h"
 
 #include <QFileInfo>
-#include <algorithm>
-#include <cmath>
-
 #include "AtomicFile.h"
 #include "VideoWriter.h"
 
@@ -43,8 +40,7 @@ bool Recorder::start(const QString& path, double fps, const QSize& size, double 
     return false;
   }
   m_path = path;
-  m_period = 1.0 / fps;
-  m_next = m_last = simulatedTime;
+  m_clock = FrameClock(fps, simulatedTime);
   m_frames = 0;
   m_active = true;
   return true;
@@ -71,16 +67,7 @@ bool Recorder::addFrame(const QImage& picture, QString& error) {
 
 bool Recorder::capture(double simulatedTime, const std::function<QImage()>& grab, QString& error) {
   if (!m_active) return true;
-  if (simulatedTime < m_last) m_next = simulatedTime;  // a reset: go on from the new time
-  m_last = simulatedTime;
-  // the frames due: at m_next, m_next + period, ... up to the simulated time (rounding allowed)
-  const double tolerance = 1e-9 * std::max(1.0, std::abs(simulatedTime));
-  int due = 0;
-  while (m_next <= simulatedTime + tolerance && due < kMaxFramesPerCapture) {
-    ++due;
-    m_next += m_period;
-  }
-  if (m_next <= simulatedTime) m_next = simulatedTime + m_period;  // more than the cap: skip ahead
+  const long due = m_clock.due(simulatedTime, kMaxFramesPerCapture);
   if (!due) return true;
   const QImage picture = grab();
   if (picture.isNull()) {

@@ -2,10 +2,11 @@
 #pragma once
 /// @file Recorder.h
 /// The viewer's Record: pictures of the 3D view at a chosen rate in simulated time, into a
-/// video (MP4 or WebM through VideoWriter) or a numbered PNG sequence. A frame is due at every
-/// multiple of 1/fps of simulated time since the recording began; when the simulation passes
-/// several at once (a high speed) the current picture is repeated, so that the video's clock is
-/// the simulation's. A reset (time going back) continues the video from the new time.
+/// video (MP4 or WebM through VideoWriter) or a numbered PNG sequence. The frames fall due as
+/// FrameClock says: at every multiple of 1/fps of simulated time since the recording began;
+/// when the simulation passes several at once (a high speed) the current picture is repeated,
+/// so that the video's clock is the simulation's. A reset (time going back) continues the video
+/// from the new time.
 
 #include <QCoreApplication>
 #include <QImage>
@@ -13,6 +14,8 @@
 #include <QString>
 #include <functional>
 #include <memory>
+
+#include "FrameClock.h"
 
 namespace bsdeform {
 
@@ -43,7 +46,7 @@ class Recorder {
   bool m_active = false;
   QString m_path;
   bool m_pngSequence = false;
-  double m_period = 0.0, m_next = 0.0, m_last = 0.0;
+  FrameClock m_clock;
   QSize m_size;
   long long m_frames = 0;
   std::unique_ptr<VideoWriter> m_video;

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+// bsdeform-run's command line (ui/run/RunOptions): good values are read, a bad one is bad input
+// with a message that names the option and the value.
+#include <catch2/catch.hpp>
+
+#include "RunOptions.h"
+
+using bsdeform::run::Failure;
+using bsdeform::run::RunOptions;
+
+namespace {
+Failure parse(QStringList args, RunOptions& o) {
+  args.prepend(QStringLiteral("bsdeform-run"));
+  return RunOptions::parse(args, o);
+}
+}  // namespace
+
+TEST_CASE("RunOptions: defaults and good values", "[ui]") {
+  RunOptions o;
+  REQUIRE(parse({QStringLiteral("dir/drum.iv")}, o).ok());
+  CHECK(o.scene == QStringLiteral("dir/drum.iv"));
+  CHECK(o.steps == 100);
+  CHECK(o.until < 0);
+  CHECK(o.outDir == QStringLiteral("drum.out"));
+  CHECK(o.width == 640);
+  CHECK(o.height == 480);
+  CHECK(o.recordEvery == 1);
+  CHECK(o.videoFps == 25.0);
+  CHECK(o.sweepChildArguments == QStringList{QStringLiteral("dir/drum.iv")});
+
+  const Failure f = parse(QStringLiteral("--until 2.5 --png-at 0.5,1 --png-every 3 --size 320x200 --set A.w10=1 "
+                                         "--set B.magnitude=2 --record-every 4 --video v.mp4 --video-fps 50 -o out "
+                                         "--overwrite --plot -q drum.iv")
+                              .split(QLatin1Char(' ')),
+                          o);
+  REQUIRE(f.ok());
+  CHECK(o.until == 2.5);
+  CHECK(o.pngAt == QVector<double>({0.5, 1.0}));
+  CHECK(o.pngEvery == 3);
+  CHECK(o.width == 320);
+  CHECK(o.height == 200);
+  CHECK(o.sets == QStringList({QStringLiteral("A.w10=1"), QStringLiteral("B.magnitude=2")}));
+  CHECK(o.recordEvery == 4);
+  CHECK(o.video == QStringLiteral("v.mp4"));
+  CHECK(o.videoFps == 50.0);
+  CHECK(o.outDir == QStringLiteral("out"));
+  CHECK(o.overwrite);
+  CHECK(o.plot);
+  CHECK(o.quiet);
+  CHECK(!o.resultOnly);
+  // a sweep child runs the same simulation and writes nothing: no output or image options
+  CHECK(o.sweepChildArguments == QStringLiteral("drum.iv --until 2.5 --set A.w10=1 --set B.magnitude=2").split(QLatin1Char(' ')));
+}
+
+TEST_CASE("RunOptions: a bad value names the option and the value", "[ui]") {
+  const struct {
+    const char* args;
+    const char* message;
+  } cases[] = {
+      {"--steps -3 s.iv", "--steps '-3' is not a count >= 0"},
+      {"--steps many s.iv", "--steps 'many' is not a count >= 0"},
+      {"--until soon s.iv", "--until 'soon' is not a time >= 0"},
+      {"--until inf s.iv", "--until 'inf' is not a time >= 0"},
+      {"--steps 5 --until 1 s.iv", "give --steps or --until, not both"},
+      {"--png-every -1 s.iv", "--png-every '-1' is not a count >= 0"},
+      {"--png-at 1,-2 s.iv", "--png-at '1,-2' is not a list of times >= 0"},
+      {"--size 0x10 s.iv", "--size '0x10' is not WxH within 1..8192"},
+      {"--size 640 s.iv", "--size '640' is not WxH within 1..8192"},
+      {"--size 9000x10 s.iv", "--size '9000x10' is not WxH within 1..8192"},
+      {"--record-every 0 s.iv", "--record-every '0' is not a count >= 1"},
+      {"--video-fps 0 s.iv", "--video-fps '0' is not a rate in (0, 1000]"},
+      {"--video-fps 2000 s.iv", "--video-fps '2000' is not a rate in (0, 1000]"},
+      {"--video v.mp4 --sweep A.w10=1,2 s.iv", "--video and --sweep: a sweep runs many simulations, record one with --set"},
+      {"a.iv b.iv", "expected exactly one scene file (see --help)"},
+  };
+  for (const auto& c : cases) {
+    INFO(c.args);
+    RunOptions o;
+    const Failure f = parse(QString::fromLatin1(c.args).split(QLatin1Char(' ')), o);
+    CHECK(f.code == bsdeform::run::kBadInput);
+    CHECK(f.message == QString::fromLatin1(c.message));
+  }
+  RunOptions o;
+  CHECK(parse({}, o).code == bsdeform::run::kBadInput);  // no scene at all
+}

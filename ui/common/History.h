@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file History.h
+/// The time series of one surface's diagnostics (norm eq. 15, kinetic and strain energy) that
+/// both front ends keep: bsdeform-run's history CSV and plot, the viewer's live plots and their
+/// CSV export. Numbers are written with 17 significant digits (they read back exactly).
+
+#include <QByteArray>
+#include <QString>
+#include <QVector>
+
+#include "Plot.h"
+
+namespace bsdeform {
+
+struct Diagnostics;
+class Simulation;
+
+class History {
+ public:
+  /// Appends one sample at simulated `time`.
+  void append(double time, const Diagnostics& d);
+  void clear();
+  /// Drops every second sample (the first one is kept): the span stays, the spacing doubles.
+  void thin();
+
+  int size() const { return m_time.size(); }
+  bool isEmpty() const { return m_time.isEmpty(); }
+  const QVector<double>& time() const { return m_time; }
+  const QVector<double>& norm() const { return m_norm; }
+  const QVector<double>& kinetic() const { return m_kinetic; }
+  const QVector<double>& strain() const { return m_strain; }
+
+  /// The norm against time, and the kinetic and strain energies on the right axis.
+  QVector<PlotSeries> plotSeries() const;
+  /// "time,norm,kinetic,strain" and one line per sample.
+  QByteArray csv() const;
+
+  /// bsdeform-run's history CSV: the header line (with its newline) and the line of the
+  /// current state of `sim` with its diagnostics `d` (time, step, norm, kinetic, strain and its
+  /// terms w10 w01 w11 w20 w02, sub-steps).
+  static QString detailedCsvHeader();
+  static QString detailedCsvRow(const Simulation& sim, const Diagnostics& d);
+
+ private:
+  QVector<double> m_time, m_norm, m_kinetic, m_strain;
+};
+
+/// A number as the history files write it: 17 significant digits.
+inline QString historyNumber(double x) { return QString::number(x, 'g', 17); }
+
+}  // namespace bsdeform

@@ -1,0 +1,310 @@
+// SPDX-License-Identifier: MIT
+#include "RunLoop.h"
+
+#include <Inventor/SoDB.h>
+#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/fields/SoSFTime.h>
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <QElapsedTimer>
+#include <QFile>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "AtomicFile.h"
+#include "Plot.h"
+#include "VideoWriter.h"
+#include "bsdeform/AuthoredClock.h"
+#include "bsdeform/CoinMessageCapture.h"
+#include "bsdeform/SceneReader.h"
+#include "bsdeform/SceneText.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+namespace bsdeform::run {
+
+namespace {
+
+// Coin's real-time clock follows simulated time in the runner: engines driven by realTime
+// (ElapsedTime, TimeCounter, ...) then animate deterministically, in step with the surfaces.
+SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
+
+// Streams the scene text into the temporary file: it is never held in memory.
+bool writeScene(SoNode* root, const AuthoredClock& authored, const QString& path, QString& error) {
+  return saveFileAtomically(
+      path,
+      [root, &authored](QIODevice& device) {
+        const AuthoredClock::Scope fileValues(authored);
+        return writeSceneText(root, [&device](const char* data, std::size_t size) {
+          return device.write(data, qint64(size)) == qint64(size);
+        });
+      },
+      error);
+}
+
+QByteArray utf8(const QString& s) { return s.toUtf8(); }
+
+}  // namespace
+
+RunLoop::RunLoop(const RunOptions& options) : m_options(options), m_out(options.outDir), m_progress(options) {}
+
+RunLoop::~RunLoop() {
+  m_surfaces.clear();
+  m_root.reset();  // the surfaces go with the scene
+}
+
+// Reads the scene, builds every model and force (bad values show up as Coin warnings before
+// anything runs) and finds the time step and start time of the run.
+Failure RunLoop::prepare() {
+  const RunOptions& o = m_options;
+  SoDB::enableRealTimeSensor(FALSE);
+  realTimeField()->setValue(SbTime(0.0));  // before reading: engines start their clocks at 0
+  Failure f = loadSceneWithSets(o, m_root);
+  if (!f.ok()) return f;
+  // The scene's distinct surfaces, each named by its DEF name or, when it has none, "surfaceN"
+  // after its place among them.
+  for (SoBSplineDeformSurface* node : sceneSurfaces(m_root.get())) {
+    Surface s;
+    s.node = node;
+    const SbName n = node->getName();
+    s.name = n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("surface%1").arg(m_surfaces.size());
+    m_surfaces.push_back(s);
+  }
+  if (m_surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
+  // A traversal first tells each surface its scene (the frames of COLLISION obstacles).
+  CoinMessageCapture warnings;
+  {
+    SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
+    bb.apply(m_root.get());
+  }
+  m_dtMin = m_t0 = INFINITY;
+  m_authored = std::make_unique<AuthoredClock>(m_root.get());
+  for (Surface& s : m_surfaces) {
+    s.node->on = FALSE;  // the runner drives time itself
+    s.node->stepSimulation(0);
+    m_dtMin = std::min(m_dtMin, s.node->simulation().parameters().timeStep);
+    m_t0 = std::min(m_t0, s.node->simulation().time());  // a resumed scene continues from its time
+  }
+  if (!warnings.messages.empty())
+    return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
+  // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad input.
+  for (const Surface& s : m_surfaces) {
+    const std::string why = s.node->simulation().refusal();
+    if (!why.empty())
+      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(why))};
+  }
+  if (!o.resultOnly) {
+    f = checkOutputNames();
+    if (!f.ok()) return f;
+  }
+  m_frames = o.until >= 0 ? std::max(0L, long(std::llround((o.until - m_t0) / m_dtMin))) : o.steps;
+  if (!o.resultOnly) {
+    f = prepareOutDir(o);
+    if (!f.ok()) return f;
+  }
+  for (double t : o.pngAt) m_imageFrames << long(std::llround((t - m_t0) / m_dtMin));
+  // --video: a frame at t0 and at every 1/fps of simulated time after it, each the picture of
+  // the last state reached by then (a frame repeats when the time step is longer than 1/fps)
+  if (!o.video.isEmpty() && !o.resultOnly) {
+    std::string err;
+    m_video = VideoWriter::open(QFile::encodeName(o.video).toStdString(), o.width, o.height, o.videoFps, err);
+    if (!m_video) return {kBadInput, QString::fromStdString(err)};
+    m_videoClock = FrameClock(o.videoFps, m_t0);
+  }
+  return {kOk, {}};
+}
+
+// Every output file is named after a surface: a DEF name that is not a plain file name, or two
+// surfaces with the same name, would fail or overwrite each other only after the whole run.
+Failure RunLoop::checkOutputNames() const {
+  std::set<QString> seen;
+  for (const Surface& s : m_surfaces) {
+    if (s.name.contains(QLatin1Char('/')) || s.name.contains(QChar(0)) || s.name == QLatin1String(".") ||
+        s.name == QLatin1String(".."))
+      return {kBadInput, QStringLiteral("surface DEF name '%1' cannot name the output file '%1.csv' (it contains '/' or is "
+                                        "'.' or '..'); rename it in the scene")
+                             .arg(s.name)};
+    if (!seen.insert(s.name).second)
+      return {kBadInput, QStringLiteral("two surfaces are named '%1': both would write '%1.csv'; give them different DEF "
+                                        "names")
+                             .arg(s.name)};
+  }
+  return {kOk, {}};
+}
+
+// One history row: the diagnostics of the current state, computed once, in one pass over the
+// nets (bsdeform::Simulation::diagnostics()).
+void RunLoop::record(Surface& s) {
+  const Simulation& sim = s.node->simulation();
+  const Diagnostics d = sim.diagnostics();
+  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader();
+  s.csv += History::detailedCsvRow(sim, d);
+  s.history.append(sim.time(), d);
+  s.lastRecorded = sim.stepCount();
+}
+
+// History rows (not in a sweep child, which writes nothing): the first state, every state whose
+// step count is a multiple of --record-every, and the last state.
+void RunLoop::advance(long frame) {
+  const bool recording = !m_options.resultOnly;
+  const double globalTime = m_t0 + frame * m_dtMin;
+  realTimeField()->setValue(SbTime(globalTime));
+  for (Surface& s : m_surfaces) {
+    if (s.failed) continue;
+    const double dt = s.node->simulation().parameters().timeStep;
+    while (!s.failed && s.node->simulation().time() + 0.5 * dt <= globalTime) {
+      if (!s.node->stepSimulation(1)) s.failed = m_blewUp = true;
+      const long step = s.node->simulation().stepCount();  // a failed step does not count
+      if (recording && (s.failed || step % m_options.recordEvery == 0) && s.lastRecorded != step) record(s);
+    }
+  }
+}
+
+Failure RunLoop::render(long frame) {
+  std::string err;
+  if (m_renderedFrame != frame && !m_renderer.render(m_root.get(), m_options.width, m_options.height, m_image, err))
+    return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
+  m_renderedFrame = frame;
+  return {kOk, {}};
+}
+
+Failure RunLoop::writeImage(long frame) {
+  const Failure rendered = render(frame);
+  if (!rendered.ok()) return rendered;
+  const QString path = m_out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
+  // not synced one by one (a frame's fsync cost about as much as its PNG): once at the end
+  std::string err;
+  if (!writePng(m_image, QFile::encodeName(path).toStdString(), err, false))
+    return writeFailure(QString::fromStdString(err), m_written);
+  m_written << path;
+  ++m_imagesWritten;
+  return {kOk, {}};
+}
+
+Failure RunLoop::writeVideoFrames(long frame) {
+  if (!m_video) return {kOk, {}};
+  const long due = m_videoClock.due(m_t0 + frame * m_dtMin);
+  if (due == 0) return {kOk, {}};
+  const Failure rendered = render(frame);
+  if (!rendered.ok()) return rendered;
+  for (long k = 0; k < due; ++k) {
+    std::string err;
+    if (!m_video->addFrame(m_image.rgb.data(), err)) return writeFailure(QString::fromStdString(err), m_written);
+  }
+  return {kOk, {}};
+}
+
+Failure RunLoop::run() {
+  const RunOptions& o = m_options;
+  Failure f = prepare();
+  if (!f.ok()) return f;
+
+  QElapsedTimer timer;
+  timer.start();
+  realTimeField()->setValue(SbTime(m_t0));
+  const bool recording = !o.resultOnly;
+  if (recording)
+    for (Surface& s : m_surfaces) record(s);
+  for (long frame = 0; frame <= m_frames; ++frame) {
+    if (frame > 0) advance(frame);
+    if (!o.resultOnly && ((o.pngEvery > 0 && frame % o.pngEvery == 0) || m_imageFrames.contains(frame))) {
+      f = writeImage(frame);
+      if (!f.ok()) return f;
+    }
+    f = writeVideoFrames(frame);
+    if (!f.ok()) return f;
+    m_progress.show(frame, m_frames, m_t0 + frame * m_dtMin);
+    if (m_blewUp) break;
+  }
+  if (recording)
+    for (Surface& s : m_surfaces)
+      if (s.lastRecorded != s.node->simulation().stepCount()) record(s);
+  const double seconds = timer.elapsed() / 1000.0;
+
+  if (o.resultOnly) {
+    printResults();
+    return {m_blewUp ? kBlowUp : kOk, {}};
+  }
+  f = writeOutputs();
+  if (!f.ok()) return f;
+  if (!o.quiet) printSummary(seconds);
+  return outcome();
+}
+
+// The history CSV (and plot) per surface, the video, the images' sync, final.iv.
+Failure RunLoop::writeOutputs() {
+  const RunOptions& o = m_options;
+  QString error;
+  for (const Surface& s : m_surfaces) {
+    const QString path = m_out.filePath(s.name + QStringLiteral(".csv"));
+    if (!saveFileAtomically(path, s.csv.toUtf8(), error)) return writeFailure(error, m_written);
+    m_written << path;
+    if (o.plot) {
+      const QString plotPath = m_out.filePath(s.name + QStringLiteral("_history.png"));
+      QString perr;
+      if (!writePlotPng(plotPath, s.name + QStringLiteral(": deformation over time"), QStringLiteral("time"),
+                        QStringLiteral("norm"), s.history.plotSeries(), 800, 500, perr,
+                        {QStringLiteral("energy"), true, false, false}))
+        return writeFailure(perr, m_written);
+      m_written << plotPath;
+    }
+  }
+  if (m_video) {
+    std::string err;
+    if (!m_video->finish(err)) return writeFailure(QString::fromStdString(err), m_written);
+    m_written << o.video + QStringLiteral(" (%1 frames)").arg(m_video->frames());
+  }
+  if (m_imagesWritten > 0) {
+    std::string err;
+    if (!syncFileSystem(QFile::encodeName(o.outDir).toStdString(), err))
+      return writeFailure(QString::fromStdString(err), m_written);
+  }
+  const QString ivPath = m_out.filePath(QStringLiteral("final.iv"));
+  if (!writeScene(m_root.get(), *m_authored, ivPath, error)) return writeFailure(error, m_written);
+  m_written << ivPath;
+  return {kOk, {}};
+}
+
+void RunLoop::printSummary(double seconds) const {
+  std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", utf8(m_options.scene).constData(), m_frames, m_dtMin,
+              seconds);
+  for (const Surface& s : m_surfaces) {
+    const Simulation& sim = s.node->simulation();
+    const ModelParameters& p = sim.parameters();
+    const Diagnostics d = sim.diagnostics();
+    std::printf("  %-14s %dx%d deg (%d,%d) dt %.4g: t = %.6g, steps %ld, norm %.6g, kinetic %.6g, strain %.6g, "
+                "limit %.4g, sub-steps %d, %s\n",
+                utf8(s.name).constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
+                d.norm, d.kinetic, d.strain.total, sim.stabilityLimit(), sim.subSteps(),
+                sim.status() == Status::Ok ? "ok" : sim.statusMessage().c_str());
+  }
+  for (const QString& w : m_written) std::printf("  wrote %s\n", utf8(w).constData());
+}
+
+// A sweep child's answer: one RESULT line per surface (SweepPool reads them).
+void RunLoop::printResults() const {
+  for (const Surface& s : m_surfaces) {
+    const Simulation& sim = s.node->simulation();
+    const Diagnostics d = sim.diagnostics();
+    std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", utf8(s.name).constData(), utf8(historyNumber(d.norm)).constData(),
+                utf8(historyNumber(d.kinetic)).constData(), utf8(historyNumber(d.strain.total)).constData(),
+                sim.status() == Status::Ok ? "ok" : "blew-up");
+  }
+}
+
+// A blow-up after the outputs were written: which surfaces, and why.
+Failure RunLoop::outcome() const {
+  if (!m_blewUp) return {kOk, {}};
+  QStringList blowUps;
+  bool refused = false;
+  for (const Surface& s : m_surfaces) {
+    if (!s.failed) continue;
+    blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
+    refused |= s.node->simulation().status() == Status::Refused;
+  }
+  return {refused ? kBadInput : kBlowUp, blowUps.join(QStringLiteral("; "))};
+}
+
+}  // namespace bsdeform::run

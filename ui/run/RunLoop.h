@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file RunLoop.h
+/// One run of a scene (bsdeform-run without --sweep, or one sweep child): steps every surface in
+/// simulated time, records the history (--record-every), writes images (--png-every,
+/// --png-at) and the video (--video) as their frames fall due, then the CSV files, plots and
+/// final.iv, and prints the summary (or a sweep child's RESULT lines).
+
+#include <QDir>
+#include <QStringList>
+#include <QVector>
+#include <memory>
+
+#include "FrameClock.h"
+#include "History.h"
+#include "RunFailure.h"
+#include "RunOptions.h"
+#include "RunSetup.h"
+#include "bsdeform/NodeRef.h"
+#include "bsdeform/OffscreenRenderer.h"
+
+class SoSeparator;
+class SoBSplineDeformSurface;
+
+namespace bsdeform {
+class AuthoredClock;
+class VideoWriter;
+}  // namespace bsdeform
+
+namespace bsdeform::run {
+
+class RunLoop {
+ public:
+  explicit RunLoop(const RunOptions& options);
+  ~RunLoop();
+  /// The whole run; exit code kBlowUp when a simulation blew up (its outputs up to then are
+  /// written), kBadInput for a scene that cannot run or a step that was refused.
+  Failure run();
+
+ private:
+  struct Surface {
+    QString name;  ///< DEF name, or "surfaceN": the output files are named after it
+    SoBSplineDeformSurface* node = nullptr;
+    QString csv;   ///< the history CSV (History::detailedCsvHeader and rows)
+    History history;
+    long lastRecorded = -1;  ///< step count of the last history row
+    bool failed = false;
+  };
+
+  Failure prepare();
+  Failure checkOutputNames() const;
+  void record(Surface& s);
+  /// Steps every surface up to frame `frame` of the run (frames count the smallest time step).
+  void advance(long frame);
+  Failure render(long frame);
+  Failure writeImage(long frame);
+  Failure writeVideoFrames(long frame);
+  Failure writeOutputs();
+  void printSummary(double seconds) const;
+  void printResults() const;
+  Failure outcome() const;
+
+  const RunOptions& m_options;
+  NodeRef<SoSeparator> m_root;
+  QVector<Surface> m_surfaces;
+  std::unique_ptr<AuthoredClock> m_authored;  ///< final.iv keeps the scene's own `on` and `speed`
+  double m_dtMin = 0.0, m_t0 = 0.0;
+  long m_frames = 0;
+  bool m_blewUp = false;
+  QDir m_out;
+  QStringList m_written;
+  ProgressBar m_progress;
+  // One renderer (GL context, Coin's shaders and caches) and one image buffer for every frame.
+  OffscreenRenderer m_renderer;
+  Image m_image;
+  long m_renderedFrame = -1;  ///< the frame m_image holds
+  long m_imagesWritten = 0;
+  QVector<long> m_imageFrames;  ///< --png-at as frames
+  std::unique_ptr<VideoWriter> m_video;
+  FrameClock m_videoClock;
+};
+
+}  // namespace bsdeform::run

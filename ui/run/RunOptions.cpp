@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "RunOptions.h"
+
+#include <QCommandLineParser>
+#include <QFileInfo>
+#include <cmath>
+
+#include "History.h"
+
+namespace bsdeform::run {
+
+namespace {
+
+QVector<double> parseList(const QString& text, bool& ok) {
+  QVector<double> v;
+  ok = true;
+  for (const QString& s : text.split(QLatin1Char(','), Qt::SkipEmptyParts)) {
+    bool good = false;
+    v << s.toDouble(&good);
+    ok &= good && std::isfinite(v.back()) && v.back() >= 0.0;
+  }
+  return v;
+}
+
+}  // namespace
+
+Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
+  QCommandLineParser parser;
+  parser.setApplicationDescription(QStringLiteral(
+      "Steps the SoBSplineDeformSurface nodes of an .iv scene without a window and writes, into the output\n"
+      "directory: one CSV history per surface (time, step, norm eq. 15, kinetic energy, strain energy and its\n"
+      "terms, sub-steps), the final scene with its state (final.iv, reloadable and resumable), PNG images and\n"
+      "plots on request. Steps count on the surface with the smallest time step.\n"
+      "Exit codes: 0 success, 2 bad input, 3 a simulation blew up, 4 an output file could not be written (the\n"
+      "previous file is kept), 1 internal error."));
+  parser.addHelpOption();
+  parser.addPositionalArgument(QStringLiteral("scene"), QStringLiteral("the .iv scene"));
+  const QCommandLineOption steps({QStringLiteral("n"), QStringLiteral("steps")}, QStringLiteral("number of steps (default 100)"),
+                                 QStringLiteral("N"));
+  const QCommandLineOption until({QStringLiteral("t"), QStringLiteral("until")}, QStringLiteral("run until simulated time T (a resumed scene starts at its own time)"),
+                                 QStringLiteral("T"));
+  const QCommandLineOption outDir({QStringLiteral("o"), QStringLiteral("out")},
+                                  QStringLiteral("output directory (default: <scene name>.out); must be empty or new"),
+                                  QStringLiteral("DIR"));
+  const QCommandLineOption overwrite(QStringLiteral("overwrite"), QStringLiteral("allow replacing files in a non-empty output directory"));
+  const QCommandLineOption pngEvery(QStringLiteral("png-every"), QStringLiteral("write an image every K steps (0: none)"),
+                                    QStringLiteral("K"));
+  const QCommandLineOption pngAt(QStringLiteral("png-at"), QStringLiteral("write images at these simulated times"),
+                                 QStringLiteral("t1,t2,..."));
+  const QCommandLineOption size(QStringLiteral("size"), QStringLiteral("image size (default 640x480)"), QStringLiteral("WxH"));
+  const QCommandLineOption set(QStringLiteral("set"), QStringLiteral("override a field: NAME is a DEF name (repeatable)"),
+                               QStringLiteral("NAME.field=value"));
+  const QCommandLineOption sweep(QStringLiteral("sweep"),
+                                 QStringLiteral("run once per value (in parallel) and write sweep.csv and sweep.png"),
+                                 QStringLiteral("NAME.field=v1,v2,..."));
+  const QCommandLineOption plot(QStringLiteral("plot"), QStringLiteral("also write a history plot PNG per surface"));
+  const QCommandLineOption recordEvery(QStringLiteral("record-every"),
+                                       QStringLiteral("history rows (CSV, plot): the first state, every state whose step "
+                                                      "count is a multiple of K, and the last state (default 1: every step)"),
+                                       QStringLiteral("K"));
+  const QCommandLineOption video(QStringLiteral("video"),
+                                  QStringLiteral("also write a video of the run: .mp4 (H.264) or .webm (VP9), at --size"),
+                                  QStringLiteral("FILE"));
+  const QCommandLineOption videoFps(QStringLiteral("video-fps"),
+                                     QStringLiteral("video frames per simulated second (default 25)"), QStringLiteral("F"));
+  const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
+  QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
+  resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
+  QCommandLineOption sweepProgram(QStringLiteral("sweep-program"),
+                                  QStringLiteral("internal (tests): the program started for each sweep value"),
+                                  QStringLiteral("PATH"));
+  sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
+  parser.addOptions(
+      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, resultOnly,
+       sweepProgram});
+  parser.process(arguments);
+
+  if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
+  o = RunOptions();
+  o.scene = parser.positionalArguments().first();
+  bool ok = true;
+  if (parser.isSet(steps)) {
+    o.steps = parser.value(steps).toLong(&ok);
+    if (!ok || o.steps < 0) return {kBadInput, QStringLiteral("--steps '%1' is not a count >= 0").arg(parser.value(steps))};
+  }
+  if (parser.isSet(until)) {
+    o.until = parser.value(until).toDouble(&ok);
+    if (!ok || !(o.until >= 0) || !std::isfinite(o.until))
+      return {kBadInput, QStringLiteral("--until '%1' is not a time >= 0").arg(parser.value(until))};
+    if (parser.isSet(steps)) return {kBadInput, QStringLiteral("give --steps or --until, not both")};
+  }
+  o.outDir = parser.isSet(outDir) ? parser.value(outDir) : QFileInfo(o.scene).completeBaseName() + QStringLiteral(".out");
+  o.overwrite = parser.isSet(overwrite);
+  if (parser.isSet(pngEvery)) {
+    o.pngEvery = parser.value(pngEvery).toInt(&ok);
+    if (!ok || o.pngEvery < 0) return {kBadInput, QStringLiteral("--png-every '%1' is not a count >= 0").arg(parser.value(pngEvery))};
+  }
+  if (parser.isSet(pngAt)) {
+    o.pngAt = parseList(parser.value(pngAt), ok);
+    if (!ok) return {kBadInput, QStringLiteral("--png-at '%1' is not a list of times >= 0").arg(parser.value(pngAt))};
+  }
+  if (parser.isSet(size)) {
+    const QStringList wh = parser.value(size).split(QLatin1Char('x'));
+    bool okW = false, okH = false;
+    if (wh.size() == 2) o.width = wh[0].toInt(&okW), o.height = wh[1].toInt(&okH);
+    if (!okW || !okH || o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
+      return {kBadInput, QStringLiteral("--size '%1' is not WxH within 1..8192").arg(parser.value(size))};
+  }
+  o.sets = parser.values(set);
+  o.sweep = parser.value(sweep);
+  o.plot = parser.isSet(plot);
+  if (parser.isSet(recordEvery)) {
+    o.recordEvery = parser.value(recordEvery).toLong(&ok);
+    if (!ok || o.recordEvery < 1)
+      return {kBadInput, QStringLiteral("--record-every '%1' is not a count >= 1").arg(parser.value(recordEvery))};
+  }
+  o.video = parser.value(video);
+  if (parser.isSet(videoFps)) {
+    o.videoFps = parser.value(videoFps).toDouble(&ok);
+    if (!ok || !(o.videoFps > 0.0) || o.videoFps > 1000.0)
+      return {kBadInput, QStringLiteral("--video-fps '%1' is not a rate in (0, 1000]").arg(parser.value(videoFps))};
+  }
+  if (!o.video.isEmpty() && !o.sweep.isEmpty())
+    return {kBadInput, QStringLiteral("--video and --sweep: a sweep runs many simulations, record one with --set")};
+  o.quiet = parser.isSet(quiet);
+  o.resultOnly = parser.isSet(resultOnly);
+  o.sweepProgram = parser.value(sweepProgram);
+
+  o.sweepChildArguments = QStringList{o.scene};
+  if (parser.isSet(steps)) o.sweepChildArguments << QStringLiteral("--steps") << QString::number(o.steps);
+  if (parser.isSet(until)) o.sweepChildArguments << QStringLiteral("--until") << historyNumber(o.until);
+  for (const QString& s : o.sets) o.sweepChildArguments << QStringLiteral("--set") << s;
+  return {kOk, {}};
+}
+
+}  // namespace bsdeform::run

@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file RunOptions.h
+/// bsdeform-run's command line: the options, their help text and the checks of their values.
+
+#include <QString>
+#include <QStringList>
+#include <QVector>
+
+#include "RunFailure.h"
+
+namespace bsdeform::run {
+
+struct RunOptions {
+  QString scene;
+  long steps = 100;
+  double until = -1.0;     ///< --until T (< 0: run --steps)
+  QString outDir;          ///< default: <scene name>.out
+  bool overwrite = false;
+  int pngEvery = 0;
+  QVector<double> pngAt;
+  int width = 640, height = 480;
+  QStringList sets;        ///< --set NAME.field=value, in order
+  QString sweep;           ///< --sweep NAME.field=v1,v2,...
+  bool plot = false;
+  long recordEvery = 1;
+  QString video;           ///< --video FILE (.mp4, .webm)
+  double videoFps = 25.0;  ///< --video-fps: frames per simulated second
+  bool quiet = false;
+  bool resultOnly = false;  ///< internal: a sweep child prints RESULT lines and writes nothing
+  QString sweepProgram;     ///< internal: the program started per sweep value (default: this one)
+  /// The arguments a sweep child gets: the scene and the run options, without the output and
+  /// sweep ones.
+  QStringList sweepChildArguments;
+
+  /// Reads the command line (`arguments[0]` is the program). --help, and a line Qt's parser
+  /// cannot read (an unknown option, a missing value), print and exit as
+  /// QCommandLineParser::process does; a bad value is a kBadInput Failure naming the option and
+  /// the value.
+  static Failure parse(const QStringList& arguments, RunOptions& options);
+};
+
+}  // namespace bsdeform::run

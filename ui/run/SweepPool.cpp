@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: MIT
+#include "SweepPool.h"
+
+#include <Inventor/nodes/SoSeparator.h>
+
+#include <QCoreApplication>
+#include <QDir>
+#include <QEventLoop>
+#include <QProcess>
+#include <QThread>
+#include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <map>
+
+#include "AtomicFile.h"
+#include "Plot.h"
+#include "RunSetup.h"
+
+namespace bsdeform::run {
+
+SweepPool::SweepPool(const RunOptions& options) : m_options(options) {}
+
+Failure SweepPool::parseSweep() {
+  const QString& sweep = m_options.sweep;
+  const int eq = sweep.indexOf(QLatin1Char('='));
+  if (eq <= 0) return {kBadInput, QStringLiteral("--sweep '%1': expected NAME.field=v1,v2,...").arg(sweep)};
+  m_target = sweep.left(eq);
+  m_values = sweep.mid(eq + 1).split(QLatin1Char(','), Qt::SkipEmptyParts);
+  if (m_values.isEmpty()) return {kBadInput, QStringLiteral("--sweep '%1': no values").arg(sweep)};
+  return {kOk, {}};
+}
+
+Failure SweepPool::validate() {
+  NodeRef<SoSeparator> root;
+  Failure f = loadSceneWithSets(m_options, root);
+  for (int i = 0; f.ok() && i < m_values.size(); ++i) f = applySet(m_target + QLatin1Char('=') + m_values[i]);
+  return f;
+}
+
+void SweepPool::collect(int i, const QString& output, const QString& stderrText, int code, bool crashed) {
+  for (const QString& line : output.split(QLatin1Char('\n'), Qt::SkipEmptyParts)) {
+    const QStringList c = line.split(QLatin1Char('\t'));
+    if (c.size() == 6 && c[0] == QLatin1String("RESULT")) m_rows[i].push_back({m_values[i], c[1], c[2], c[3], c[4], c[5]});
+  }
+  if (crashed)
+    m_errors[i] = QStringLiteral("run with %1=%2 crashed: %3").arg(m_target, m_values[i], stderrText);
+  else if (code != kOk && code != kBlowUp)
+    m_errors[i] = QStringLiteral("run with %1=%2 failed: %3").arg(m_target, m_values[i], stderrText);
+}
+
+// One child process per value, at most m_parallel at once; each one's signals start the next.
+Failure SweepPool::runChildren() {
+  m_rows = QVector<QVector<Row>>(m_values.size());
+  m_errors = QVector<QString>(m_values.size());
+  m_parallel = std::max(1, QThread::idealThreadCount());
+  const QString program =
+      m_options.sweepProgram.isEmpty() ? QCoreApplication::applicationFilePath() : m_options.sweepProgram;
+  ProgressBar progress(m_options);
+  QObject owner;  // parent of the child processes: all are gone when this function returns
+  QEventLoop loop;
+  QString startError;  // set when a child could not be started: the sweep stops
+  int next = 0, running = 0, done = 0;
+  std::function<void()> startMore;
+  auto start = [&](int i) {
+    auto* p = new QProcess(&owner);
+    p->setProcessChannelMode(QProcess::SeparateChannels);
+    QStringList args = m_options.sweepChildArguments;
+    args << QStringLiteral("--set") << m_target + QLatin1Char('=') + m_values[i] << QStringLiteral("--result-only");
+    QObject::connect(p, QOverload<int, QProcess::ExitStatus>::of(&QProcess::finished), &owner,
+                     [&, i, p](int code, QProcess::ExitStatus status) {
+                       collect(i, QString::fromUtf8(p->readAllStandardOutput()),
+                               QString::fromUtf8(p->readAllStandardError()).trimmed(), code,
+                               status == QProcess::CrashExit);
+                       --running;
+                       ++done;
+                       progress.show(done, m_values.size(), done);
+                       startMore();
+                     });
+    // A child that cannot start never finishes: without this the sweep would wait forever.
+    QObject::connect(p, &QProcess::errorOccurred, &owner, [&, i, p](QProcess::ProcessError e) {
+      if (e != QProcess::FailedToStart) return;  // crashes and exit codes arrive through finished()
+      if (startError.isEmpty())
+        startError =
+            QStringLiteral("cannot start the run with %1=%2 ('%3'): %4").arg(m_target, m_values[i], program, p->errorString());
+      --running;
+      ++done;
+      for (QProcess* other : owner.findChildren<QProcess*>())
+        if (other->state() != QProcess::NotRunning) other->kill();
+      startMore();
+    });
+    ++running;
+    p->start(program, args);
+  };
+  startMore = [&] {
+    while (startError.isEmpty() && running < m_parallel && next < m_values.size()) start(next++);
+    if (running == 0) loop.quit();
+  };
+  startMore();
+  if (running > 0) loop.exec();
+  if (!startError.isEmpty()) return {kInternal, startError};
+  QStringList errs;
+  for (const QString& e : m_errors)
+    if (!e.isEmpty()) errs << e;
+  if (!errs.isEmpty()) return {kInternal, errs.join(QStringLiteral("; "))};
+  return {kOk, {}};
+}
+
+// sweep.csv (every row), sweep.png (the final norm against the value, when every value is a
+// number) and the summary.
+Failure SweepPool::writeResults() {
+  QString csv = QStringLiteral("value,surface,norm,kinetic,strain,status\n");
+  std::map<QString, PlotSeries> bySurface;
+  bool numeric = true;
+  for (const auto& rs : m_rows)
+    for (const Row& r : rs) {
+      csv += QStringList{r.value, r.surface, r.norm, r.kinetic, r.strain, r.status}.join(QLatin1Char(',')) + QLatin1Char('\n');
+      bool ok = false;
+      const double x = r.value.toDouble(&ok);
+      numeric &= ok;
+      auto& s = bySurface[r.surface];
+      s.name = r.surface;
+      s.x << x;
+      s.y << r.norm.toDouble();
+    }
+  const QDir out(m_options.outDir);
+  QString error;
+  if (!saveFileAtomically(out.filePath(QStringLiteral("sweep.csv")), csv.toUtf8(), error)) return writeFailure(error, {});
+  QStringList written{out.filePath(QStringLiteral("sweep.csv"))};
+  if (numeric) {
+    QVector<PlotSeries> series;
+    for (auto& kv : bySurface) series << kv.second;
+    if (!writePlotPng(out.filePath(QStringLiteral("sweep.png")),
+                      QStringLiteral("Deformation norm (eq. 15) against %1").arg(m_target), m_target,
+                      QStringLiteral("final norm ||P - P0||"), series, 800, 500, error, {QString(), true, true, true}))
+      return writeFailure(error, written);
+    written << out.filePath(QStringLiteral("sweep.png"));
+  }
+  if (!m_options.quiet) {
+    std::printf("bsdeform-run: sweep of %s over %d value(s), %d in parallel\n", m_target.toUtf8().constData(),
+                int(m_values.size()), m_parallel);
+    std::printf("%s", csv.toUtf8().constData());
+    for (const QString& w : written) std::printf("  wrote %s\n", w.toUtf8().constData());
+  }
+  return {kOk, {}};
+}
+
+Failure SweepPool::run() {
+  Failure f = parseSweep();
+  if (f.ok()) f = validate();
+  if (f.ok()) f = prepareOutDir(m_options);
+  if (f.ok()) f = runChildren();
+  if (f.ok()) f = writeResults();
+  return f;
+}
+
+}  // namespace bsdeform::run
