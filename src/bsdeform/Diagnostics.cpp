@@ -22,7 +22,6 @@ BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
 BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
 BSDEFORM_INLINE double sum4(v4 x) { return (x[0] + x[1]) + (x[2] + x[3]); }
 
-
 constexpr int kTaps = 2 * kMaxDegree + 1;
 // Rows per block of the sums. Blocks are summed separately and then added in block order, so
 // the result does not depend on how many threads computed them.

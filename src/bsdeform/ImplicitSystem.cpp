@@ -2,6 +2,7 @@
 #include "bsdeform/ImplicitSystem.h"
 
 #include "bsdeform/HugePages.h"
+#include "bsdeform/Multigrid.h"
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
@@ -68,24 +69,39 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
 
   allocateNet(m_net, space.netSize());
   m_net.setZero();
+  const Eigen::VectorXd diag = diagonal();
   if (m_method == LinearSolver::Multigrid) {
-    m_multigrid = std::make_unique<MultigridPreconditioner>(space, stencil, stencil.weights(), m_mass);
-    // the finest level smooths with K itself (the stencil, pins included)
-    Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
-    for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
+    try {
+      m_multigrid = std::make_unique<MultigridPreconditioner>(space, stencil, stencil.weights(), m_mass);
+    } catch (const std::exception&) {
+      // e.g. a periodic direction too short to coarsen: an explicit request reports it,
+      // Automatic falls back to Jacobi-CG
+      if (kind != LinearSolver::Automatic) throw;
+      m_method = LinearSolver::ConjugateGradient;
+    }
+  }
+  if (m_multigrid) {
+    // the finest level smooths with K itself (the stencil, pins included); lambda_max(diag^-1 K)
+    // <= max_f (D_f + lambda_max(A)/4) / diag_f, as x'Kx <= sum_f (D_f + lambda_max(A)/4) x_f^2
+    const double lambdaBound =
+        ((m_mass.array() + 0.25 * stencil.eigenvalueBound()) / diag.array()).maxCoeff();
     m_multigrid->useExactOperator(
         [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); },
         [this](ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& inv) {
           smoothingStep(x, b, alpha, beta, inv);
         },
-        diag);
+        diag, lambdaBound);
     return;
   }
   // Jacobi scaling: diag(K) = D + diag(A)/4 off the pins. Where it is one constant (all sides
   // clamped, nodal mass) it changes nothing and is skipped.
-  Eigen::VectorXd diag = m_mass + 0.25 * stencil.movingDiagonal();
-  for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
   if (diag.maxCoeff() != diag.minCoeff()) m_inverseDiag = diag.cwiseInverse();
+}
+
+Eigen::VectorXd ImplicitSystem::diagonal() const {
+  Eigen::VectorXd diag = m_mass + 0.25 * m_stencil.movingDiagonal();
+  for (Eigen::Index f : m_pinned) diag[f] = m_mass[f];
+  return diag;
 }
 
 ImplicitSystem::~ImplicitSystem() = default;

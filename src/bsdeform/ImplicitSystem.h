@@ -24,11 +24,12 @@
 #include <memory>
 #include <vector>
 
-#include "bsdeform/Multigrid.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
 
 namespace bsdeform {
+
+class MultigridPreconditioner;
 
 enum class LinearSolver {
   Automatic,          ///< Direct for small nets (at most kAutomaticDirectPoints moving points:
@@ -100,6 +101,8 @@ class ImplicitSystem {
 
  private:
   struct Factor;
+  /// diag(K): D + diag(A)/4, and D alone on the pinned rows.
+  Eigen::VectorXd diagonal() const;
   /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
   void scatterDirection(const ControlNet& x);
   /// From y = A x~ (pinned columns zeroed): y = A_act x / 4 + D x, and the dot x . y per coordinate.

@@ -15,6 +15,43 @@
 
 namespace bsdeform {
 
+/// A square banded matrix: entries (i, i + d) for |d| <= bandwidth; in a periodic matrix column
+/// i + d wraps modulo the size.
+class BandMatrix {
+ public:
+  BandMatrix() = default;
+  BandMatrix(int size, int bandwidth, bool periodic);
+  int size() const { return m_size; }
+  int bandwidth() const { return m_bw; }
+  bool periodic() const { return m_periodic; }
+  double& at(int i, int d) { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
+  double at(int i, int d) const { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
+  /// Column of offset d in row i, or -1 outside a non-periodic matrix.
+  int column(int i, int d) const;
+  /// Finds the rows [toeplitzBegin, toeplitzEnd) around the middle that are one row shifted
+  /// (same entries, no column wrapped or missing); call after the entries are set.
+  void findToeplitzRows();
+  int toeplitzBegin() const { return m_toeplitzBegin; }
+  int toeplitzEnd() const { return m_toeplitzEnd; }
+
+ private:
+  int m_size = 0;
+  int m_bw = 0;
+  bool m_periodic = false;
+  int m_toeplitzBegin = 0, m_toeplitzEnd = 0;
+  std::vector<double> m_v;
+};
+
+/// One direction of one level: the 1-D matrices of the Kronecker terms and how the level's
+/// points coarsen.
+struct MultigridDirection {
+  std::vector<BandMatrix> matrices;  ///< the distinct 1-D factors of this direction
+  /// Kinds of the two ends: a clamped end keeps only coarse B-splines whose children all exist,
+  /// a free end every coarse B-spline that has a child.
+  bool clampedMin = true, clampedMax = true, periodic = false;
+  int size() const { return matrices.empty() ? 0 : matrices.front().size(); }
+};
+
 BandMatrix::BandMatrix(int size, int bandwidth, bool periodic)
     : m_size(size), m_bw(bandwidth), m_periodic(periodic), m_v(size_t(size) * size_t(2 * bandwidth + 1), 0.0) {
   if (periodic && size <= 2 * bandwidth)
@@ -220,9 +257,11 @@ struct MultigridPreconditioner::Level {
     if (!(diag.minCoeff() > 0.0)) throw std::runtime_error("multigrid: a level's operator has a diagonal entry <= 0");
     invDiag = diag.cwiseInverse();
     const double gershgorin = absSum.cwiseProduct(invDiag).maxCoeff();
-    for (ControlNet* m : {&r, &x, &res, &y, &s}) allocateNet(*m, points());
-    lambda = std::min(gershgorin, estimateLambda());
+    for (ControlNet* m : {&x, &res, &y}) allocateNet(*m, points());
+    // the finest level's estimate waits for useExactOperator() (its operator may change)
+    lambda = finest ? gershgorin : std::min(gershgorin, estimateLambda());
   }
+  bool finest = false;
 
   /// 1.15 times a power-iteration estimate of lambda_max(diag^-1 K) (a lower estimate): the
   /// smoother still reduces every mode up to 9/8 of its upper end.
@@ -323,6 +362,7 @@ struct MultigridPreconditioner::Level {
       exactStep(out, b, 1.0 + rho1 * rho0, 2.0 * rho1 / delta, invDiag);
       return;
     }
+    allocateNet(s, points());
     apply(out, &b, s);
     out = (1.0 + rho1 * rho0) * out + (2.0 * rho1 / delta) * (invDiag.asDiagonal() * s);
   }
@@ -445,6 +485,7 @@ MultigridPreconditioner::MultigridPreconditioner(const SplineSpace& space, const
   }
   // degree 2 on the finest level, 1 (damped Jacobi) below: measured fastest (docs/benchmarks.md)
   for (size_t l = 1; l < m_levels.size(); ++l) m_levels[l]->smoothingDegree = 1;
+  m_levels.front()->finest = true;
   for (auto& level : m_levels) level->prepare();
 
   // the coarsest level: K~ assembled densely and factorised
@@ -476,13 +517,14 @@ int MultigridPreconditioner::levels() const { return int(m_levels.size()); }
 
 Eigen::Index MultigridPreconditioner::levelPoints(int level) const { return m_levels[size_t(level)]->points(); }
 
-void MultigridPreconditioner::useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal) {
+void MultigridPreconditioner::useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal,
+                                               double lambdaBound) {
   Level& L = *m_levels.front();
   if (L.coarsest) return;  // a one-level hierarchy solves K~ directly
   L.exact = std::move(op);
   L.exactStep = std::move(step);
   L.invDiag = diagonal.cwiseInverse();
-  L.lambda = L.estimateLambda();
+  L.lambda = std::min(lambdaBound, L.estimateLambda());
 }
 
 void MultigridPreconditioner::applyOperator(const ControlNet& x, ControlNet& y) {

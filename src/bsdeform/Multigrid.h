@@ -12,7 +12,10 @@
 /// coarse B-spline of degree n is \f$2^{-n} \sum_{k=0}^{n+1} \binom{n+1}{k}\f$ times the fine ones
 /// 2j .. 2j+n+1 (knot insertion), so the prolongation P is a Kronecker product of 1-D
 /// subdivision matrices and the Galerkin operators \f$P^T \tilde K P\f$ stay sums of Kronecker
-/// products of banded 1-D matrices: every level is applied with 1-D passes, O(points).
+/// products of banded 1-D matrices: every level is applied with 1-D passes, O(points). (A
+/// periodic direction with an odd number of layers has no coarse space of exactly twice the
+/// spacing: its last coarse function overlaps the first, so that level is an approximation;
+/// the Galerkin product keeps it symmetric positive definite, which is all CG needs.)
 ///
 /// The finest level is smoothed with the true K (the stencil, pins included; useExactOperator())
 /// by a degree-2 Chebyshev polynomial in \f$\mathrm{diag}^{-1} K\f$ on \f$[\lambda/8, \lambda]\f$,
@@ -34,43 +37,7 @@
 
 namespace bsdeform {
 
-/// A square banded matrix: entries (i, i + d) for |d| <= bandwidth; in a periodic matrix column
-/// i + d wraps modulo the size.
-class BandMatrix {
- public:
-  BandMatrix() = default;
-  BandMatrix(int size, int bandwidth, bool periodic);
-  int size() const { return m_size; }
-  int bandwidth() const { return m_bw; }
-  bool periodic() const { return m_periodic; }
-  double& at(int i, int d) { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
-  double at(int i, int d) const { return m_v[size_t(i) * size_t(2 * m_bw + 1) + size_t(d + m_bw)]; }
-  /// Column of offset d in row i, or -1 outside a non-periodic matrix.
-  int column(int i, int d) const;
-  /// Finds the rows [toeplitzBegin, toeplitzEnd) around the middle that are one row shifted
-  /// (same entries, no column wrapped or missing); call after the entries are set.
-  void findToeplitzRows();
-  int toeplitzBegin() const { return m_toeplitzBegin; }
-  int toeplitzEnd() const { return m_toeplitzEnd; }
-
- private:
-  int m_size = 0;
-  int m_bw = 0;
-  bool m_periodic = false;
-  int m_toeplitzBegin = 0, m_toeplitzEnd = 0;
-  std::vector<double> m_v;
-};
-
-/// One direction of one level: the 1-D matrices of the Kronecker terms and how the level's
-/// points coarsen.
-struct MultigridDirection {
-  std::vector<BandMatrix> matrices;  ///< the distinct 1-D factors of this direction
-  /// Kinds of the two ends: a clamped end keeps only coarse B-splines whose children all exist,
-  /// a free end every coarse B-spline that has a child.
-  bool clampedMin = true, clampedMax = true, periodic = false;
-  int size() const { return matrices.empty() ? 0 : matrices.front().size(); }
-};
-
+/// Preconditioner of the implicit system's conjugate gradients: one V-cycle from zero.
 class MultigridPreconditioner {
  public:
   /// @param massTerm D per moving point (order of SplineSpace::movingToNet), > 0
@@ -87,8 +54,9 @@ class MultigridPreconditioner {
   using SmoothingStep =
       std::function<void(ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& invDiag)>;
   /// Smooth the finest level with the true operator K and its diagonal instead of K~: what the
-  /// conjugate gradients iterate on, pins included.
-  void useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal);
+  /// conjugate gradients iterate on, pins included. `lambdaBound` is an upper bound of
+  /// lambda_max(diag^-1 K) that caps the power-iteration estimate.
+  void useExactOperator(Operator op, SmoothingStep step, const Eigen::VectorXd& diagonal, double lambdaBound);
   /// z = B r: one V-cycle from zero (numMoving x 3 each).
   void apply(const ControlNet& r, ControlNet& z);
   /// y = K~ x: the finest level's Kronecker operator (for tests).
@@ -98,7 +66,7 @@ class MultigridPreconditioner {
   int levels() const;
   Eigen::Index levelPoints(int level) const;
 
-  struct Level;
+  struct Level;  ///< one level's operator, smoother, transfer and work vectors (Multigrid.cpp)
 
  private:
   /// x = one V-cycle for K_level x = r from zero.

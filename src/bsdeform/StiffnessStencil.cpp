@@ -315,7 +315,6 @@ BSDEFORM_INLINE double stencil1(const double* const* q, const double* half, int 
   return acc;
 }
 
-
 // dst = up + down over one net row.
 BSDEFORM_MULTIVERSION
 void addRows(const double* __restrict up, const double* __restrict down, double* __restrict dst, long len) {

@@ -137,14 +137,19 @@ TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one h
 
 namespace {
 // Answers the Save Screenshot dialogs as a user would (from a timer: each dialog runs its own
-// event loop): the file dialog with `path`, the size dialog with `size`.
+// event loop): the file dialog with `path`, the size dialog with `size`. The timer is a child of
+// the application and gives up after 20 s, so it never outlives a test that fails early.
 void answerScreenshotDialogs(const QString& path, const QString& size) {
-  auto* poll = new QTimer;
-  QObject::connect(poll, &QTimer::timeout, poll, [poll, path, size] {
+  auto* poll = new QTimer(qApp);
+  QTimer::singleShot(20000, poll, &QObject::deleteLater);
+  // the file dialog is answered once: under load it can still be the active modal widget on the
+  // next tick, and typing the path again would append it to the first
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, path, size, fileAnswered = false]() mutable {
     QWidget* modal = QApplication::activeModalWidget();
     if (auto* files = qobject_cast<QFileDialog*>(modal)) {
       QWidget* name = files->focusWidget();  // the file name field
-      if (!name) return;
+      if (!name || fileAnswered) return;
+      fileAnswered = true;
       QTest::keyClicks(name, path);
       QTest::keyClick(name, Qt::Key_Return);
     } else if (auto* input = qobject_cast<QInputDialog*>(modal)) {

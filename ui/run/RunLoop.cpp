@@ -50,10 +50,9 @@ QByteArray utf8(const QString& s) { return s.toUtf8(); }
 
 RunLoop::RunLoop(const RunOptions& options) : m_options(options), m_out(options.outDir), m_progress(options) {}
 
-RunLoop::~RunLoop() {
-  m_surfaces.clear();
-  m_root.reset();  // the surfaces go with the scene
-}
+// Members go in reverse order: the authored clock (it refers to the surfaces), the surfaces,
+// then the scene that owns them.
+RunLoop::~RunLoop() = default;
 
 // Reads the scene, builds every model and force (bad values show up as Coin warnings before
 // anything runs) and finds the time step and start time of the run.

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "History.h"
+#include "ImageSize.h"
 
 namespace bsdeform::run {
 
@@ -100,11 +101,12 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
     if (!ok) return {kBadInput, QStringLiteral("--png-at '%1' is not a list of times >= 0").arg(parser.value(pngAt))};
   }
   if (parser.isSet(size)) {
-    const QStringList wh = parser.value(size).split(QLatin1Char('x'));
-    bool okW = false, okH = false;
-    if (wh.size() == 2) o.width = wh[0].toInt(&okW), o.height = wh[1].toInt(&okH);
-    if (!okW || !okH || o.width < 1 || o.height < 1 || o.width > 8192 || o.height > 8192)
-      return {kBadInput, QStringLiteral("--size '%1' is not WxH within 1..8192").arg(parser.value(size))};
+    QSize wh;
+    if (!parseImageSize(parser.value(size), wh))
+      return {kBadInput,
+              QStringLiteral("--size '%1' is not WxH within 1..%2").arg(parser.value(size)).arg(kMaxImageSide)};
+    o.width = wh.width();
+    o.height = wh.height();
   }
   o.sets = parser.values(set);
   o.sweep = parser.value(sweep);

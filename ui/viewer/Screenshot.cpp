@@ -12,6 +12,7 @@
 #include <QPainter>
 #include <string>
 
+#include "ImageSize.h"
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
 
@@ -60,13 +61,10 @@ bool Screenshot::ask(QWidget* parent, QString& path, QSize& size, QString& error
   const QString text = QInputDialog::getText(parent, tr("Screenshot size"), tr("Width x height in pixels:"), QLineEdit::Normal,
                                              QStringLiteral("%1x%2").arg(view.width()).arg(view.height()), &ok);
   if (!ok) return false;
-  const QStringList wh = text.split(QLatin1Char('x'));
-  const int w = wh.size() == 2 ? wh[0].trimmed().toInt() : 0, h = wh.size() == 2 ? wh[1].trimmed().toInt() : 0;
-  if (w < 1 || h < 1 || w > 8192 || h > 8192) {
-    error = tr("'%1' is not a size WxH within 1..8192").arg(text);
+  if (!parseImageSize(text, size)) {
+    error = tr("'%1' is not a size WxH within 1..%2").arg(text).arg(kMaxImageSide);
     return false;
   }
-  size = QSize(w, h);
   return true;
 }
 
