@@ -141,67 +141,52 @@ void ImplicitSystem::scatterDirection(const ControlNet& x) {
   }
 }
 
-void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const {
-  // y = A x~ / 4 + D x (pinned rows: D x), and dot = x . y per coordinate, in one pass
+template <typename EntryFunction>
+void ImplicitSystem::forEachProductEntry(const ControlNet& x, ControlNet& y, EntryFunction&& fn) const {
   for (Eigen::Index f : m_pinned) y.row(f).setZero();
   const Eigen::Index n = x.rows();
   const double* px = x.data();
-  double* py = y.data();
-  const double* d = m_mass.data();
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-  for (Eigen::Index f = 0; f < n; ++f) {
-    const double m = d[f];
-    const double* xf = px + 3 * f;
-    double* yf = py + 3 * f;
-    yf[0] = 0.25 * yf[0] + m * xf[0];
-    yf[1] = 0.25 * yf[1] + m * xf[1];
-    yf[2] = 0.25 * yf[2] + m * xf[2];
-    s0 += xf[0] * yf[0];
-    s1 += xf[1] * yf[1];
-    s2 += xf[2] * yf[2];
-  }
-  dot[0] = s0;
-  dot[1] = s1;
-  dot[2] = s2;
-}
-
-void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlNet& out) {
-  // out = b - (A x~ / 4 + D x), pinned rows b - D x, in one pass after the stencil
-  scatterDirection(x);
-  m_stencil.applyMoving(m_net, out);
-  for (Eigen::Index f : m_pinned) out.row(f).setZero();
-  const Eigen::Index n = x.rows();
-  const double* px = x.data();
-  const double* pb = b.data();
-  double* po = out.data();
+  const double* py = y.data();
   const double* d = m_mass.data();
   for (Eigen::Index f = 0; f < n; ++f) {
     const double m = d[f];
     for (int c = 0; c < 3; ++c) {
       const Eigen::Index k = 3 * f + c;
-      po[k] = pb[k] - (0.25 * po[k] + m * px[k]);
+      fn(f, c, k, 0.25 * py[k] + m * px[k]);
     }
   }
+}
+
+void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const {
+  // y = K x and dot = x . y per coordinate, in one pass
+  const double* px = x.data();
+  double* py = y.data();
+  double s[3] = {0.0, 0.0, 0.0};
+  forEachProductEntry(x, y, [&](Eigen::Index, int c, Eigen::Index k, double Kx) {
+    py[k] = Kx;
+    s[c] += px[k] * Kx;
+  });
+  for (int c = 0; c < 3; ++c) dot[c] = s[c];
+}
+
+void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlNet& out) {
+  scatterDirection(x);
+  m_stencil.applyMoving(m_net, out);
+  const double* pb = b.data();
+  double* po = out.data();
+  forEachProductEntry(x, out, [&](Eigen::Index, int, Eigen::Index k, double Kx) { po[k] = pb[k] - Kx; });
 }
 
 void ImplicitSystem::smoothingStep(ControlNet& x, const ControlNet& b, double alpha, double beta,
                                    const Eigen::VectorXd& invDiag) {
   scatterDirection(x);
   m_stencil.applyMoving(m_net, m_smooth);
-  for (Eigen::Index f : m_pinned) m_smooth.row(f).setZero();
-  const Eigen::Index n = x.rows();
   double* px = x.data();
   const double* pb = b.data();
-  const double* py = m_smooth.data();
-  const double* d = m_mass.data();
   const double* inv = invDiag.data();
-  for (Eigen::Index f = 0; f < n; ++f) {
-    const double m = d[f], w = beta * inv[f];
-    for (int c = 0; c < 3; ++c) {
-      const Eigen::Index k = 3 * f + c;
-      px[k] = alpha * px[k] + w * (pb[k] - (0.25 * py[k] + m * px[k]));
-    }
-  }
+  forEachProductEntry(x, m_smooth, [&](Eigen::Index f, int, Eigen::Index k, double Kx) {
+    px[k] = alpha * px[k] + beta * inv[f] * (pb[k] - Kx);
+  });
 }
 
 void ImplicitSystem::apply(const ControlNet& x, ControlNet& y) {

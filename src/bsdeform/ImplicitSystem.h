@@ -105,6 +105,10 @@ class ImplicitSystem {
   Eigen::VectorXd diagonal() const;
   /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
   void scatterDirection(const ControlNet& x);
+  /// From y = A x~ (pinned columns zeroed, the stencil's output): fn(f, c, k, (K x)_k) for every
+  /// entry k = 3 f + c in order, with K x = A_act x / 4 + D x (y's pinned rows are zeroed first).
+  template <typename EntryFunction>
+  void forEachProductEntry(const ControlNet& x, ControlNet& y, EntryFunction&& fn) const;
   /// From y = A x~ (pinned columns zeroed): y = A_act x / 4 + D x, and the dot x . y per coordinate.
   void finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const;
 
