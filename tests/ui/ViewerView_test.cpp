@@ -9,6 +9,7 @@
 #include <QDir>
 #include <QFile>
 #include <QFileDialog>
+#include <QLineEdit>
 #include <QInputDialog>
 #include <QTemporaryDir>
 #include <QTest>
@@ -136,27 +137,29 @@ TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one h
 }
 
 namespace {
-// Answers the Save Screenshot dialogs as a user would (from a timer: each dialog runs its own
-// event loop): the file dialog with `path`, the size dialog with `size`. The timer is a child of
-// the application and gives up after 20 s, so it never outlives a test that fails early.
+// Answers the Save Screenshot dialogs (from a timer: each dialog runs its own event loop): the
+// file dialog with `path`, the size dialog with `size`. Both answers set the whole value, so a
+// dialog still open on the next tick (a slow machine) is answered again, not appended to. The
+// timer is a child of the application; after 20 s it closes any dialog left open, so a failing
+// test fails instead of hanging.
 void answerScreenshotDialogs(const QString& path, const QString& size) {
   auto* poll = new QTimer(qApp);
-  QTimer::singleShot(20000, poll, &QObject::deleteLater);
-  // the file dialog is answered once: under load it can still be the active modal widget on the
-  // next tick, and typing the path again would append it to the first
-  QObject::connect(poll, &QTimer::timeout, poll, [poll, path, size, fileAnswered = false]() mutable {
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, path, size] {
     QWidget* modal = QApplication::activeModalWidget();
     if (auto* files = qobject_cast<QFileDialog*>(modal)) {
-      QWidget* name = files->focusWidget();  // the file name field
-      if (!name || fileAnswered) return;
-      fileAnswered = true;
-      QTest::keyClicks(name, path);
+      auto* name = files->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));  // Qt's file name field
+      if (!name) return;
+      name->setText(path);
       QTest::keyClick(name, Qt::Key_Return);
     } else if (auto* input = qobject_cast<QInputDialog*>(modal)) {
       input->setTextValue(size);
       input->accept();
       poll->deleteLater();
     }
+  });
+  QTimer::singleShot(20000, poll, [poll] {
+    if (auto* dialog = qobject_cast<QDialog*>(QApplication::activeModalWidget())) dialog->reject();
+    poll->deleteLater();
   });
   poll->start(50);
 }
