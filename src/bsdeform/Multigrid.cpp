@@ -258,8 +258,9 @@ struct MultigridPreconditioner::Level {
     invDiag = diag.cwiseInverse();
     const double gershgorin = absSum.cwiseProduct(invDiag).maxCoeff();
     for (ControlNet* m : {&x, &res, &y}) allocateNet(*m, points());
-    // the finest level's estimate waits for useExactOperator() (its operator may change)
-    lambda = finest ? gershgorin : std::min(gershgorin, estimateLambda());
+    // the finest level's estimate waits for useExactOperator() (its operator may change); the
+    // coarsest level is solved, not smoothed
+    lambda = finest || coarsest ? gershgorin : std::min(gershgorin, estimateLambda());
   }
   bool finest = false;
 
