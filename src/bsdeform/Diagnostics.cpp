@@ -12,14 +12,13 @@ namespace bsdeform {
 
 namespace {
 
-// Vector extensions as in StiffnessStencil.cpp: four doubles per vector, AVX2 in the avx2 clone.
-// The core is compiled without FP contraction and the reductions are summed in four lanes in a
-// fixed order, so every clone gives the same bits.
-typedef double v4 __attribute__((vector_size(32), aligned(8), may_alias));
-#define BSDEFORM_INLINE inline __attribute__((always_inline))
-BSDEFORM_INLINE v4 load4(const double* p) { return *reinterpret_cast<const v4*>(p); }
-BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
-BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
+// Vector extensions of Multiversion.h: four doubles per vector, AVX2 in the avx2 clone. The core
+// is compiled without FP contraction and the reductions are summed in four lanes in a fixed
+// order, so every clone gives the same bits.
+using simd::load4;
+using simd::splat;
+using simd::store4;
+using simd::v4;
 BSDEFORM_INLINE double sum4(v4 x) { return (x[0] + x[1]) + (x[2] + x[3]); }
 
 constexpr int kTaps = 2 * kMaxDegree + 1;

@@ -87,9 +87,8 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
         ((m_mass.array() + 0.25 * stencil.eigenvalueBound()) / diag.array()).maxCoeff();
     m_multigrid->useExactOperator(
         [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); },
-        [this](ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& inv) {
-          smoothingStep(x, b, alpha, beta, inv);
-        },
+        [this](const ControlNet& b, double scale, double alpha, double beta, const Eigen::VectorXd& inv,
+               bool accumulate, ControlNet& out) { smoothingStep(b, scale, alpha, beta, inv, accumulate, out); },
         diag, lambdaBound);
     return;
   }
@@ -141,18 +140,17 @@ void ImplicitSystem::scatterDirection(const ControlNet& x) {
   }
 }
 
-template <typename EntryFunction>
-void ImplicitSystem::forEachProductEntry(const ControlNet& x, ControlNet& y, EntryFunction&& fn) const {
+template <typename XAt, typename EntryFunction>
+void ImplicitSystem::forEachProductEntry(XAt&& xAt, ControlNet& y, EntryFunction&& fn) const {
   for (Eigen::Index f : m_pinned) y.row(f).setZero();
-  const Eigen::Index n = x.rows();
-  const double* px = x.data();
+  const Eigen::Index n = y.rows();
   const double* py = y.data();
   const double* d = m_mass.data();
   for (Eigen::Index f = 0; f < n; ++f) {
     const double m = d[f];
     for (int c = 0; c < 3; ++c) {
       const Eigen::Index k = 3 * f + c;
-      fn(f, c, k, 0.25 * py[k] + m * px[k]);
+      fn(f, c, k, 0.25 * py[k] + m * xAt(f, k));
     }
   }
 }
@@ -162,7 +160,8 @@ void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[
   const double* px = x.data();
   double* py = y.data();
   double s[3] = {0.0, 0.0, 0.0};
-  forEachProductEntry(x, y, [&](Eigen::Index, int c, Eigen::Index k, double Kx) {
+  forEachProductEntry([px](Eigen::Index, Eigen::Index k) { return px[k]; }, y,
+                      [&](Eigen::Index, int c, Eigen::Index k, double Kx) {
     py[k] = Kx;
     s[c] += px[k] * Kx;
   });
@@ -172,21 +171,45 @@ void ImplicitSystem::finishApply(const ControlNet& x, ControlNet& y, double dot[
 void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlNet& out) {
   scatterDirection(x);
   m_stencil.applyMoving(m_net, out);
+  const double* px = x.data();
   const double* pb = b.data();
   double* po = out.data();
-  forEachProductEntry(x, out, [&](Eigen::Index, int, Eigen::Index k, double Kx) { po[k] = pb[k] - Kx; });
+  forEachProductEntry([px](Eigen::Index, Eigen::Index k) { return px[k]; }, out,
+                      [&](Eigen::Index, int, Eigen::Index k, double Kx) { po[k] = pb[k] - Kx; });
 }
 
-void ImplicitSystem::smoothingStep(ControlNet& x, const ControlNet& b, double alpha, double beta,
-                                   const Eigen::VectorXd& invDiag) {
-  scatterDirection(x);
-  m_stencil.applyMoving(m_net, m_smooth);
-  double* px = x.data();
+void ImplicitSystem::smoothingStep(const ControlNet& b, double scale, double alpha, double beta,
+                                   const Eigen::VectorXd& invDiag, bool accumulate, ControlNet& out) {
+  // x0 = scale diag(invDiag) b goes straight into the stencil's net (never stored as a vector)
+  if (m_net.rows() != m_space.netSize()) {
+    allocateNet(m_net, m_space.netSize());
+    m_net.setZero();
+  }
   const double* pb = b.data();
   const double* inv = invDiag.data();
-  forEachProductEntry(x, m_smooth, [&](Eigen::Index f, int, Eigen::Index k, double Kx) {
-    px[k] = alpha * px[k] + beta * inv[f] * (pb[k] - Kx);
-  });
+  const Eigen::Index w = m_space.movingV().count;
+  for (int a = 0; a < m_space.movingU().count; ++a) {
+    const Eigen::Index f0 = Eigen::Index(a) * w;
+    double* dst = m_net.data() + 3 * m_space.movingToNet(f0);
+    for (Eigen::Index j = 0; j < w; ++j) {
+      const double s = scale * inv[f0 + j];
+      for (int c = 0; c < 3; ++c) dst[3 * j + c] = s * pb[3 * (f0 + j) + c];
+    }
+  }
+  for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
+  m_space.refreshPeriodicCopies(m_net);
+  m_stencil.applyMoving(m_net, m_smooth);
+  if (!accumulate) allocateNet(out, b.rows());
+  double* po = out.data();
+  const auto x0 = [&](Eigen::Index f, Eigen::Index k) { return scale * inv[f] * pb[k]; };
+  if (accumulate)
+    forEachProductEntry(x0, m_smooth, [&](Eigen::Index f, int, Eigen::Index k, double Kx) {
+      po[k] += alpha * x0(f, k) + beta * inv[f] * (pb[k] - Kx);
+    });
+  else
+    forEachProductEntry(x0, m_smooth, [&](Eigen::Index f, int, Eigen::Index k, double Kx) {
+      po[k] = alpha * x0(f, k) + beta * inv[f] * (pb[k] - Kx);
+    });
 }
 
 void ImplicitSystem::apply(const ControlNet& x, ControlNet& y) {

@@ -95,9 +95,11 @@ class ImplicitSystem {
   void apply(const ControlNet& x, ControlNet& y);
   /// out = b - K x, matrix-free, in one pass after the stencil.
   void residual(const ControlNet& x, const ControlNet& b, ControlNet& out);
-  /// x = alpha x + beta diag(invDiag) (b - K x), in one pass after the stencil (multigrid's
-  /// smoothing step on the finest level).
-  void smoothingStep(ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& invDiag);
+  /// Multigrid's smoothing step on the finest level, from zero: with x0 = scale diag(invDiag) b,
+  /// out = alpha x0 + beta diag(invDiag) (b - K x0), or out += that when `accumulate`. x0 is
+  /// written straight into the stencil's net and recomputed in the one pass after the stencil.
+  void smoothingStep(const ControlNet& b, double scale, double alpha, double beta, const Eigen::VectorXd& invDiag,
+                     bool accumulate, ControlNet& out);
 
  private:
   struct Factor;
@@ -106,9 +108,10 @@ class ImplicitSystem {
   /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
   void scatterDirection(const ControlNet& x);
   /// From y = A x~ (pinned columns zeroed, the stencil's output): fn(f, c, k, (K x)_k) for every
-  /// entry k = 3 f + c in order, with K x = A_act x / 4 + D x (y's pinned rows are zeroed first).
-  template <typename EntryFunction>
-  void forEachProductEntry(const ControlNet& x, ControlNet& y, EntryFunction&& fn) const;
+  /// entry k = 3 f + c in order, with K x = A_act x / 4 + D x (y's pinned rows are zeroed first);
+  /// x_k is xAt(f, k).
+  template <typename XAt, typename EntryFunction>
+  void forEachProductEntry(XAt&& xAt, ControlNet& y, EntryFunction&& fn) const;
   /// From y = A x~ (pinned columns zeroed): y = A_act x / 4 + D x, and the dot x . y per coordinate.
   void finishApply(const ControlNet& x, ControlNet& y, double dot[3]) const;
 

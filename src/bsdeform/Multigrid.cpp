@@ -85,15 +85,6 @@ int BandMatrix::column(int i, int d) const {
 
 namespace {
 
-// y = c x (set) or y += c x over n entries.
-BSDEFORM_MULTIVERSION
-void axpy(double c, const double* __restrict x, double* __restrict y, long n, bool set) {
-  if (set)
-    for (long m = 0; m < n; ++m) y[m] = c * x[m];
-  else
-    for (long m = 0; m < n; ++m) y[m] += c * x[m];
-}
-
 // x += y
 BSDEFORM_MULTIVERSION
 void addTo(const ControlNet& y, ControlNet& x) {
@@ -106,6 +97,33 @@ void addTo(const ControlNet& y, ControlNet& x) {
 BSDEFORM_MULTIVERSION
 void subtractFrom(const double* __restrict b, double* __restrict y, long n) {
   for (long m = 0; m < n; ++m) y[m] = b[m] - y[m];
+}
+
+// Most entries in one row of a level's 1-D matrix.
+constexpr int kMaxTaps = 64;
+
+// out = sum_k coef[k] rows[k] (or out += that) over len entries: one pass that keeps the sum in
+// registers, instead of one axpy pass per row.
+BSDEFORM_MULTIVERSION
+void combineRows(const double* const* rows, const double* coef, int count, long len, double* out, bool accumulate) {
+  using namespace simd;
+  long m = 0;
+  for (; m + 8 <= len; m += 8) {
+    v4 lo = accumulate ? load4(out + m) : splat(0.0);
+    v4 hi = accumulate ? load4(out + m + 4) : splat(0.0);
+    for (int k = 0; k < count; ++k) {
+      const v4 c = splat(coef[k]);
+      lo += c * load4(rows[k] + m);
+      hi += c * load4(rows[k] + m + 4);
+    }
+    store4(out + m, lo);
+    store4(out + m + 4, hi);
+  }
+  for (; m < len; ++m) {
+    double acc = accumulate ? out[m] : 0.0;
+    for (int k = 0; k < count; ++k) acc += coef[k] * rows[k][m];
+    out[m] = acc;
+  }
 }
 
 /// c * U[u] (x) V[v]
@@ -206,8 +224,8 @@ BandMatrix gramMatrix(const GramRows1D& g, const LayerRange& moving, int netLaye
   return B;
 }
 
-BandMatrix diagonalMatrix(const Eigen::VectorXd& d) {
-  BandMatrix B(int(d.size()), 0, false);
+BandMatrix diagonalMatrix(const Eigen::VectorXd& d, bool periodic) {
+  BandMatrix B(int(d.size()), 0, periodic);
   for (int i = 0; i < int(d.size()); ++i) B.at(i, 0) = d[i];
   return B;
 }
@@ -224,18 +242,41 @@ struct MultigridPreconditioner::Level {
   bool coarsest = false;
   Transfer1D toCoarseU, toCoarseV;
   Eigen::LLT<Eigen::MatrixXd> llt;  ///< coarsest level only
-  ControlNet r, x, res, y, t, s;    ///< right-hand side, solution, residual, correction, transfer and smoother scratch
-  // operator scratch: one row per u matrix and one padded row per v matrix
-  std::vector<std::vector<double>> zRows, wRows;
+  ControlNet r, x, res, y, s;  ///< right-hand side, solution, residual, correction and smoother scratch
+  std::vector<double> transferRow;  ///< one row of the transfers
+  /// The operator as sum_j A_j (x) V_j: A_j = sum of c U over the terms with v = j (`vIndex`).
+  struct Factor {
+    BandMatrix A;
+    int vIndex;
+  };
+  std::vector<Factor> factors;
+  /// w_j = (A_j (x) I) x for one row, padded by V_j's bandwidth on both sides (zeros, or the
+  /// wrapped halo)
+  std::vector<std::vector<double>> wRows;
 
   Eigen::Index points() const { return Eigen::Index(mu) * mv; }
 
   void prepare() {
-    // rows of w_j padded by the bandwidth on both sides (zeros, or the wrapped halo)
-    wRows.assign(v.matrices.size(), {});
-    for (size_t j = 0; j < v.matrices.size(); ++j)
-      wRows[j].assign(size_t(3 * (mv + 2 * v.matrices[j].bandwidth())), 0.0);
-    zRows.assign(u.matrices.size(), std::vector<double>(size_t(3 * mv), 0.0));
+    factors.clear();
+    for (size_t j = 0; j < v.matrices.size(); ++j) {
+      int bw = -1;
+      for (const Term& term : terms)
+        if (size_t(term.v) == j) bw = std::max(bw, u.matrices[size_t(term.u)].bandwidth());
+      if (bw < 0) continue;
+      if (2 * std::max(bw, v.matrices[j].bandwidth()) + 1 > kMaxTaps)
+        throw std::runtime_error("multigrid: a level's band is wider than " + std::to_string(kMaxTaps));
+      BandMatrix A(mu, bw, u.periodic);
+      for (const Term& term : terms) {
+        if (size_t(term.v) != j) continue;
+        const BandMatrix& U = u.matrices[size_t(term.u)];
+        for (int a = 0; a < mu; ++a)
+          for (int d = -U.bandwidth(); d <= U.bandwidth(); ++d) A.at(a, d) += term.c * U.at(a, d);
+      }
+      factors.push_back({std::move(A), int(j)});
+    }
+    wRows.assign(factors.size(), {});
+    for (size_t k = 0; k < factors.size(); ++k)
+      wRows[k].assign(size_t(3 * (mv + 2 * v.matrices[size_t(factors[k].vIndex)].bandwidth())), 0.0);
     for (BandMatrix& V : v.matrices) V.findToeplitzRows();
     // diagonal and Gershgorin bound of diag^-1 K~
     Eigen::VectorXd diag = Eigen::VectorXd::Zero(points()), absSum = Eigen::VectorXd::Zero(points());
@@ -293,48 +334,44 @@ struct MultigridPreconditioner::Level {
     const double* x = xNet.data();
     double* out = outNet.data();
     const long rowLen = 3L * mv;
+    const double* rows[kMaxTaps];
+    double coef[kMaxTaps];
     for (int a = 0; a < mu; ++a) {
-      // z_i = (U_i (x) I) x, row a
-      for (size_t i = 0; i < u.matrices.size(); ++i) {
-        const BandMatrix& U = u.matrices[i];
-        double* z = zRows[i].data();
-        bool first = true;
-        for (int d = -U.bandwidth(); d <= U.bandwidth(); ++d) {
-          const int col = U.column(a, d);
-          const double c = U.at(a, d);
+      // w_k = (A_k (x) I) x, row a
+      for (size_t k = 0; k < factors.size(); ++k) {
+        const BandMatrix& A = factors[k].A;
+        const int bw = v.matrices[size_t(factors[k].vIndex)].bandwidth();
+        double* w = wRows[k].data() + 3L * bw;
+        int count = 0;
+        for (int d = -A.bandwidth(); d <= A.bandwidth(); ++d) {
+          const int col = A.column(a, d);
+          const double c = A.at(a, d);
           if (col < 0 || c == 0.0) continue;
-          axpy(c, x + long(col) * rowLen, z, rowLen, first);
-          first = false;
+          rows[count] = x + long(col) * rowLen;
+          coef[count++] = c;
         }
-        if (first) std::fill(z, z + rowLen, 0.0);
-      }
-      // w_j = sum of c z_u over the terms with v = j (inside the padding)
-      for (size_t j = 0; j < v.matrices.size(); ++j) {
-        const int bw = v.matrices[j].bandwidth();
-        double* w = wRows[j].data() + 3L * bw;
-        bool first = true;
-        for (const Term& term : terms) {
-          if (size_t(term.v) != j) continue;
-          axpy(term.c, zRows[size_t(term.u)].data(), w, rowLen, first);
-          first = false;
-        }
-        if (first) std::fill(w, w + rowLen, 0.0);
+        combineRows(rows, coef, count, rowLen, w, false);
         if (v.periodic && bw > 0) {  // wrapped halo
           std::copy(w + rowLen - 3L * bw, w + rowLen, w - 3L * bw);
           std::copy(w, w + 3L * bw, w + rowLen);
         }
       }
-      // out row = sum_j (I (x) V_j) w_j: Toeplitz rows as shifted axpys, the others entry by entry
+      // out row = sum_k (I (x) V_k) w_k: Toeplitz rows in one pass per k, the others entry by entry
       double* o = out + long(a) * rowLen;
       std::fill(o, o + rowLen, 0.0);
-      for (size_t j = 0; j < v.matrices.size(); ++j) {
-        const BandMatrix& V = v.matrices[j];
+      for (size_t k = 0; k < factors.size(); ++k) {
+        const BandMatrix& V = v.matrices[size_t(factors[k].vIndex)];
         const int bw = V.bandwidth();
-        const double* w = wRows[j].data() + 3L * bw;
+        const double* w = wRows[k].data() + 3L * bw;
         const int t0 = V.toeplitzBegin(), t1 = V.toeplitzEnd();
-        if (t1 > t0)
-          for (int d = -bw; d <= bw; ++d)
-            axpy(V.at(t0, d), w + 3L * (t0 + d), o + 3L * t0, 3L * (t1 - t0), false);
+        if (t1 > t0) {
+          int count = 0;
+          for (int d = -bw; d <= bw; ++d) {
+            rows[count] = w + 3L * (t0 + d);
+            coef[count++] = V.at(t0, d);
+          }
+          combineRows(rows, coef, count, 3L * (t1 - t0), o + 3L * t0, true);
+        }
         for (int b = 0; b < mv; ++b) {
           if (b == t0 && t1 > t0) b = t1;
           if (b >= mv) break;
@@ -351,72 +388,91 @@ struct MultigridPreconditioner::Level {
     }
   }
 
-  /// out = p(diag^-1 K) diag^-1 b from zero: the Chebyshev polynomial of smoothingDegree (1 or 2)
-  /// on [lambda/8, lambda]; degree 2 takes one product with K (`s` is its scratch).
-  void smooth(const ControlNet& b, ControlNet& out) {
+  /// out = p(diag^-1 K) diag^-1 b from zero (out += that when `accumulate`): the Chebyshev
+  /// polynomial of smoothingDegree (1 or 2) on [lambda/8, lambda]; degree 2 takes one product
+  /// with K (`s` is its scratch).
+  void smooth(const ControlNet& b, ControlNet& out, bool accumulate = false) {
     const double hi = lambda, lo = lambda / 8.0;
     const double theta = 0.5 * (hi + lo), delta = 0.5 * (hi - lo);
     const double sigma = theta / delta, rho0 = 1.0 / sigma, rho1 = 1.0 / (2.0 * sigma - rho0);
-    out = invDiag.asDiagonal() * b / theta;
-    if (smoothingDegree < 2) return;
-    if (exactStep) {
-      exactStep(out, b, 1.0 + rho1 * rho0, 2.0 * rho1 / delta, invDiag);
+    if (smoothingDegree >= 2 && exactStep) {
+      exactStep(b, 1.0 / theta, 1.0 + rho1 * rho0, 2.0 * rho1 / delta, invDiag, accumulate, out);
       return;
     }
-    allocateNet(s, points());
-    apply(out, &b, s);
-    out = (1.0 + rho1 * rho0) * out + (2.0 * rho1 / delta) * (invDiag.asDiagonal() * s);
+    ControlNet& target = accumulate ? y : out;
+    target = invDiag.asDiagonal() * b / theta;
+    if (smoothingDegree >= 2) {
+      allocateNet(s, points());
+      apply(target, &b, s);
+      target = (1.0 + rho1 * rho0) * target + (2.0 * rho1 / delta) * (invDiag.asDiagonal() * s);
+    }
+    if (accumulate) addTo(y, out);
   }
   int smoothingDegree = 2;  ///< 1: damped Jacobi (no product with K)
 };
 
 namespace {
 
-/// out (coarse, mc rows of 3 nc) = (Pu (x) Pv)^T in (fine)
-void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, ControlNet& scratch,
+/// out (coarse) = (Pu (x) Pv)^T in (fine), one fine row at a time: the row restricted in v (in
+/// `row`, 3 nvc entries) is added to each of its coarse parent rows, so no restricted copy of
+/// the whole level is written and read back.
+void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, std::vector<double>& row,
                 ControlNet& out) {
   const int muFine = int(tu.parents.size()), nvc = tv.coarseSize(), nuc = tu.coarseSize();
-  allocateNet(scratch, Eigen::Index(muFine) * nvc);
-  for (int a = 0; a < muFine; ++a)
-    for (int j = 0; j < nvc; ++j) {
-      double s[3] = {0, 0, 0};
-      for (const auto& [b, w] : tv.children[size_t(j)])
-        for (int c = 0; c < 3; ++c) s[c] += w * in(Eigen::Index(a) * mvFine + b, c);
-      for (int c = 0; c < 3; ++c) scratch(Eigen::Index(a) * nvc + j, c) = s[c];
-    }
+  const long len = 3L * nvc;
+  row.resize(size_t(len));
   allocateNet(out, Eigen::Index(nuc) * nvc);
   out.setZero();
-  const long len = 3L * nvc;
-  for (int i = 0; i < nuc; ++i) {
-    double* o = out.data() + long(i) * len;
-    for (const auto& [a, w] : tu.children[size_t(i)]) {
-      const double* s = scratch.data() + long(a) * len;
+  double* s = row.data();
+  for (int a = 0; a < muFine; ++a) {
+    const double* fine = in.data() + 3L * a * mvFine;
+    for (int j = 0; j < nvc; ++j) {
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+      for (const auto& [b, w] : tv.children[size_t(j)]) {
+        const double* f = fine + 3L * b;
+        s0 += w * f[0];
+        s1 += w * f[1];
+        s2 += w * f[2];
+      }
+      s[3 * j] = s0;
+      s[3 * j + 1] = s1;
+      s[3 * j + 2] = s2;
+    }
+    for (const auto& [i, w] : tu.parents[size_t(a)]) {
+      double* o = out.data() + long(i) * len;
       for (long m = 0; m < len; ++m) o[m] += w * s[m];
     }
   }
 }
 
-/// out (fine) += (Pu (x) Pv) in (coarse)
-void prolongAdd(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, ControlNet& scratch,
+/// out (fine) += (Pu (x) Pv) in (coarse), one fine row at a time (`row`: that row's coarse
+/// combination in u, 3 nvc entries).
+void prolongAdd(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, std::vector<double>& row,
                 ControlNet& out) {
   const int muFine = int(tu.parents.size()), nvc = tv.coarseSize();
-  allocateNet(scratch, Eigen::Index(muFine) * nvc);
   const long len = 3L * nvc;
+  row.resize(size_t(len));
+  double* s = row.data();
   for (int a = 0; a < muFine; ++a) {
-    double* s = scratch.data() + long(a) * len;
     std::fill(s, s + len, 0.0);
     for (const auto& [i, w] : tu.parents[size_t(a)]) {
       const double* c = in.data() + long(i) * len;
       for (long m = 0; m < len; ++m) s[m] += w * c[m];
     }
-  }
-  for (int a = 0; a < muFine; ++a)
+    double* fine = out.data() + 3L * a * mvFine;
     for (int b = 0; b < mvFine; ++b) {
-      double s[3] = {0, 0, 0};
-      for (const auto& [j, w] : tv.parents[size_t(b)])
-        for (int c = 0; c < 3; ++c) s[c] += w * scratch(Eigen::Index(a) * nvc + j, c);
-      for (int c = 0; c < 3; ++c) out(Eigen::Index(a) * mvFine + b, c) += s[c];
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+      for (const auto& [j, w] : tv.parents[size_t(b)]) {
+        const double* c = s + 3L * j;
+        s0 += w * c[0];
+        s1 += w * c[1];
+        s2 += w * c[2];
+      }
+      fine[3 * b] += s0;
+      fine[3 * b + 1] += s1;
+      fine[3 * b + 2] += s2;
     }
+  }
 }
 
 constexpr Eigen::Index kCoarsestPoints = 400;
@@ -443,8 +499,9 @@ MultigridPreconditioner::MultigridPreconditioner(const SplineSpace& space, const
   // separable fit of the mass term: D_ab ~ du(a) dv(b) / mean(D)
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> D(massTerm.data(), L.mu, L.mv);
   const Eigen::VectorXd du = D.rowwise().mean(), dv = D.colwise().mean().transpose();
-  L.u.matrices.push_back(diagonalMatrix(du));
-  L.v.matrices.push_back(diagonalMatrix(dv));
+  // periodic like the direction, so that its Galerkin products wrap instead of widening
+  L.u.matrices.push_back(diagonalMatrix(du, L.u.periodic));
+  L.v.matrices.push_back(diagonalMatrix(dv, L.v.periodic));
   L.terms.push_back({1.0 / D.mean(), 0, 0});
   // the five energy terms, c G_u^p (x) G_v^q / 4; index p + 1 in each direction's list
   for (int p = 0; p <= 2; ++p) {
@@ -544,12 +601,11 @@ void MultigridPreconditioner::cycle(int level, const ControlNet& r, ControlNet& 
   allocateNet(x, L.points());
   L.smooth(r, x);
   L.apply(x, &r, L.res);
-  restrictTo(L.res, L.toCoarseU, L.toCoarseV, L.mv, L.t, C.r);
+  restrictTo(L.res, L.toCoarseU, L.toCoarseV, L.mv, L.transferRow, C.r);
   cycle(level + 1, C.r, C.x);
-  prolongAdd(C.x, L.toCoarseU, L.toCoarseV, L.mv, L.t, x);
+  prolongAdd(C.x, L.toCoarseU, L.toCoarseV, L.mv, L.transferRow, x);
   L.apply(x, &r, L.res);
-  L.smooth(L.res, L.y);
-  addTo(L.y, x);
+  L.smooth(L.res, x, true);
 }
 
 void MultigridPreconditioner::apply(const ControlNet& r, ControlNet& z) { cycle(0, r, z); }

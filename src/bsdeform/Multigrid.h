@@ -50,9 +50,10 @@ class MultigridPreconditioner {
 
   /// The finest level's operator: out = K x, or out = b - K x when b is given.
   using Operator = std::function<void(const ControlNet& x, const ControlNet* b, ControlNet& out)>;
-  /// x = alpha x + beta diag^-1 (b - K x), in one pass after the product (a smoothing step).
-  using SmoothingStep =
-      std::function<void(ControlNet& x, const ControlNet& b, double alpha, double beta, const Eigen::VectorXd& invDiag)>;
+  /// A smoothing step from zero, in one pass after the product: with x0 = scale diag^-1 b,
+  /// out = alpha x0 + beta diag^-1 (b - K x0), or out += that when `accumulate`.
+  using SmoothingStep = std::function<void(const ControlNet& b, double scale, double alpha, double beta,
+                                           const Eigen::VectorXd& invDiag, bool accumulate, ControlNet& out)>;
   /// Smooth the finest level with the true operator K and its diagonal instead of K~: what the
   /// conjugate gradients iterate on, pins included. `lambdaBound` is an upper bound of
   /// lambda_max(diag^-1 K) that caps the power-iteration estimate.

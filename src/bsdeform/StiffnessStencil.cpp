@@ -271,18 +271,14 @@ double StiffnessStencil::eigenvalueBound() const {
 
 namespace {
 
-// Row kernels, written with GCC/Clang vector extensions so that they vectorise for certain:
-// four doubles per vector (AVX2 in the avx2 clone, two SSE2 registers in the default one).
-// The core is compiled with -ffp-contract=off, so every clone and every chunk width rounds
-// identically and the explicit step reproduces applyMoving() bit for bit.
-typedef double v4 __attribute__((vector_size(32), aligned(8), may_alias));
-typedef long long v4i __attribute__((vector_size(32)));
-
-// Helpers are forced inline so that each CPU-specific clone compiles them for its own ISA.
-#define BSDEFORM_INLINE inline __attribute__((always_inline))
-BSDEFORM_INLINE v4 load4(const double* p) { return *reinterpret_cast<const v4*>(p); }
-BSDEFORM_INLINE void store4(double* p, v4 x) { *reinterpret_cast<v4*>(p) = x; }
-BSDEFORM_INLINE v4 splat(double x) { return v4{x, x, x, x}; }
+// Row kernels, written with the vector extensions of Multiversion.h. The core is compiled with
+// -ffp-contract=off, so every clone and every chunk width rounds identically and the explicit
+// step reproduces applyMoving() bit for bit.
+using simd::load4;
+using simd::splat;
+using simd::store4;
+using simd::v4;
+using simd::v4i;
 
 // Sum_{a,b} S(a,b) q_a[m +- 3b] for 8 consecutive flattened entries starting at m.
 // q[a] points at the folded row sum P(i+a) + P(i-a) (q[0] = P(i)).
