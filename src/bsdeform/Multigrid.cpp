@@ -132,10 +132,21 @@ struct Term {
   int u, v;
 };
 
+/// Row buffers of the transfers.
+struct TransferScratch {
+  std::vector<double> row, pad, filtered;
+};
+
 /// 1-D transfer between a fine and a coarse index set: coarse function j is the sum of
 /// w * fine function f over children[j]; parents[f] lists the same pairs by fine index.
+/// The same as a filter: coarse function i sits at fine position stride i + first and its
+/// children are the fine functions at that position + k with weight taps[k], dropped outside
+/// [0, fineSize) or, when periodic, wrapped.
 struct Transfer1D {
   std::vector<std::vector<std::pair<int, double>>> children, parents;
+  std::vector<double> taps;
+  int stride = 1, first = 0, fineSize = 0;
+  bool periodic = false;
   int coarseSize() const { return int(children.size()); }
 };
 
@@ -144,6 +155,8 @@ Transfer1D identityTransfer(int n) {
   t.children.resize(size_t(n));
   t.parents.resize(size_t(n));
   for (int i = 0; i < n; ++i) t.children[size_t(i)] = t.parents[size_t(i)] = {{i, 1.0}};
+  t.taps = {1.0};
+  t.fineSize = n;
   return t;
 }
 
@@ -166,6 +179,11 @@ bool subdivisionTransfer(const MultigridDirection& dir, int degree, Transfer1D& 
   }
   t.children.assign(size_t(jmax - jmin + 1), {});
   t.parents.assign(size_t(nf), {});
+  t.taps = w;
+  t.stride = 2;
+  t.first = 2 * jmin;
+  t.fineSize = nf;
+  t.periodic = dir.periodic;
   for (int j = jmin; j <= jmax; ++j)
     for (int k = 0; k <= degree + 1; ++k) {
       int f = 2 * j + k;
@@ -243,7 +261,7 @@ struct MultigridPreconditioner::Level {
   Transfer1D toCoarseU, toCoarseV;
   Eigen::LLT<Eigen::MatrixXd> llt;  ///< coarsest level only
   ControlNet r, x, res, y, s;  ///< right-hand side, solution, residual, correction and smoother scratch
-  std::vector<double> transferRow;  ///< one row of the transfers
+  TransferScratch transferScratch;
   /// The operator as sum_j A_j (x) V_j: A_j = sum of c U over the terms with v = j (`vIndex`).
   struct Factor {
     BandMatrix A;
@@ -413,31 +431,61 @@ struct MultigridPreconditioner::Level {
 
 namespace {
 
-/// out (coarse) = (Pu (x) Pv)^T in (fine), one fine row at a time: the row restricted in v (in
-/// `row`, 3 nvc entries) is added to each of its coarse parent rows, so no restricted copy of
-/// the whole level is written and read back.
-void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, std::vector<double>& row,
+/// s = P^T f for one row in the direction of `t` (3 values per point): the row, padded by
+/// K - 1 points each side (zeros, or wrapped when periodic), filtered by the taps at every
+/// position, then sampled at the coarse functions' positions.
+void restrictRow(const double* f, const Transfer1D& t, std::vector<double>& pad, std::vector<double>& filtered,
+                 double* s) {
+  const int K = int(t.taps.size()), nf = t.fineSize;
+  const long halo = 3L * (K - 1);
+  pad.assign(size_t(3L * nf + 2 * halo), 0.0);
+  std::copy(f, f + 3L * nf, pad.begin() + halo);
+  if (t.periodic) std::copy(f, f + halo, pad.begin() + halo + 3L * nf);  // positions nf .. nf + K - 2
+  filtered.resize(size_t(3L * nf + halo));
+  const double* rows[kMaxTaps];
+  for (int k = 0; k < K; ++k) rows[k] = pad.data() + 3L * k;
+  // filtered(q) = sum_k taps[k] f(q - (K - 1) + k)
+  combineRows(rows, t.taps.data(), K, long(filtered.size()), filtered.data(), false);
+  for (int i = 0; i < t.coarseSize(); ++i) {
+    const double* q = filtered.data() + 3L * (t.stride * i + t.first + K - 1);
+    s[3 * i] = q[0];
+    s[3 * i + 1] = q[1];
+    s[3 * i + 2] = q[2];
+  }
+}
+
+/// f += P s for one row in the direction of `t`: the coarse values placed at their positions
+/// (zeros between, K - 1 points of halo before, wrapped when periodic), filtered by the taps.
+void prolongRow(const double* s, const Transfer1D& t, std::vector<double>& placed, double* f) {
+  const int K = int(t.taps.size()), nf = t.fineSize;
+  const long halo = 3L * (K - 1);
+  placed.assign(size_t(3L * nf + halo), 0.0);
+  for (int i = 0; i < t.coarseSize(); ++i) {
+    double* q = placed.data() + halo + 3L * (t.stride * i + t.first);
+    q[0] = s[3 * i];
+    q[1] = s[3 * i + 1];
+    q[2] = s[3 * i + 2];
+  }
+  if (t.periodic) std::copy(placed.end() - halo, placed.end(), placed.begin());  // positions -(K - 1) .. -1
+  const double* rows[kMaxTaps];
+  for (int k = 0; k < K; ++k) rows[k] = placed.data() + halo - 3L * k;
+  // f(b) += sum_k taps[k] placed(b - k)
+  combineRows(rows, t.taps.data(), K, 3L * nf, f, true);
+}
+
+/// out (coarse) = (Pu (x) Pv)^T in (fine), one fine row at a time: the row restricted in v is
+/// added to each of its coarse parent rows, so no restricted copy of the whole level is
+/// written and read back.
+void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, TransferScratch& scratch,
                 ControlNet& out) {
   const int muFine = int(tu.parents.size()), nvc = tv.coarseSize(), nuc = tu.coarseSize();
   const long len = 3L * nvc;
-  row.resize(size_t(len));
+  scratch.row.resize(size_t(len));
   allocateNet(out, Eigen::Index(nuc) * nvc);
   out.setZero();
-  double* s = row.data();
+  double* s = scratch.row.data();
   for (int a = 0; a < muFine; ++a) {
-    const double* fine = in.data() + 3L * a * mvFine;
-    for (int j = 0; j < nvc; ++j) {
-      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-      for (const auto& [b, w] : tv.children[size_t(j)]) {
-        const double* f = fine + 3L * b;
-        s0 += w * f[0];
-        s1 += w * f[1];
-        s2 += w * f[2];
-      }
-      s[3 * j] = s0;
-      s[3 * j + 1] = s1;
-      s[3 * j + 2] = s2;
-    }
+    restrictRow(in.data() + 3L * a * tv.fineSize, tv, scratch.pad, scratch.filtered, s);
     for (const auto& [i, w] : tu.parents[size_t(a)]) {
       double* o = out.data() + long(i) * len;
       for (long m = 0; m < len; ++m) o[m] += w * s[m];
@@ -445,33 +493,20 @@ void restrictTo(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv
   }
 }
 
-/// out (fine) += (Pu (x) Pv) in (coarse), one fine row at a time (`row`: that row's coarse
-/// combination in u, 3 nvc entries).
-void prolongAdd(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, int mvFine, std::vector<double>& row,
+/// out (fine) += (Pu (x) Pv) in (coarse), one fine row at a time.
+void prolongAdd(const ControlNet& in, const Transfer1D& tu, const Transfer1D& tv, TransferScratch& scratch,
                 ControlNet& out) {
   const int muFine = int(tu.parents.size()), nvc = tv.coarseSize();
   const long len = 3L * nvc;
-  row.resize(size_t(len));
-  double* s = row.data();
+  scratch.row.resize(size_t(len));
+  double* s = scratch.row.data();
   for (int a = 0; a < muFine; ++a) {
     std::fill(s, s + len, 0.0);
     for (const auto& [i, w] : tu.parents[size_t(a)]) {
       const double* c = in.data() + long(i) * len;
       for (long m = 0; m < len; ++m) s[m] += w * c[m];
     }
-    double* fine = out.data() + 3L * a * mvFine;
-    for (int b = 0; b < mvFine; ++b) {
-      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
-      for (const auto& [j, w] : tv.parents[size_t(b)]) {
-        const double* c = s + 3L * j;
-        s0 += w * c[0];
-        s1 += w * c[1];
-        s2 += w * c[2];
-      }
-      fine[3 * b] += s0;
-      fine[3 * b + 1] += s1;
-      fine[3 * b + 2] += s2;
-    }
+    prolongRow(s, tv, scratch.pad, out.data() + 3L * a * tv.fineSize);
   }
 }
 
@@ -601,9 +636,9 @@ void MultigridPreconditioner::cycle(int level, const ControlNet& r, ControlNet& 
   allocateNet(x, L.points());
   L.smooth(r, x);
   L.apply(x, &r, L.res);
-  restrictTo(L.res, L.toCoarseU, L.toCoarseV, L.mv, L.transferRow, C.r);
+  restrictTo(L.res, L.toCoarseU, L.toCoarseV, L.transferScratch, C.r);
   cycle(level + 1, C.r, C.x);
-  prolongAdd(C.x, L.toCoarseU, L.toCoarseV, L.mv, L.transferRow, x);
+  prolongAdd(C.x, L.toCoarseU, L.toCoarseV, L.transferScratch, x);
   L.apply(x, &r, L.res);
   L.smooth(L.res, x, true);
 }
