@@ -402,10 +402,15 @@ void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const
   allocateNet(out, s.numMoving());
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
-  forEachInteriorRow(net, m_rowsInterior.first, m_rowsInterior.first + m_rowsInterior.count,
-                     [&](int i, long, const double* const* q) {
-    double* dst = out.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
-    applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
+  // rows are independent: blocks of rows may run on several threads, with the same bits
+  const int parts = explicitStepParts();
+  runParts(parts, [&](int part) {
+    const int first = m_rowsInterior.first, count = m_rowsInterior.count;
+    forEachInteriorRow(net, first + int(long(count) * part / parts), first + int(long(count) * (part + 1) / parts),
+                       [&](int i, long, const double* const* q) {
+      double* dst = out.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
+      applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
+    });
   });
   for (const BandPoint& b : m_band) out.row(b.m) = bandRow(net, b);
 }

@@ -85,7 +85,8 @@ class StiffnessStencil {
 
   /// out = (A P) on the moving points for a full net P (periodic copies in sync): for every
   /// moving point m, the derivative of a(S, S)/2 with respect to P_m. Includes A_IB P_B when P
-  /// holds the held points. `out` is resized to numMoving x 3 (order of movingToNet).
+  /// holds the held points. `out` is resized to numMoving x 3 (order of movingToNet). Splits its
+  /// rows over kernelThreads() like centralDifferenceUpdate(), with the same bits.
   void applyMoving(const ControlNet& net, ControlNet& out) const;
 
   /// The moving–moving block A_II (numMoving x numMoving, scalar, shared by x, y, z).
