@@ -48,9 +48,10 @@ enum class LinearSolver {
 /// what one CHOLMOD solve costs (docs/benchmarks.md).
 constexpr double kAutomaticIterationLimit = 300.0;
 /// Automatic preconditions CG with multigrid above this many predicted Jacobi-CG iterations: a
-/// multigrid iteration costs 7-9 Jacobi ones and 7-8 of them reach 1e-10 at every size
-/// measured (docs/benchmarks.md).
-constexpr double kAutomaticMultigridIterations = 100.0;
+/// multigrid iteration costs about 8 Jacobi ones and 4-6 of them reach 1e-10 at every size
+/// measured with nodal mass (docs/benchmarks.md): equal at 256^2 (31 Jacobi iterations, 37
+/// predicted), multigrid 1.25x faster at 512^2 (64, 71 predicted).
+constexpr double kAutomaticMultigridIterations = 50.0;
 /// Automatic factorises ill-conditioned systems up to this many moving points (300^2: CHOLMOD
 /// takes about 6 s; at 512^2 46 s and 1.1 GB for a step no faster than multigrid's,
 /// docs/benchmarks.md).

@@ -99,6 +99,12 @@ void subtractFrom(const double* __restrict b, double* __restrict y, long n) {
   for (long m = 0; m < n; ++m) y[m] = b[m] - y[m];
 }
 
+// The smoothers work on [lambda / kSmoothingRatio, lambda] of diag^-1 K: the B-spline coarse
+// spaces take the rest. Measured (docs/benchmarks.md): 6 iterations at 512^2 and 1024^2
+// instead of 8 with the ratio 8; 2 and 4 are no better, 12 and more worse; lumped mass needs
+// about as many with any ratio from 2 to 8.
+constexpr double kSmoothingRatio = 3.0;
+
 // Most entries in one row of a level's 1-D matrix.
 constexpr int kMaxTaps = 64;
 
@@ -324,7 +330,7 @@ struct MultigridPreconditioner::Level {
   bool finest = false;
 
   /// 1.15 times a power-iteration estimate of lambda_max(diag^-1 K) (a lower estimate): the
-  /// smoother still reduces every mode up to 9/8 of its upper end.
+  /// smoother still reduces every mode up to 4/3 of its upper end.
   double estimateLambda() {
     std::mt19937 rng(7);
     std::uniform_real_distribution<double> X(-1.0, 1.0);
@@ -407,10 +413,11 @@ struct MultigridPreconditioner::Level {
   }
 
   /// out = p(diag^-1 K) diag^-1 b from zero (out += that when `accumulate`): the Chebyshev
-  /// polynomial of smoothingDegree (1 or 2) on [lambda/8, lambda]; degree 2 takes one product
-  /// with K (`s` is its scratch).
+  /// polynomial of smoothingDegree (1 or 2) on [lambda / kSmoothingRatio, lambda], which
+  /// amplifies no mode of (0, (1 + 1 / kSmoothingRatio) lambda); degree 2 takes one product with
+  /// K (`s` is its scratch).
   void smooth(const ControlNet& b, ControlNet& out, bool accumulate = false) {
-    const double hi = lambda, lo = lambda / 8.0;
+    const double hi = lambda, lo = lambda / kSmoothingRatio;
     const double theta = 0.5 * (hi + lo), delta = 0.5 * (hi - lo);
     const double sigma = theta / delta, rho0 = 1.0 / sigma, rho1 = 1.0 / (2.0 * sigma - rho0);
     if (smoothingDegree >= 2 && exactStep) {

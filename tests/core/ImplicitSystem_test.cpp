@@ -347,9 +347,10 @@ TEST_CASE("Multigrid: the iteration count grows far slower than Jacobi-CG's as t
   }
   INFO("multigrid " << mgIterations[0] << ", " << mgIterations[1] << ", " << mgIterations[2] << "; Jacobi-CG "
                     << cgIterations[0] << ", " << cgIterations[1] << ", " << cgIterations[2]);
-  // Jacobi-CG follows sqrt(kappa) ~ N; the V-cycle grows far slower (not flat: B-spline
-  // multigrid with point smoothers is known to lose some efficiency as the stiffness dominates)
+  // Jacobi-CG follows sqrt(kappa) ~ N; the V-cycle's count grows by far less (not flat: B-spline
+  // multigrid with point smoothers is known to lose some efficiency as the stiffness dominates;
+  // without the coarse correction it would grow like Jacobi-CG's)
   CHECK(cgIterations[2] > 3 * cgIterations[0]);
-  CHECK(double(mgIterations[2]) / mgIterations[0] < 0.5 * double(cgIterations[2]) / cgIterations[0]);
+  CHECK(mgIterations[2] - mgIterations[0] < 0.2 * (cgIterations[2] - cgIterations[0]));
   CHECK(mgIterations[2] <= 15);
 }
