@@ -7,6 +7,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
@@ -67,8 +68,7 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     return;
   }
 
-  allocateNet(m_net, space.netSize());
-  m_net.setZero();
+  ensureNet();
   const Eigen::VectorXd diag = diagonal();
   if (m_method == LinearSolver::Multigrid) {
     try {
@@ -126,11 +126,15 @@ double ImplicitSystem::predictedIterations() const {
   return 0.5 * std::sqrt(m_kappa) * std::log(2.0 / m_tolerance);
 }
 
-void ImplicitSystem::scatterDirection(const ControlNet& x) {
+void ImplicitSystem::ensureNet() {
   if (m_net.rows() != m_space.netSize()) {
     allocateNet(m_net, m_space.netSize());
     m_net.setZero();
   }
+}
+
+void ImplicitSystem::scatterDirection(const ControlNet& x) {
+  ensureNet();
   // Held points of m_net are zero and stay so; pinned points are zeroed after the scatter so
   // that A sees x with its pinned rows and columns removed.
   m_space.scatterMoving(x, m_net);
@@ -180,11 +184,11 @@ void ImplicitSystem::residual(const ControlNet& x, const ControlNet& b, ControlN
 
 void ImplicitSystem::smoothingStep(const ControlNet& b, double scale, double alpha, double beta,
                                    const Eigen::VectorXd& invDiag, bool accumulate, ControlNet& out) {
-  // x0 = scale diag(invDiag) b goes straight into the stencil's net (never stored as a vector)
-  if (m_net.rows() != m_space.netSize()) {
-    allocateNet(m_net, m_space.netSize());
-    m_net.setZero();
-  }
+  assert(b.rows() == m_space.numMoving() && invDiag.size() == b.rows());
+  assert(!accumulate || out.rows() == b.rows());
+  // x0 = scale diag(invDiag) b goes straight into the stencil's net (never stored as a vector),
+  // pinned points zeroed as in scatterDirection()
+  ensureNet();
   const double* pb = b.data();
   const double* inv = invDiag.data();
   const Eigen::Index w = m_space.movingV().count;

@@ -106,6 +106,8 @@ class ImplicitSystem {
   struct Factor;
   /// diag(K): D + diag(A)/4, and D alone on the pinned rows.
   Eigen::VectorXd diagonal() const;
+  /// Allocates m_net (the stencil's argument, held points zero) if it is not yet.
+  void ensureNet();
   /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
   void scatterDirection(const ControlNet& x);
   /// From y = A x~ (pinned columns zeroed, the stencil's output): fn(f, c, k, (K x)_k) for every

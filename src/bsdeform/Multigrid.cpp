@@ -3,6 +3,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -109,7 +110,7 @@ constexpr double kSmoothingRatio = 3.0;
 constexpr int kMaxTaps = 64;
 
 // out = sum_k coef[k] rows[k] (or out += that) over len entries: one pass that keeps the sum in
-// registers, instead of one axpy pass per row.
+// registers.
 BSDEFORM_MULTIVERSION
 void combineRows(const double* const* rows, const double* coef, int count, long len, double* out, bool accumulate) {
   using namespace simd;
@@ -266,7 +267,9 @@ struct MultigridPreconditioner::Level {
   bool coarsest = false;
   Transfer1D toCoarseU, toCoarseV;
   Eigen::LLT<Eigen::MatrixXd> llt;  ///< coarsest level only
-  ControlNet r, x, res, y, s;  ///< right-hand side, solution, residual, correction and smoother scratch
+  /// right-hand side, solution, residual; y: the smoothing added into x (and power-iteration
+  /// scratch); s: the smoother's product
+  ControlNet r, x, res, y, s;
   TransferScratch transferScratch;
   /// The operator as sum_j A_j (x) V_j: A_j = sum of c U over the terms with v = j (`vIndex`).
   struct Factor {
@@ -439,11 +442,13 @@ struct MultigridPreconditioner::Level {
 namespace {
 
 /// s = P^T f for one row in the direction of `t` (3 values per point): the row, padded by
-/// K - 1 points each side (zeros, or wrapped when periodic), filtered by the taps at every
-/// position, then sampled at the coarse functions' positions.
+/// K - 1 points each side (zeros; when periodic the right side holds the row's first points
+/// again, and the left side is never sampled), filtered by the taps at every position, then
+/// sampled at the coarse functions' positions.
 void restrictRow(const double* f, const Transfer1D& t, std::vector<double>& pad, std::vector<double>& filtered,
                  double* s) {
   const int K = int(t.taps.size()), nf = t.fineSize;
+  assert(K >= 1 && K <= kMaxTaps);
   const long halo = 3L * (K - 1);
   pad.assign(size_t(3L * nf + 2 * halo), 0.0);
   std::copy(f, f + 3L * nf, pad.begin() + halo);
@@ -465,6 +470,7 @@ void restrictRow(const double* f, const Transfer1D& t, std::vector<double>& pad,
 /// (zeros between, K - 1 points of halo before, wrapped when periodic), filtered by the taps.
 void prolongRow(const double* s, const Transfer1D& t, std::vector<double>& placed, double* f) {
   const int K = int(t.taps.size()), nf = t.fineSize;
+  assert(K >= 1 && K <= kMaxTaps);
   const long halo = 3L * (K - 1);
   placed.assign(size_t(3L * nf + halo), 0.0);
   for (int i = 0; i < t.coarseSize(); ++i) {

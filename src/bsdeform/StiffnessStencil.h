@@ -60,10 +60,10 @@ class GramRows1D {
   std::vector<double> m_rowSum;
 };
 
-/// Moving points from which StiffnessStencil::centralDifferenceUpdate() splits its interior
-/// rows over kernelThreads() (bsdeform/Parallel.h); below, waking a thread costs more than
-/// it saves (the crossover is measured in docs/benchmarks.md). The result is the same bits
-/// either way. Benchmarks and tests may change it (0: always split).
+/// Moving points from which StiffnessStencil::centralDifferenceUpdate() and applyMoving() split
+/// their interior rows over kernelThreads() (bsdeform/Parallel.h); below, waking a thread costs
+/// more than it saves (the crossover is measured for the explicit step in docs/benchmarks.md).
+/// The result is the same bits either way. Benchmarks and tests may change it (0: always split).
 long explicitParallelMinPoints();
 void setExplicitParallelMinPoints(long points);
 
@@ -136,7 +136,8 @@ class StiffnessStencil {
   /// that fold onto the same column come separately and add).
   template <typename EntryFunction>
   void forEachMovingEntry(EntryFunction&& fn) const;
-  /// Blocks of interior rows of one explicit update: 4 kernelThreads() above the threshold, else 1.
+  /// Blocks of interior rows of one explicit update or applyMoving(): 4 kernelThreads() above the
+  /// threshold, else 1.
   int explicitStepParts() const;
   static constexpr int kMaxStepParts = 64;
   /// fn(i, rowStart, q) for the interior rows i in [rowBegin, rowEnd); q = folded row sums.

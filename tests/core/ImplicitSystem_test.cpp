@@ -270,11 +270,14 @@ TEST_CASE("Multigrid: the Kronecker operator is K, and the V-cycle is symmetric 
     for (Eigen::Index i = 0; i < v.size(); ++i) v.data()[i] = X(rng);
     return v;
   };
+  // even sizes halve exactly; odd ones give a periodic direction its overlapping last coarse
+  // function and a free or clamped one an uneven end
+  for (const auto& [nu, nv] : {std::pair{56, 48}, std::pair{57, 49}})
   for (const Case& c : cases()) {
-    const SplineSpace s(3, 2, 56, 48, c.sides);
+    const SplineSpace s(3, 2, nu, nv, c.sides);
     const StiffnessStencil st(s, Weights{0.5, 0.3, 0.05, 0.02, 0.04});
     const Eigen::VectorXd D = massTerm(s, st, c.lumped, c.lumped ? 0.01 : 0.1);
-    INFO(c.name << ", " << s.numMoving() << " moving points");
+    INFO(c.name << ", " << nu << " x " << nv << ", " << s.numMoving() << " moving points");
     MultigridPreconditioner mg(s, st, st.weights(), D);
     CHECK(mg.levels() >= 3);
     for (int l = 1; l < mg.levels(); ++l) CHECK(mg.levelPoints(l) < mg.levelPoints(l - 1));
@@ -310,8 +313,9 @@ TEST_CASE("Multigrid: the Kronecker operator is K, and the V-cycle is symmetric 
 TEST_CASE("Multigrid: conjugate gradients with the V-cycle solve K x = b on multi-level nets with pins", "[core]") {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> X(-1.0, 1.0);
+  for (const auto& [nu, nv] : {std::pair{30, 26}, std::pair{31, 27}})
   for (const Case& c : cases()) {
-    const SplineSpace s(3, 3, 30, 26, c.sides);
+    const SplineSpace s(3, 3, nu, nv, c.sides);
     const StiffnessStencil st(s, Weights{});
     const Eigen::VectorXd D = massTerm(s, st, c.lumped, c.lumped ? 0.01 : 0.1);
     const std::vector<Eigen::Index> pinned = pinnedMoving(s, c.pins);
@@ -322,8 +326,9 @@ TEST_CASE("Multigrid: conjugate gradients with the V-cycle solve K x = b on mult
     ImplicitSystem mg(s, st, D, pinned, LinearSolver::Multigrid, 1e-11, 200);
     ControlNet x = ControlNet::Zero(s.numMoving(), 3);
     REQUIRE(mg.solve(b, x));
-    INFO(c.name << ": " << mg.lastIterations() << " iterations, " << pinned.size() << " pinned");
-    CHECK(mg.lastIterations() <= 25);
+    INFO(c.name << ", " << nu << " x " << nv << ": " << mg.lastIterations() << " iterations, " << pinned.size()
+                << " pinned");
+    CHECK(mg.lastIterations() <= 12);  // 5-7 when written
     CHECK(relativeError(x, ref) <= mg.conditionBound() * 1e-11);
   }
 }
@@ -349,7 +354,9 @@ TEST_CASE("Multigrid: the iteration count grows far slower than Jacobi-CG's as t
                     << cgIterations[0] << ", " << cgIterations[1] << ", " << cgIterations[2]);
   // Jacobi-CG follows sqrt(kappa) ~ N; the V-cycle's count grows by far less (not flat: B-spline
   // multigrid with point smoothers is known to lose some efficiency as the stiffness dominates;
-  // without the coarse correction it would grow like Jacobi-CG's)
+  // without the coarse correction it would grow like Jacobi-CG's). The increments are compared
+  // (6, 10, 14 against 24, 44, 84 when written): the ratio of counts would mostly measure the
+  // first count.
   CHECK(cgIterations[2] > 3 * cgIterations[0]);
   CHECK(mgIterations[2] - mgIterations[0] < 0.2 * (cgIterations[2] - cgIterations[0]));
   CHECK(mgIterations[2] <= 15);
