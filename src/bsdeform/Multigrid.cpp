@@ -100,11 +100,11 @@ void subtractFrom(const double* __restrict b, double* __restrict y, long n) {
   for (long m = 0; m < n; ++m) y[m] = b[m] - y[m];
 }
 
-// The smoothers work on [lambda / kSmoothingRatio, lambda] of diag^-1 K: the B-spline coarse
-// spaces take the rest. Measured (docs/benchmarks.md): 6 iterations at 512^2 and 1024^2
-// instead of 8 with the ratio 8; 2 and 4 are no better, 12 and more worse; lumped mass needs
-// about as many with any ratio from 2 to 8.
-constexpr double kSmoothingRatio = 3.0;
+// The smoothers work on [lambda / ratio, lambda] of diag^-1 K: the B-spline coarse spaces take
+// the rest. Measured (docs/benchmarks.md): with degrees 2 to 7 the ratio 3 needs 4-6 iterations
+// where 8 needs 7-8 (bicubic: 2 and 4 are no better, 12 and more worse; lumped mass about as
+// many or up to a fifth more); with degree 1 it needs more, so bilinear levels keep 8.
+constexpr double kSmoothingRatio = 3.0, kSmoothingRatioLinear = 8.0;
 
 // Most entries in one row of a level's 1-D matrix.
 constexpr int kMaxTaps = 64;
@@ -416,11 +416,11 @@ struct MultigridPreconditioner::Level {
   }
 
   /// out = p(diag^-1 K) diag^-1 b from zero (out += that when `accumulate`): the Chebyshev
-  /// polynomial of smoothingDegree (1 or 2) on [lambda / kSmoothingRatio, lambda], which
-  /// amplifies no mode of (0, (1 + 1 / kSmoothingRatio) lambda); degree 2 takes one product with
-  /// K (`s` is its scratch).
+  /// polynomial of smoothingDegree (1 or 2) on [lambda / ratio, lambda], which amplifies no mode
+  /// of (0, (1 + 1 / ratio) lambda); degree 2 takes one product with K (`s` is its scratch).
   void smooth(const ControlNet& b, ControlNet& out, bool accumulate = false) {
-    const double hi = lambda, lo = lambda / kSmoothingRatio;
+    const double ratio = std::min(degreeU, degreeV) >= 2 ? kSmoothingRatio : kSmoothingRatioLinear;
+    const double hi = lambda, lo = lambda / ratio;
     const double theta = 0.5 * (hi + lo), delta = 0.5 * (hi - lo);
     const double sigma = theta / delta, rho0 = 1.0 / sigma, rho1 = 1.0 / (2.0 * sigma - rho0);
     if (smoothingDegree >= 2 && exactStep) {

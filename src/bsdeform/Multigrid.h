@@ -18,7 +18,8 @@
 /// the Galerkin product keeps it symmetric positive definite, which is all CG needs.)
 ///
 /// The finest level is smoothed with the true K (the stencil, pins included; useExactOperator())
-/// by a degree-2 Chebyshev polynomial in \f$\mathrm{diag}^{-1} K\f$ on \f$[\lambda/3, \lambda]\f$,
+/// by a degree-2 Chebyshev polynomial in \f$\mathrm{diag}^{-1} K\f$ on \f$[\lambda/3, \lambda]\f$
+/// (\f$[\lambda/8, \lambda]\f$ when a direction is linear),
 /// the coarser ones by damped Jacobi (the degree-1 polynomial of the same interval), λ 1.15 times
 /// a power-iteration estimate of the largest eigenvalue (the smoothers reduce every mode up to
 /// 4/3 λ); the same polynomial before and after the coarse correction keeps the V-cycle
