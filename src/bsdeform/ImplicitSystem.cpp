@@ -137,11 +137,13 @@ void ImplicitSystem::scatterDirection(const ControlNet& x) {
   ensureNet();
   // Held points of m_net are zero and stay so; pinned points are zeroed after the scatter so
   // that A sees x with its pinned rows and columns removed.
-  m_space.scatterMoving(x, m_net);
-  if (!m_pinnedNet.empty()) {
-    for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
-    m_space.refreshPeriodicCopies(m_net);
-  }
+  m_space.scatterMoving(x, m_net);  // refreshes the periodic copies
+  if (!m_pinnedNet.empty()) zeroPinnedInNet();
+}
+
+void ImplicitSystem::zeroPinnedInNet() {
+  for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
+  m_space.refreshPeriodicCopies(m_net);
 }
 
 template <typename XAt, typename EntryFunction>
@@ -200,8 +202,7 @@ void ImplicitSystem::smoothingStep(const ControlNet& b, double scale, double alp
       for (int c = 0; c < 3; ++c) dst[3 * j + c] = s * pb[3 * (f0 + j) + c];
     }
   }
-  for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
-  m_space.refreshPeriodicCopies(m_net);
+  zeroPinnedInNet();
   m_stencil.applyMoving(m_net, m_smooth);
   if (!accumulate) allocateNet(out, b.rows());
   double* po = out.data();

@@ -108,6 +108,8 @@ class ImplicitSystem {
   Eigen::VectorXd diagonal() const;
   /// Allocates m_net (the stencil's argument, held points zero) if it is not yet.
   void ensureNet();
+  /// Zeroes the pinned points of m_net and refreshes its periodic copies.
+  void zeroPinnedInNet();
   /// Writes x into m_net (the stencil's argument) with its pinned points zeroed.
   void scatterDirection(const ControlNet& x);
   /// From y = A x~ (pinned columns zeroed, the stencil's output): fn(f, c, k, (K x)_k) for every

@@ -405,9 +405,8 @@ void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const
   // rows are independent: blocks of rows may run on several threads, with the same bits
   const int parts = explicitStepParts();
   runParts(parts, [&](int part) {
-    const int first = m_rowsInterior.first, count = m_rowsInterior.count;
-    forEachInteriorRow(net, first + int(long(count) * part / parts), first + int(long(count) * (part + 1) / parts),
-                       [&](int i, long, const double* const* q) {
+    const auto [rowBegin, rowEnd] = interiorRowBlock(part, parts);
+    forEachInteriorRow(net, rowBegin, rowEnd, [&](int i, long, const double* const* q) {
       double* dst = out.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
       applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
     });
@@ -422,6 +421,11 @@ std::atomic<long> g_explicitParallelMinPoints{96L * 96};
 long explicitParallelMinPoints() { return g_explicitParallelMinPoints.load(std::memory_order_relaxed); }
 
 void setExplicitParallelMinPoints(long points) { g_explicitParallelMinPoints.store(points, std::memory_order_relaxed); }
+
+std::pair<int, int> StiffnessStencil::interiorRowBlock(int part, int parts) const {
+  const int first = m_rowsInterior.first, count = m_rowsInterior.count;
+  return {first + int(long(count) * part / parts), first + int(long(count) * (part + 1) / parts)};
+}
 
 int StiffnessStencil::explicitStepParts() const {
   const long points = long(m_rowsInterior.count) * m_colsInterior.count;
@@ -443,15 +447,14 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   const int parts = explicitStepParts();
   bool partOk[kMaxStepParts];
   runParts(parts, [&](int part) {
-    const int first = m_rowsInterior.first, count = m_rowsInterior.count;
+    const auto [rowBegin, rowEnd] = interiorRowBlock(part, parts);
     bool ok = true;
-    forEachInteriorRow(current, first + int(long(count) * part / parts), first + int(long(count) * (part + 1) / parts),
-                       [&](int i, long rowStart, const double* const* q) {
-                         const double* lrow = load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count +
-                                                                  (m_colsInterior.first - mv.first));
-                         ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart,
-                                         previous.data() + rowStart, lrow, alpha, gamma, limit);
-                       });
+    forEachInteriorRow(current, rowBegin, rowEnd, [&](int i, long rowStart, const double* const* q) {
+      const double* lrow =
+          load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
+      ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart,
+                      previous.data() + rowStart, lrow, alpha, gamma, limit);
+    });
     partOk[part] = ok;
   });
   bool ok = std::all_of(partOk, partOk + parts, [](bool b) { return b; });

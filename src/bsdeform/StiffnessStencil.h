@@ -18,6 +18,7 @@
 
 #include <Eigen/Sparse>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "bsdeform/SplineSpace.h"
@@ -140,6 +141,8 @@ class StiffnessStencil {
   /// threshold, else 1.
   int explicitStepParts() const;
   static constexpr int kMaxStepParts = 64;
+  /// Interior rows [begin, end) of block `part` of `parts` (consecutive, covering them all).
+  std::pair<int, int> interiorRowBlock(int part, int parts) const;
   /// fn(i, rowStart, q) for the interior rows i in [rowBegin, rowEnd); q = folded row sums.
   template <typename RowFunction>
   void forEachInteriorRow(const ControlNet& net, int rowBegin, int rowEnd, RowFunction&& fn) const;
