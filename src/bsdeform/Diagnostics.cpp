@@ -150,37 +150,32 @@ void vPassProducts(int n, const double* d, const double (*g)[kTaps], const doubl
 
 }  // namespace
 
-DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, const ControlNet& current,
-                              const ControlNet& rest, const ControlNet& previous, const double* mass) {
-  assert(current.rows() == s.netSize() && rest.rows() == s.netSize() && previous.rows() == s.netSize());
-  const int n1 = s.degreeU(), n2 = s.degreeV(), rows = s.netRows(), cols = s.netCols();
-  const LayerRange mu = s.movingU(), mv = s.movingV();
-  const GramRows1D &gu = A.gramU(), &gv = A.gramV();
-  const long rowLen = 3L * cols, movBegin = 3L * mv.first, movLen = 3L * mv.count;
-
-  // Net layer of neighbour layer l, or -1 (as StiffnessStencil::neighbourU/V).
-  auto neighbourU = [&](int l) {
-    if (s.periodicU() && l >= rows) l -= mu.count;
-    return (l >= 0 && l < rows) ? l : -1;
-  };
+DiagnosticPass::DiagnosticPass(const SplineSpace& space, const StiffnessStencil& stencil, const ControlNet& current,
+                               const ControlNet& rest, const ControlNet& previous, const double* mass)
+    : m_space(&space),
+      m_gu(&stencil.gramU()),
+      m_current(current.data()),
+      m_rest(rest.data()),
+      m_previous(previous.data()),
+      m_mass(mass) {
+  assert(current.rows() == space.netSize() && rest.rows() == space.netSize() && previous.rows() == space.netSize());
+  const SplineSpace& s = space;
+  const GramRows1D& gv = stencil.gramV();
+  const int n1 = s.degreeU(), n2 = s.degreeV(), cols = s.netCols();
+  const LayerRange mv = s.movingV();
+  // Columns. Interior: Toeplitz rows of G_v (type 0) whose neighbourhood lies in the net (no
+  // periodic wrap), a contiguous range [jb, je) done by vPassProducts; the others one by one.
   auto neighbourV = [&](int l) {
     if (s.periodicV() && l >= cols) l -= mv.count;
     return (l >= 0 && l < cols) ? l : -1;
   };
-
-  // Columns. Interior: Toeplitz rows of G_v (type 0) whose neighbourhood lies in the net (no
-  // periodic wrap), a contiguous range [jb, je) done by vPassProducts; the others one by one.
   auto interiorColumn = [&](int j) { return gv.rowType(j) == 0 && j - n2 >= 0 && j + n2 < cols; };
   int jb = mv.first;
   while (jb < mv.first + mv.count && !interiorColumn(jb)) ++jb;
   int je = jb;
   while (je < mv.first + mv.count && interiorColumn(je)) ++je;
-  struct BandColumn {
-    int j;
-    int neighbour[kTaps];  // net column of j + e, or -1
-    double g[3][kTaps];    // G_v^q(j, j + e)
-  };
-  std::vector<BandColumn> bandColumns;
+  m_jb = jb;
+  m_je = je;
   for (int j = mv.first; j < mv.first + mv.count; ++j) {
     if (j >= jb && j < je) continue;
     BandColumn c;
@@ -189,32 +184,71 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
       c.neighbour[e + n2] = neighbourV(j + e);
       for (int q = 0; q < 3; ++q) c.g[q][e + n2] = gv.entry(q, gv.rowType(j), e);
     }
-    bandColumns.push_back(c);
+    m_bandColumns.push_back(c);
   }
-  double gvInterior[3][kTaps], guInterior[3][kTaps];
   for (int q = 0; q < 3; ++q) {
-    for (int e = 0; e <= n2; ++e) gvInterior[q][e] = gv.entry(q, 0, e);
-    for (int t = 0; t <= n1; ++t) guInterior[q][t] = gu.entry(q, 0, t);
+    for (int e = 0; e <= n2; ++e) m_gvInterior[q][e] = gv.entry(q, 0, e);
+    for (int t = 0; t <= n1; ++t) m_guInterior[q][t] = m_gu->entry(q, 0, t);
   }
+  m_partial.resize(size_t(std::max(blocks(), 1)));
+}
 
-  // The sums of the rows [rowBegin, rowEnd), with their own buffers (blocks may run on
-  // different threads).
-  auto blockSums = [&](int rowBegin, int rowEnd) {
-    // D = current - rest of the net layers i - n1 .. i + n1 in a ring, keyed by the layer before
-    // the periodic wrap (consecutive keys, different slots).
-    const int slots = 2 * n1 + 1;
-    std::vector<double> ring(size_t(slots) * rowLen);
-    std::vector<int> key(size_t(slots), -1);
-    auto dRow = [&](int unwrapped) -> const double* {  // null: no such layer
-      const int l = neighbourU(unwrapped);
-      if (l < 0) return nullptr;
-      const int slot = unwrapped % slots;
-      double* d = ring.data() + size_t(slot) * rowLen;
-      if (key[size_t(slot)] != unwrapped) {
-        key[size_t(slot)] = unwrapped;
-        difference(current.data() + long(l) * rowLen, rest.data() + long(l) * rowLen, d, rowLen);
-      }
-      return d;
+int DiagnosticPass::blocks() const {
+  return (m_space->movingU().count + kDiagnosticBlockRows - 1) / kDiagnosticBlockRows;
+}
+
+void DiagnosticPass::computeBlock(int b) {
+  const LayerRange mu = m_space->movingU();
+  m_partial[size_t(b)] = blockSums(mu.first + b * kDiagnosticBlockRows,
+                                   mu.first + std::min(mu.count, (b + 1) * kDiagnosticBlockRows));
+}
+
+DiagnosticSums DiagnosticPass::sums() const {
+  // blocks added in block order: the same bits whichever thread computed them
+  DiagnosticSums total = m_partial[0];
+  for (size_t b = 1; b < m_partial.size(); ++b) {
+    const DiagnosticSums& p = m_partial[b];
+    for (int k = 0; k < 5; ++k) total.terms[k] += p.terms[k];
+    total.displacement += p.displacement;
+    total.velocity += p.velocity;
+  }
+  return total;
+}
+
+// The sums of the rows [rowBegin, rowEnd), with their own buffers (blocks may run on different
+// threads).
+DiagnosticSums DiagnosticPass::blockSums(int rowBegin, int rowEnd) const {
+  const SplineSpace& s = *m_space;
+  const GramRows1D& gu = *m_gu;
+  const int n1 = s.degreeU(), n2 = s.degreeV(), rows = s.netRows(), cols = s.netCols();
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  const long rowLen = 3L * cols, movBegin = 3L * mv.first, movLen = 3L * mv.count;
+  const int jb = m_jb, je = m_je;
+  const double* current = m_current;
+  const double* rest = m_rest;
+  const double* previous = m_previous;
+  const double* mass = m_mass;
+
+  // Net layer of neighbour layer l, or -1 (as StiffnessStencil::neighbourU).
+  auto neighbourU = [&](int l) {
+    if (s.periodicU() && l >= rows) l -= mu.count;
+    return (l >= 0 && l < rows) ? l : -1;
+  };
+  // D = current - rest of the net layers i - n1 .. i + n1 in a ring, keyed by the layer before
+  // the periodic wrap (consecutive keys, different slots).
+  const int slots = 2 * n1 + 1;
+  std::vector<double> ring(size_t(slots) * rowLen);
+  std::vector<int> key(size_t(slots), -1);
+  auto dRow = [&](int unwrapped) -> const double* {  // null: no such layer
+    const int l = neighbourU(unwrapped);
+    if (l < 0) return nullptr;
+    const int slot = unwrapped % slots;
+    double* d = ring.data() + size_t(slot) * rowLen;
+    if (key[size_t(slot)] != unwrapped) {
+      key[size_t(slot)] = unwrapped;
+      difference(current + long(l) * rowLen, rest + long(l) * rowLen, d, rowLen);
+    }
+    return d;
   };
   const std::vector<double> zeros(size_t(rowLen), 0.0);  // the layers beyond the net
   std::vector<double> z(3 * size_t(movLen));
@@ -242,7 +276,7 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
         upM[t] = (up[t] ? up[t] : zeros.data()) + movBegin;
         downM[t] = (down[t] ? down[t] : zeros.data()) + movBegin;
       }
-      uPassFolded(n1, d + movBegin, upM, downM, guInterior, current.data() + start, previous.data() + start, movLen, z0,
+      uPassFolded(n1, d + movBegin, upM, downM, m_guInterior, current + start, previous + start, movLen, z0,
                   z1, z2, sums);
     } else {  // a row of a FREE side's outer layers: truncated integrals, not symmetric
       double g[3][kTaps];
@@ -260,7 +294,7 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
         z0[m] = a[0];
         z1[m] = a[1];
         z2[m] = a[2];
-        const double dm = d[movBegin + m], v = current.data()[start + m] - previous.data()[start + m];
+        const double dm = d[movBegin + m], v = current[start + m] - previous[start + m];
         sums[0] += dm * dm;
         sums[1] += v * v;
       }
@@ -270,8 +304,8 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
       out.velocity += sums[1];
     } else {
       const double* m = mass + long(i - mu.first) * mv.count;
-      const double* c = current.data() + start;
-      const double* p = previous.data() + start;
+      const double* c = current + start;
+      const double* p = previous + start;
       double vv = 0.0;
       for (int b = 0; b < mv.count; ++b) {
         const double vx = c[3 * b] - p[3 * b], vy = c[3 * b + 1] - p[3 * b + 1], vz = c[3 * b + 2] - p[3 * b + 2];
@@ -281,8 +315,8 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
     }
     // Y_q = (G_v^q D) on the same entries, and the products Z_p . Y_q
     const long zOffset = 3L * (jb - mv.first);
-    vPassProducts(n2, d + 3L * jb, gvInterior, z0 + zOffset, z1 + zOffset, z2 + zOffset, 3L * (je - jb), out.terms);
-    for (const BandColumn& c : bandColumns) {
+    vPassProducts(n2, d + 3L * jb, m_gvInterior, z0 + zOffset, z1 + zOffset, z2 + zOffset, 3L * (je - jb), out.terms);
+    for (const BandColumn& c : m_bandColumns) {
       const long zc = 3L * (c.j - mv.first);
       for (int k = 0; k < 3; ++k) {
         double y[3] = {0.0, 0.0, 0.0};
@@ -300,28 +334,18 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
     }
   }
   return out;
-  };
+}
 
-  // Fixed blocks of rows, summed in block order: the same bits for any number of threads.
-  const int blocks = (mu.count + kDiagnosticBlockRows - 1) / kDiagnosticBlockRows;
-  std::vector<DiagnosticSums> partial(size_t(std::max(blocks, 1)));
-  auto block = [&](int b) {
-    partial[size_t(b)] = blockSums(mu.first + b * kDiagnosticBlockRows,
-                                   mu.first + std::min(mu.count, (b + 1) * kDiagnosticBlockRows));
-  };
-  if (long(mu.count) * mv.count >= explicitParallelMinPoints()) {
-    runParts(blocks, block);
+DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, const ControlNet& current,
+                              const ControlNet& rest, const ControlNet& previous, const double* mass) {
+  DiagnosticPass pass(s, A, current, rest, previous, mass);
+  const int blocks = pass.blocks();
+  if (long(s.movingU().count) * s.movingV().count >= explicitParallelMinPoints()) {
+    runParts(blocks, [&pass](int b) { pass.computeBlock(b); });
   } else {
-    for (int b = 0; b < blocks; ++b) block(b);
+    for (int b = 0; b < blocks; ++b) pass.computeBlock(b);
   }
-  DiagnosticSums total = partial[0];
-  for (int b = 1; b < blocks; ++b) {
-    const DiagnosticSums& p = partial[size_t(b)];
-    for (int k = 0; k < 5; ++k) total.terms[k] += p.terms[k];
-    total.displacement += p.displacement;
-    total.velocity += p.velocity;
-  }
-  return total;
+  return pass.sums();
 }
 
 }  // namespace bsdeform

@@ -6,9 +6,16 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdlib>
+#include <cstring>
+#include <deque>
 #include <mutex>
 #include <thread>
 #include <vector>
+
+#if defined(__linux__)
+#include <sched.h>
+#include <time.h>
+#endif
 
 namespace bsdeform {
 
@@ -157,7 +164,188 @@ Pool& pool() {
   return p;
 }
 
+// CPUs this process may run on (its affinity mask: `taskset -c 1` gives 1).
+int availableCpus() {
+#if defined(__linux__)
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
+#endif
+  return int(std::thread::hardware_concurrency());
+}
+
+bool defaultBackground() {
+  if (const char* env = std::getenv("BSDEFORM_BACKGROUND")) {
+    if (std::strcmp(env, "0") == 0) return false;
+    if (std::strcmp(env, "1") == 0) return true;
+  }
+  return availableCpus() >= 2;
+}
+
+std::atomic<bool> g_background{defaultBackground()};
+
+// CPU time of the calling thread (a descheduled thread's wall time would hide why it was late).
+std::chrono::nanoseconds threadCpuTime() {
+#if defined(__linux__)
+  timespec ts;
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) == 0)
+    return std::chrono::seconds(ts.tv_sec) + std::chrono::nanoseconds(ts.tv_nsec);
+#endif
+  return std::chrono::steady_clock::now().time_since_epoch();
+}
+
 }  // namespace
+
+struct BackgroundWork::Task {
+  std::function<void(int)> fn;
+  int parts = 0;
+  std::atomic<int> next{0};
+  std::atomic<int> done{0};    // parts finished, by either thread
+  std::atomic<int> beside{0};  // parts the background thread ran
+  std::atomic<long long> besideCpu{0};  // its CPU time in them, ns
+  std::mutex mutex;            // with `finished`
+  std::condition_variable finished;
+};
+
+namespace {
+
+// The background thread: takes works in the order they were handed over and runs the parts
+// their callers have not taken yet. It is started by the first work and sleeps when idle.
+class Background {
+ public:
+  ~Background() {
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      m_stop = true;
+    }
+    m_wake.notify_all();
+    if (m_thread.joinable()) m_thread.join();
+  }
+
+  // false: backing off after a slow hand-over (the caller runs every part in finish())
+  bool submit(const std::shared_ptr<BackgroundWork::Task>& task) {
+    bool wake = false;
+    {
+      std::lock_guard<std::mutex> lock(m_mutex);
+      if (m_serialWorks > 0) {
+        --m_serialWorks;
+        return false;
+      }
+      if (!m_thread.joinable()) m_thread = std::thread([this] { work(); });
+      m_queue.push_back(task);
+      m_queued.fetch_add(1, std::memory_order_release);
+      wake = m_sleeping;
+    }
+    if (wake) m_wake.notify_one();  // a system call: skipped while the thread spins
+    return true;
+  }
+
+  void resetBackoff() {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    m_backoff = m_serialWorks = 0;
+  }
+
+  // After a finish() that waited `waited` for parts of `perPart` each: back off as runParts()
+  // does (Pool::run) when the wait was far longer than a part takes.
+  void report(std::chrono::nanoseconds waited, std::chrono::nanoseconds perPart) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    if (waited > 2 * perPart + std::chrono::microseconds(50)) {
+      m_backoff = std::min(m_backoff == 0 ? 16 : 2 * m_backoff, 4096);
+      m_serialWorks = m_backoff;
+    } else {
+      m_backoff /= 2;
+    }
+  }
+
+ private:
+  void work() {
+    for (;;) {
+      std::shared_ptr<BackgroundWork::Task> task;
+      // Works come one per step of a run: a short spin catches the next without the system
+      // calls of sleeping and waking (measured: they cost the stepping thread about 40 us per
+      // work on this project's VM, a sixth of a 128^2 step).
+      if (!spinUntil([this] { return m_queued.load(std::memory_order_acquire) > 0; })) {
+        std::unique_lock<std::mutex> lock(m_mutex);
+        m_sleeping = true;
+        m_wake.wait(lock, [this] { return m_stop || !m_queue.empty(); });
+        m_sleeping = false;
+      }
+      {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        if (m_stop) return;
+        task = std::move(m_queue.front());
+        m_queue.pop_front();
+        m_queued.fetch_sub(1, std::memory_order_relaxed);
+      }
+      BackgroundWork::Task& t = *task;
+      for (int p; (p = t.next.fetch_add(1)) < t.parts;) {
+        const auto cpu = threadCpuTime();
+        t.fn(p);
+        t.besideCpu.fetch_add((threadCpuTime() - cpu).count(), std::memory_order_relaxed);
+        t.beside.fetch_add(1, std::memory_order_relaxed);
+        if (t.done.fetch_add(1, std::memory_order_acq_rel) + 1 == t.parts) {
+          std::lock_guard<std::mutex> lock(t.mutex);  // the caller is waiting or will see the count
+          t.finished.notify_all();
+        }
+      }
+    }
+  }
+
+  std::mutex m_mutex;
+  std::condition_variable m_wake;
+  std::deque<std::shared_ptr<BackgroundWork::Task>> m_queue;
+  std::thread m_thread;
+  std::atomic<int> m_queued{0};  // works in m_queue, read while spinning
+  bool m_sleeping = false;
+  bool m_stop = false;
+  int m_backoff = 0;
+  int m_serialWorks = 0;
+};
+
+Background& background() {
+  static Background b;
+  return b;
+}
+
+}  // namespace
+
+bool backgroundThreadEnabled() { return g_background.load(std::memory_order_relaxed); }
+
+void setBackgroundThreadEnabled(bool enabled) {
+  g_background.store(enabled, std::memory_order_relaxed);
+  background().resetBackoff();
+}
+
+BackgroundWork::BackgroundWork(int parts, std::function<void(int)> fn) : m_task(std::make_shared<Task>()) {
+  m_task->fn = std::move(fn);
+  m_task->parts = std::max(parts, 0);
+  if (m_task->parts > 0 && backgroundThreadEnabled()) background().submit(m_task);
+}
+
+BackgroundWork::~BackgroundWork() { finish(); }
+
+void BackgroundWork::finish() {
+  if (m_finished) return;
+  m_finished = true;
+  Task& t = *m_task;
+  const auto start = std::chrono::steady_clock::now();
+  int own = 0;
+  for (int p; (p = t.next.fetch_add(1)) < t.parts; ++own) t.fn(p);
+  if (own > 0) t.done.fetch_add(own, std::memory_order_acq_rel);
+  const auto ownEnd = std::chrono::steady_clock::now();
+  auto finished = [&t] { return t.done.load(std::memory_order_acquire) == t.parts; };
+  if (!spinUntil(finished)) {
+    std::unique_lock<std::mutex> lock(t.mutex);
+    t.finished.wait(lock, finished);
+  }
+  const int beside = t.beside.load(std::memory_order_relaxed);
+  if (beside == 0) return;  // nothing was waited for
+  const auto waited = std::chrono::steady_clock::now() - ownEnd;
+  const auto perPart = own > 0 ? std::chrono::nanoseconds(ownEnd - start) / own
+                               : std::chrono::nanoseconds(t.besideCpu.load(std::memory_order_relaxed) / beside);
+  background().report(std::chrono::duration_cast<std::chrono::nanoseconds>(waited), perPart);
+}
+
+int BackgroundWork::partsRunBeside() const { return m_task->beside.load(std::memory_order_relaxed); }
 
 int kernelThreads() { return g_threads.load(std::memory_order_relaxed); }
 

@@ -2,7 +2,8 @@
 #pragma once
 /// @file Parallel.h
 /// A small persistent thread pool for the kernels that split a net into row blocks (the
-/// explicit step, the history diagnostics).
+/// explicit step, the history diagnostics), and one background thread for work that runs beside
+/// the caller (BackgroundWork: a history row computed while the next step is taken).
 ///
 /// Determinism: callers split their work into parts whose results do not depend on which
 /// thread computes them or how many threads there are (each part writes its own rows or its
@@ -10,6 +11,7 @@
 /// thread count; threads only change the wall time.
 
 #include <functional>
+#include <memory>
 
 namespace bsdeform {
 
@@ -29,5 +31,39 @@ void setKernelThreads(int threads);
 /// caller waited much longer for a worker than a part takes (the other cores busy elsewhere:
 /// 16 jobs, doubling up to 4096 while it repeats).
 void runParts(int parts, const std::function<void(int)>& fn);
+
+/// Whether BackgroundWork hands its parts to a background thread. Default: the
+/// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this
+/// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`). Unlike the kernels' threads this is on by default: the caller
+/// never waits for the background thread to start (it runs the parts not yet taken itself), so
+/// a busy second core costs nothing but the hand-over; the background thread sleeps when idle.
+bool backgroundThreadEnabled();
+/// Turns the background thread on or off for the next works, and ends a back-off (see below).
+void setBackgroundThreadEnabled(bool enabled);
+
+/// fn(part) for part = 0..parts-1, run beside the caller: the constructor hands the parts to the
+/// background thread (when enabled) and returns at once; finish() runs on the calling thread
+/// the parts the background thread has not taken, waits for the ones it has, and returns when
+/// every part has run exactly once. The destructor finishes. Parts may run in any order and on
+/// either thread, so they must not depend on each other (write their own results).
+/// If finish() had to wait much longer for a part than a part takes (the background thread
+/// descheduled on a busy machine), the next works run on the caller only, in finish(), for a
+/// while (16 works, doubling while it repeats, up to 4096): only the time changes.
+class BackgroundWork {
+ public:
+  BackgroundWork(int parts, std::function<void(int)> fn);
+  ~BackgroundWork();
+  BackgroundWork(const BackgroundWork&) = delete;
+  BackgroundWork& operator=(const BackgroundWork&) = delete;
+  void finish();
+  /// Parts the background thread ran (for tests and benchmarks; valid after finish()).
+  int partsRunBeside() const;
+
+  struct Task;
+
+ private:
+  std::shared_ptr<Task> m_task;
+  bool m_finished = false;
+};
 
 }  // namespace bsdeform

@@ -5,7 +5,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstring>
+#include <atomic>
+#include <chrono>
+#include <memory>
 #include <random>
+#include <thread>
 
 #include "bsdeform/Parallel.h"
 #include "bsdeform/Simulation.h"
@@ -206,5 +210,112 @@ TEST_CASE("Diagnostics: the same bits on one, two and three threads", "[core]") 
       INFO(t + 1 << " threads");
       CHECK(std::memcmp(&d[0], &d[t], sizeof(Diagnostics)) == 0);
     }
+  }
+}
+
+namespace {
+// Restores the thread settings at the end of a test, whatever happens in it.
+struct ThreadSettingsGuard {
+  bool background = backgroundThreadEnabled();
+  int threads = kernelThreads();
+  ~ThreadSettingsGuard() {
+    setBackgroundThreadEnabled(background);  // also ends a back-off
+    setKernelThreads(threads);
+  }
+};
+}  // namespace
+
+TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnostics() at its state", "[core]") {
+  using B = Boundary;
+  ThreadSettingsGuard guard;
+  struct Case {
+    Boundaries bc;
+    MassModel mass;
+    bool pins;
+    Integrator integrator;
+  };
+  const Case cases[] = {
+      {Boundaries{}, MassModel::Nodal, false, Integrator::Explicit},
+      {Boundaries{B::Free, B::Free, B::Periodic, B::Periodic}, MassModel::Lumped, true, Integrator::Explicit},
+      {Boundaries{B::Periodic, B::Periodic, B::Free, B::Clamped}, MassModel::Nodal, true, Integrator::Explicit},
+      {Boundaries{}, MassModel::Nodal, false, Integrator::Implicit},  // computed at once
+  };
+  for (const Case& c : cases) {
+    ModelParameters p;
+    p.numU = 70;  // three blocks of rows
+    p.numV = 21;
+    p.boundaries = c.bc;
+    p.massModel = c.mass;
+    p.integrator = c.integrator;
+    p.timeStep = 0.01;
+    if (c.pins) p.pins = {Eigen::Vector2d(0.4, 0.5)};
+    INFO("boundaries " << boundaryName(c.bc.uMin) << "/" << boundaryName(c.bc.uMax) << "/" << boundaryName(c.bc.vMin)
+                       << "/" << boundaryName(c.bc.vMax) << (c.integrator == Integrator::Implicit ? ", implicit" : ""));
+    auto sim = std::make_unique<Simulation>(p, restNet(SplineSpace(p.degreeU, p.degreeV, p.numU, p.numV, c.bc)));
+    sim->addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0.3, -0.2, 5.0), ParamRect{0.2, 0.7, 0.3, 0.9}));
+    sim->advance(4);
+    REQUIRE(sim->status() == Status::Ok);
+    REQUIRE(sim->subSteps() <= 16);  // the background thread's range
+
+    // Background thread on: the row's blocks run there or, at get(), on this thread.
+    setBackgroundThreadEnabled(true);
+    setKernelThreads(1);
+    Diagnostics expected = sim->diagnostics();
+    REQUIRE(expected.strain.total > 0.0);
+    PendingDiagnostics row = sim->diagnosticsBeside();
+    sim->advance(3);
+    const Diagnostics beside = row.get();
+    CHECK(std::memcmp(&beside, &expected, sizeof(Diagnostics)) == 0);
+    CHECK(sim->diagnostics().norm != expected.norm);  // the steps changed the state
+
+    // Computed after the steps for certain: the background thread is kept busy by another work
+    // until the row is taken, so get() runs every block on this thread from the copy of the state.
+    expected = sim->diagnostics();
+    std::atomic<bool> busy{false}, release{false};
+    BackgroundWork blocker(1, [&](int) {
+      busy = true;
+      while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!busy && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    REQUIRE(busy);
+    row = sim->diagnosticsBeside();
+    sim->advance(2);
+    const Diagnostics late = row.get();
+    release = true;
+    blocker.finish();
+    CHECK(std::memcmp(&late, &expected, sizeof(Diagnostics)) == 0);
+    setBackgroundThreadEnabled(true);  // end the back-off the blocker's long wait started
+
+    // A second row before the first was taken, then the simulation destroyed: each keeps its values.
+    expected = sim->diagnostics();
+    PendingDiagnostics first = sim->diagnosticsBeside();
+    PendingDiagnostics second = sim->diagnosticsBeside();
+    sim->step();
+    const Diagnostics third = sim->diagnostics();
+    PendingDiagnostics last = sim->diagnosticsBeside();
+    sim.reset();
+    const Diagnostics values[3] = {first.get(), second.get(), last.get()};
+    CHECK(std::memcmp(&values[0], &expected, sizeof(Diagnostics)) == 0);
+    CHECK(std::memcmp(&values[1], &expected, sizeof(Diagnostics)) == 0);
+    CHECK(std::memcmp(&values[2], &third, sizeof(Diagnostics)) == 0);
+  }
+  // Computed at once: background thread off, or two kernel threads.
+  ModelParameters p;
+  p.numU = 40;
+  p.numV = 33;
+  Simulation sim(p);
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0.0, 0.0, 5.0)));
+  sim.advance(3);
+  for (int variant = 0; variant < 2; ++variant) {
+    setBackgroundThreadEnabled(variant == 1);
+    setKernelThreads(variant == 1 ? 2 : 1);
+    INFO((variant == 0 ? "background thread off" : "two kernel threads"));
+    const Diagnostics expected = sim.diagnostics();
+    PendingDiagnostics row = sim.diagnosticsBeside();
+    sim.step();
+    const Diagnostics got = row.get();
+    CHECK(std::memcmp(&got, &expected, sizeof(Diagnostics)) == 0);
+    CHECK(sim.diagnostics().norm != expected.norm);
   }
 }

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The kernels' thread pool (bsdeform/Parallel.h): every part runs exactly once, whichever thread
 // takes it, for back-to-back jobs (the pool's spinning hand-over) and for calls from several
-// threads at once (one of them gets the pool, the others run their parts themselves).
+// threads at once (one of them gets the pool, the others run their parts themselves); and the
+// background thread of BackgroundWork.
 #include <atomic>
+#include <chrono>
 #include <catch2/catch.hpp>
 #include <thread>
 #include <vector>
@@ -40,4 +42,73 @@ TEST_CASE("Parallel: every part runs once, job after job and from several thread
     CHECK(inner.load() == 12);
   }
   setKernelThreads(threads);
+}
+
+namespace {
+// Restores the background-thread setting at the end of a test, whatever happens in it.
+struct BackgroundGuard {
+  bool saved = backgroundThreadEnabled();
+  ~BackgroundGuard() { setBackgroundThreadEnabled(saved); }
+};
+}  // namespace
+
+TEST_CASE("BackgroundWork: every part runs once, on either thread, work after work", "[core]") {
+  BackgroundGuard guard;
+  for (bool enabled : {false, true}) {
+    setBackgroundThreadEnabled(enabled);
+    INFO("background thread " << (enabled ? "on" : "off"));
+    bool ok = true;
+    long beside = 0;
+    for (int w = 0; w < 3000; ++w) {
+      const int parts = w % 7;  // 0 parts too
+      std::vector<std::atomic<int>> runs(static_cast<size_t>(parts));
+      for (auto& r : runs) r = 0;
+      BackgroundWork work(parts, [&](int p) { runs[size_t(p)].fetch_add(1); });
+      if (w % 3 == 0) work.finish();
+      work.finish();  // twice: the second does nothing
+      for (auto& r : runs) ok &= r.load() == 1;
+      ok &= work.partsRunBeside() >= 0 && work.partsRunBeside() <= parts;
+      beside += work.partsRunBeside();
+    }
+    CHECK(ok);
+    if (!enabled) CHECK(beside == 0);
+  }
+  // works from several threads at once share the one background thread
+  setBackgroundThreadEnabled(true);
+  auto works = [](int count) {
+    bool ok = true;
+    for (int w = 0; w < count; ++w) {
+      std::vector<std::atomic<int>> runs(5);
+      for (auto& r : runs) r = 0;
+      { BackgroundWork work(5, [&](int p) { runs[size_t(p)].fetch_add(1); }); }  // the destructor finishes
+      for (auto& r : runs) ok &= r.load() == 1;
+    }
+    return ok;
+  };
+  bool okA = false, okB = false;
+  std::thread other([&] { okB = works(800); });
+  okA = works(800);
+  other.join();
+  CHECK(okA);
+  CHECK(okB);
+}
+
+TEST_CASE("BackgroundWork: the background thread runs parts while the caller goes on", "[core]") {
+  BackgroundGuard guard;
+  setBackgroundThreadEnabled(true);
+  // The caller does not finish until a part has started elsewhere (or 20 s have passed: the
+  // background thread gets a time slice even on one CPU), so the parts cannot all be the caller's.
+  std::atomic<int> started{0};
+  const std::thread::id caller = std::this_thread::get_id();
+  std::atomic<int> onOtherThread{0};
+  BackgroundWork work(4, [&](int) {
+    started.fetch_add(1);
+    if (std::this_thread::get_id() != caller) onOtherThread.fetch_add(1);
+  });
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (started.load() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+  work.finish();
+  CHECK(started.load() == 4);
+  CHECK(onOtherThread.load() >= 1);
+  CHECK(work.partsRunBeside() == onOtherThread.load());
 }

@@ -49,10 +49,14 @@ QString History::detailedCsvHeader() {
 }
 
 QString History::detailedCsvRow(const Simulation& sim, const Diagnostics& d) {
+  return detailedCsvRow(sim.time(), sim.stepCount(), sim.subSteps(), d);
+}
+
+QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d) {
   const StrainEnergy& e = d.strain;
-  return QStringList{historyNumber(sim.time()), QString::number(sim.stepCount()), historyNumber(d.norm),
+  return QStringList{historyNumber(time), QString::number(steps), historyNumber(d.norm),
                      historyNumber(d.kinetic), historyNumber(e.total), historyNumber(e.w10), historyNumber(e.w01),
-                     historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(sim.subSteps())}
+                     historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(subSteps)}
              .join(QLatin1Char(',')) +
          QLatin1Char('\n');
 }

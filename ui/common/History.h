@@ -41,6 +41,8 @@ class History {
   /// terms w10 w01 w11 w20 w02, sub-steps).
   static QString detailedCsvHeader();
   static QString detailedCsvRow(const Simulation& sim, const Diagnostics& d);
+  /// The same line for a state recorded earlier: its time, step count and sub-steps per step.
+  static QString detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d);
 
  private:
   QVector<double> m_time, m_norm, m_kinetic, m_strain;

@@ -134,14 +134,26 @@ Failure RunLoop::checkOutputNames() const {
 }
 
 // One history row: the diagnostics of the current state, computed once, in one pass over the
-// nets (bsdeform::Simulation::diagnostics()).
+// nets, on the background thread while the next step is taken
+// (bsdeform::Simulation::diagnosticsBeside()); written when the next row begins or the run ends.
 void RunLoop::record(Surface& s) {
+  flushRow(s);
   const Simulation& sim = s.node->simulation();
-  const Diagnostics d = sim.diagnostics();
-  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader();
-  s.csv += History::detailedCsvRow(sim, d);
-  s.history.append(sim.time(), d);
+  s.pending.time = sim.time();
+  s.pending.steps = sim.stepCount();
+  s.pending.subSteps = sim.subSteps();
+  s.pending.values = sim.diagnosticsBeside();
   s.lastRecorded = sim.stepCount();
+}
+
+void RunLoop::flushRow(Surface& s) {
+  Surface::PendingRow& row = s.pending;
+  if (!row.values.valid()) return;
+  const Diagnostics d = row.values.get();
+  row.values = PendingDiagnostics();
+  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader();
+  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d);
+  s.history.append(row.time, d);
 }
 
 // History rows (not in a sweep child, which writes nothing): the first state, every state whose
@@ -218,8 +230,10 @@ Failure RunLoop::run() {
     if (m_blewUp) break;
   }
   if (recording)
-    for (Surface& s : m_surfaces)
+    for (Surface& s : m_surfaces) {
       if (s.lastRecorded != s.node->simulation().stepCount()) record(s);
+      flushRow(s);
+    }
   const double seconds = timer.elapsed() / 1000.0;
 
   if (o.resultOnly) {

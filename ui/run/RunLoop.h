@@ -18,6 +18,7 @@
 #include "RunSetup.h"
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/Simulation.h"
 
 class SoSeparator;
 class SoBSplineDeformSurface;
@@ -45,11 +46,22 @@ class RunLoop {
     History history;
     long lastRecorded = -1;  ///< step count of the last history row
     bool failed = false;
+    /// The last row begun: its values are computed beside the next step
+    /// (Simulation::diagnosticsBeside()) and written by flushRow().
+    struct PendingRow {
+      double time = 0.0;
+      long steps = 0;
+      int subSteps = 0;
+      PendingDiagnostics values;
+    } pending;
   };
 
   Failure prepare();
   Failure checkOutputNames() const;
+  /// Begins the history row of the current state (after writing the one before).
   void record(Surface& s);
+  /// Writes the row begun last, if it is not written yet.
+  void flushRow(Surface& s);
   /// Steps every surface up to frame `frame` of the run (frames count the smallest time step).
   void advance(long frame);
   Failure render(long frame);
