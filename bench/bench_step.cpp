@@ -10,6 +10,10 @@
 //   Diagnostics/<N>/<T>   what the runner records per history row: eq. 15 norm, kinetic energy
 //                         and the five strain-energy terms in one pass (issue 11 item 1)
 //   DiagnosticsPerTerm/<N> the same from deformationNorm(), kineticEnergy(), strainEnergy()
+//   RecordedStep/<N>/<R>  one step of the runner's region-load scene (auto sub-steps: 2 at 128^2)
+//                         with R = 0 no history row, 1 a row computed on the stepping thread
+//                         (diagnostics()), 2 a row computed beside the step
+//                         (diagnosticsBeside(), issue 11 item 1); wall time
 // N is the number of free control points per side (N^2 in all), bicubic, paper weights.
 // Counters: points/s = free control points updated per second.
 #include <benchmark/benchmark.h>
@@ -206,6 +210,33 @@ void DiagnosticsPerTerm(benchmark::State& state) {
   state.counters["points/s"] = benchmark::Counter(double(N) * N, benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// The runner's loop: a step, then the history row of the new state (none, on this thread, or
+// beside the next step, collected after it).
+void RecordedStep(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const int rows = static_cast<int>(state.range(1));
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  p.damping = 1.0;  // the scene of docs/benchmarks.md, "Runner history (item 1)"
+  bsdeform::Simulation sim(p);
+  sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 60),
+                                                            bsdeform::ParamRect{0.3, 0.7, 0.3, 0.7}));
+  bsdeform::PendingDiagnostics row;
+  double sum = 0.0;
+  for (auto _ : state) {
+    sim.step();
+    if (rows == 1) sum += sim.diagnostics().norm;
+    if (rows == 2) {
+      if (row.valid()) sum += row.get().norm;
+      row = sim.diagnosticsBeside();
+    }
+  }
+  if (row.valid()) sum += row.get().norm;
+  benchmark::DoNotOptimize(sum);
+  if (sim.status() != bsdeform::Status::Ok) state.SkipWithError("simulation diverged");
+  state.counters["sub-steps"] = sim.subSteps();
+}
+
 }  // namespace
 
 // <N>/<threads>: wall time (UseRealTime), since the second thread's time is not the caller's CPU time
@@ -223,6 +254,7 @@ BENCHMARK(Diagnostics)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
 BENCHMARK(DiagnosticsPerTerm)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
+BENCHMARK(RecordedStep)->ArgsProduct({{64, 128, 256}, {0, 1, 2}})->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 int main(int argc, char** argv) {
   bsdeform::setKernelThreads(1);  // one thread unless a benchmark asks for more
