@@ -198,16 +198,17 @@ int DiagnosticPass::blocks() const {
 }
 
 void DiagnosticPass::computeBlock(int b) {
+  assert(b >= 0 && b < blocks());
   const LayerRange mu = m_space->movingU();
-  m_partial[size_t(b)] = blockSums(mu.first + b * kDiagnosticBlockRows,
+  m_partial[size_t(b)].sums = blockSums(mu.first + b * kDiagnosticBlockRows,
                                    mu.first + std::min(mu.count, (b + 1) * kDiagnosticBlockRows));
 }
 
 DiagnosticSums DiagnosticPass::sums() const {
   // blocks added in block order: the same bits whichever thread computed them
-  DiagnosticSums total = m_partial[0];
+  DiagnosticSums total = m_partial[0].sums;
   for (size_t b = 1; b < m_partial.size(); ++b) {
-    const DiagnosticSums& p = m_partial[b];
+    const DiagnosticSums& p = m_partial[b].sums;
     for (int k = 0; k < 5; ++k) total.terms[k] += p.terms[k];
     total.displacement += p.displacement;
     total.velocity += p.velocity;

@@ -58,16 +58,17 @@ struct DiagnosticSums {
 
 /// diagnosticSums() in blocks of 32 rows that may run on any thread and in any order (each
 /// writes its own partial sums), added in block order by sums(): the same bits as
-/// diagnosticSums(). Keeps the data pointers of the nets it is given (not the ControlNet
-/// objects): the nets' storage must stay unchanged and alive until the last block has run, even
-/// if the ControlNet objects swap their storage meanwhile (Simulation::diagnosticsBeside()).
+/// diagnosticSums(). Keeps pointers to everything it is given (the nets' storage, the space,
+/// the stencil's Gram rows, the masses): they must stay unchanged and alive until the last
+/// block has run (Simulation::diagnosticsBeside() runs the blocks beside the steps, on copies
+/// of the current and previous nets).
 class DiagnosticPass {
  public:
   /// Arguments as diagnosticSums().
   DiagnosticPass(const SplineSpace& space, const StiffnessStencil& stencil, const ControlNet& current,
                  const ControlNet& rest, const ControlNet& previous, const double* mass);
   int blocks() const;
-  /// Block b in [0, blocks()); distinct blocks may run at the same time.
+  /// Block b in [0, blocks()); distinct blocks may run at the same time, on any thread.
   void computeBlock(int b);
   /// The sums, once every block has run.
   DiagnosticSums sums() const;
@@ -86,7 +87,10 @@ class DiagnosticPass {
   int m_jb = 0, m_je = 0;  ///< interior columns [jb, je): Toeplitz rows of G_v, no periodic wrap
   std::vector<BandColumn> m_bandColumns;  ///< the other moving columns
   double m_gvInterior[3][2 * kMaxDegree + 1] = {}, m_guInterior[3][2 * kMaxDegree + 1] = {};
-  std::vector<DiagnosticSums> m_partial;  ///< per block
+  struct alignas(64) BlockSums {  // a cache line of its own: blocks on two threads
+    DiagnosticSums sums;
+  };
+  std::vector<BlockSums> m_partial;  ///< per block
 };
 
 /// The sums for D = current - rest (full nets, periodic copies in sync, D zero at held points).

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <deque>
 #include <mutex>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -50,6 +51,35 @@ bool spinUntil(Done&& done) {
   }
 }
 
+// When the other cores are busy (a shared machine), a thread that took a part may be
+// descheduled and the caller waits for it far longer than the part takes: measured, the 128^2
+// step then took 1.45x its one-thread time. After such a wait the next jobs run on the caller
+// alone, 16 of them, twice as many after every further such wait (up to 4096), halved again by
+// every job without. Only the time changes: the results are the same bits.
+class Backoff {
+ public:
+  /// Whether the next job runs on its caller alone (and counts it).
+  bool serial() {
+    if (m_serial == 0) return false;
+    --m_serial;
+    return true;
+  }
+  /// After a job that was handed out: whether its caller waited far too long.
+  void report(bool slow) {
+    if (slow) {
+      m_length = std::min(m_length == 0 ? 16 : 2 * m_length, 4096);
+      m_serial = m_length;
+    } else {
+      m_length /= 2;  // a machine that stays busy fails again soon: come back down slowly
+    }
+  }
+  void reset() { m_length = m_serial = 0; }
+
+ private:
+  int m_length = 0;  // serial jobs after the last slow one (0: none)
+  int m_serial = 0;  // serial jobs still to run
+};
+
 // A job's parts are taken from an atomic counter, so a worker that comes late finds them done
 // by the caller and nothing waits for it. Handshake: a job's fields are written before
 // m_helpers (release); a worker counts itself in m_active before it claims a helper slot, and
@@ -70,10 +100,7 @@ class Pool {
   bool run(int parts, int threads, const std::function<void(int)>& fn) {
     std::unique_lock<std::mutex> busy(m_busy, std::try_to_lock);
     if (!busy.owns_lock()) return false;
-    if (m_serialJobs > 0) {  // backing off: see below
-      --m_serialJobs;
-      return false;
-    }
+    if (m_backoff.serial()) return false;
     while (int(m_workers.size()) < threads - 1) m_workers.emplace_back([this] { work(); });
     m_fn = &fn;
     m_parts = parts;
@@ -95,19 +122,9 @@ class Pool {
       m_done.wait(lock, finished);
     }
     m_fn = nullptr;
-    // When the other cores are busy (a shared machine), a worker that took a part may be
-    // descheduled and the caller waits for it far longer than the part takes: measured, the
-    // 128^2 step then took 1.45x its one-thread time. After such a job the next ones run on the
-    // caller alone, 16 of them, twice as many after every further such job (up to 4096, halved
-    // again by every job without). Only the time changes: the results are the same bits.
     const auto waited = std::chrono::steady_clock::now() - ownEnd;
     const auto perPart = (ownEnd - start) / std::max(ownParts, 1);
-    if (ownParts > 0 && waited > 2 * perPart + std::chrono::microseconds(20)) {
-      m_backoff = std::min(m_backoff == 0 ? 16 : 2 * m_backoff, 4096);
-      m_serialJobs = m_backoff;
-    } else {
-      m_backoff /= 2;  // a machine that stays busy fails again soon: come back down slowly
-    }
+    m_backoff.report(ownParts > 0 && waited > 2 * perPart + std::chrono::microseconds(20));
     return true;
   }
 
@@ -155,8 +172,7 @@ class Pool {
   std::atomic<int> m_helpers{0};  // workers the job still takes
   std::atomic<long> m_generation{0};
   std::atomic<bool> m_stop{false};
-  int m_backoff = 0;     // serial jobs after the last slow one (0: none)
-  int m_serialJobs = 0;  // serial jobs still to run
+  Backoff m_backoff;
 };
 
 Pool& pool() {
@@ -209,51 +225,39 @@ struct BackgroundWork::Task {
 namespace {
 
 // The background thread: takes works in the order they were handed over and runs the parts
-// their callers have not taken yet. It is started by the first work and sleeps when idle.
+// their callers have not taken yet. It is started by the first work and sleeps when idle. The
+// one instance is never destroyed (a work finished during static destruction still finds it);
+// the thread ends with the process.
 class Background {
  public:
-  ~Background() {
-    {
-      std::lock_guard<std::mutex> lock(m_mutex);
-      m_stop = true;
-    }
-    m_wake.notify_all();
-    if (m_thread.joinable()) m_thread.join();
-  }
-
-  // false: backing off after a slow hand-over (the caller runs every part in finish())
-  bool submit(const std::shared_ptr<BackgroundWork::Task>& task) {
+  void submit(const std::shared_ptr<BackgroundWork::Task>& task) {
     bool wake = false;
     {
       std::lock_guard<std::mutex> lock(m_mutex);
-      if (m_serialWorks > 0) {
-        --m_serialWorks;
-        return false;
+      if (m_backoff.serial()) return;  // the caller runs every part in finish()
+      if (!m_thread.joinable()) {
+        try {
+          m_thread = std::thread([this] { work(); });
+        } catch (const std::system_error&) {
+          return;  // no thread to be had: the caller runs every part
+        }
       }
-      if (!m_thread.joinable()) m_thread = std::thread([this] { work(); });
       m_queue.push_back(task);
       m_queued.fetch_add(1, std::memory_order_release);
       wake = m_sleeping;
     }
     if (wake) m_wake.notify_one();  // a system call: skipped while the thread spins
-    return true;
   }
 
   void resetBackoff() {
     std::lock_guard<std::mutex> lock(m_mutex);
-    m_backoff = m_serialWorks = 0;
+    m_backoff.reset();
   }
 
-  // After a finish() that waited `waited` for parts of `perPart` each: back off as runParts()
-  // does (Pool::run) when the wait was far longer than a part takes.
+  // After a finish() that waited `waited` for parts of `perPart` each (Parallel.h).
   void report(std::chrono::nanoseconds waited, std::chrono::nanoseconds perPart) {
     std::lock_guard<std::mutex> lock(m_mutex);
-    if (waited > 2 * perPart + std::chrono::microseconds(50)) {
-      m_backoff = std::min(m_backoff == 0 ? 16 : 2 * m_backoff, 4096);
-      m_serialWorks = m_backoff;
-    } else {
-      m_backoff /= 2;
-    }
+    m_backoff.report(waited > 2 * perPart + std::chrono::microseconds(50));
   }
 
  private:
@@ -261,17 +265,15 @@ class Background {
     for (;;) {
       std::shared_ptr<BackgroundWork::Task> task;
       // Works come one per step of a run: a short spin catches the next without the system
-      // calls of sleeping and waking (measured: they cost the stepping thread about 40 us per
-      // work on this project's VM, a sixth of a 128^2 step).
+      // calls of sleeping and waking (docs/benchmarks.md, "Rows beside the steps").
       if (!spinUntil([this] { return m_queued.load(std::memory_order_acquire) > 0; })) {
         std::unique_lock<std::mutex> lock(m_mutex);
         m_sleeping = true;
-        m_wake.wait(lock, [this] { return m_stop || !m_queue.empty(); });
+        m_wake.wait(lock, [this] { return !m_queue.empty(); });
         m_sleeping = false;
       }
       {
         std::lock_guard<std::mutex> lock(m_mutex);
-        if (m_stop) return;
         task = std::move(m_queue.front());
         m_queue.pop_front();
         m_queued.fetch_sub(1, std::memory_order_relaxed);
@@ -296,13 +298,11 @@ class Background {
   std::thread m_thread;
   std::atomic<int> m_queued{0};  // works in m_queue, read while spinning
   bool m_sleeping = false;
-  bool m_stop = false;
-  int m_backoff = 0;
-  int m_serialWorks = 0;
+  Backoff m_backoff;
 };
 
 Background& background() {
-  static Background b;
+  static Background& b = *new Background;  // never destroyed: see above
   return b;
 }
 

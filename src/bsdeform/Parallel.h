@@ -34,9 +34,12 @@ void runParts(int parts, const std::function<void(int)>& fn);
 
 /// Whether BackgroundWork hands its parts to a background thread. Default: the
 /// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this
-/// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`). Unlike the kernels' threads this is on by default: the caller
-/// never waits for the background thread to start (it runs the parts not yet taken itself), so
-/// a busy second core costs nothing but the hand-over; the background thread sleeps when idle.
+/// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`; a CPU
+/// quota of a container is not seen). Unlike the kernels' threads this is on by default: the
+/// caller never waits for the background thread to start (it runs the parts not yet taken
+/// itself). What a busy machine can cost: the background thread spins up to 200 us after each
+/// work before it sleeps (CPU time, measured in docs/benchmarks.md), and a caller may wait once
+/// for a part whose thread was descheduled before the back-off below sets in.
 bool backgroundThreadEnabled();
 /// Turns the background thread on or off for the next works, and ends a back-off (see below).
 void setBackgroundThreadEnabled(bool enabled);
@@ -45,16 +48,20 @@ void setBackgroundThreadEnabled(bool enabled);
 /// background thread (when enabled) and returns at once; finish() runs on the calling thread
 /// the parts the background thread has not taken, waits for the ones it has, and returns when
 /// every part has run exactly once. The destructor finishes. Parts may run in any order and on
-/// either thread, so they must not depend on each other (write their own results).
-/// If finish() had to wait much longer for a part than a part takes (the background thread
-/// descheduled on a busy machine), the next works run on the caller only, in finish(), for a
-/// while (16 works, doubling while it repeats, up to 4096): only the time changes.
+/// either thread, so they must not depend on each other (write their own results). Works of
+/// several threads share the one background thread, first come first served.
+/// Back-off, for the whole process: when finish() waited for the background thread more than
+/// twice the time of a part plus 50 us (a part's time: the caller's own parts, or the
+/// background thread's CPU time per part when the caller ran none), the next 16 works run on
+/// their callers only, in finish(); 16 doubles with every further such wait, up to 4096, and
+/// halves with every work without. Only the time changes.
 class BackgroundWork {
  public:
   BackgroundWork(int parts, std::function<void(int)> fn);
   ~BackgroundWork();
   BackgroundWork(const BackgroundWork&) = delete;
   BackgroundWork& operator=(const BackgroundWork&) = delete;
+  /// Runs what is left on this thread, waits for the rest; then every part has run. Once.
   void finish();
   /// Parts the background thread ran (for tests and benchmarks; valid after finish()).
   int partsRunBeside() const;

@@ -48,7 +48,8 @@ enum class Status {
 };
 
 /// Simulation::diagnosticsBeside(): a history row being computed beside the caller. Holds its
-/// values once finished, even after the Simulation is gone. Not thread-safe (like Simulation).
+/// values once finished, even after the Simulation is gone. Use it on the thread that uses
+/// the Simulation (its job is shared with it).
 class PendingDiagnostics {
  public:
   PendingDiagnostics() = default;
@@ -195,11 +196,12 @@ class Simulation {
   /// The copy (two more nets of memory, allocated at the first call and reused) is written with
   /// streaming stores: the background thread reads the copy, never the nets the steps rewrite,
   /// because a core writing cache lines another core has just read waits for them (measured in
-  /// docs/benchmarks.md: reading the live nets made the 128^2 step 30 % slower).
+  /// docs/benchmarks.md: reading the live nets made the 128^2 step 30-45 % slower).
   /// Computed at once instead (no copy) when the background thread is disabled, when the
   /// kernels already use more than one thread (kernelThreads()), for the implicit scheme and
-  /// from 16 sub-steps per step on (a row then costs little next to a step).
-  /// A second call, and destruction, first finish the row before.
+  /// above 16 sub-steps per step (a row then costs little next to a step).
+  /// A second call, and destruction, first finish the row before. Call it, and get() on what it
+  /// returns, from the thread that uses this Simulation.
   PendingDiagnostics diagnosticsBeside() const;
   /// Load vector L (numMoving x 3, order of SplineSpace::movingToNet) of all forces at the
   /// current state and time.

@@ -11,6 +11,7 @@
 #include <random>
 #include <thread>
 
+#include "../support/ThreadSettings.h"
 #include "bsdeform/Parallel.h"
 #include "bsdeform/Simulation.h"
 
@@ -213,18 +214,6 @@ TEST_CASE("Diagnostics: the same bits on one, two and three threads", "[core]") 
   }
 }
 
-namespace {
-// Restores the thread settings at the end of a test, whatever happens in it.
-struct ThreadSettingsGuard {
-  bool background = backgroundThreadEnabled();
-  int threads = kernelThreads();
-  ~ThreadSettingsGuard() {
-    setBackgroundThreadEnabled(background);  // also ends a back-off
-    setKernelThreads(threads);
-  }
-};
-}  // namespace
-
 TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnostics() at its state", "[core]") {
   using B = Boundary;
   ThreadSettingsGuard guard;
@@ -271,20 +260,27 @@ TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnost
     // Computed after the steps for certain: the background thread is kept busy by another work
     // until the row is taken, so get() runs every block on this thread from the copy of the state.
     expected = sim->diagnostics();
-    std::atomic<bool> busy{false}, release{false};
-    BackgroundWork blocker(1, [&](int) {
-      busy = true;
-      while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    });
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-    while (!busy && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
-    REQUIRE(busy);
-    row = sim->diagnosticsBeside();
-    sim->advance(2);
-    const Diagnostics late = row.get();
-    release = true;
-    blocker.finish();
-    CHECK(std::memcmp(&late, &expected, sizeof(Diagnostics)) == 0);
+    {
+      setBackgroundThreadEnabled(true);  // ends a back-off a slow get() above may have started
+      std::atomic<bool> busy{false}, release{false};
+      BackgroundWork blocker(1, [&](int) {
+        busy = true;
+        while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      });
+      struct Release {  // destroyed before `blocker`: its finish() never waits forever
+        std::atomic<bool>& flag;
+        ~Release() { flag = true; }
+      } releaseOnExit{release};
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+      while (!busy && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+      CHECK(busy);
+      row = sim->diagnosticsBeside();
+      sim->advance(2);
+      const Diagnostics late = row.get();
+      release = true;
+      blocker.finish();
+      CHECK(std::memcmp(&late, &expected, sizeof(Diagnostics)) == 0);
+    }
     setBackgroundThreadEnabled(true);  // end the back-off the blocker's long wait started
 
     // A second row before the first was taken, then the simulation destroyed: each keeps its values.

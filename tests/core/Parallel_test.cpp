@@ -9,12 +9,13 @@
 #include <thread>
 #include <vector>
 
+#include "../support/ThreadSettings.h"
 #include "bsdeform/Parallel.h"
 
 using namespace bsdeform;
 
 TEST_CASE("Parallel: every part runs once, job after job and from several threads", "[core]") {
-  const int threads = kernelThreads();
+  ThreadSettingsGuard guard;
   for (int t : {1, 2, 3}) {
     setKernelThreads(t);
     INFO(t << " threads");
@@ -41,19 +42,10 @@ TEST_CASE("Parallel: every part runs once, job after job and from several thread
     runParts(4, [&](int) { runParts(3, [&](int) { inner.fetch_add(1); }); });
     CHECK(inner.load() == 12);
   }
-  setKernelThreads(threads);
 }
 
-namespace {
-// Restores the background-thread setting at the end of a test, whatever happens in it.
-struct BackgroundGuard {
-  bool saved = backgroundThreadEnabled();
-  ~BackgroundGuard() { setBackgroundThreadEnabled(saved); }
-};
-}  // namespace
-
 TEST_CASE("BackgroundWork: every part runs once, on either thread, work after work", "[core]") {
-  BackgroundGuard guard;
+  ThreadSettingsGuard guard;
   for (bool enabled : {false, true}) {
     setBackgroundThreadEnabled(enabled);
     INFO("background thread " << (enabled ? "on" : "off"));
@@ -67,7 +59,6 @@ TEST_CASE("BackgroundWork: every part runs once, on either thread, work after wo
       if (w % 3 == 0) work.finish();
       work.finish();  // twice: the second does nothing
       for (auto& r : runs) ok &= r.load() == 1;
-      ok &= work.partsRunBeside() >= 0 && work.partsRunBeside() <= parts;
       beside += work.partsRunBeside();
     }
     CHECK(ok);
@@ -94,7 +85,7 @@ TEST_CASE("BackgroundWork: every part runs once, on either thread, work after wo
 }
 
 TEST_CASE("BackgroundWork: the background thread runs parts while the caller goes on", "[core]") {
-  BackgroundGuard guard;
+  ThreadSettingsGuard guard;
   setBackgroundThreadEnabled(true);
   // The caller does not finish until a part has started elsewhere (or 20 s have passed: the
   // background thread gets a time slice even on one CPU), so the parts cannot all be the caller's.
@@ -111,4 +102,44 @@ TEST_CASE("BackgroundWork: the background thread runs parts while the caller goe
   CHECK(started.load() == 4);
   CHECK(onOtherThread.load() >= 1);
   CHECK(work.partsRunBeside() == onOtherThread.load());
+}
+
+TEST_CASE("BackgroundWork: after a long wait for the background thread the next works run on their callers", "[core]") {
+  ThreadSettingsGuard guard;
+  setBackgroundThreadEnabled(true);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  // A part that sleeps on the background thread until released 30 ms later: the caller waits
+  // far longer than the part's CPU time.
+  std::atomic<bool> busy{false}, release{false};
+  {
+    BackgroundWork slow(1, [&](int) {
+      busy = true;
+      while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    while (!busy && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+    std::thread releaser([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(30));
+      release = true;
+    });
+    slow.finish();
+    releaser.join();
+    REQUIRE(slow.partsRunBeside() == 1);
+  }
+  // backing off: the background thread gets nothing, however long the caller waits
+  std::atomic<int> runs{0};
+  {
+    BackgroundWork next(4, [&](int) { runs.fetch_add(1); });
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    CHECK(runs.load() == 0);
+    next.finish();
+    CHECK(runs.load() == 4);
+    CHECK(next.partsRunBeside() == 0);
+  }
+  // setBackgroundThreadEnabled() ends the back-off
+  setBackgroundThreadEnabled(true);
+  std::atomic<int> started{0};
+  BackgroundWork again(4, [&](int) { started.fetch_add(1); });
+  while (started.load() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
+  again.finish();
+  CHECK(again.partsRunBeside() >= 1);
 }

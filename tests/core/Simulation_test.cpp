@@ -6,6 +6,7 @@
 #include <memory>
 #include <random>
 
+#include "../support/ThreadSettings.h"
 #include "bsdeform/Parallel.h"
 #include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
@@ -406,17 +407,6 @@ TEST_CASE("Simulation: a time at which the step no longer advances the clock is 
   CHECK(sim.step() == Status::Ok);
 }
 
-namespace {
-/// Restores the kernel thread count and the split threshold when a test leaves, passed or not.
-struct ThreadSettingsGuard {
-  int threads = kernelThreads();
-  long minPoints = explicitParallelMinPoints();
-  ~ThreadSettingsGuard() {
-    setKernelThreads(threads);
-    setExplicitParallelMinPoints(minPoints);
-  }
-};
-}  // namespace
 
 TEST_CASE("Simulation: the explicit step on 2 or 3 threads gives the same bits as on one", "[core]") {
   // Blocks of interior rows run on several threads (issue 11 item 6); every point's arithmetic

@@ -58,7 +58,7 @@ TEST_CASE("History: bsdeform-run's CSV rows have a value under every header colu
   sim.advance(5);
   const bsdeform::Diagnostics d = sim.diagnostics();
   const QStringList header = History::detailedCsvHeader().trimmed().split(QLatin1Char(','));
-  const QStringList row = History::detailedCsvRow(sim, d).trimmed().split(QLatin1Char(','));
+  const QStringList row = History::detailedCsvRow(sim.time(), sim.stepCount(), sim.subSteps(), d).trimmed().split(QLatin1Char(','));
   REQUIRE(row.size() == header.size());
   auto value = [&](const char* column) { return row[header.indexOf(QLatin1String(column))].toDouble(); };
   CHECK(value("time") == sim.time());

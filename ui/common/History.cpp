@@ -3,7 +3,7 @@
 
 #include <QStringList>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/Diagnostics.h"
 
 namespace bsdeform {
 
@@ -46,10 +46,6 @@ QByteArray History::csv() const {
 
 QString History::detailedCsvHeader() {
   return QStringLiteral("time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps\n");
-}
-
-QString History::detailedCsvRow(const Simulation& sim, const Diagnostics& d) {
-  return detailedCsvRow(sim.time(), sim.stepCount(), sim.subSteps(), d);
 }
 
 QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d) {

@@ -14,7 +14,6 @@
 namespace bsdeform {
 
 struct Diagnostics;
-class Simulation;
 
 class History {
  public:
@@ -36,12 +35,10 @@ class History {
   /// "time,norm,kinetic,strain" and one line per sample.
   QByteArray csv() const;
 
-  /// bsdeform-run's history CSV: the header line (with its newline) and the line of the
-  /// current state of `sim` with its diagnostics `d` (time, step, norm, kinetic, strain and its
-  /// terms w10 w01 w11 w20 w02, sub-steps).
+  /// bsdeform-run's history CSV: the header line (with its newline) and the line of a state at
+  /// `time` after `steps` steps of `subSteps` sub-steps, with its diagnostics `d` (time, step,
+  /// norm, kinetic, strain and its terms w10 w01 w11 w20 w02, sub-steps).
   static QString detailedCsvHeader();
-  static QString detailedCsvRow(const Simulation& sim, const Diagnostics& d);
-  /// The same line for a state recorded earlier: its time, step count and sub-steps per step.
   static QString detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d);
 
  private:
