@@ -54,7 +54,8 @@ void setBackgroundThreadEnabled(bool enabled);
 /// twice the time of a part plus 50 us (a part's time: the caller's own parts, or the
 /// background thread's CPU time per part when the caller ran none), the next 16 works run on
 /// their callers only, in finish(); 16 doubles with every further such wait, up to 4096, and
-/// halves with every work without. Only the time changes.
+/// halves with every work the background thread helped with and no such wait. Only the time
+/// changes.
 class BackgroundWork {
  public:
   BackgroundWork(int parts, std::function<void(int)> fn);
