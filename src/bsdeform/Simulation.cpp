@@ -7,14 +7,14 @@
 
 #include <Eigen/SparseCholesky>
 #include <algorithm>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 #include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#if defined(__SSE2__)
+#include <emmintrin.h>  // _mm_stream_pd: the copy for rows computed beside the steps
+#endif
 
 namespace bsdeform {
 
