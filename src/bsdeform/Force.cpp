@@ -144,19 +144,19 @@ DistributedForce::DistributedForce(ForceFunction density, unsigned dependence, R
 
 namespace {
 // l(layer) = integral over [lo, hi] of the B-spline of each moving layer of one direction (a
-// periodic copy adds to the layer it repeats; held layers are left out), with the n+1-point
-// rule on every span split at lo and hi: exact. Indexed by moving layer - first moving layer.
+// periodic copy adds to the layer it repeats, a derived layer to its sources with their
+// weights; held layers are left out), with the n+1-point rule on every span split at lo and
+// hi: exact. Indexed by moving layer - first moving layer.
 std::vector<double> layerIntegrals(const BSplineBasis1D& basis, const LayerRange& moving,
-                                   int (SplineSpace::*movingLayer)(int) const, const SplineSpace& s, double lo,
-                                   double hi) {
+                                   const std::vector<LayerWeight>& (SplineSpace::*fold)(int) const,
+                                   const SplineSpace& s, double lo, double hi) {
   std::vector<double> l(size_t(moving.count), 0.0);
   LocalBasis b;
   for (const Node1D& q : splitQuadrature(basis, lo, hi, basis.degree() + 1)) {
     basis.evaluateInSpan(q.span, q.x, 0, b);
-    for (int a = 0; a < b.count; ++a) {
-      const int layer = (s.*movingLayer)(b.first + a + basis.degree());
-      if (layer >= 0) l[size_t(layer - moving.first)] += q.w * b.d[0][a];
-    }
+    for (int a = 0; a < b.count; ++a)
+      for (const LayerWeight& w : (s.*fold)(b.first + a + basis.degree()))
+        l[size_t(w.layer - moving.first)] += w.weight * q.w * b.d[0][a];
   }
   return l;
 }
@@ -169,8 +169,8 @@ void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   }
   const SplineSpace& s = ctx.space;
   const LayerRange mu = s.movingU(), mv = s.movingV();
-  const std::vector<double> lu = layerIntegrals(s.basisU(), mu, &SplineSpace::movingLayerU, s, m_rect.u0, m_rect.u1);
-  const std::vector<double> lv = layerIntegrals(s.basisV(), mv, &SplineSpace::movingLayerV, s, m_rect.v0, m_rect.v1);
+  const std::vector<double> lu = layerIntegrals(s.basisU(), mu, &SplineSpace::foldU, s, m_rect.u0, m_rect.u1);
+  const std::vector<double> lv = layerIntegrals(s.basisV(), mv, &SplineSpace::foldV, s, m_rect.v0, m_rect.v1);
   // only the B-splines that meet the rectangle: a small region loads few rows
   int b0 = 0, b1 = mv.count;
   while (b0 < b1 && lv[size_t(b0)] == 0.0) ++b0;

@@ -138,12 +138,12 @@ void ImplicitSystem::scatterDirection(const ControlNet& x) {
   // Held points of m_net are zero and stay so; pinned points are zeroed after the scatter so
   // that A sees x with its pinned rows and columns removed.
   m_space.scatterMoving(x, m_net);  // refreshes the periodic copies
-  if (!m_pinnedNet.empty()) zeroPinnedInNet();
+  if (!m_pinnedNet.empty() || m_space.hasDerived()) zeroPinnedInNet();
 }
 
 void ImplicitSystem::zeroPinnedInNet() {
   for (Eigen::Index r : m_pinnedNet) m_net.row(r).setZero();
-  m_space.refreshPeriodicCopies(m_net);
+  m_space.completeNet(m_net, nullptr);  // derived layers follow x (homogeneous)
 }
 
 template <typename XAt, typename EntryFunction>

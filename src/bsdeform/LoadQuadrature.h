@@ -31,16 +31,16 @@ SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, cons
 
 /// Calls fn(i, j, B_k(u, v)) for every B-spline k non-zero at (u, v), given the 1-D bases, with
 /// (i, j) the net layers of the moving point it loads (a periodic copy loads the point it
-/// repeats); held points are skipped.
+/// repeats, a derived point the sources it follows, with its weights: SplineSpace::foldU());
+/// held points are skipped. One point may come more than once.
 template <typename Fn>
 inline void forEachMovingBasis(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, Fn&& fn) {
   for (int a = 0; a < bu.count; ++a) {
-    const int i = s.movingLayerU(bu.first + a + s.degreeU());
-    if (i < 0) continue;
-    for (int b = 0; b < bv.count; ++b) {
-      const int j = s.movingLayerV(bv.first + b + s.degreeV());
-      if (j >= 0) fn(i, j, bu.d[0][a] * bv.d[0][b]);
-    }
+    const std::vector<LayerWeight>& fu = s.foldU(bu.first + a + s.degreeU());
+    for (const LayerWeight& wu : fu)
+      for (int b = 0; b < bv.count; ++b)
+        for (const LayerWeight& wv : s.foldV(bv.first + b + s.degreeV()))
+          fn(wu.layer, wv.layer, wu.weight * wv.weight * bu.d[0][a] * bv.d[0][b]);
   }
 }
 

@@ -230,20 +230,24 @@ BandMatrix galerkin(const BandMatrix& B, const Transfer1D& t) {
   return C;
 }
 
-/// The 1-D Gram matrix G^p of the moving layers of one direction (StiffnessStencil.h).
+/// The 1-D Gram matrix G^p of the moving layers of one direction (StiffnessStencil.h); with
+/// derived layers (SIMPLY_SUPPORTED, BUILT_IN) T^T G T: a derived neighbour's entry folds onto
+/// its source layers (SplineSpace::foldU), which lie within the band.
 BandMatrix gramMatrix(const GramRows1D& g, const LayerRange& moving, int netLayers, bool periodic, int p,
-                      int (SplineSpace::*movingLayer)(int) const, const SplineSpace& space) {
+                      const std::vector<LayerWeight>& (SplineSpace::*fold)(int) const, const SplineSpace& space) {
   const int n = g.degree();
   BandMatrix B(moving.count, n, periodic);
   for (int a = 0; a < moving.count; ++a) {
     const int i = moving.first + a;
     const int type = g.rowType(i);
     for (int d = -n; d <= n; ++d) {
-      if (!periodic) {
-        const int l = i + d;
-        if (l < 0 || l >= netLayers || (space.*movingLayer)(l) < 0) continue;
+      if (periodic) {
+        B.at(a, d) = g.entry(p, type, d);
+        continue;
       }
-      B.at(a, d) = g.entry(p, type, d);
+      const int l = i + d;
+      if (l < 0 || l >= netLayers) continue;
+      for (const LayerWeight& w : (space.*fold)(l)) B.at(a, w.layer - i) += w.weight * g.entry(p, type, d);
     }
   }
   return B;
@@ -539,10 +543,13 @@ MultigridPreconditioner::MultigridPreconditioner(const SplineSpace& space, const
   const Boundaries& sides = space.boundaries();
   L.u.periodic = space.periodicU();
   L.v.periodic = space.periodicV();
-  L.u.clampedMin = sides.uMin == Boundary::Clamped;
-  L.u.clampedMax = sides.uMax == Boundary::Clamped;
-  L.v.clampedMin = sides.vMin == Boundary::Clamped;
-  L.v.clampedMax = sides.vMax == Boundary::Clamped;
+  // SIMPLY_SUPPORTED and BUILT_IN sides keep some outer layers moving: their coarse functions
+  // are cut at the edge like a FREE side's (the transfer only has to be a good one)
+  auto allHeld = [](Boundary side, int n) { return side != Boundary::Periodic && edgeLayers(side, n).held >= n; };
+  L.u.clampedMin = allHeld(sides.uMin, L.degreeU);
+  L.u.clampedMax = allHeld(sides.uMax, L.degreeU);
+  L.v.clampedMin = allHeld(sides.vMin, L.degreeV);
+  L.v.clampedMax = allHeld(sides.vMax, L.degreeV);
 
   // separable fit of the mass term: D_ab ~ du(a) dv(b) / mean(D)
   const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> D(massTerm.data(), L.mu, L.mv);
@@ -554,9 +561,9 @@ MultigridPreconditioner::MultigridPreconditioner(const SplineSpace& space, const
   // the five energy terms, c G_u^p (x) G_v^q / 4; index p + 1 in each direction's list
   for (int p = 0; p <= 2; ++p) {
     L.u.matrices.push_back(gramMatrix(stencil.gramU(), space.movingU(), space.netRows(), L.u.periodic, p,
-                                      &SplineSpace::movingLayerU, space));
+                                      &SplineSpace::foldU, space));
     L.v.matrices.push_back(gramMatrix(stencil.gramV(), space.movingV(), space.netCols(), L.v.periodic, p,
-                                      &SplineSpace::movingLayerV, space));
+                                      &SplineSpace::foldV, space));
   }
   const struct {
     double w;

@@ -154,8 +154,10 @@ double Simulation::massPerPoint() const {
 }
 
 double Simulation::massAt(int i, int j) const {
-  if (m_params.massModel == MassModel::Nodal) return m_params.mass;
   const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
+  // next to a side with derived layers a point also carries their mass (GramRows1D)
+  if (m_params.massModel == MassModel::Nodal)
+    return m_params.mass * gu.nodalFactor(gu.rowType(i)) * gv.nodalFactor(gv.rowType(j));
   return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
 }
 
@@ -200,8 +202,14 @@ void Simulation::init() {
   const Boundaries& bc = m_space.boundaries();
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
-  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree);
-  m_elasticLambda = m_uniformMass ? m_stencilLambda / massPerPoint() : m_stencil.elementEigenvalueBound() / m_params.mass;
+  // Derived layers (SIMPLY_SUPPORTED, BUILT_IN) make the masses of their sources larger.
+  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_space.hasDerived();
+  if (m_uniformMass)
+    m_elasticLambda = m_stencilLambda / massPerPoint();
+  else if (m_params.massModel == MassModel::Lumped)
+    m_elasticLambda = m_stencil.elementEigenvalueBound() / m_params.mass;
+  else
+    m_elasticLambda = m_stencil.nodalEigenvalueBound() / m_params.mass;
   if (m_uniformMass) {
     m_massMoving.resize(0);
   } else {
@@ -236,7 +244,8 @@ ControlNet Simulation::boundaryTerm() const {
     const Eigen::Index r = m_space.movingToNet(f);
     if (!m_pinMask[size_t(r)]) heldOnly.row(r).setZero();
   }
-  m_space.refreshPeriodicCopies(heldOnly);
+  // derived layers at their value for zero unknowns (pins included): the constant part of T x + y0
+  m_space.completeNet(heldOnly, &m_rest);
   ControlNet term;
   m_stencil.applyMoving(heldOnly, term);
   return term;
@@ -282,6 +291,13 @@ void Simulation::updateSubSteps() {
   const MassContext mc{m_space, massPerPoint(), [this](int i, int j) { return massAt(i, j); }};
   double forceLambda = 0.0;
   for (const auto& f : m_forces) forceLambda += f->eigenvalueBound(mc);
+  // a force's bound holds for the layers' own masses; with derived layers those are lumped
+  // onto their sources, which the lumping factor covers (StiffnessStencil::nodalEigenvalueBound)
+  if (m_space.hasDerived()) {
+    const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
+    forceLambda *= m_params.massModel == MassModel::Nodal ? gu.nodalLumpingBound() * gv.nodalLumpingBound()
+                                                           : gu.lumpedLumpingBound() * gv.lumpedLumpingBound();
+  }
   m_lambdaMax = m_elasticLambda + forceLambda;
   const double oldStep = subStepSize();
   int n = 1;
@@ -375,7 +391,7 @@ void Simulation::applyStartRule() {
     const double m = m_uniformMass ? massPerPoint() : m_massMoving[f];
     m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta / m) * (load.row(f) - elastic.row(f));
   }
-  m_space.refreshPeriodicCopies(m_previous);
+  m_space.completeNet(m_previous, &m_rest);
 }
 
 bool Simulation::explicitSubStep(double t) {
@@ -391,7 +407,7 @@ bool Simulation::explicitSubStep(double t) {
   const bool ok =
       m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit, scale);
   holdPins(m_previous);
-  m_space.refreshPeriodicCopies(m_previous);
+  m_space.completeNet(m_previous, &m_rest);
   m_current.swap(m_previous);
   return ok;
 }
@@ -422,9 +438,9 @@ bool Simulation::implicitSubStep(double t) {
   bool ok = solved;
   for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= m_divergenceLimit;
   m_space.scatterMoving(next, m_previous);
-  if (!m_pinned.empty()) {
+  if (!m_pinned.empty() || m_space.hasDerived()) {
     holdPins(m_previous);
-    m_space.refreshPeriodicCopies(m_previous);
+    m_space.completeNet(m_previous, &m_rest);
   }
   m_current.swap(m_previous);
   if (!solved && next.allFinite()) {
@@ -520,7 +536,9 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   for (int i = 0; i < m_space.netRows(); ++i)
     for (int j = 0; j < m_space.netCols(); ++j) {
       const int mi = m_space.movingLayerU(i), mj = m_space.movingLayerV(j);
-      const bool isHeld = mi < 0 || mj < 0 || m_pinMask[size_t(mi) * m_space.netCols() + mj];
+      const bool sideHeld = m_space.foldU(i).empty() || m_space.foldV(j).empty();
+      if (!sideHeld && (mi < 0 || mj < 0)) continue;  // derived: checked below
+      const bool isHeld = sideHeld || m_pinMask[size_t(mi) * m_space.netCols() + mj];
       if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
       if (held == HeldPoints::Check) {
@@ -534,6 +552,17 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
       cur.row(r) = m_rest.row(r);
       prev.row(r) = m_rest.row(r);
     }
+  // Derived layers (SIMPLY_SUPPORTED, BUILT_IN sides) must follow their sources, then are
+  // recomputed exactly.
+  if (m_space.hasDerived()) {
+    if (held == HeldPoints::Check) {
+      const double worst = std::max(m_space.derivedMismatch(cur, m_rest), m_space.derivedMismatch(prev, m_rest));
+      require(worst <= 1e-12, "the control points next to a SIMPLY_SUPPORTED or BUILT_IN side do not hold the edge "
+                              "at its rest position (relative mismatch " + num(worst) + ")");
+    }
+    m_space.completeNet(cur, &m_rest);
+    m_space.completeNet(prev, &m_rest);
+  }
   m_seamMismatch = std::max(m_seamMismatch, seam);
   m_current = std::move(cur);
   m_previous = std::move(prev);
@@ -654,6 +683,7 @@ ControlNet Simulation::staticSolution() const {
                              num(res));
   ControlNet net = m_rest;
   m_space.scatterMoving(x, net);
+  m_space.completeNet(net, &m_rest);
   return net;
 }
 

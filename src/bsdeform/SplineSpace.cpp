@@ -3,6 +3,7 @@
 
 #include "bsdeform/LoadQuadrature.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -38,8 +39,47 @@ const char* boundaryName(Boundary b) {
     case Boundary::Clamped: return "CLAMPED";
     case Boundary::Free: return "FREE";
     case Boundary::Periodic: return "PERIODIC";
+    case Boundary::SimplySupported: return "SIMPLY_SUPPORTED";
+    case Boundary::BuiltIn: return "BUILT_IN";
   }
   return "?";
+}
+
+EdgeLayers edgeLayers(Boundary side, int n) {
+  EdgeLayers e;
+  switch (side) {
+    case Boundary::Free:
+    case Boundary::Periodic: return e;
+    case Boundary::Clamped: e.held = n; return e;
+    case Boundary::SimplySupported:
+      if (n == 1) {
+        e.held = 1;
+        return e;
+      }
+      e.derived = 1;
+      break;
+    case Boundary::BuiltIn:
+      if (n <= 2) {
+        e.held = 2;  // degree 2: both outer layers (= CLAMPED); degree 1: the outer one and k = 0
+        return e;
+      }
+      e.derived = 2;
+      break;
+  }
+  // The side u = 0 in cardinal coordinates x = u/h: outer layer l = 0..n-1 (l = 0 at the edge) is
+  // function k = l - n, b^n(x - k); at x = 0 its value is b^n(n - l) and its derivative
+  // b^n'(n - l) (continuous there for n >= 2). The side u = 1 is the mirror image (the derivative
+  // changes sign, which leaves Z alone).
+  const int r = e.derived;
+  e.sources = n - r;
+  Eigen::MatrixXd C(r, n);
+  for (int l = 0; l < n; ++l) {
+    C(0, l) = cardinalBSpline(n, n - l);
+    if (r == 2) C(1, l) = cardinalBSplineDerivative(n, 1, n - l);
+  }
+  // eliminate the r outermost layers: C_E P_E + C_S P_S = g  =>  P_E = C_E^-1 (g - C_S P_S)
+  e.Z = -C.leftCols(r).fullPivLu().solve(C.rightCols(e.sources));
+  return e;
 }
 
 namespace {
@@ -51,9 +91,42 @@ LayerRange movingLayers(const BSplineBasis1D& basis, Boundary lo, Boundary hi, c
                                 ": a periodic direction needs PERIODIC on both sides");
   const int n = basis.degree(), N = basis.numFree();
   if (lo == Boundary::Periodic) return {n, N + n};
-  const int first = lo == Boundary::Free ? 0 : n;
-  const int last = hi == Boundary::Free ? N + 2 * n : N + n;
+  const EdgeLayers a = edgeLayers(lo, n), b = edgeLayers(hi, n);
+  const int first = a.held + a.derived, last = N + 2 * n - (b.held + b.derived);
+  if (last - first < 1)
+    throw std::invalid_argument(std::string(loName) + " " + boundaryName(lo) + " and " + hiName + " " +
+                                boundaryName(hi) + " hold every control point of the " + std::to_string(N) +
+                                " inner layers at degree " + std::to_string(n) + ": give more control points");
   return {first, last - first};
+}
+
+// Derived layers of the two sides of one direction, and every layer's fold (SplineSpace::foldU).
+void buildFold(const BSplineBasis1D& basis, Boundary lo, Boundary hi, const LayerRange& moving,
+               std::vector<SplineSpace::DerivedSide>& sides, std::vector<std::vector<LayerWeight>>& fold) {
+  const int n = basis.degree(), layers = basis.numTotal();
+  fold.assign(size_t(layers), {});
+  if (lo == Boundary::Periodic) {
+    for (int l = 0; l < layers; ++l) {
+      const int target = l < n ? l + moving.count : l;
+      fold[size_t(l)].push_back({target, 1.0});
+    }
+    return;
+  }
+  for (int l = moving.first; l < moving.first + moving.count; ++l) fold[size_t(l)].push_back({l, 1.0});
+  for (int side = 0; side < 2; ++side) {
+    const EdgeLayers e = edgeLayers(side == 0 ? lo : hi, n);
+    if (e.derived == 0) continue;
+    // outer layer l (from the edge) is net layer l on the low side, layers - 1 - l on the high one
+    auto net = [&](int l) { return side == 0 ? l : layers - 1 - l; };
+    SplineSpace::DerivedSide d;
+    d.Z = e.Z;
+    for (int r = 0; r < e.derived; ++r) d.derived.push_back(net(e.held + r));
+    for (int s = 0; s < e.sources; ++s) d.sources.push_back(net(e.held + e.derived + s));
+    for (int r = 0; r < e.derived; ++r)
+      for (int s = 0; s < e.sources; ++s)
+        if (e.Z(r, s) != 0.0) fold[size_t(d.derived[size_t(r)])].push_back({d.sources[size_t(s)], e.Z(r, s)});
+    sides.push_back(std::move(d));
+  }
 }
 
 int movingLayer(const LayerRange& r, bool periodic, int n, int layer) {
@@ -68,6 +141,9 @@ SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Bou
       m_boundaries(b),
       m_movingU(movingLayers(m_u, b.uMin, b.uMax, "boundaryUMin", "boundaryUMax")),
       m_movingV(movingLayers(m_v, b.vMin, b.vMax, "boundaryVMin", "boundaryVMax")) {
+  buildFold(m_u, b.uMin, b.uMax, m_movingU, m_derivedU, m_foldU);
+  buildFold(m_v, b.vMin, b.vMax, m_movingV, m_derivedV, m_foldV);
+  m_hasDerived = !m_derivedU.empty() || !m_derivedV.empty();
   const long long points = static_cast<long long>(numU) * numV;
   if (points > kMaxInnerPoints)
     throw std::invalid_argument("numU * numV must be at most " + std::to_string(kMaxInnerPoints) +
@@ -128,6 +204,50 @@ void SplineSpace::refreshPeriodicCopies(ControlNet& net) const {
     for (int i = 0; i < rows; ++i)
       for (int j = 0; j < n; ++j) net.row(Eigen::Index(i) * cols + j) = net.row(Eigen::Index(i) * cols + j + shift);
   }
+}
+
+void SplineSpace::refreshDerived(ControlNet& net, const ControlNet* rest) const {
+  if (!m_hasDerived) return;
+  const int rows = netRows(), cols = netCols();
+  // u sides: whole net rows
+  for (const DerivedSide& d : m_derivedU)
+    for (size_t r = 0; r < d.derived.size(); ++r) {
+      double* dst = net.data() + 3L * d.derived[r] * cols;
+      const double* rd = rest ? rest->data() + 3L * d.derived[r] * cols : nullptr;
+      for (long m = 0; m < 3L * cols; ++m) dst[m] = rd ? rd[m] : 0.0;
+      for (size_t s = 0; s < d.sources.size(); ++s) {
+        const double z = d.Z(Eigen::Index(r), Eigen::Index(s));
+        const double* src = net.data() + 3L * d.sources[s] * cols;
+        const double* rs = rest ? rest->data() + 3L * d.sources[s] * cols : nullptr;
+        if (rs)
+          for (long m = 0; m < 3L * cols; ++m) dst[m] += z * (src[m] - rs[m]);
+        else
+          for (long m = 0; m < 3L * cols; ++m) dst[m] += z * src[m];
+      }
+    }
+  // v sides: every row, derived rows of the u sides included (a corner follows both)
+  for (const DerivedSide& d : m_derivedV)
+    for (int i = 0; i < rows; ++i)
+      for (size_t r = 0; r < d.derived.size(); ++r) {
+        const Eigen::Index e = Eigen::Index(i) * cols + d.derived[r];
+        Eigen::RowVector3d p = rest ? Eigen::RowVector3d(rest->row(e)) : Eigen::RowVector3d::Zero();
+        for (size_t s = 0; s < d.sources.size(); ++s) {
+          const Eigen::Index src = Eigen::Index(i) * cols + d.sources[s];
+          const double z = d.Z(Eigen::Index(r), Eigen::Index(s));
+          p += z * (rest ? Eigen::RowVector3d(net.row(src) - rest->row(src)) : Eigen::RowVector3d(net.row(src)));
+        }
+        net.row(e) = p;
+      }
+}
+
+double SplineSpace::derivedMismatch(const ControlNet& net, const ControlNet& rest) const {
+  if (!m_hasDerived) return 0.0;
+  ControlNet fixed = net;
+  refreshDerived(fixed, &rest);
+  double worst = 0.0;
+  for (Eigen::Index r = 0; r < net.rows(); ++r)
+    worst = std::max(worst, (fixed.row(r) - net.row(r)).cwiseAbs().maxCoeff() / (1.0 + rest.row(r).cwiseAbs().maxCoeff()));
+  return worst;
 }
 
 double SplineSpace::closePeriodic(ControlNet& net) const {

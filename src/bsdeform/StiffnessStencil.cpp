@@ -33,8 +33,9 @@ std::vector<double> cardinalGram(int degree, int order) {
   return g;
 }
 
-GramRows1D::GramRows1D(const BSplineBasis1D& basis, bool periodic)
-    : m_n(basis.degree()), m_numInner(basis.numFree()), m_periodic(periodic) {
+GramRows1D::GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi)
+    : m_n(basis.degree()), m_numInner(basis.numFree()), m_periodic(lo == Boundary::Periodic) {
+  const bool periodic = m_periodic;
   const int n = m_n, N = m_numInner, M = N + n;  // M knot spans of width h cover [0,1]
   const int types = periodic ? 1 : 2 * n + 1;
   const double h = basis.spacing();
@@ -71,6 +72,51 @@ GramRows1D::GramRows1D(const BSplineBasis1D& basis, bool periodic)
         sum += rule.weights[q] * cardinalBSpline(n, span + rule.nodes[q] - k);
     m_rowSum[size_t(t)] = h * sum;
   }
+  m_nodalFactor.assign(size_t(types), 1.0);
+  if (periodic) return;
+
+  // Sides with derived layers: the rows of their source layers become rows of T^T G (see the
+  // header), from the truncated rows computed above.
+  const std::vector<double> rows[3] = {m_rows[0], m_rows[1], m_rows[2]};
+  const std::vector<double> rowSum = m_rowSum;
+  const int layers = N + 2 * n;
+  auto original = [&](int p, int e, int j) {  // G^p(e, j) for net layers e, j
+    const int d = j - e;
+    if (d < -n || d > n) return 0.0;
+    return rows[p][size_t(rowType(e)) * (2 * n + 1) + (d + n)];
+  };
+  for (int side = 0; side < 2; ++side) {
+    const EdgeLayers e = edgeLayers(side == 0 ? lo : hi, n);
+    if (e.derived == 0) continue;
+    auto net = [&](int l) { return side == 0 ? l : layers - 1 - l; };
+    Eigen::MatrixXd nodal = Eigen::MatrixXd::Identity(e.sources, e.sources) + e.Z.transpose() * e.Z;
+    Eigen::VectorXd derivedMass(e.derived), sourceMass(e.sources);
+    for (int r = 0; r < e.derived; ++r) derivedMass[r] = rowSum[size_t(rowType(net(e.held + r)))];
+    for (int c = 0; c < e.sources; ++c) sourceMass[c] = rowSum[size_t(rowType(net(e.held + e.derived + c)))];
+    Eigen::MatrixXd lumped = Eigen::MatrixXd(sourceMass.asDiagonal()) + e.Z.transpose() * derivedMass.asDiagonal() * e.Z;
+    for (int c = 0; c < e.sources; ++c) {
+      const int src = net(e.held + e.derived + c), t = rowType(src);
+      for (int p = 0; p < 3; ++p)
+        for (int d = -n; d <= n; ++d) {
+          double v = rows[p][size_t(t) * (2 * n + 1) + (d + n)];
+          for (int r = 0; r < e.derived; ++r) v += e.Z(r, c) * original(p, net(e.held + r), src + d);
+          m_rows[p][size_t(t) * (2 * n + 1) + (d + n)] = v;
+        }
+      m_rowSum[size_t(t)] = lumped(c, c);
+      m_nodalFactor[size_t(t)] = nodal(c, c);
+    }
+    // Rayleigh-quotient factors, with a relative margin for the rounding of these tiny problems
+    auto normalisedMax = [](const Eigen::MatrixXd& m) {
+      const Eigen::VectorXd s = m.diagonal().cwiseSqrt().cwiseInverse();
+      const Eigen::MatrixXd q = s.asDiagonal() * m * s.asDiagonal();
+      return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+    };
+    const double margin = 1.0 + 1e-12;
+    m_transformBound = std::max(m_transformBound,
+        margin * Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(nodal, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
+    m_nodalLumping = std::max(m_nodalLumping, margin * normalisedMax(nodal));
+    m_lumpedLumping = std::max(m_lumpedLumping, margin * normalisedMax(lumped));
+  }
 }
 
 int GramRows1D::rowType(int layer) const {
@@ -92,8 +138,8 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
       m_weights(w),
       m_ru(space.degreeU()),
       m_rv(space.degreeV()),
-      m_gu(space.basisU(), space.periodicU()),
-      m_gv(space.basisV(), space.periodicV()) {
+      m_gu(space.basisU(), space.boundaries().uMin, space.boundaries().uMax),
+      m_gv(space.basisV(), space.boundaries().vMin, space.boundaries().vMax) {
   checkWeight(w.w10, "w10");
   checkWeight(w.w01, "w01");
   checkWeight(w.w11, "w11");
@@ -117,8 +163,13 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
 
   // Interior rows / columns: the moving layers of Toeplitz type (k = 0..N-1; all of a
   // periodic direction).
-  m_rowsInterior = space.periodicU() ? space.movingU() : LayerRange{m_ru, space.numU()};
-  m_colsInterior = space.periodicV() ? space.movingV() : LayerRange{m_rv, space.numV()};
+  // (BUILT_IN of degree 1 holds layer k = 0: intersect with the moving layers)
+  auto interior = [](const LayerRange& moving, int n, int N) {
+    const int first = std::max(moving.first, n), last = std::min(moving.first + moving.count, n + N);
+    return LayerRange{first, std::max(0, last - first)};
+  };
+  m_rowsInterior = space.periodicU() ? space.movingU() : interior(space.movingU(), m_ru, space.numU());
+  m_colsInterior = space.periodicV() ? space.movingV() : interior(space.movingV(), m_rv, space.numV());
 
   // Band: every moving point with a truncated row in u or in v, with one coefficient table per
   // pair of row types: C(d1, d2) = sum over terms w G_u^p(type_u, d1) G_v^q(type_v, d2).
@@ -206,10 +257,11 @@ void StiffnessStencil::forEachMovingEntry(EntryFunction&& fn) const {
           // the neighbour's moving layer (periodic copies fold onto what they repeat)
           const int i = neighbourU(mu.first + a + d1), j = neighbourV(mv.first + b + d2);
           if (i < 0 || j < 0) continue;
-          const int ri = s.movingLayerU(i), rj = s.movingLayerV(j);
-          if (ri < 0 || rj < 0) continue;  // held: part of A_IB
           const double c = table ? table[size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] : coefficient(d1, d2);
-          fn(row, Eigen::Index(ri - mu.first) * mv.count + (rj - mv.first), c);
+          // the moving layers the neighbour stands for (none if held: part of A_IB)
+          for (const LayerWeight& fu : s.foldU(i))
+            for (const LayerWeight& fv : s.foldV(j))
+              fn(row, Eigen::Index(fu.layer - mu.first) * mv.count + (fv.layer - mv.first), c * fu.weight * fv.weight);
         }
     }
 }
@@ -232,14 +284,29 @@ Eigen::VectorXd StiffnessStencil::movingDiagonal() const {
   return d;
 }
 
-double StiffnessStencil::gershgorinBound() const {
+namespace {
+double gershgorinSum(const StiffnessStencil& a) {
   double sum = 0.0;
-  for (int d1 = -m_ru; d1 <= m_ru; ++d1)
-    for (int d2 = -m_rv; d2 <= m_rv; ++d2) sum += std::abs(coefficient(d1, d2));
+  for (int d1 = -a.radiusU(); d1 <= a.radiusU(); ++d1)
+    for (int d2 = -a.radiusV(); d2 <= a.radiusV(); ++d2) sum += std::abs(a.coefficient(d1, d2));
   return sum;
+}
+}  // namespace
+
+double StiffnessStencil::gershgorinBound() const {
+  return gershgorinSum(*this) * m_gu.transformBound() * m_gv.transformBound();
 }
 
 double StiffnessStencil::eigenvalueBound() const {
+  // x' A_II x = y' A y <= sigma |y|^2 <= sigma lambda_max(T'T) |x|^2 for y = T x (GramRows1D)
+  return symbolBound() * m_gu.transformBound() * m_gv.transformBound();
+}
+
+double StiffnessStencil::nodalEigenvalueBound() const {
+  return symbolBound() * m_gu.nodalLumpingBound() * m_gv.nodalLumpingBound();
+}
+
+double StiffnessStencil::symbolBound() const {
   // Symbol(t1, t2) = sum_{a,b} S(a,b) c_a c_b cos(a t1) cos(b t2), c_0 = 1, c_{>0} = 2. It is even
   // and 2 pi periodic in each variable, so [0, pi]^2 covers it.
   const int G = 1025;
@@ -266,7 +333,7 @@ double StiffnessStencil::eigenvalueBound() const {
   }
   // Every point is within delta/2 of the grid in each variable; Bernstein: |d/dt T| <= deg ||T||.
   const double slack = 0.5 * delta * (m_ru + m_rv);
-  return std::min(gridMax / (1.0 - slack), gershgorinBound());
+  return std::min(gridMax / (1.0 - slack), gershgorinSum(*this));
 }
 
 namespace {
@@ -511,7 +578,7 @@ double StiffnessStencil::elementEigenvalueBound() const {
   const Eigen::MatrixXd scaled = r.asDiagonal() * A * r.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled, Eigen::EigenvaluesOnly);
   // a small relative margin covers the rounding of this 16..64-point eigenproblem
-  return eig.eigenvalues().maxCoeff() * (1.0 + 1e-10);
+  return eig.eigenvalues().maxCoeff() * (1.0 + 1e-10) * m_gu.lumpedLumpingBound() * m_gv.lumpedLumpingBound();
 }
 
 }  // namespace bsdeform

@@ -41,9 +41,17 @@ std::vector<double> cardinalGram(int degree, int order);
 /// The exact rows of the 1-D Gram matrices \f$G^p\f$ (p = 0, 1, 2) of one direction over [0,1].
 /// Row types: 0 for the Toeplitz rows (k = 0..N-1, and every row of a periodic direction);
 /// 1..n for the layers k = -n..-1 and n+1..2n for k = N..N+n-1 (truncated integrals).
+///
+/// A side with derived layers (SIMPLY_SUPPORTED, BUILT_IN; SplineSpace::EdgeLayers) changes the
+/// unknowns: the full layer vector is y = T x + const, T the identity on moving layers and Z on
+/// derived ones. The row of a source layer s is then the row of \f$T^T G\f$,
+/// \f$G(s, \cdot) + \sum_e Z_{es} G(e, \cdot)\f$, still within d = -n..n, applied to the whole
+/// net with its derived layers up to date: that is the gradient of the energy with respect to
+/// x. Its lumped mass is the diagonal of \f$T^T R T\f$ (R the row sums): the derived layers'
+/// mass is carried by their sources.
 class GramRows1D {
  public:
-  GramRows1D(const BSplineBasis1D& basis, bool periodic);
+  GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi);
   int degree() const { return m_n; }
   /// Row type of net layer i (0-based, k = i - n).
   int rowType(int layer) const;
@@ -52,6 +60,16 @@ class GramRows1D {
   double entry(int p, int type, int d) const { return m_rows[p][size_t(type) * (2 * m_n + 1) + (d + m_n)]; }
   /// \f$\int_0^1 b_{k,h}\f$ for a row of type `type` (h for type 0): the lumped mass factor.
   double rowSum(int type) const { return m_rowSum[size_t(type)]; }
+  /// Nodal mass factor of a row type: 1, or \f$1 + \sum_e Z_{es}^2\f$ for a source layer (the
+  /// diagonal of \f$T^T T\f$).
+  double nodalFactor(int type) const { return m_nodalFactor[size_t(type)]; }
+  /// \f$\lambda_{max}(T^T T)\f$: |T x|^2 <= this |x|^2 (1 without derived layers).
+  double transformBound() const { return m_transformBound; }
+  /// \f$\lambda_{max}(D^{-1/2} T^T W T D^{-1/2})\f$ with W the nodal (identity) or lumped
+  /// (row sums) mass of the layers and D = diag(T^T W T) the mass this model uses: how much a
+  /// Rayleigh quotient can grow when the derived layers' mass is lumped onto their sources.
+  double nodalLumpingBound() const { return m_nodalLumping; }
+  double lumpedLumpingBound() const { return m_lumpedLumping; }
 
  private:
   int m_n;
@@ -59,6 +77,8 @@ class GramRows1D {
   bool m_periodic;
   std::vector<double> m_rows[3];
   std::vector<double> m_rowSum;
+  std::vector<double> m_nodalFactor;
+  double m_transformBound = 1.0, m_nodalLumping = 1.0, m_lumpedLumping = 1.0;
 };
 
 /// Moving points from which StiffnessStencil::centralDifferenceUpdate() and applyMoving() split
@@ -79,6 +99,8 @@ class StiffnessStencil {
   /// Interior stencil \f$a(B_k, B_{k+d})\f$ for a B-spline k inside [0,1]^2 (whole-line
   /// integrals), zero for |d1| > n1 or |d2| > n2.
   double coefficient(int d1, int d2) const;
+  /// The symbol bound of the whole-line stencil alone (no derived-layer factor).
+  double symbolBound() const;
   const GramRows1D& gramU() const { return m_gu; }
   const GramRows1D& gramV() const { return m_gv; }
   /// Whether some moving row is not an interior-stencil row (a FREE side exists).
@@ -100,15 +122,23 @@ class StiffnessStencil {
   /// Fourier transform of S), sampled on a grid and corrected with Bernstein's inequality.
   /// Valid for every boundary condition: a truncated integral is at most the whole-line one, so
   /// \f$x^T A_{II} x \le x^T T x\f$ for the Toeplitz section T, and a circulant's spectrum is
-  /// its symbol sampled.
+  /// its symbol sampled. With derived layers (GramRows1D) the unknowns x give the layers
+  /// y = T x, and the bound is multiplied by transformBound() of each direction.
   double eigenvalueBound() const;
-  /// Gershgorin bound sum_d |S(d)| (looser, for comparison).
+  /// Gershgorin bound sum_d |S(d)| (looser, for comparison). Like eigenvalueBound() it
+  /// includes the factor transformBound() of each direction with derived layers.
   double gershgorinBound() const;
+  /// Upper bound of \f$\lambda_{max}(D^{-1} A_{II})\f$ for D = diag(T^T T) (the nodal mass
+  /// factors): the symbol bound on the whole layer space times nodalLumpingBound() of each
+  /// direction. Equal to eigenvalueBound() without derived layers.
+  double nodalEigenvalueBound() const;
   /// Upper bound of \f$\lambda_{max}(R^{-1} A_{II})\f$ with R the lumped (row-sum) mass of
   /// unit density, element by element: \f$A = \sum_e A_e\f$, \f$R = \sum_e R_e\f$ with
   /// \f$R_e = \mathrm{diag}(\int_e B_k)\f$, so \f$x^TAx \le \max_e \lambda(A_e, R_e)\, x^TRx\f$.
   /// Every knot cell has the same element matrices, so this is one small eigenproblem, valid
-  /// for every boundary condition (needed when a FREE side makes R smaller at the edges).
+  /// for every boundary condition (needed when a FREE side makes R smaller at the edges). With
+  /// derived layers R is diag(T^T R T) and the bound is multiplied by lumpedLumpingBound() of
+  /// each direction.
   double elementEigenvalueBound() const;
 
   /// One fused explicit central-difference update of every free point (design.md §2), in
@@ -134,7 +164,7 @@ class StiffnessStencil {
   };
 
   /// fn(row, col, coefficient) for every entry of A_II, row by row (entries of periodic copies
-  /// that fold onto the same column come separately and add).
+  /// and derived layers that fold onto the same column come separately and add).
   template <typename EntryFunction>
   void forEachMovingEntry(EntryFunction&& fn) const;
   /// Blocks of interior rows of one explicit update or applyMoving(): 4 kernelThreads() above the

@@ -55,13 +55,17 @@ ControlNet bruteForceGradient(const SplineSpace& s, const Weights& w, const Cont
             return d;
           };
           const Eigen::RowVector3d S10 = dS(1, 0), S01 = dS(0, 1), S11 = dS(1, 1), S20 = dS(2, 0), S02 = dS(0, 2);
+          // chain rule: net layer (i, j) moves with the moving layers it folds onto (itself, the
+          // point a periodic copy repeats, the sources of a derived point with their weights)
           for (int i = 0; i < R; ++i)
             for (int j = 0; j < C; ++j) {
-              const Eigen::Index m = s.movingIndex(i - n1, j - n2);
-              if (m < 0) continue;
-              y.row(m) += wq * (w.w10 * du[1][i] * dv[0][j] * S10 + w.w01 * du[0][i] * dv[1][j] * S01 +
-                                2 * w.w11 * du[1][i] * dv[1][j] * S11 + w.w20 * du[2][i] * dv[0][j] * S20 +
-                                w.w02 * du[0][i] * dv[2][j] * S02);
+              const Eigen::RowVector3d g = wq * (w.w10 * du[1][i] * dv[0][j] * S10 + w.w01 * du[0][i] * dv[1][j] * S01 +
+                                                 2 * w.w11 * du[1][i] * dv[1][j] * S11 + w.w20 * du[2][i] * dv[0][j] * S20 +
+                                                 w.w02 * du[0][i] * dv[2][j] * S02);
+              for (const LayerWeight& fu : s.foldU(i))
+                for (const LayerWeight& fv : s.foldV(j))
+                  y.row(Eigen::Index(fu.layer - s.movingU().first) * s.movingV().count + (fv.layer - s.movingV().first)) +=
+                      fu.weight * fv.weight * g;
             }
         }
   return y;
@@ -119,6 +123,7 @@ TEST_CASE("Boundary: the operator equals a brute-force quadrature assembly for e
         // the sparse moving block agrees once held points are zero, and is symmetric
         ControlNet movingOnly = ControlNet::Zero(s.netSize(), 3);
         s.scatterMoving(s.gatherMoving(net), movingOnly);
+        s.completeNet(movingOnly, nullptr);
         st.applyMoving(movingOnly, fast);
         const Eigen::SparseMatrix<double> A = st.movingMatrix();
         CHECK(maxDiff(fast, A * s.gatherMoving(net)) <= 1e-12 * (1.0 + fast.cwiseAbs().maxCoeff()));
@@ -129,11 +134,62 @@ TEST_CASE("Boundary: the operator equals a brute-force quadrature assembly for e
   CHECK(cases == 125);
 }
 
+TEST_CASE("Boundary: SIMPLY_SUPPORTED and BUILT_IN operators equal brute-force quadrature over the constrained space",
+          "[core]") {
+  // the gradient with respect to the unknowns of a(S, S)/2, S from the whole net: T^T of the
+  // full gradient (the brute force folds each net layer's derivative onto the moving layers)
+  const std::pair<Boundary, Boundary> edges[] = {{Boundary::SimplySupported, Boundary::SimplySupported},
+                                                 {Boundary::BuiltIn, Boundary::BuiltIn},
+                                                 {Boundary::SimplySupported, Boundary::Free},
+                                                 {Boundary::BuiltIn, Boundary::Clamped},
+                                                 {Boundary::Free, Boundary::BuiltIn},
+                                                 {Boundary::BuiltIn, Boundary::SimplySupported}};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> W(0.05, 2.0), X(-1.0, 1.0);
+  int cases = 0;
+  for (int n = 1; n <= 5; ++n)
+    for (const auto& su : edges)
+      for (int k = 0; k < 3; ++k) {
+        // v sides: another new pair, an old pair, or the transpose case (new kinds in v only)
+        const std::pair<Boundary, Boundary> sv =
+            k == 0 ? edges[size_t(cases + 1) % 6] : k == 1 ? kSidePairs[size_t(cases) % 5] : su;
+        const std::pair<Boundary, Boundary> uu = k == 2 ? kSidePairs[size_t(cases) % 5] : su;
+        const int n2 = 1 + (n + cases) % 5;
+        const int N1 = 3 + cases % 3, N2 = 3 + (cases / 3) % 3;
+        const SplineSpace s(n, n2, N1, N2, Boundaries{uu.first, uu.second, sv.first, sv.second});
+        const Weights w{W(rng), W(rng), W(rng), W(rng), W(rng)};
+        const StiffnessStencil st(s, w);
+        ControlNet net(s.netSize(), 3);
+        for (Eigen::Index i = 0; i < net.rows(); ++i) net.row(i) << X(rng), X(rng), X(rng);
+        s.completeNet(net, nullptr);
+        ControlNet fast;
+        st.applyMoving(net, fast);
+        const ControlNet ref = bruteForceGradient(s, w, net);
+        INFO("degrees " << n << "," << n2 << " N " << N1 << "," << N2 << " sides " << boundaryName(uu.first) << "/"
+                        << boundaryName(uu.second) << " x " << boundaryName(sv.first) << "/" << boundaryName(sv.second));
+        CHECK(maxDiff(fast, ref) <= 1e-10 * (1.0 + ref.cwiseAbs().maxCoeff()));
+        // the assembled moving block: A x for the net completed from x alone, symmetric
+        ControlNet movingOnly = ControlNet::Zero(s.netSize(), 3);
+        s.scatterMoving(s.gatherMoving(net), movingOnly);
+        s.completeNet(movingOnly, nullptr);
+        st.applyMoving(movingOnly, fast);
+        const Eigen::SparseMatrix<double> A = st.movingMatrix();
+        CHECK(maxDiff(fast, A * s.gatherMoving(net)) <= 1e-11 * (1.0 + fast.cwiseAbs().maxCoeff()));
+        CHECK(Eigen::MatrixXd(A - Eigen::SparseMatrix<double>(A.transpose())).cwiseAbs().maxCoeff() <=
+              1e-11 * (1.0 + Eigen::MatrixXd(A).cwiseAbs().maxCoeff()));
+        // the diagonal without assembly
+        CHECK((st.movingDiagonal() - Eigen::VectorXd(Eigen::MatrixXd(A).diagonal())).cwiseAbs().maxCoeff() <=
+              1e-11 * (1.0 + Eigen::MatrixXd(A).cwiseAbs().maxCoeff()));
+        ++cases;
+      }
+  CHECK(cases == 90);
+}
+
 TEST_CASE("Boundary: 1-D edge rows are truncated integrals and row sums add up to the integral of 1", "[core]") {
   for (int n = 1; n <= 7; ++n)
     for (int N : {1, 2, 9}) {
       const BSplineBasis1D basis(n, N);
-      const GramRows1D g(basis, false);
+      const GramRows1D g(basis, Boundary::Clamped, Boundary::Free);
       // partition of unity: the row sums over all N + 2n functions integrate 1 over [0,1]
       double total = 0.0;
       for (int layer = 0; layer < N + 2 * n; ++layer) total += g.rowSum(g.rowType(layer));
