@@ -101,13 +101,20 @@ double PointForce::eigenvalueBound(const MassContext& ctx) const {
   LocalBasis bu, bv;
   s.basisU().evaluate(m_u, 0, bu);
   s.basisV().evaluate(m_v, 0, bv);
-  // beta per moving point (net layers i, j): periodic copies of one point add up
+  // beta per control point that moves (net layers i, j): periodic copies of one point add up;
+  // a derived point (SIMPLY_SUPPORTED, BUILT_IN) counts with its own mass, which bounds the
+  // Rayleigh quotient of the mass T^T W T of the unknowns alike (EdgeMass.h)
   std::vector<std::pair<std::pair<int, int>, double>> beta;
-  forEachMovingBasis(s, bu, bv, [&](int i, int j, double B) {
-    auto it = std::find_if(beta.begin(), beta.end(), [&](const auto& e) { return e.first == std::make_pair(i, j); });
-    if (it == beta.end()) it = beta.insert(beta.end(), {{i, j}, 0.0});
-    it->second += B;
-  });
+  for (int a = 0; a < bu.count; ++a)
+    for (int b = 0; b < bv.count; ++b) {
+      const int li = bu.first + a + s.degreeU(), lj = bv.first + b + s.degreeV();
+      if (s.foldU(li).empty() || s.foldV(lj).empty()) continue;  // held
+      const int mi = s.movingLayerU(li), mj = s.movingLayerV(lj);
+      const std::pair<int, int> key(mi >= 0 ? mi : li, mj >= 0 ? mj : lj);
+      auto it = std::find_if(beta.begin(), beta.end(), [&](const auto& e) { return e.first == key; });
+      if (it == beta.end()) it = beta.insert(beta.end(), {key, 0.0});
+      it->second += bu.d[0][a] * bv.d[0][b];
+    }
   double sum = 0.0;
   for (const auto& e : beta) sum += e.second * e.second / ctx.massAt(e.first.first, e.first.second);
   return m_stiffness * sum;

@@ -19,7 +19,8 @@ struct ImplicitSystem::Factor {
 
 ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil,
                                const Eigen::VectorXd& massTerm, const std::vector<Eigen::Index>& pinned,
-                               LinearSolver kind, double tolerance, int maxIterations)
+                               LinearSolver kind, double tolerance, int maxIterations,
+                               std::vector<Eigen::Triplet<double>> coupling)
     : m_space(space),
       m_stencil(stencil),
       m_mass(massTerm),
@@ -32,6 +33,12 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     throw std::invalid_argument("implicit system: the mass term must be > 0 for every moving point");
   std::sort(m_pinned.begin(), m_pinned.end());
   for (Eigen::Index f : m_pinned) m_pinnedNet.push_back(space.movingToNet(f));
+  if (!coupling.empty()) {
+    std::vector<char> isPinned(size_t(n), 0);
+    for (Eigen::Index f : m_pinned) isPinned[size_t(f)] = 1;
+    for (const auto& t : coupling)
+      if (!isPinned[size_t(t.row())] && !isPinned[size_t(t.col())]) m_coupling.push_back(t);
+  }
 
   // kappa(K) <= (max D + lambda_max(A)/4) / min D: A_act is positive semi-definite and its
   // largest eigenvalue is at most A_II's (a principal submatrix), which the symbol bounds.
@@ -57,6 +64,8 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     std::vector<Eigen::Triplet<double>> t;
     t.reserve(size_t(n));
     for (Eigen::Index f = 0; f < n; ++f) t.emplace_back(f, f, m_mass[f]);
+    for (const auto& c : m_coupling)
+      if (c.row() > c.col()) t.push_back(c);
     Dm.setFromTriplets(t.begin(), t.end());
     K += Dm;
     K.makeCompressed();
@@ -83,8 +92,11 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
   if (m_multigrid) {
     // the finest level smooths with K itself (the stencil, pins included); lambda_max(diag^-1 K)
     // <= max_f (D_f + lambda_max(A)/4) / diag_f, as x'Kx <= sum_f (D_f + lambda_max(A)/4) x_f^2
+    // (a mass coupling adds at most its absolute row sums: Gershgorin)
+    Eigen::VectorXd massRow = m_mass;
+    for (const auto& t : m_coupling) massRow[t.row()] += std::abs(t.value());
     const double lambdaBound =
-        ((m_mass.array() + 0.25 * stencil.eigenvalueBound()) / diag.array()).maxCoeff();
+        ((massRow.array() + 0.25 * stencil.eigenvalueBound()) / diag.array()).maxCoeff();
     m_multigrid->useExactOperator(
         [this](const ControlNet& x, const ControlNet* b, ControlNet& y) { b ? residual(x, *b, y) : apply(x, y); },
         [this](const ControlNet& b, double scale, double alpha, double beta, const Eigen::VectorXd& inv,
@@ -149,6 +161,9 @@ void ImplicitSystem::zeroPinnedInNet() {
 template <typename XAt, typename EntryFunction>
 void ImplicitSystem::forEachProductEntry(XAt&& xAt, ControlNet& y, EntryFunction&& fn) const {
   for (Eigen::Index f : m_pinned) y.row(f).setZero();
+  // the mass coupling goes into y, which is scaled by 1/4 below
+  for (const auto& t : m_coupling)
+    for (int c = 0; c < 3; ++c) y.data()[3 * t.row() + c] += 4.0 * t.value() * xAt(t.col(), 3 * t.col() + c);
   const Eigen::Index n = y.rows();
   const double* py = y.data();
   const double* d = m_mass.data();

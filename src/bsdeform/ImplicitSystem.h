@@ -21,6 +21,7 @@
 ///    with the net instead of like sqrt(kappa).
 
 #include <Eigen/Core>
+#include <Eigen/SparseCore>
 #include <memory>
 #include <vector>
 
@@ -65,9 +66,13 @@ class ImplicitSystem {
   /// @param pinned   moving-point numbers held by pins (rows/columns that leave A)
   /// @param tolerance CG's relative residual per coordinate, in (0, 1)
   /// @param maxIterations CG gives up after this many iterations (solve() returns false)
+  /// @param coupling off-diagonal entries (moving-point numbers) added to D: a mass matrix that
+  ///        is not diagonal next to SIMPLY_SUPPORTED and BUILT_IN sides (EdgeMass), symmetric;
+  ///        entries in pinned rows or columns are left out
   /// @throws std::runtime_error if the direct factorisation fails
   ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil, const Eigen::VectorXd& massTerm,
-                 const std::vector<Eigen::Index>& pinned, LinearSolver kind, double tolerance, int maxIterations);
+                 const std::vector<Eigen::Index>& pinned, LinearSolver kind, double tolerance, int maxIterations,
+                 std::vector<Eigen::Triplet<double>> coupling = {});
   ~ImplicitSystem();
   ImplicitSystem(const ImplicitSystem&) = delete;
   ImplicitSystem& operator=(const ImplicitSystem&) = delete;
@@ -123,6 +128,7 @@ class ImplicitSystem {
   const SplineSpace& m_space;
   const StiffnessStencil& m_stencil;
   Eigen::VectorXd m_mass;          ///< D
+  std::vector<Eigen::Triplet<double>> m_coupling;  ///< off-diagonal part of D (pins left out)
   Eigen::VectorXd m_inverseDiag;   ///< 1 / diag(K) (empty when diag(K) is constant: no scaling)
   std::vector<Eigen::Index> m_pinned;
   std::vector<Eigen::Index> m_pinnedNet;  ///< their net rows

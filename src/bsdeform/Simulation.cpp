@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/Simulation.h"
 
+#include "bsdeform/EdgeMass.h"
 #include "bsdeform/HugePages.h"
 #include "bsdeform/NumberText.h"
 #include "bsdeform/Parallel.h"
@@ -105,7 +106,9 @@ struct PendingDiagnostics::Job {
   const Diagnostics& finish() {
     if (!done) {
       work->finish();
-      result = diagnosticsFromSums(pass->sums(), weights, massScale, dt);
+      DiagnosticSums sums = pass->sums();
+      sums.velocity += derivedVelocity;
+      result = diagnosticsFromSums(sums, weights, massScale, dt);
       done = true;
       work.reset();
       pass.reset();
@@ -120,6 +123,7 @@ struct PendingDiagnostics::Job {
   std::unique_ptr<BackgroundWork> work;  // after `pass`: destroyed (finished) first
   Weights weights;
   double massScale = 1.0, dt = 1.0;
+  double derivedVelocity = 0.0;  ///< the derived points' part of the velocity sum
 };
 
 Diagnostics PendingDiagnostics::get() const { return m_job->finish(); }
@@ -154,10 +158,8 @@ double Simulation::massPerPoint() const {
 }
 
 double Simulation::massAt(int i, int j) const {
+  if (m_params.massModel == MassModel::Nodal) return m_params.mass;
   const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
-  // next to a side with derived layers a point also carries their mass (GramRows1D)
-  if (m_params.massModel == MassModel::Nodal)
-    return m_params.mass * gu.nodalFactor(gu.rowType(i)) * gv.nodalFactor(gv.rowType(j));
   return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
 }
 
@@ -202,14 +204,30 @@ void Simulation::init() {
   const Boundaries& bc = m_space.boundaries();
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
-  // Derived layers (SIMPLY_SUPPORTED, BUILT_IN) make the masses of their sources larger.
-  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_space.hasDerived();
+  // Derived layers (SIMPLY_SUPPORTED, BUILT_IN) keep their mass: M = T^T W T is not diagonal
+  // there (EdgeMass), and lambda_max(M^-1 A_II) is bounded on the whole layer space.
+  m_edgeMass.reset();
+  m_derivedRows.clear();
+  if (m_space.hasDerived()) {
+    m_edgeMass = std::make_unique<EdgeMass>(m_space, m_stencil.gramU(), m_stencil.gramV(),
+                                            m_params.massModel == MassModel::Lumped, m_params.mass);
+    for (int i = 0; i < m_space.netRows(); ++i)
+      for (int j = 0; j < m_space.netCols(); ++j)
+        if (!m_space.foldU(i).empty() && !m_space.foldV(j).empty() &&
+            (m_space.movingLayerU(i) < 0 || m_space.movingLayerV(j) < 0))
+          m_derivedRows.push_back(Eigen::Index(i) * m_space.netCols() + j);
+    std::vector<Eigen::Index> pinnedMoving;
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+      if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
+    m_edgeMass->setPinned(pinnedMoving);
+  }
+  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_edgeMass;
   if (m_uniformMass)
     m_elasticLambda = m_stencilLambda / massPerPoint();
   else if (m_params.massModel == MassModel::Lumped)
     m_elasticLambda = m_stencil.elementEigenvalueBound() / m_params.mass;
   else
-    m_elasticLambda = m_stencil.nodalEigenvalueBound() / m_params.mass;
+    m_elasticLambda = m_stencil.symbolBound() / m_params.mass;  // derived layers, nodal mass
   if (m_uniformMass) {
     m_massMoving.resize(0);
   } else {
@@ -224,15 +242,26 @@ void Simulation::init() {
     // next to a free edge
     const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
     Eigen::VectorXd massTerm;
-    if (m_uniformMass)
+    const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
+    std::vector<Eigen::Triplet<double>> coupling;
+    if (m_uniformMass) {
       massTerm = Eigen::VectorXd::Constant(m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
-    else
-      massTerm = m_massMoving * (1.0 / (dt * dt) + (c / m) / (2.0 * dt));
+    } else if (m_edgeMass) {
+      massTerm.resize(m_space.numMoving());
+      for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+        const Eigen::Index r = m_space.movingToNet(f);
+        massTerm[f] = factor * m_edgeMass->diagonal(int(r / m_space.netCols()), int(r % m_space.netCols()));
+      }
+      coupling = m_edgeMass->offDiagonal(factor);
+    } else {
+      massTerm = m_massMoving * factor;
+    }
     std::vector<Eigen::Index> pinnedMoving;
     for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
       if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
     m_implicit = std::make_unique<ImplicitSystem>(m_space, m_stencil, massTerm, pinnedMoving, m_params.implicitSolver,
-                                                  m_params.solverTolerance, m_params.maxSolverIterations);
+                                                  m_params.solverTolerance, m_params.maxSolverIterations,
+                                                  std::move(coupling));
   }
   rebuildConstantLoad();
   updateSubSteps();
@@ -291,13 +320,6 @@ void Simulation::updateSubSteps() {
   const MassContext mc{m_space, massPerPoint(), [this](int i, int j) { return massAt(i, j); }};
   double forceLambda = 0.0;
   for (const auto& f : m_forces) forceLambda += f->eigenvalueBound(mc);
-  // a force's bound holds for the layers' own masses; with derived layers those are lumped
-  // onto their sources, which the lumping factor covers (StiffnessStencil::nodalEigenvalueBound)
-  if (m_space.hasDerived()) {
-    const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
-    forceLambda *= m_params.massModel == MassModel::Nodal ? gu.nodalLumpingBound() * gv.nodalLumpingBound()
-                                                           : gu.lumpedLumpingBound() * gv.lumpedLumpingBound();
-  }
   m_lambdaMax = m_elasticLambda + forceLambda;
   const double oldStep = subStepSize();
   int n = 1;
@@ -385,11 +407,13 @@ void Simulation::applyStartRule() {
   ControlNet elastic;
   m_stencil.applyMoving(m_current, elastic);
   const double delta = subStepSize();
+  ControlNet acceleration = load - elastic;
+  if (m_edgeMass) m_edgeMass->solve(acceleration);
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
     if (m_pinMask[size_t(r)]) continue;
-    const double m = m_uniformMass ? massPerPoint() : m_massMoving[f];
-    m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta / m) * (load.row(f) - elastic.row(f));
+    const double m = m_edgeMass ? 1.0 : m_uniformMass ? massPerPoint() : m_massMoving[f];
+    m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta / m) * acceleration.row(f);
   }
   m_space.completeNet(m_previous, &m_rest);
 }
@@ -402,10 +426,21 @@ bool Simulation::explicitSubStep(double t) {
   // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
   // ratio s (damping scales alike, so gamma does not change).
   std::function<double(int, int)> scale;
-  if (!m_uniformMass) scale = [this, m](int i, int j) { return m / massAt(i, j); };
+  std::function<void(std::vector<Eigen::RowVector3d>&)> bandSolve;
+  if (m_edgeMass) {
+    // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
+    bandSolve = [this, m](std::vector<Eigen::RowVector3d>& r) {
+      const auto& band = m_stencil.bandPoints();
+      allocateNet(m_bandScratch, m_space.numMoving());
+      for (size_t k = 0; k < band.size(); ++k) m_bandScratch.row(band[k].m) = r[k];
+      for (size_t k = 0; k < band.size(); ++k) r[k] = m * m_edgeMass->solveAt(m_bandScratch, band[k].i, band[k].j);
+    };
+  } else if (!m_uniformMass) {
+    scale = [this, m](int i, int j) { return m / massAt(i, j); };
+  }
   // The new state overwrites the previous one (same buffer); held points are equal in both.
-  const bool ok =
-      m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit, scale);
+  const bool ok = m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit,
+                                                    scale, bandSolve);
   holdPins(m_previous);
   m_space.completeNet(m_previous, &m_rest);
   m_current.swap(m_previous);
@@ -426,6 +461,10 @@ bool Simulation::implicitSubStep(double t) {
   const ControlNet velocity = m_space.gatherMoving(m_current) - m_space.gatherMoving(m_previous);  // P - P-
   if (m_uniformMass) {
     rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
+  } else if (m_edgeMass) {
+    ControlNet Mv;
+    m_edgeMass->apply(velocity, Mv);
+    rhs = load - rhs + (1.0 / (dt * dt) - (c / m) / (2.0 * dt)) * Mv;
   } else {
     const double cm = c / m;
     rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (m_massMoving.asDiagonal() * velocity);
@@ -600,7 +639,7 @@ double Simulation::kineticEnergy() const {
     }
     return 0.5 * massPerPoint() * sum / (dt * dt);
   }
-  double sum = 0.0;
+  double sum = derivedVelocitySum(m_current, m_previous);
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
     sum += m_massMoving[f] * (m_current.row(r) - m_previous.row(r)).squaredNorm();
@@ -627,9 +666,19 @@ StrainEnergy Simulation::strainEnergy() const {
   return e;
 }
 
+double Simulation::derivedVelocitySum(const ControlNet& current, const ControlNet& previous) const {
+  // derived control points move and keep their own mass (EdgeMass): sum W |P - P_prev|^2
+  double sum = 0.0;
+  for (Eigen::Index r : m_derivedRows)
+    sum += m_edgeMass->layerMass(int(r / m_space.netCols()), int(r % m_space.netCols())) *
+           (current.row(r) - previous.row(r)).squaredNorm();
+  return sum;
+}
+
 Diagnostics Simulation::diagnostics() const {
-  const DiagnosticSums sums =
+  DiagnosticSums sums =
       diagnosticSums(m_space, m_stencil, m_current, m_rest, m_previous, m_uniformMass ? nullptr : m_massMoving.data());
+  sums.velocity += derivedVelocitySum(m_current, m_previous);
   return diagnosticsFromSums(sums, m_params.weights, m_uniformMass ? massPerPoint() : 1.0, subStepSize());
 }
 
@@ -652,6 +701,7 @@ PendingDiagnostics Simulation::diagnosticsBeside() const {
   j.weights = m_params.weights;
   j.massScale = m_uniformMass ? massPerPoint() : 1.0;
   j.dt = subStepSize();
+  j.derivedVelocity = derivedVelocitySum(m_current, m_previous);
   j.work = std::make_unique<BackgroundWork>(j.pass->blocks(), [&j](int b) { j.pass->computeBlock(b); });
   m_beside = job;
   return PendingDiagnostics(std::move(job));

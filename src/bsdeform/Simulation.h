@@ -50,6 +50,8 @@ enum class Status {
 /// Simulation::diagnosticsBeside(): a history row being computed beside the caller. Holds its
 /// values once finished, even after the Simulation is gone. Use it on the thread that uses
 /// the Simulation (its job is shared with it).
+class EdgeMass;
+
 class PendingDiagnostics {
  public:
   PendingDiagnostics() = default;
@@ -216,8 +218,10 @@ class Simulation {
   /// bound and the last solve's iterations.
   const ImplicitSystem* implicitSystem() const { return m_implicit.get(); }
 
-  /// Mass of moving net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
-  /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge).
+  /// Mass of net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
+  /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge). The
+  /// control points derived next to a SIMPLY_SUPPORTED or BUILT_IN side have theirs too: the
+  /// mass matrix of the unknowns is then \f$T^T W T\f$ (EdgeMass.h), not this diagonal.
   double massAt(int i, int j) const;
   /// Net rows of the points held by pins (moving points only).
   const std::vector<Eigen::Index>& pinnedRows() const { return m_pinned; }
@@ -247,6 +251,8 @@ class Simulation {
   bool explicitSubStep(double t);
   bool implicitSubStep(double t);
   void fail(Status s, std::string message);
+  /// sum W |current - previous|^2 over the derived points (0 without them).
+  double derivedVelocitySum(const ControlNet& current, const ControlNet& previous) const;
   double massPerPoint() const;
   double dampingPerPoint() const;
 
@@ -275,6 +281,11 @@ class Simulation {
   Status m_status = Status::Ok;
   std::string m_statusMessage;
   std::unique_ptr<ImplicitSystem> m_implicit;
+  /// The mass of the unknowns next to sides with derived layers (null without them), the
+  /// derived points' net rows, and the band's scratch for the explicit step.
+  std::unique_ptr<EdgeMass> m_edgeMass;
+  std::vector<Eigen::Index> m_derivedRows;
+  ControlNet m_bandScratch;
   ControlNet m_scratch;  ///< implicit: a full net (the stencil's argument)
   std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
   /// The row being computed beside (diagnosticsBeside()) and its copy of the current and

@@ -72,13 +72,11 @@ GramRows1D::GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi)
         sum += rule.weights[q] * cardinalBSpline(n, span + rule.nodes[q] - k);
     m_rowSum[size_t(t)] = h * sum;
   }
-  m_nodalFactor.assign(size_t(types), 1.0);
   if (periodic) return;
 
   // Sides with derived layers: the rows of their source layers become rows of T^T G (see the
   // header), from the truncated rows computed above.
   const std::vector<double> rows[3] = {m_rows[0], m_rows[1], m_rows[2]};
-  const std::vector<double> rowSum = m_rowSum;
   const int layers = N + 2 * n;
   auto original = [&](int p, int e, int j) {  // G^p(e, j) for net layers e, j
     const int d = j - e;
@@ -89,11 +87,7 @@ GramRows1D::GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi)
     const EdgeLayers e = edgeLayers(side == 0 ? lo : hi, n);
     if (e.derived == 0) continue;
     auto net = [&](int l) { return side == 0 ? l : layers - 1 - l; };
-    Eigen::MatrixXd nodal = Eigen::MatrixXd::Identity(e.sources, e.sources) + e.Z.transpose() * e.Z;
-    Eigen::VectorXd derivedMass(e.derived), sourceMass(e.sources);
-    for (int r = 0; r < e.derived; ++r) derivedMass[r] = rowSum[size_t(rowType(net(e.held + r)))];
-    for (int c = 0; c < e.sources; ++c) sourceMass[c] = rowSum[size_t(rowType(net(e.held + e.derived + c)))];
-    Eigen::MatrixXd lumped = Eigen::MatrixXd(sourceMass.asDiagonal()) + e.Z.transpose() * derivedMass.asDiagonal() * e.Z;
+    const Eigen::MatrixXd TtT = Eigen::MatrixXd::Identity(e.sources, e.sources) + e.Z.transpose() * e.Z;
     for (int c = 0; c < e.sources; ++c) {
       const int src = net(e.held + e.derived + c), t = rowType(src);
       for (int p = 0; p < 3; ++p)
@@ -102,20 +96,10 @@ GramRows1D::GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi)
           for (int r = 0; r < e.derived; ++r) v += e.Z(r, c) * original(p, net(e.held + r), src + d);
           m_rows[p][size_t(t) * (2 * n + 1) + (d + n)] = v;
         }
-      m_rowSum[size_t(t)] = lumped(c, c);
-      m_nodalFactor[size_t(t)] = nodal(c, c);
     }
-    // Rayleigh-quotient factors, with a relative margin for the rounding of these tiny problems
-    auto normalisedMax = [](const Eigen::MatrixXd& m) {
-      const Eigen::VectorXd s = m.diagonal().cwiseSqrt().cwiseInverse();
-      const Eigen::MatrixXd q = s.asDiagonal() * m * s.asDiagonal();
-      return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(q, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
-    };
-    const double margin = 1.0 + 1e-12;
-    m_transformBound = std::max(m_transformBound,
-        margin * Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(nodal, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
-    m_nodalLumping = std::max(m_nodalLumping, margin * normalisedMax(nodal));
-    m_lumpedLumping = std::max(m_lumpedLumping, margin * normalisedMax(lumped));
+    // |T x|^2 <= lambda_max(T'T) |x|^2, with a relative margin for this tiny eigenproblem
+    m_transformBound = std::max(m_transformBound, (1.0 + 1e-12) * Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(
+                                                                     TtT, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff());
   }
 }
 
@@ -300,10 +284,6 @@ double StiffnessStencil::gershgorinBound() const {
 double StiffnessStencil::eigenvalueBound() const {
   // x' A_II x = y' A y <= sigma |y|^2 <= sigma lambda_max(T'T) |x|^2 for y = T x (GramRows1D)
   return symbolBound() * m_gu.transformBound() * m_gv.transformBound();
-}
-
-double StiffnessStencil::nodalEigenvalueBound() const {
-  return symbolBound() * m_gu.nodalLumpingBound() * m_gv.nodalLumpingBound();
 }
 
 double StiffnessStencil::symbolBound() const {
@@ -505,7 +485,8 @@ int StiffnessStencil::explicitStepParts() const {
 
 bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
                                                double alpha, double gamma, double limit,
-                                               const std::function<double(int, int)>& alphaScale) const {
+                                               const std::function<double(int, int)>& alphaScale,
+                                               const std::function<void(std::vector<Eigen::RowVector3d>&)>& bandSolve) const {
   const SplineSpace& s = *m_space;
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
@@ -526,6 +507,20 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   });
   bool ok = std::all_of(partOk, partOk + parts, [](bool b) { return b; });
   const Eigen::Index cols = s.netCols();
+  if (bandSolve) {
+    thread_local std::vector<Eigen::RowVector3d> r;
+    r.resize(m_band.size());
+    for (size_t k = 0; k < m_band.size(); ++k) r[k] = load.row(m_band[k].m) - bandRow(current, m_band[k]);
+    bandSolve(r);
+    for (size_t k = 0; k < m_band.size(); ++k) {
+      const Eigen::Index row = Eigen::Index(m_band[k].i) * cols + m_band[k].j;
+      const Eigen::RowVector3d p = current.row(row);
+      const Eigen::RowVector3d x = p + alpha * r[k] + gamma * (p - previous.row(row));
+      previous.row(row) = x;
+      ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
+    }
+    return ok;
+  }
   for (const BandPoint& b : m_band) {
     const double a = alphaScale ? alpha * alphaScale(b.i, b.j) : alpha;
     const Eigen::Index r = Eigen::Index(b.i) * cols + b.j;
@@ -578,7 +573,7 @@ double StiffnessStencil::elementEigenvalueBound() const {
   const Eigen::MatrixXd scaled = r.asDiagonal() * A * r.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(scaled, Eigen::EigenvaluesOnly);
   // a small relative margin covers the rounding of this 16..64-point eigenproblem
-  return eig.eigenvalues().maxCoeff() * (1.0 + 1e-10) * m_gu.lumpedLumpingBound() * m_gv.lumpedLumpingBound();
+  return eig.eigenvalues().maxCoeff() * (1.0 + 1e-10);
 }
 
 }  // namespace bsdeform

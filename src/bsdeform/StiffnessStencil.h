@@ -47,8 +47,8 @@ std::vector<double> cardinalGram(int degree, int order);
 /// derived ones. The row of a source layer s is then the row of \f$T^T G\f$,
 /// \f$G(s, \cdot) + \sum_e Z_{es} G(e, \cdot)\f$, still within d = -n..n, applied to the whole
 /// net with its derived layers up to date: that is the gradient of the energy with respect to
-/// x. Its lumped mass is the diagonal of \f$T^T R T\f$ (R the row sums): the derived layers'
-/// mass is carried by their sources.
+/// x. rowSum() stays the layer's own integral: the mass of the unknowns is \f$T^T W T\f$ for
+/// the layers' masses W (Simulation, EdgeMass), not a diagonal.
 class GramRows1D {
  public:
   GramRows1D(const BSplineBasis1D& basis, Boundary lo, Boundary hi);
@@ -60,16 +60,8 @@ class GramRows1D {
   double entry(int p, int type, int d) const { return m_rows[p][size_t(type) * (2 * m_n + 1) + (d + m_n)]; }
   /// \f$\int_0^1 b_{k,h}\f$ for a row of type `type` (h for type 0): the lumped mass factor.
   double rowSum(int type) const { return m_rowSum[size_t(type)]; }
-  /// Nodal mass factor of a row type: 1, or \f$1 + \sum_e Z_{es}^2\f$ for a source layer (the
-  /// diagonal of \f$T^T T\f$).
-  double nodalFactor(int type) const { return m_nodalFactor[size_t(type)]; }
   /// \f$\lambda_{max}(T^T T)\f$: |T x|^2 <= this |x|^2 (1 without derived layers).
   double transformBound() const { return m_transformBound; }
-  /// \f$\lambda_{max}(D^{-1/2} T^T W T D^{-1/2})\f$ with W the nodal (identity) or lumped
-  /// (row sums) mass of the layers and D = diag(T^T W T) the mass this model uses: how much a
-  /// Rayleigh quotient can grow when the derived layers' mass is lumped onto their sources.
-  double nodalLumpingBound() const { return m_nodalLumping; }
-  double lumpedLumpingBound() const { return m_lumpedLumping; }
 
  private:
   int m_n;
@@ -77,8 +69,7 @@ class GramRows1D {
   bool m_periodic;
   std::vector<double> m_rows[3];
   std::vector<double> m_rowSum;
-  std::vector<double> m_nodalFactor;
-  double m_transformBound = 1.0, m_nodalLumping = 1.0, m_lumpedLumping = 1.0;
+  double m_transformBound = 1.0;
 };
 
 /// Moving points from which StiffnessStencil::centralDifferenceUpdate() and applyMoving() split
@@ -128,17 +119,14 @@ class StiffnessStencil {
   /// Gershgorin bound sum_d |S(d)| (looser, for comparison). Like eigenvalueBound() it
   /// includes the factor transformBound() of each direction with derived layers.
   double gershgorinBound() const;
-  /// Upper bound of \f$\lambda_{max}(D^{-1} A_{II})\f$ for D = diag(T^T T) (the nodal mass
-  /// factors): the symbol bound on the whole layer space times nodalLumpingBound() of each
-  /// direction. Equal to eigenvalueBound() without derived layers.
-  double nodalEigenvalueBound() const;
+
   /// Upper bound of \f$\lambda_{max}(R^{-1} A_{II})\f$ with R the lumped (row-sum) mass of
   /// unit density, element by element: \f$A = \sum_e A_e\f$, \f$R = \sum_e R_e\f$ with
   /// \f$R_e = \mathrm{diag}(\int_e B_k)\f$, so \f$x^TAx \le \max_e \lambda(A_e, R_e)\, x^TRx\f$.
   /// Every knot cell has the same element matrices, so this is one small eigenproblem, valid
   /// for every boundary condition (needed when a FREE side makes R smaller at the edges). With
-  /// derived layers R is diag(T^T R T) and the bound is multiplied by lumpedLumpingBound() of
-  /// each direction.
+  /// derived layers it bounds \f$\lambda_{max}((T^T R T)^{-1} T^T A T)\f$ alike (the Rayleigh
+  /// quotient of y = T x).
   double elementEigenvalueBound() const;
 
   /// One fused explicit central-difference update of every free point (design.md §2), in
@@ -151,17 +139,25 @@ class StiffnessStencil {
   /// @param[in] alphaScale if not null, alpha is multiplied by alphaScale(i, j) on the band
   ///            points (lumped mass smaller at a free edge); interior points use alpha as is
   /// Periodic copies of `previous` are not refreshed (the caller does, after holding pins).
+  /// @param[in] bandSolve if not null (sides with derived layers: a mass matrix that is not
+  ///            diagonal there), it replaces alphaScale: it receives the residuals L - A P of
+  ///            the band points (order of bandPoints()) and turns them into m M^-1 of them, m
+  ///            the mass that alpha is for
   bool centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
                                double alpha, double gamma, double limit,
-                               const std::function<double(int, int)>& alphaScale = nullptr) const;
+                               const std::function<double(int, int)>& alphaScale = nullptr,
+                               const std::function<void(std::vector<Eigen::RowVector3d>&)>& bandSolve = nullptr) const;
 
- private:
-  /// A moving point outside the interior stencil's reach (a row of a FREE side's outer layers).
+  /// A moving point outside the interior stencil's reach (a row of a FREE, SIMPLY_SUPPORTED or
+  /// BUILT_IN side's outer layers).
   struct BandPoint {
     int i, j;        ///< net layers
     int table;       ///< index of its coefficient table
     Eigen::Index m;  ///< moving-point number
   };
+  const std::vector<BandPoint>& bandPoints() const { return m_band; }
+
+ private:
 
   /// fn(row, col, coefficient) for every entry of A_II, row by row (entries of periodic copies
   /// and derived layers that fold onto the same column come separately and add).

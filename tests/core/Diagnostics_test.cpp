@@ -72,8 +72,14 @@ TEST_CASE("Diagnostics: one pass equals the per-term functions for every boundar
   };
   const Boundaries clamped, allFree{B::Free, B::Free, B::Free, B::Free}, mixed{B::Free, B::Clamped, B::Clamped, B::Free},
       tube{B::Periodic, B::Periodic, B::Free, B::Clamped}, ring{B::Clamped, B::Free, B::Periodic, B::Periodic},
-      torus{B::Periodic, B::Periodic, B::Periodic, B::Periodic};
+      torus{B::Periodic, B::Periodic, B::Periodic, B::Periodic},
+      supported{B::SimplySupported, B::SimplySupported, B::SimplySupported, B::SimplySupported},
+      builtIn{B::BuiltIn, B::BuiltIn, B::BuiltIn, B::BuiltIn}, edges{B::SimplySupported, B::BuiltIn, B::Free, B::Clamped},
+      hinged{B::BuiltIn, B::SimplySupported, B::Periodic, B::Periodic};
   const Case cases[] = {
+      {supported, 3, 3, 10, 9, MassModel::Nodal, true},  {builtIn, 4, 3, 9, 10, MassModel::Lumped, false},
+      {edges, 5, 2, 8, 9, MassModel::Lumped, true},      {hinged, 3, 3, 9, 10, MassModel::Nodal, false},
+      {builtIn, 3, 5, 2, 1, MassModel::Nodal, false},
       {clamped, 3, 3, 12, 10, MassModel::Nodal, false}, {clamped, 1, 1, 9, 7, MassModel::Nodal, false},
       {clamped, 2, 5, 8, 13, MassModel::Lumped, true},  {clamped, 7, 4, 15, 11, MassModel::Nodal, false},
       {allFree, 3, 3, 10, 10, MassModel::Lumped, false}, {allFree, 2, 1, 6, 9, MassModel::Nodal, true},
