@@ -96,6 +96,8 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, CLAMPED);
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, FREE);
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, PERIODIC);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, SIMPLY_SUPPORTED);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, BUILT_IN);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryUMin, Boundary);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryUMax, Boundary);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryVMin, Boundary);
@@ -270,7 +272,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   const std::pair<const SoSFEnum*, const char*> sides[] = {
       {&boundaryUMin, "boundaryUMin"}, {&boundaryUMax, "boundaryUMax"}, {&boundaryVMin, "boundaryVMin"}, {&boundaryVMax, "boundaryVMax"}};
   for (const auto& side : sides)
-    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= PERIODIC,
+    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= BUILT_IN,
           std::string("field '") + side.second + "' has an unknown value " + std::to_string(side.first->getValue()));
   for (int i = 0; i < pins.getNum(); ++i) {
     const SbVec2d q = pins[i];
@@ -305,8 +307,13 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
   p.start = start.getValue() == PAPER ? bsdeform::StartRule::Paper : bsdeform::StartRule::SecondOrder;
   auto side = [](const SoSFEnum& f) {
-    return f.getValue() == FREE ? bsdeform::Boundary::Free
-                                : f.getValue() == PERIODIC ? bsdeform::Boundary::Periodic : bsdeform::Boundary::Clamped;
+    switch (f.getValue()) {
+      case FREE: return bsdeform::Boundary::Free;
+      case PERIODIC: return bsdeform::Boundary::Periodic;
+      case SIMPLY_SUPPORTED: return bsdeform::Boundary::SimplySupported;
+      case BUILT_IN: return bsdeform::Boundary::BuiltIn;
+      default: return bsdeform::Boundary::Clamped;
+    }
   };
   p.boundaries = {side(boundaryUMin), side(boundaryUMax), side(boundaryVMin), side(boundaryVMax)};
   for (int i = 0; i < pins.getNum(); ++i) p.pins.emplace_back(pins[i][0], pins[i][1]);

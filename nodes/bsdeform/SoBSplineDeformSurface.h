@@ -28,8 +28,10 @@
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
-///   boundaryVMin CLAMPED  #   a rest net that closes: the last n layers repeat the first n)
-///   boundaryVMax CLAMPED  # sides u = 1, v = 0, v = 1 alike
+///   boundaryVMin CLAMPED  #   a rest net that closes: the last n layers repeat the first n) |
+///   boundaryVMax CLAMPED  #   SIMPLY_SUPPORTED (edge curve held, a hinge) | BUILT_IN (edge curve
+///                         #   and cross derivative held, an engineering clamp); u = 1, v = 0,
+///                         #   v = 1 alike
 ///   pins [ ]              # (u, v) in [0,1]^2: each holds the control points of its knot span
 ///   start SECOND_ORDER    # SECOND_ORDER: P(-dt) = P(0) + dt^2/2 a(0) | PAPER: P(-dt) = P(0)
 ///   restShape PLANE       # rest net when restNet is empty: PLANE (u, v, 0) | CYLINDER | CONE |
@@ -93,7 +95,7 @@ class SoBSplineDeformSurface : public SoShape {
   enum MassModel { NODAL, LUMPED };
   enum Integrator { EXPLICIT, IMPLICIT };
   enum Reference { REST, ABSOLUTE };
-  enum Boundary { CLAMPED, FREE, PERIODIC };
+  enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN };
   enum Start { PAPER, SECOND_ORDER };
   enum Shape { PLANE, CYLINDER, CONE, SPHERE, ELLIPSOID, TORUS };
 
@@ -116,7 +118,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
   SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
-  SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE or PERIODIC; CLAMPED
+  SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED
   SoSFEnum boundaryVMin;        ///< side v = 0; CLAMPED
   SoSFEnum boundaryVMax;        ///< side v = 1; CLAMPED

@@ -6,6 +6,7 @@
 #include "bsdeform/NumberText.h"
 #include "bsdeform/Parallel.h"
 
+#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -735,6 +736,151 @@ ControlNet Simulation::staticSolution() const {
   m_space.scatterMoving(x, net);
   m_space.completeNet(net, &m_rest);
   return net;
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+ControlNet Simulation::loadAt(const ControlNet& net, double t) const {
+  ControlNet load = ControlNet::Zero(m_space.numMoving(), 3);
+  const LoadContext ctx{m_space, net, net, subStepSize(), t};
+  for (const auto& f : m_forces) f->addLoad(ctx, load);
+  return load;
+}
+
+std::string Simulation::freeMotions() const {
+  // Candidates: the displacements 1, u, v of every control point (Greville coordinates), which
+  // the paper's energy leaves at zero cost when its membrane weights are zero (1 always). A
+  // combination is free if it vanishes on every held point, follows the derived layers, and A
+  // maps it to zero.
+  const int rows = m_space.netRows(), cols = m_space.netCols();
+  ControlNet cand[3];
+  for (int c = 0; c < 3; ++c) {
+    cand[c] = ControlNet::Zero(m_space.netSize(), 3);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) {
+        const double x = c == 0 ? 1.0 : c == 1 ? m_space.grevilleU(i - m_space.degreeU()) : m_space.grevilleV(j - m_space.degreeV());
+        cand[c].row(Eigen::Index(i) * cols + j).setConstant(x);
+      }
+  }
+  // constraint rows: values on held points, mismatch of the derived layers, and A z
+  std::vector<Eigen::VectorXd> cols3(3);
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> r;
+    ControlNet completed = cand[c];
+    m_space.completeNet(completed, nullptr);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) {
+        const Eigen::Index n = Eigen::Index(i) * cols + j;
+        const bool held = m_space.foldU(i).empty() || m_space.foldV(j).empty() || m_pinMask[size_t(n)];
+        if (held) r.push_back(cand[c](n, 0));
+        else r.push_back(completed(n, 0) - cand[c](n, 0));  // zero unless derived
+      }
+    ControlNet Az;
+    m_stencil.applyMoving(completed, Az);
+    for (Eigen::Index f = 0; f < Az.rows(); ++f) r.push_back(Az(f, 0));
+    cols3[size_t(c)] = Eigen::Map<Eigen::VectorXd>(r.data(), Eigen::Index(r.size()));
+  }
+  Eigen::MatrixXd C(cols3[0].size(), 3);
+  for (int c = 0; c < 3; ++c) C.col(c) = cols3[size_t(c)] / std::max(1.0, cand[c].cwiseAbs().maxCoeff());
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeFullV);
+  const Eigen::VectorXd sv = svd.singularValues();
+  const double scale = std::max(1.0, m_stencil.gershgorinBound());
+  std::vector<std::string> motions;
+  for (int k = 0; k < 3; ++k) {
+    if (sv[k] > 1e-9 * scale) continue;
+    const Eigen::Vector3d a = svd.matrixV().col(k);
+    if (std::abs(a[1]) < 1e-9 && std::abs(a[2]) < 1e-9)
+      motions.push_back("translations (every point moving alike)");
+    else
+      motions.push_back("rotations about the line " + num(a[0]) + " + " + num(a[1]) + " u + " + num(a[2]) +
+                        " v = 0 (displacements growing linearly from it)");
+  }
+  std::string out;
+  for (const std::string& m : motions) out += (out.empty() ? "" : "; ") + m;
+  return out;
+}
+
+StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, LinearSolver solver) const {
+  const std::string free = freeMotions();
+  if (!free.empty())
+    throw std::runtime_error("static solve: nothing holds the surface against " + free +
+                             ": its equilibrium is not unique. Hold a side (CLAMPED, BUILT_IN, SIMPLY_SUPPORTED) or pin "
+                             "points (pins), or run the dynamics with damping");
+  // K = D + A_act/4 with D a negligible positive diagonal (the implicit system's form): CHOLMOD
+  // or multigrid-preconditioned CG on A itself; defect correction with the exact stencil
+  // removes the effect of D.
+  const double delta = 1e-14 * std::max(m_stencil.movingDiagonal().maxCoeff(), 1e-300);
+  std::vector<Eigen::Index> pinnedMoving;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+    if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
+  if (solver == LinearSolver::Automatic)
+    solver = m_space.numMoving() <= kAutomaticDirectPoints ? LinearSolver::Direct : LinearSolver::Multigrid;
+  ImplicitSystem K(m_space, m_stencil, Eigen::VectorXd::Constant(m_space.numMoving(), delta), pinnedMoving, solver,
+                   std::min(1e-6, tolerance), 20000);
+  StaticResult result;
+  result.method = K.method() == LinearSolver::Direct ? "CHOLMOD Cholesky"
+                  : K.method() == LinearSolver::Multigrid ? "multigrid-preconditioned CG"
+                                                          : "Jacobi-preconditioned CG";
+  const ControlNet c0 = restOffset();
+  bool dependsOnPosition = false;
+  for (const auto& f : m_forces) dependsOnPosition |= (f->dependence() & (kDependsOnPosition | kDependsOnNormal)) != 0;
+  ControlNet net = m_rest;
+  ControlNet x = m_space.gatherMoving(net);
+  ControlNet load = loadAt(net, 0.0);
+  ControlNet ax, r, d;
+  const ControlNet xRest = m_space.gatherMoving(m_rest);
+  const double normA = m_stencil.eigenvalueBound();
+  auto residualOf = [&](const ControlNet& L) {
+    // r = L + c0 - A P on the unpinned unknowns, relative to what it is made of (the normwise
+    // backward error: a smooth bending solution at 1024^2 cannot do better than eps kappa
+    // relative to ||L|| alone)
+    m_stencil.applyMoving(net, ax);
+    r = L + c0 - ax;
+    for (Eigen::Index f : pinnedMoving) r.row(f).setZero();
+    return r.norm() / std::max(normA * (x - xRest).norm() + L.norm() + c0.norm(), 1e-300);
+  };
+  double res = 0.0;
+  int outer = 0;
+  for (;;) {
+    ++outer;
+    // linear solve for this load, by defect correction
+    // (defect correction goes on while ||r|| relative to the load falls by half or more: the
+    // backward error alone stops too early for ill-conditioned bending)
+    res = residualOf(load);
+    double loadRelative = r.norm() / std::max(load.norm() + c0.norm(), 1e-300);
+    for (int k = 0; k < 12 && loadRelative > 0.01 * tolerance; ++k) {
+      d = ControlNet::Zero(r.rows(), 3);
+      r *= 0.25;  // K d = r / 4  <=>  (4 D + A) d = r
+      K.solve(r, d);
+      if (!d.allFinite()) throw std::runtime_error("static solve: the linear solve failed (non-finite values)");
+      x += d;
+      m_space.scatterMoving(x, net);
+      m_space.completeNet(net, &m_rest);
+      res = residualOf(load);
+      const double next = r.norm() / std::max(load.norm() + c0.norm(), 1e-300);
+      if (!(next < 0.5 * loadRelative)) break;
+      loadRelative = next;
+    }
+    if (!dependsOnPosition) break;
+    const ControlNet newLoad = loadAt(net, 0.0);
+    res = residualOf(newLoad);
+    load = newLoad;
+    if (res <= tolerance) break;
+    if (outer >= maxLoadIterations)
+      throw std::runtime_error("static solve: the loads that depend on the position (pressure, contact, springs) did not "
+                               "settle after " + std::to_string(outer) + " fixed-point iterations (relative residual " +
+                               num(res) + ", tolerance " + num(tolerance) +
+                               "); run the dynamics with damping to find this equilibrium");
+  }
+  if (!(res <= std::max(tolerance, 1e-6)))
+    throw std::runtime_error("static solve: the equilibrium was not reached (relative residual " + num(res) +
+                             "); the system is singular or too ill-conditioned");
+  result.net = net;
+  result.residual = res;
+  result.loadIterations = outer;
+  return result;
 }
 
 }  // namespace bsdeform

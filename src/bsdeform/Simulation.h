@@ -100,6 +100,16 @@ struct ModelParameters {
   int maxSolverIterations = 10000;
 };
 
+/// Simulation::solveStatic(): the equilibrium found and how.
+struct StaticResult {
+  ControlNet net;          ///< the full net at equilibrium (held and derived points included)
+  /// ||A P - c0 - L(P)|| / (||A|| ||P - P_rest|| + ||L(P)|| + ||c0||) on the unpinned
+  /// unknowns: the normwise backward error
+  double residual = 0.0;
+  int loadIterations = 1;  ///< fixed-point iterations (1 when no load depends on the position)
+  std::string method;      ///< "CHOLMOD Cholesky" or "multigrid-preconditioned CG"
+};
+
 /// What setState() does with held points (clamped layers, pins) that differ from the rest net.
 enum class HeldPoints {
   Check,  ///< they must equal the rest net's to 1e-12 (relative), else std::invalid_argument
@@ -213,6 +223,19 @@ class Simulation {
   /// @throws std::runtime_error if A_II is singular (all weights zero, or a free surface with
   ///         nothing holding it)
   ControlNet staticSolution() const;
+  /// The paper's static problem (eq. 10) as a user feature: the equilibrium A P = L + c0 of the
+  /// loads at time 0 with zero velocity, for nets of any size (CHOLMOD up to
+  /// kAutomaticFactorPoints unknowns, multigrid-preconditioned CG above, each followed by
+  /// defect correction with the stencil to `tolerance`). Loads that depend on the position
+  /// (pressure, contact, springs) are evaluated at the solution by fixed-point iteration
+  /// until the relative residual is below `tolerance`. The state is left alone.
+  /// @throws std::runtime_error naming the free motions when nothing holds the surface (all
+  ///         sides FREE and no pin: translations; only hinges: rotations about them), or when
+  ///         the fixed point does not converge in `maxLoadIterations`
+  /// @param solver Automatic: CHOLMOD up to kAutomaticDirectPoints unknowns, multigrid-
+  ///        preconditioned CG above (measured faster from 128^2 on, docs/benchmarks.md)
+  StaticResult solveStatic(double tolerance = 1e-10, int maxLoadIterations = 100,
+                           LinearSolver solver = LinearSolver::Automatic) const;
 
   /// The implicit scheme's linear system (null for the explicit scheme): its method, condition
   /// bound and the last solve's iterations.
@@ -233,6 +256,11 @@ class Simulation {
   void init();
   void applyStartRule();
   void holdPins(ControlNet& net) const;
+  /// Load of all forces on the net `net` at rest (zero velocity) at time t.
+  ControlNet loadAt(const ControlNet& net, double t) const;
+  /// Free motions of the unloaded model among displacements a + b u + c v (u, v the Greville
+  /// coordinates), described for a message; empty if there is none.
+  std::string freeMotions() const;
   /// A_II without the pinned rows and columns.
   Eigen::SparseMatrix<double> activeMatrix() const;
   /// A_IB P_B, the coupling to every held point (clamped layers and pins): what the static

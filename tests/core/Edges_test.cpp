@@ -328,3 +328,45 @@ TEST_CASE("Edges: states that move a held edge and sides that cannot meet are re
   q.numU = 1;
   CHECK_THROWS_WITH(Simulation(q), Catch::Contains("boundaryUMin BUILT_IN and boundaryUMax BUILT_IN"));
 }
+
+TEST_CASE("Static: solveStatic equals the direct solution, iterates position-dependent loads, names free motions", "[core]") {
+  ModelParameters p;
+  p.numU = 9;
+  p.numV = 8;
+  p.boundaries = Boundaries{Boundary::SimplySupported, Boundary::BuiltIn, Boundary::Free, Boundary::Clamped};
+  p.pins = {Eigen::Vector2d(0.5, 0.2)};
+  Simulation sim(p);
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 3)));
+  sim.addForce(std::make_shared<PointForce>(0.4, 0.7, Eigen::Vector3d(0.2, 0, -1)));
+  const StaticResult s = sim.solveStatic();
+  CHECK(s.residual <= 1e-10);
+  CHECK(s.loadIterations == 1);
+  CHECK(maxDiff(s.net, sim.staticSolution()) <= 1e-10);
+  CHECK(heldError(sim.space(), s.net, sim.rest()).position <= 1e-14);
+  CHECK(sim.current() == sim.rest());  // the state is left alone
+
+  // a pressure along the normal: a fixed point of the load, not the first solve
+  Simulation balloon(p);
+  balloon.addForce(std::make_shared<DistributedForce>(
+      [](const SurfaceSample& x) { return Eigen::Vector3d(0.5 * x.normal); }, kDependsOnNormal));
+  const StaticResult b = balloon.solveStatic();
+  CHECK(b.loadIterations > 2);
+  CHECK(b.residual <= 1e-10);
+
+  // nothing holds it: translations named; a single hinge with pure bending: a rotation
+  ModelParameters q;
+  q.numU = q.numV = 6;
+  q.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
+  Simulation loose(q);
+  loose.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  CHECK_THROWS_WITH(loose.solveStatic(), Catch::Contains("translations"));
+  q.boundaries.uMin = Boundary::SimplySupported;
+  q.weights = Weights{0, 0, 1, 1, 1};
+  Simulation hinge(q);
+  hinge.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  CHECK_THROWS_WITH(hinge.solveStatic(), Catch::Contains("rotations about the line"));
+  q.boundaries.uMin = Boundary::BuiltIn;  // the cantilever: held
+  Simulation cantilever(q);
+  cantilever.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  CHECK(cantilever.solveStatic().residual <= 1e-10);
+}
