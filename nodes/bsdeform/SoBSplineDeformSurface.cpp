@@ -517,6 +517,25 @@ void SoBSplineDeformSurface::resetSimulation() {
   touch();
 }
 
+bool SoBSplineDeformSurface::solveStatic(bsdeform::StaticResult* result, std::string* error) {
+  ensureSimulation();
+  updateForces(*m_sim);
+  try {
+    bsdeform::StaticResult r = m_sim->solveStatic();
+    m_sim->setState(r.net, r.net, 0.0, 0, 0.0, bsdeform::HeldPoints::Check);
+    if (result) *result = std::move(r);
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  m_timeBudget = 0.0;
+  m_lastWarning.clear();
+  m_tessValid = false;
+  syncClockFields();
+  touch();
+  return true;
+}
+
 void SoBSplineDeformSurface::addTransientForce(std::shared_ptr<const bsdeform::Force> force) {
   ensureSimulation();
   m_transient.push_back(force);

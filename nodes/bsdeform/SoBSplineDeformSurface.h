@@ -80,6 +80,7 @@ class Simulation;
 class Force;
 class SceneObstacles;
 class SurfaceBuffers;
+struct StaticResult;
 }  // namespace bsdeform
 
 class SoTimerSensor;
@@ -148,6 +149,12 @@ class SoBSplineDeformSurface : public SoShape {
   int advanceRealTime(double seconds);
   /// Back to the rest state (same as touching `reset`).
   void resetSimulation();
+  /// The paper's static problem: the equilibrium of the current loads at t = 0 with zero
+  /// velocity (bsdeform::Simulation::solveStatic) becomes the state, controlNet and
+  /// previousNet both the equilibrium, simulationTime and stepCount 0, so that a saved file
+  /// opens at rest there. On failure (nothing holds the surface, loads that do not settle)
+  /// nothing changes, `error` says why and false is returned.
+  bool solveStatic(bsdeform::StaticResult* result, std::string* error);
   /// Adds / removes a force that is not part of the scene (not written to file), e.g. the
   /// viewer's mouse spring.
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);

@@ -717,3 +717,52 @@ TEST_CASE("bsdeform-run --video: a frame per 1/fps of simulated time, the size a
   CHECK(slurp(dir.path + "/videos/clip.webm") == before);
   CHECK(listDir(dir.path + "/videos") == std::vector<std::string>{"clip.webm"});
 }
+
+TEST_CASE("bsdeform-run --static: the equilibrium of a long damped run, written at rest, with its residual", "[scenes]") {
+  TempDir dir;
+  // the cantilever: the beam's tip q L^4 / (8 D) = 0.25 (bicubic reproduces it), printed residual
+  Run r = run(scene("cantilever.iv") + " --static -o beam -q", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("Strip: equilibrium by CHOLMOD Cholesky") != std::string::npos);
+  CHECK(r.out.find("relative residual") != std::string::npos);
+  {
+    Coin::get();
+    SoSeparator* root = testutil::read(slurp(dir.path + "/beam/final.iv"));
+    REQUIRE(root);
+    const auto surfaces = bsdeform::sceneSurfaces(root);
+    REQUIRE(surfaces.size() == 1);
+    const bsdeform::Simulation& sim = surfaces[0]->simulation();
+    CHECK(sim.current() == sim.previous());  // opens at rest
+    CHECK(sim.time() == 0.0);
+    CHECK(sim.evaluate(1.0, 0.5).position.z() == Approx(-0.25).epsilon(1e-9));
+    // and stays there: the dynamics from the equilibrium do not move
+    const bsdeform::ControlNet eq = sim.current();
+    surfaces[0]->stepSimulation(50);
+    CHECK((surfaces[0]->simulation().current() - eq).cwiseAbs().maxCoeff() < 1e-9);
+    root->unref();
+  }
+  // the simply supported plate: --static equals where the damped dynamics come to rest
+  r = run(scene("plate_simply_supported.iv") + " --static -o static -q", dir.path);
+  REQUIRE(r.code == 0);
+  r = run(scene("plate_simply_supported.iv") + " --until 4 --record-every 400 -o dynamic -q", dir.path);
+  REQUIRE(r.code == 0);
+  auto lastNorm = [](const std::string& c) {
+    const std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
+    return std::stod(l.substr(l.find(',', l.find(',') + 1) + 1));
+  };
+  const double s = lastNorm(slurp(dir.path + "/static/Plate.csv")), d = lastNorm(slurp(dir.path + "/dynamic/Plate.csv"));
+  CHECK(s > 1.0);
+  CHECK(d == Approx(s).epsilon(1e-6));
+  // nothing holds it: exit 2 naming the free motions, nothing written
+  r = run(scene("paper_fig2_point_force.iv") +
+              " --static -o loose --set Surface.boundaryUMin=FREE --set Surface.boundaryUMax=FREE"
+              " --set Surface.boundaryVMin=FREE --set Surface.boundaryVMax=FREE",
+          dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("translations") != std::string::npos);
+  CHECK(slurp(dir.path + "/loose/final.iv").empty());
+  // one state: stepping options are refused by name
+  r = run(scene("cantilever.iv") + " --static --steps 3 -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("--static and --steps") != std::string::npos);
+}

@@ -207,10 +207,45 @@ Failure RunLoop::writeVideoFrames(long frame) {
   return {kOk, {}};
 }
 
+Failure RunLoop::runStatic() {
+  const RunOptions& o = m_options;
+  QElapsedTimer timer;
+  timer.start();
+  for (Surface& s : m_surfaces) {
+    QElapsedTimer one;
+    one.start();
+    StaticResult r;
+    std::string error;
+    if (!s.node->solveStatic(&r, &error))
+      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(error))};
+    m_staticLines << QStringLiteral("%1: equilibrium by %2 in %3 s, relative residual %4%5")
+                         .arg(s.name, QString::fromStdString(r.method))
+                         .arg(one.elapsed() / 1000.0, 0, 'f', 2)
+                         .arg(r.residual, 0, 'g', 3)
+                         .arg(r.loadIterations > 1 ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads")
+                                                         .arg(r.loadIterations)
+                                                   : QString());
+    record(s);
+    flushRow(s);
+  }
+  const double seconds = timer.elapsed() / 1000.0;
+  if (o.pngEvery > 0 || !o.pngAt.isEmpty()) {
+    const Failure f = writeImage(0);
+    if (!f.ok()) return f;
+  }
+  const Failure f = writeOutputs();
+  if (!f.ok()) return f;
+  // the residual is printed even with --quiet: it is the answer
+  for (const QString& line : m_staticLines) std::printf("bsdeform-run: %s\n", utf8(line).constData());
+  if (!o.quiet) printSummary(seconds);
+  return {kOk, {}};
+}
+
 Failure RunLoop::run() {
   const RunOptions& o = m_options;
   Failure f = prepare();
   if (!f.ok()) return f;
+  if (o.staticSolve) return runStatic();
 
   QElapsedTimer timer;
   timer.start();
@@ -281,8 +316,11 @@ Failure RunLoop::writeOutputs() {
 }
 
 void RunLoop::printSummary(double seconds) const {
-  std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", utf8(m_options.scene).constData(), m_frames, m_dtMin,
-              seconds);
+  if (m_options.staticSolve)
+    std::printf("bsdeform-run: %s, the equilibrium at t = 0 in %.2f s wall\n", utf8(m_options.scene).constData(), seconds);
+  else
+    std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", utf8(m_options.scene).constData(), m_frames,
+                m_dtMin, seconds);
   for (const Surface& s : m_surfaces) {
     const Simulation& sim = s.node->simulation();
     const ModelParameters& p = sim.parameters();

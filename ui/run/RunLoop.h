@@ -57,6 +57,9 @@ class RunLoop {
   };
 
   Failure prepare();
+  /// --static: every surface solved for its equilibrium (SoBSplineDeformSurface::solveStatic),
+  /// one history row, one image on request, final.iv.
+  Failure runStatic();
   Failure checkOutputNames() const;
   /// Begins the history row of the current state (after writing the one before).
   void record(Surface& s);
@@ -71,6 +74,7 @@ class RunLoop {
   void printSummary(double seconds) const;
   void printResults() const;
   Failure outcome() const;
+  QStringList m_staticLines;  ///< --static: what each surface's solve reports
 
   const RunOptions& m_options;
   NodeRef<SoSeparator> m_root;

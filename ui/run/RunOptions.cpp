@@ -65,6 +65,10 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   const QCommandLineOption videoFps(QStringLiteral("video-fps"),
                                      QStringLiteral("video frames per simulated second (default 25)"), QStringLiteral("F"));
   const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
+  const QCommandLineOption staticSolve(
+      QStringLiteral("static"),
+      QStringLiteral("solve for the equilibrium of the loads at t = 0 instead of stepping (the paper's A P = L):\n"
+                     "final.iv holds it at rest, the CSV one row, --png-every/--png-at one image; prints the residual"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
   QCommandLineOption sweepProgram(QStringLiteral("sweep-program"),
@@ -72,8 +76,8 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                   QStringLiteral("PATH"));
   sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, resultOnly,
-       sweepProgram});
+      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, staticSolve,
+       resultOnly, sweepProgram});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -125,6 +129,16 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   if (!o.video.isEmpty() && !o.sweep.isEmpty())
     return {kBadInput, QStringLiteral("--video and --sweep: a sweep runs many simulations, record one with --set")};
   o.quiet = parser.isSet(quiet);
+  o.staticSolve = parser.isSet(staticSolve);
+  if (o.staticSolve) {
+    // the equilibrium is one state: nothing to step, sweep or film
+    for (const auto& [isSet, name] : {std::make_pair(parser.isSet(steps), "--steps"), std::make_pair(parser.isSet(until), "--until"),
+                                      std::make_pair(!o.sweep.isEmpty(), "--sweep"), std::make_pair(!o.video.isEmpty(), "--video"),
+                                      std::make_pair(parser.isSet(recordEvery), "--record-every")})
+      if (isSet)
+        return {kBadInput, QStringLiteral("--static and %1: --static solves for one state, the equilibrium at t = 0")
+                               .arg(QLatin1String(name))};
+  }
   o.resultOnly = parser.isSet(resultOnly);
   o.sweepProgram = parser.value(sweepProgram);
 
