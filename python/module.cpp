@@ -190,6 +190,18 @@ class Surface {
 
   void reset() { m_node->resetSimulation(); }
 
+  py::dict solveStatic() {
+    checked();
+    bsdeform::StaticResult r;
+    std::string error;
+    if (!m_node->solveStatic(&r, &error)) raise("SimulationError", nodeLabel(m_node) + ": " + error);
+    py::dict d;
+    d["residual"] = r.residual;
+    d["method"] = r.method;
+    d["load_iterations"] = r.loadIterations;
+    return d;
+  }
+
   py::dict diagnostics() {
     const bsdeform::Simulation& sim = m_node->simulation();
     const bsdeform::Diagnostics d = sim.diagnostics();
@@ -308,6 +320,15 @@ node, field and value) and SimulationError when the simulation blows up (the las
 is kept) or refuses a step.
 )doc")
       .def("reset", &Surface::reset, "Back to the rest state (same as touching the `reset` field).")
+      .def("solve_static", &Surface::solveStatic, R"doc(
+The paper's static problem (eq. 10): the equilibrium of the current loads at t = 0 with zero
+velocity becomes the state (control and previous net both the equilibrium, time and step count
+0), as ``bsdeform-run --static`` does. Returns a dict: residual (relative, the normwise backward
+error), method ('CHOLMOD Cholesky' or 'multigrid-preconditioned CG'), load_iterations (fixed-point
+iterations of position-dependent loads). Raises SimulationError naming the free motions when
+nothing holds the surface, or when position-dependent loads do not settle; the state is then
+left alone.
+)doc")
       .def("diagnostics", &Surface::diagnostics, R"doc(
 A dict: time, steps, norm (eq. 15), kinetic, strain (total), strain_terms (w10, w01, w11, w20,
 w02), stability_limit, sub_steps, time_step, status ('ok', 'nonfinite', 'diverged', 'refused'),

@@ -157,5 +157,36 @@ class Stepping(unittest.TestCase):
         self.assertGreater(s.evaluate(0.5, 0.5)[2], 0.0)
 
 
+class Static(unittest.TestCase):
+    def test_solve_static_is_the_runners_equilibrium_and_holds_still(self):
+        (beam,) = bsdeform.surfaces(bsdeform.read_scene(scene("cantilever.iv")))
+        result = beam.solve_static()
+        self.assertLess(result["residual"], 1e-10)
+        self.assertEqual(result["method"], "CHOLMOD Cholesky")
+        self.assertEqual(result["load_iterations"], 1)
+        # the beam's tip q L^4 / (8 D) = 0.25, downwards; at rest at t = 0
+        self.assertAlmostEqual(beam.evaluate(1.0, 0.5)[2], -0.25, places=9)
+        self.assertEqual(beam.time, 0.0)
+        self.assertEqual(beam.diagnostics()["kinetic"], 0.0)
+        # the same numbers as bsdeform-run --static
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            subprocess.run([RUN, scene("cantilever.iv"), "--static", "-o", out, "--quiet"], check=True,
+                           capture_output=True, timeout=300)
+            with open(os.path.join(out, "Strip.csv")) as fh:
+                (row,) = list(csv.DictReader(fh))
+        self.assertEqual(float(row["norm"]), beam.diagnostics()["norm"])
+
+    def test_a_surface_held_nowhere_names_its_free_motions(self):
+        node = bsdeform.new_node("SoBSplineDeformSurface", numUControlPoints=6, numVControlPoints=6, on=False,
+                                 boundaryUMin="FREE", boundaryUMax="FREE", boundaryVMin="FREE",
+                                 boundaryVMax="FREE")
+        node.forces.setValue(bsdeform.new_node("SoForceField", type="UNIFORM", force=(0, 0, 1)))
+        s = bsdeform.Surface(node)
+        with self.assertRaisesRegex(bsdeform.SimulationError, "translations"):
+            s.solve_static()
+        self.assertEqual(s.norm, 0.0)  # the state is left alone
+
+
 if __name__ == "__main__":
     unittest.main()
