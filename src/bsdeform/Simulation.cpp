@@ -787,15 +787,23 @@ std::string Simulation::freeMotions() const {
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeFullV);
   const Eigen::VectorXd sv = svd.singularValues();
   const double scale = std::max(1.0, m_stencil.gershgorinBound());
+  std::vector<int> nullCols;
+  for (int k = 0; k < 3; ++k)
+    if (sv[k] <= 1e-9 * scale) nullCols.push_back(k);
   std::vector<std::string> motions;
-  for (int k = 0; k < 3; ++k) {
-    if (sv[k] > 1e-9 * scale) continue;
-    const Eigen::Vector3d a = svd.matrixV().col(k);
-    if (std::abs(a[1]) < 1e-9 && std::abs(a[2]) < 1e-9)
-      motions.push_back("translations (every point moving alike)");
-    else
+  // is the constant (a translation) among them? its projection on the null space is itself
+  double constantPart = 0.0;
+  for (int k : nullCols) constantPart += std::pow(svd.matrixV()(0, k), 2);
+  const bool translations = constantPart > 1.0 - 1e-9;
+  if (translations) motions.push_back("translations (every point moving alike)");
+  if (translations && nullCols.size() > 1) {
+    motions.push_back("rotations (displacements linear in u and v)");
+  } else if (!translations) {
+    for (int k : nullCols) {
+      const Eigen::Vector3d a = svd.matrixV().col(k);
       motions.push_back("rotations about the line " + num(a[0]) + " + " + num(a[1]) + " u + " + num(a[2]) +
                         " v = 0 (displacements growing linearly from it)");
+    }
   }
   std::string out;
   for (const std::string& m : motions) out += (out.empty() ? "" : "; ") + m;

@@ -582,3 +582,32 @@ TEST_CASE("Export: the control net as x y z points and as OBJ points with the ne
   CHECK(lines[rows].split(' ').size() == 1 + rows);   // a column: rows points
   CHECK(!w.exportControlNet(dir.filePath(QStringLiteral("net.stl"))));
 }
+
+TEST_CASE("Editing: Simulation > Solve Static puts the surface at its equilibrium, undo and redo, a loose surface is refused",
+          "[ui]") {
+  auto w = makeWindow("cantilever.iv");
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  s->stepSimulation(3);  // a state of its own, which undo must bring back
+  const bsdeform::ControlNet before = s->simulation().current();
+  const double t = s->simulation().time();
+  REQUIRE(w->solveStatic());
+  CHECK(!w->isPlaying());
+  CHECK(s->simulation().evaluate(1.0, 0.5).position.z() == Approx(-0.25).epsilon(1e-9));
+  CHECK(s->simulation().current() == s->simulation().previous());
+  CHECK(s->simulation().time() == 0.0);
+  const bsdeform::ControlNet equilibrium = s->simulation().current();
+  w->undoStack().undo();
+  CHECK((s->simulation().current() - before).cwiseAbs().maxCoeff() <= 1e-14);
+  CHECK(s->simulation().time() == Approx(t));
+  w->undoStack().redo();
+  CHECK((s->simulation().current() - equilibrium).cwiseAbs().maxCoeff() <= 1e-14);
+  CHECK(w->isWindowModified());
+  // every side FREE: nothing holds it, the error names the free motions, nothing changes
+  s->boundaryUMin = SoBSplineDeformSurface::FREE;
+  s->resetSimulation();
+  const int commands = w->undoStack().count();
+  CHECK(!w->solveStatic());
+  CHECK(w->lastError().contains(QStringLiteral("translations")));
+  CHECK(w->undoStack().count() == commands);
+  CHECK(s->simulation().deformationNorm() == 0.0);
+}

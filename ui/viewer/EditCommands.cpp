@@ -14,6 +14,7 @@
 #include <algorithm>
 
 #include "SceneDocument.h"
+#include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 
@@ -231,6 +232,73 @@ void DeleteCommand::undo() {
   }
   m_context.doc.rescan();
   m_context.structureChanged(m_target);
+}
+
+}  // namespace bsdeform
+
+// ---------------------------------------------------------------------------------------------
+
+namespace bsdeform {
+
+SolveStaticCommand::State SolveStaticCommand::capture(SoBSplineDeformSurface* node) {
+  node->syncStateFields();
+  return State{node, std::unique_ptr<SoField>(copyOf(node->controlNet)), std::unique_ptr<SoField>(copyOf(node->previousNet)),
+               node->simulationTime.getValue(), int(node->stepCount.getValue())};
+}
+
+// The state fields of each surface, written as a file would hold them: the node rebuilds its
+// state from them (its notify marks the state changed).
+void SolveStaticCommand::restore(const std::vector<State>& states) {
+  for (const State& s : states) {
+    s.node->controlNet.copyFrom(*s.control);
+    s.node->previousNet.copyFrom(*s.previous);
+    s.node->simulationTime.setValue(s.time);
+    s.node->stepCount.setValue(s.steps);
+    s.node->simulation();  // rebuilt now, not at the next traversal
+    m_context.fieldChanged(s.node, &s.node->controlNet);
+  }
+}
+
+SolveStaticCommand::SolveStaticCommand(EditContext& context, const std::vector<SoBSplineDeformSurface*>& surfaces)
+    : m_context(context) {
+  setText(QObject::tr("Solve Static"));
+  for (SoBSplineDeformSurface* s : surfaces) {
+    s->ref();
+    m_before.push_back(capture(s));
+  }
+  for (SoBSplineDeformSurface* s : surfaces) {
+    StaticResult r;
+    std::string error;
+    const SbName name = s->getName();
+    const QString label = name.getLength() ? QString::fromUtf8(name.getString()) : QObject::tr("surface");
+    if (!s->solveStatic(&r, &error)) {
+      m_error = label + QStringLiteral(": ") + QString::fromStdString(error);
+      restore(m_before);
+      return;
+    }
+    m_report += (m_report.isEmpty() ? QString() : QStringLiteral("; ")) +
+                QObject::tr("%1: equilibrium by %2, relative residual %3")
+                    .arg(label, QString::fromStdString(r.method))
+                    .arg(r.residual, 0, 'g', 3);
+  }
+  for (SoBSplineDeformSurface* s : surfaces) {
+    m_after.push_back(capture(s));
+    m_context.fieldChanged(s, &s->controlNet);
+  }
+}
+
+SolveStaticCommand::~SolveStaticCommand() {
+  for (const State& s : m_before) s.node->unref();
+}
+
+void SolveStaticCommand::undo() { restore(m_before); }
+
+void SolveStaticCommand::redo() {
+  if (m_skipRedo) {  // solved in the constructor
+    m_skipRedo = false;
+    return;
+  }
+  restore(m_after);
 }
 
 }  // namespace bsdeform

@@ -115,4 +115,34 @@ class DeleteCommand : public QUndoCommand {
   std::vector<Place> m_places;  ///< in increasing index order per holder
 };
 
+/// Simulation > Solve Static: every surface goes to the equilibrium of its loads at t = 0
+/// (SoBSplineDeformSurface::solveStatic); undo puts back the states they had (nets, time,
+/// steps), redo the equilibria.
+class SolveStaticCommand : public QUndoCommand {
+ public:
+  /// Solves at once. If a surface cannot be solved, every surface is left as it was, error()
+  /// says why and the command must not be pushed.
+  SolveStaticCommand(EditContext& context, const std::vector<SoBSplineDeformSurface*>& surfaces);
+  ~SolveStaticCommand() override;
+  void undo() override;
+  void redo() override;
+  const QString& error() const { return m_error; }
+  /// One line per surface: method and residual.
+  const QString& report() const { return m_report; }
+
+ private:
+  struct State {
+    SoBSplineDeformSurface* node;
+    std::unique_ptr<SoField> control, previous;
+    double time;
+    int steps;
+  };
+  static State capture(SoBSplineDeformSurface* node);
+  void restore(const std::vector<State>& states);
+  EditContext& m_context;
+  std::vector<State> m_before, m_after;
+  QString m_error, m_report;
+  bool m_skipRedo = true;
+};
+
 }  // namespace bsdeform

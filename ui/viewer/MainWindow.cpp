@@ -183,6 +183,11 @@ void MainWindow::createActions() {
     sim->addAction(act);
     bar->addAction(act);
   }
+  sim->addSeparator();
+  QAction* staticAction = sim->addAction(tr("Solve S&tatic"), this, &MainWindow::solveStatic);
+  staticAction->setShortcut(QKeySequence(tr("Ctrl+E")));
+  staticAction->setToolTip(tr("Every surface to the equilibrium of its loads at t = 0, at rest (the paper's A P = L); "
+                              "undo brings the state back (Ctrl+E)"));
   bar->addSeparator();
   bar->addWidget(new QLabel(tr(" speed ")));
   m_speed = new QDoubleSpinBox;
@@ -736,6 +741,26 @@ void MainWindow::reset() {
   m_drag->release();
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->resetSimulation();
   tick();
+}
+
+bool MainWindow::solveStatic() {
+  setPlaying(false);
+  m_drag->release();
+  const QVector<SoBSplineDeformSurface*> surfaces = m_doc->surfaces();
+  auto* command = new SolveStaticCommand(*m_edit, std::vector<SoBSplineDeformSurface*>(surfaces.begin(), surfaces.end()));
+  if (!command->error().isEmpty()) {
+    const QString error = command->error();
+    delete command;
+    reportError(tr("Solve Static"), error);
+    tick();
+    return false;
+  }
+  const QString report = command->report();
+  m_undo->push(command);
+  statusBar()->showMessage(report, 10000);
+  if (!m_interactive) std::fprintf(stderr, "bsdeform-viewer: %s\n", report.toUtf8().constData());
+  tick();
+  return true;
 }
 
 void MainWindow::setDragMode(bool on) {

@@ -135,6 +135,9 @@ class MainWindow : public QMainWindow {
   void pause();
   void step();
   void reset();
+  /// Simulation > Solve Static: every surface to the equilibrium of its loads (undoable); false
+  /// and a reported error if one cannot be solved (nothing changes then).
+  bool solveStatic();
 
  protected:
   void dragEnterEvent(QDragEnterEvent* e) override;
