@@ -76,7 +76,61 @@ void ImplicitStepCG(benchmark::State& s) { step(s, LinearSolver::ConjugateGradie
 void ImplicitFactorMG(benchmark::State& s) { factor(s, LinearSolver::Multigrid); }
 void ImplicitStepMG(benchmark::State& s) { step(s, LinearSolver::Multigrid); }
 
+// Issue 23: ImplicitStepSides/<N>/<K>, the implicit step with all four sides CLAMPED (K = 0),
+// SIMPLY_SUPPORTED (1) or BUILT_IN (2); StaticSolve/<N>/<K>, Simulation::solveStatic of the
+// Kirchhoff plate (w10 = w01 = 0, the others 1) under a uniform load with those sides: what
+// bsdeform-run --static does per surface.
+bsdeform::Boundary sideKind(int k) {
+  const bsdeform::Boundary kinds[] = {bsdeform::Boundary::Clamped, bsdeform::Boundary::SimplySupported,
+                                      bsdeform::Boundary::BuiltIn};
+  return kinds[k];
+}
+
+void ImplicitStepSides(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const bsdeform::Boundary k = sideKind(int(state.range(1)));
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  p.integrator = bsdeform::Integrator::Implicit;
+  p.boundaries = {k, k, k, k};
+  bsdeform::Simulation sim(p);
+  sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 60), bsdeform::ParamRect{0.3, 0.7, 0.3, 0.7}));
+  sim.advance(2);
+  long iterations = 0, steps = 0;
+  for (auto _ : state) {
+    sim.step();
+    iterations += sim.implicitSystem()->lastIterations();
+    ++steps;
+    benchmark::DoNotOptimize(sim.current().data());
+  }
+  if (sim.status() != bsdeform::Status::Ok) state.SkipWithError(sim.statusMessage().c_str());
+  reportSystem(state, sim);
+  state.counters["cgIterations"] = steps ? double(iterations) / double(steps) : 0.0;
+}
+
+void StaticSolve(benchmark::State& state) {
+  const int N = static_cast<int>(state.range(0));
+  const bsdeform::Boundary k = sideKind(int(state.range(1)));
+  bsdeform::ModelParameters p;
+  p.numU = p.numV = N;
+  p.weights = bsdeform::Weights{0, 0, 1, 1, 1};
+  p.boundaries = {k, k, k, k};
+  bsdeform::Simulation sim(p);
+  sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  double residual = 0.0;
+  for (auto _ : state) {
+    const bsdeform::StaticResult r = sim.solveStatic();
+    residual = r.residual;
+    benchmark::DoNotOptimize(r.net.data());
+  }
+  state.counters["residual"] = residual;
+}
+
 }  // namespace
+
+BENCHMARK(ImplicitStepSides)->ArgsProduct({{64, 128, 256}, {0, 1, 2}})->Unit(benchmark::kMillisecond);
+BENCHMARK(StaticSolve)->ArgsProduct({{64, 256}, {0, 1, 2}})->Unit(benchmark::kMillisecond);
+BENCHMARK(StaticSolve)->ArgsProduct({{1024}, {0, 1, 2}})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 // 64..256 repeat as Google Benchmark decides; 512 and 1024 once (seconds to minutes each).
 #define BSDEFORM_IMPLICIT_BENCH(name)                                                   \

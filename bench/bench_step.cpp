@@ -2,6 +2,8 @@
 // Cost of one explicit central-difference step (design.md §4):
 //   ExplicitStep/<N>/<T>  the product: the fused stencil kernel of bsdeform::Simulation, on T
 //                         threads (issue 11 item 6; split at every size, wall time)
+//   ExplicitStepSides/<N>/<K> the paper's step with all four sides CLAMPED (K = 0),
+//                         SIMPLY_SUPPORTED (1) or BUILT_IN (2) (issue 23)
 //   SparseMatrixStep/<N>  the baseline a user would write: the same update with an Eigen
 //                         SparseMatrix product A_II P_I + A_IB P_B
 //   StreamBound/<N>       the same memory traffic without the stencil: the bandwidth bound
@@ -100,6 +102,26 @@ void ExplicitStepFree(benchmark::State& state) {
 void ExplicitStepPeriodic(benchmark::State& state) {
   using bsdeform::Boundary;
   steppedModel(state, {Boundary::Periodic, Boundary::Periodic, Boundary::Clamped, Boundary::Clamped}, true);
+}
+
+// The paper's step with every side of one kind (issue 23): K = 0 CLAMPED (the paper), 1
+// SIMPLY_SUPPORTED, 2 BUILT_IN. Nodal mass as the paper; points/s counts the moving points.
+void ExplicitStepSides(benchmark::State& state) {
+  using bsdeform::Boundary;
+  const int N = static_cast<int>(state.range(0));
+  const Boundary kinds[] = {Boundary::Clamped, Boundary::SimplySupported, Boundary::BuiltIn};
+  const Boundary k = kinds[state.range(1)];
+  bsdeform::ModelParameters p = params(N);
+  p.boundaries = {k, k, k, k};
+  bsdeform::Simulation sim(p);
+  sim.addForce(std::make_shared<bsdeform::DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  for (auto _ : state) {
+    sim.step();
+    benchmark::DoNotOptimize(sim.current().data());
+  }
+  if (sim.status() != bsdeform::Status::Ok) state.SkipWithError("simulation diverged");
+  state.counters["points/s"] =
+      benchmark::Counter(double(sim.space().numMoving()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
 // The same step with an assembled sparse matrix: A = [A_II A_IB] over all net points, so one
@@ -244,6 +266,7 @@ BENCHMARK(ExplicitStep)
     ->ArgsProduct({{32, 48, 64, 96, 128, 256, 512, 1024}, {1, 2}})
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime();
+BENCHMARK(ExplicitStepSides)->ArgsProduct({{64, 256, 1024}, {0, 1, 2}})->Unit(benchmark::kMicrosecond);
 BENCHMARK(ExplicitStepFree)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(ExplicitStepPeriodic)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);
 BENCHMARK(SparseMatrixStep)->RangeMultiplier(2)->Range(32, 1024)->Unit(benchmark::kMicrosecond);

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <stdexcept>
 
 namespace bsdeform {
 
@@ -160,6 +161,35 @@ void EdgeMass::solve(ControlNet& r) const {
     const Eigen::Index n = s.movingToNet(f);
     r.row(f) = solveAt(copy, int(n / s.netCols()), int(n % s.netCols()));
   }
+}
+
+EdgeMass::BandPlan EdgeMass::bandPlan(const std::vector<StiffnessStencil::BandPoint>& band, double scale) const {
+  const SplineSpace& s = *m_space;
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  std::vector<int> bandIndex(size_t(s.numMoving()), -1);
+  for (size_t k = 0; k < band.size(); ++k) bandIndex[size_t(band[k].m)] = int(k);
+  auto indexOf = [&](Eigen::Index f) {
+    const int k = bandIndex[size_t(f)];
+    if (k < 0) throw std::logic_error("EdgeMass::bandPlan: the mass couples a band point with a point outside the band");
+    return k;
+  };
+  BandPlan plan;
+  plan.start.push_back(0);
+  for (const StiffnessStencil::BandPoint& b : band) {
+    if (const PinnedGroup* g = pinnedGroup(b.i, b.j)) {
+      if (!m_pinned[size_t(b.m)]) {
+        const Eigen::Index a = std::find(g->free.begin(), g->free.end(), b.m) - g->free.begin();
+        for (size_t c = 0; c < g->free.size(); ++c) plan.entries.emplace_back(indexOf(g->free[c]), scale * g->inverse(a, Eigen::Index(c)));
+      }
+    } else {
+      for (const LayerWeight& u : m_invU[size_t(b.i)])
+        for (const LayerWeight& v : m_invV[size_t(b.j)])
+          plan.entries.emplace_back(indexOf(Eigen::Index(u.layer - mu.first) * mv.count + (v.layer - mv.first)),
+                                    scale * u.weight * v.weight / m_scale);
+    }
+    plan.start.push_back(int(plan.entries.size()));
+  }
+  return plan;
 }
 
 std::vector<Eigen::Triplet<double>> EdgeMass::offDiagonal(double scale) const {

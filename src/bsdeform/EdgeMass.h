@@ -40,6 +40,15 @@ class EdgeMass {
   Eigen::RowVector3d solveAt(const ControlNet& r, int i, int j) const;
   /// The off-diagonal entries of M (moving-point numbers), times `scale`.
   std::vector<Eigen::Triplet<double>> offDiagonal(double scale) const;
+  /// The explicit step's band solve (StiffnessStencil::centralDifferenceUpdate): for band
+  /// point k of `band`, (scale M^-1 r)_k = sum over plan entries (index into the band,
+  /// coefficient) of coefficient * r[index], as CSR rows (`start` has band.size() + 1 entries).
+  /// Every point M couples a band point with is a band point (the source layers are).
+  struct BandPlan {
+    std::vector<int> start;
+    std::vector<std::pair<int, double>> entries;
+  };
+  BandPlan bandPlan(const std::vector<StiffnessStencil::BandPoint>& band, double scale) const;
   /// Pinned moving points (by moving-point number): solve() and solveAt() then give the
   /// accelerations of the others with the pinned ones at zero, \f$M_{ff}^{-1} r_f\f$ (pinned
   /// entries of the result are zero).

@@ -9,6 +9,7 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
@@ -208,6 +209,7 @@ void Simulation::init() {
   // Derived layers (SIMPLY_SUPPORTED, BUILT_IN) keep their mass: M = T^T W T is not diagonal
   // there (EdgeMass), and lambda_max(M^-1 A_II) is bounded on the whole layer space.
   m_edgeMass.reset();
+  m_bandPlan.reset();
   m_derivedRows.clear();
   if (m_space.hasDerived()) {
     m_edgeMass = std::make_unique<EdgeMass>(m_space, m_stencil.gramU(), m_stencil.gramV(),
@@ -427,14 +429,20 @@ bool Simulation::explicitSubStep(double t) {
   // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
   // ratio s (damping scales alike, so gamma does not change).
   std::function<double(int, int)> scale;
-  std::function<void(std::vector<Eigen::RowVector3d>&)> bandSolve;
+  StiffnessStencil::BandSolve bandSolve;
   if (m_edgeMass) {
     // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
-    bandSolve = [this, m](std::vector<Eigen::RowVector3d>& r) {
-      const auto& band = m_stencil.bandPoints();
-      allocateNet(m_bandScratch, m_space.numMoving());
-      for (size_t k = 0; k < band.size(); ++k) m_bandScratch.row(band[k].m) = r[k];
-      for (size_t k = 0; k < band.size(); ++k) r[k] = m * m_edgeMass->solveAt(m_bandScratch, band[k].i, band[k].j);
+    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(m_edgeMass->bandPlan(m_stencil.bandPoints(), m));
+    bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
+      for (size_t k = k0; k < k1; ++k) {
+        Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
+        for (int e = plan->start[k]; e < plan->start[k + 1]; ++e) {
+          const auto& entry = plan->entries[size_t(e)];
+          assert(size_t(entry.first) >= k0 && size_t(entry.first) < k1);
+          acc += entry.second * r[size_t(entry.first) - k0];
+        }
+        out[k - k0] = acc;
+      }
     };
   } else if (!m_uniformMass) {
     scale = [this, m](int i, int j) { return m / massAt(i, j); };

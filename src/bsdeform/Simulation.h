@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bsdeform/Diagnostics.h"
+#include "bsdeform/EdgeMass.h"
 #include "bsdeform/Force.h"
 #include "bsdeform/ImplicitSystem.h"
 #include "bsdeform/SplineSpace.h"
@@ -50,8 +51,6 @@ enum class Status {
 /// Simulation::diagnosticsBeside(): a history row being computed beside the caller. Holds its
 /// values once finished, even after the Simulation is gone. Use it on the thread that uses
 /// the Simulation (its job is shared with it).
-class EdgeMass;
-
 class PendingDiagnostics {
  public:
   PendingDiagnostics() = default;
@@ -313,7 +312,7 @@ class Simulation {
   /// derived points' net rows, and the band's scratch for the explicit step.
   std::unique_ptr<EdgeMass> m_edgeMass;
   std::vector<Eigen::Index> m_derivedRows;
-  ControlNet m_bandScratch;
+  std::unique_ptr<EdgeMass::BandPlan> m_bandPlan;  ///< for massPerPoint(), built at the first explicit step
   ControlNet m_scratch;  ///< implicit: a full net (the stencil's argument)
   std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
   /// The row being computed beside (diagnosticsBeside()) and its copy of the current and

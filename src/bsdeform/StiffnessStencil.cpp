@@ -188,6 +188,59 @@ StiffnessStencil::StiffnessStencil(const SplineSpace& space, const Weights& w)
       m_band.push_back({i, j, t, Eigen::Index(i - mu.first) * mv.count + (j - mv.first)});
     }
   }
+  const int rows = space.netRows(), cols = space.netCols();
+  // a table symmetric in d1 (the row of a Toeplitz u layer) is folded: c (P(d1) + P(-d1))
+  m_tableEntries.resize(m_tables.size());
+  for (size_t t = 0; t < m_tables.size(); ++t) {
+    auto at = [&](int d1, int d2) { return m_tables[t][size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)]; };
+    bool symmetric = true;
+    for (int d1 = 1; d1 <= m_ru; ++d1)
+      for (int d2 = -m_rv; d2 <= m_rv; ++d2) symmetric &= at(d1, d2) == at(-d1, d2);
+    for (int d1 = symmetric ? 0 : -m_ru; d1 <= m_ru; ++d1)
+      for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
+        const double c = at(d1, d2);
+        if (c == 0.0) continue;
+        const long offset = 3L * (long(d1) * cols + d2), mirror = symmetric && d1 > 0 ? 3L * (-long(d1) * cols + d2) : 0;
+        m_tableEntries[t].push_back({offset, mirror, c});
+      }
+  }
+  // first band point of each net row (m_band is in row order)
+  m_bandRowStart.assign(size_t(rows) + 1, 0);
+  {
+    size_t k = 0;
+    for (int i = 0; i <= rows; ++i) {
+      while (k < m_band.size() && m_band[k].i < i) ++k;
+      m_bandRowStart[size_t(i)] = k;
+    }
+  }
+  // Band rows whose interior columns the row kernel computes (their table is Toeplitz in v
+  // there: a column of type 0)
+  m_bandKernelRow.assign(m_band.size(), -1);
+  if (!space.periodicV() && m_colsInterior.count > 0)
+    for (int i = mu.first; i < mu.first + mu.count; ++i) {
+      const int tu = m_gu.rowType(i);
+      if (tu == 0) continue;
+      KernelRow r;
+      r.i = i;
+      r.band = m_bandRowStart[size_t(i)] + size_t(m_colsInterior.first - mv.first);
+      const std::vector<double>& table = m_tables[size_t(m_band[r.band].table)];
+      r.half.resize(size_t(2 * m_ru + 1) * (m_rv + 1));
+      for (int a = 0; a <= 2 * m_ru; ++a)
+        for (int b = 0; b <= m_rv; ++b) r.half[size_t(a) * (m_rv + 1) + b] = table[size_t(a) * (2 * m_rv + 1) + (b + m_rv)];
+      for (int c = 0; c < m_colsInterior.count; ++c) m_bandKernelRow[r.band + size_t(c)] = int(m_kernelRows.size());
+      m_kernelRows.push_back(std::move(r));
+    }
+  m_bandDirect.resize(m_band.size());
+  for (size_t k = 0; k < m_band.size(); ++k) {
+    const BandPoint& b = m_band[k];
+    bool direct = true;
+    for (int d1 = -m_ru; d1 <= m_ru; ++d1)
+      for (int d2 = -m_rv; d2 <= m_rv; ++d2) {
+        if (m_tables[size_t(b.table)][size_t(d1 + m_ru) * (2 * m_rv + 1) + (d2 + m_rv)] == 0.0) continue;
+        direct &= b.i + d1 >= 0 && b.i + d1 < rows && b.j + d2 >= 0 && b.j + d2 < cols;
+      }
+    m_bandDirect[k] = direct;
+  }
 }
 
 int StiffnessStencil::neighbourU(int l) const {
@@ -202,7 +255,24 @@ int StiffnessStencil::neighbourV(int l) const {
   return (l >= 0 && l < s.netCols()) ? l : -1;
 }
 
-Eigen::RowVector3d StiffnessStencil::bandRow(const ControlNet& net, const BandPoint& b) const {
+Eigen::RowVector3d StiffnessStencil::bandRow(const ControlNet& net, size_t k) const {
+  const BandPoint& b = m_band[k];
+  if (m_bandDirect[k]) {
+    const double* p = net.data() + 3L * (long(b.i) * m_space->netCols() + b.j);
+    double x = 0.0, y = 0.0, z = 0.0;
+    for (const BandEntry& e : m_tableEntries[size_t(b.table)]) {
+      if (e.mirror) {
+        x += e.c * (p[e.offset] + p[e.mirror]);
+        y += e.c * (p[e.offset + 1] + p[e.mirror + 1]);
+        z += e.c * (p[e.offset + 2] + p[e.mirror + 2]);
+      } else {
+        x += e.c * p[e.offset];
+        y += e.c * p[e.offset + 1];
+        z += e.c * p[e.offset + 2];
+      }
+    }
+    return Eigen::RowVector3d(x, y, z);
+  }
   const std::vector<double>& c = m_tables[size_t(b.table)];
   Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
   const Eigen::Index cols = m_space->netCols();
@@ -444,6 +514,21 @@ void StiffnessStencil::forEachInteriorRow(const ControlNet& net, int rowBegin, i
   }
 }
 
+void StiffnessStencil::kernelRow(const ControlNet& net, const KernelRow& r, double* out) const {
+  const SplineSpace& s = *m_space;
+  const long rowLen = 3L * s.netCols();
+  // the layers beyond the net have zero coefficients: a row of zeros stands for them
+  thread_local std::vector<double> zeros;
+  zeros.assign(size_t(rowLen), 0.0);
+  const double* q[2 * kMaxDegree + 1];
+  for (int a = 0; a <= 2 * m_ru; ++a) {
+    const int l = r.i + a - m_ru;
+    q[a] = (l >= 0 && l < s.netRows()) ? net.data() + long(l) * rowLen : zeros.data();
+  }
+  const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
+  applyRow(q, r.half.data(), 2 * m_ru, m_rv, mBegin, mEnd, out);
+}
+
 void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const {
   const SplineSpace& s = *m_space;
   allocateNet(out, s.numMoving());
@@ -458,7 +543,15 @@ void StiffnessStencil::applyMoving(const ControlNet& net, ControlNet& out) const
       applyRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, dst);
     });
   });
-  for (const BandPoint& b : m_band) out.row(b.m) = bandRow(net, b);
+  thread_local std::vector<double> rowOut;
+  rowOut.resize(3 * size_t(m_colsInterior.count));
+  for (const KernelRow& r : m_kernelRows) {
+    kernelRow(net, r, rowOut.data());
+    for (int c = 0; c < m_colsInterior.count; ++c)
+      out.row(m_band[r.band + size_t(c)].m) = Eigen::RowVector3d(rowOut[3 * size_t(c)], rowOut[3 * size_t(c) + 1], rowOut[3 * size_t(c) + 2]);
+  }
+  for (size_t k = 0; k < m_band.size(); ++k)
+    if (m_bandKernelRow[k] < 0) out.row(m_band[k].m) = bandRow(net, k);
 }
 
 namespace {
@@ -486,12 +579,56 @@ int StiffnessStencil::explicitStepParts() const {
 bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
                                                double alpha, double gamma, double limit,
                                                const std::function<double(int, int)>& alphaScale,
-                                               const std::function<void(std::vector<Eigen::RowVector3d>&)>& bandSolve) const {
+                                               const BandSolve& bandSolve) const {
   const SplineSpace& s = *m_space;
   const LayerRange mu = s.movingU(), mv = s.movingV();
   const long mBegin = 3L * m_colsInterior.first, mEnd = 3L * (m_colsInterior.first + m_colsInterior.count);
   // Rows are independent (each writes only its own entries of `previous`), so blocks of rows
   // may run on several threads with the same bits as one thread.
+  const Eigen::Index cols = s.netCols();
+  // Band points [k0, k1) (consecutive in m_band, closed under the band solve's coupling). The
+  // band points of an interior row are done right after the row, while its neighbourhood is in
+  // cache (a pass over the band afterwards missed it on every point at 1024^2).
+  // (A P) of the kernel rows (rows that are not interior rows, done after the parts)
+  thread_local std::vector<double> kernelOut;
+  kernelOut.resize(m_kernelRows.size() * 3 * size_t(m_colsInterior.count));
+  for (size_t r = 0; r < m_kernelRows.size(); ++r)
+    kernelRow(current, m_kernelRows[r], kernelOut.data() + r * 3 * size_t(m_colsInterior.count));
+  auto elastic = [&](size_t k) {
+    const int r = m_bandKernelRow[k];
+    if (r < 0) return bandRow(current, k);
+    const double* p = kernelOut.data() + (size_t(r) * size_t(m_colsInterior.count) + (k - m_kernelRows[size_t(r)].band)) * 3;
+    return Eigen::RowVector3d(p[0], p[1], p[2]);
+  };
+  auto updateBand = [&](size_t k0, size_t k1) {
+    bool ok = true;
+    if (k0 >= k1) return ok;
+    if (bandSolve) {
+      thread_local std::vector<Eigen::RowVector3d> r, a;
+      r.resize(k1 - k0);
+      a.resize(k1 - k0);
+      for (size_t k = k0; k < k1; ++k) r[k - k0] = load.row(m_band[k].m) - elastic(k);
+      bandSolve(k0, k1, r.data(), a.data());
+      for (size_t k = k0; k < k1; ++k) {
+        const Eigen::Index row = Eigen::Index(m_band[k].i) * cols + m_band[k].j;
+        const Eigen::RowVector3d p = current.row(row);
+        const Eigen::RowVector3d x = p + alpha * a[k - k0] + gamma * (p - previous.row(row));
+        previous.row(row) = x;
+        ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
+      }
+      return ok;
+    }
+    for (size_t k = k0; k < k1; ++k) {
+      const BandPoint& b = m_band[k];
+      const double a = alphaScale ? alpha * alphaScale(b.i, b.j) : alpha;
+      const Eigen::Index r = Eigen::Index(b.i) * cols + b.j;
+      const Eigen::RowVector3d p = current.row(r);
+      const Eigen::RowVector3d x = p + a * (load.row(b.m) - elastic(k)) + gamma * (p - previous.row(r));
+      previous.row(r) = x;
+      ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
+    }
+    return ok;
+  };
   const int parts = explicitStepParts();
   bool partOk[kMaxStepParts];
   runParts(parts, [&](int part) {
@@ -502,33 +639,16 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
           load.data() + 3L * (Eigen::Index(i - mu.first) * mv.count + (m_colsInterior.first - mv.first));
       ok &= updateRow(q, m_half.data(), m_ru, m_rv, mBegin, mEnd, current.data() + rowStart,
                       previous.data() + rowStart, lrow, alpha, gamma, limit);
+      ok &= updateBand(m_bandRowStart[size_t(i)], m_bandRowStart[size_t(i) + 1]);
     });
     partOk[part] = ok;
   });
   bool ok = std::all_of(partOk, partOk + parts, [](bool b) { return b; });
-  const Eigen::Index cols = s.netCols();
-  if (bandSolve) {
-    thread_local std::vector<Eigen::RowVector3d> r;
-    r.resize(m_band.size());
-    for (size_t k = 0; k < m_band.size(); ++k) r[k] = load.row(m_band[k].m) - bandRow(current, m_band[k]);
-    bandSolve(r);
-    for (size_t k = 0; k < m_band.size(); ++k) {
-      const Eigen::Index row = Eigen::Index(m_band[k].i) * cols + m_band[k].j;
-      const Eigen::RowVector3d p = current.row(row);
-      const Eigen::RowVector3d x = p + alpha * r[k] + gamma * (p - previous.row(row));
-      previous.row(row) = x;
-      ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
-    }
-    return ok;
-  }
-  for (const BandPoint& b : m_band) {
-    const double a = alphaScale ? alpha * alphaScale(b.i, b.j) : alpha;
-    const Eigen::Index r = Eigen::Index(b.i) * cols + b.j;
-    const Eigen::RowVector3d p = current.row(r);
-    const Eigen::RowVector3d x = p + a * (load.row(b.m) - bandRow(current, b)) + gamma * (p - previous.row(r));
-    previous.row(r) = x;
-    ok &= x.cwiseAbs().maxCoeff() <= limit;  // false for NaN
-  }
+  // the rows that are not interior rows: before and after them
+  const int firstRow = m_rowsInterior.count ? m_rowsInterior.first : s.netRows();
+  const int lastRow = m_rowsInterior.count ? m_rowsInterior.first + m_rowsInterior.count : s.netRows();
+  ok &= updateBand(0, m_bandRowStart[size_t(firstRow)]);
+  ok &= updateBand(m_bandRowStart[size_t(lastRow)], m_band.size());
   return ok;
 }
 

@@ -140,13 +140,17 @@ class StiffnessStencil {
   ///            points (lumped mass smaller at a free edge); interior points use alpha as is
   /// Periodic copies of `previous` are not refreshed (the caller does, after holding pins).
   /// @param[in] bandSolve if not null (sides with derived layers: a mass matrix that is not
-  ///            diagonal there), it replaces alphaScale: it receives the residuals L - A P of
-  ///            the band points (order of bandPoints()) and turns them into m M^-1 of them, m
-  ///            the mass that alpha is for
+  ///            diagonal there), it replaces alphaScale: bandSolve(k0, k1, r, out) gets the
+  ///            residuals L - A P of band points k0..k1-1 (order of bandPoints()) in r[0..] and
+  ///            writes m M^-1 of them to out[0..], m the mass that alpha is for. It is called
+  ///            for the band points of one interior row (possibly on several threads at once),
+  ///            then for those of the rows before and after the interior ones: M must couple a
+  ///            band point only with band points of the same call.
+  using BandSolve = std::function<void(size_t, size_t, const Eigen::RowVector3d*, Eigen::RowVector3d*)>;
   bool centralDifferenceUpdate(const ControlNet& current, ControlNet& previous, const ControlNet& load,
                                double alpha, double gamma, double limit,
                                const std::function<double(int, int)>& alphaScale = nullptr,
-                               const std::function<void(std::vector<Eigen::RowVector3d>&)>& bandSolve = nullptr) const;
+                               const BandSolve& bandSolve = nullptr) const;
 
   /// A moving point outside the interior stencil's reach (a row of a FREE, SIMPLY_SUPPORTED or
   /// BUILT_IN side's outer layers).
@@ -173,7 +177,7 @@ class StiffnessStencil {
   template <typename RowFunction>
   void forEachInteriorRow(const ControlNet& net, int rowBegin, int rowEnd, RowFunction&& fn) const;
   /// sum_d C(d) P(i+d1, j+d2) for a band point (d = -n..n, wrapped or skipped at the ends)
-  Eigen::RowVector3d bandRow(const ControlNet& net, const BandPoint& b) const;
+  Eigen::RowVector3d bandRow(const ControlNet& net, size_t k) const;
   /// Net layer of neighbour layer `l` in u / v (periodic wrap), or -1 if there is no B-spline.
   int neighbourU(int l) const;
   int neighbourV(int l) const;
@@ -189,6 +193,30 @@ class StiffnessStencil {
   /// Band: its points and the full (2n1+1)(2n2+1) coefficient table of each row-type pair.
   std::vector<BandPoint> m_band;
   std::vector<std::vector<double>> m_tables;
+  /// Each table's non-zero coefficients in (d1, d2) order with the offset of their neighbour in
+  /// doubles, and per band point whether every such neighbour lies in the net without a
+  /// periodic wrap: bandRow() then sums straight from the net (the same terms in the same
+  /// order, so the same bits).
+  struct BandEntry {
+    long offset, mirror;  ///< mirror: the neighbour at -d1 with the same coefficient, or 0 (none)
+    double c;
+  };
+  std::vector<std::vector<BandEntry>> m_tableEntries;
+  std::vector<char> m_bandDirect;
+  std::vector<size_t> m_bandRowStart;  ///< per net row (and one past the last): its first band point
+  /// A band row (an outer layer of a FREE, SIMPLY_SUPPORTED or BUILT_IN u side) whose points in
+  /// the interior columns are Toeplitz in v: they are computed by the vectorised row kernel
+  /// with the 2 n1 + 1 rows around unfolded (non-periodic v only). `half` is its
+  /// (2 n1 + 1) x (n2 + 1) table, `band` the band index of its first interior column.
+  struct KernelRow {
+    int i;
+    size_t band;
+    std::vector<double> half;
+  };
+  std::vector<KernelRow> m_kernelRows;
+  std::vector<int> m_bandKernelRow;  ///< per band point: its KernelRow, or -1
+  /// (A P) at the interior columns of kernel row r (3 x interior columns doubles).
+  void kernelRow(const ControlNet& net, const KernelRow& r, double* out) const;
 };
 
 }  // namespace bsdeform

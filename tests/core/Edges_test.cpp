@@ -262,7 +262,7 @@ TEST_CASE("Edges: Timoshenko's plates and the cantilever, at the order the degre
   CHECK(std::abs(plateDeflection(Boundary::Clamped, 3, 32, true) / 0.125 - 1) > 0.03);
 }
 
-TEST_CASE("Edges: a long damped run comes to the static solution; resuming is bit-identical", "[core]") {
+TEST_CASE("Edges: a long damped run comes to the static solution, resuming is bit-identical", "[core]") {
   for (Integrator integ : {Integrator::Explicit, Integrator::Implicit}) {
     ModelParameters p;
     p.numU = 8;
