@@ -22,6 +22,13 @@ for shot in $shots; do
   echo "docs/img/$name.png  <-  bsdeform-run scenes/$name.iv --until $t --png-at $t --size 360x270"
 done
 
+# Engineering edges (issue 23): the static equilibrium, as `bsdeform-run --static` writes it
+for name in plate_built_in plate_simply_supported cantilever; do
+  "$run" "$root/scenes/$name.iv" --static --png-at 0 --size 360x270 -o "$work/$name" -q > /dev/null
+  cp "$work/$name"/frame_*.png "$root/docs/img/$name.png"
+  echo "docs/img/$name.png  <-  bsdeform-run scenes/$name.iv --static --png-at 0 --size 360x270"
+done
+
 # Section 7: the paper's values of omega10 and omega01, t = 1, the other weight 0.1
 values="0,0.0001,0.001,0.01,0.1,0.3,0.5,1,2,5,7,10,25,50,75,100,150,200"
 for w in w10 w01; do

@@ -20,7 +20,7 @@ struct ImplicitSystem::Factor {
 ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil,
                                const Eigen::VectorXd& massTerm, const std::vector<Eigen::Index>& pinned,
                                LinearSolver kind, double tolerance, int maxIterations,
-                               std::vector<Eigen::Triplet<double>> coupling)
+                               std::vector<Eigen::Triplet<double>> coupling, double kappaEstimate)
     : m_space(space),
       m_stencil(stencil),
       m_mass(massTerm),
@@ -42,7 +42,8 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
 
   // kappa(K) <= (max D + lambda_max(A)/4) / min D: A_act is positive semi-definite and its
   // largest eigenvalue is at most A_II's (a principal submatrix), which the symbol bounds.
-  m_kappa = (m_mass.maxCoeff() + 0.25 * stencil.eigenvalueBound()) / m_mass.minCoeff();
+  m_kappa = kappaEstimate > 0.0 ? kappaEstimate
+                                : (m_mass.maxCoeff() + 0.25 * stencil.eigenvalueBound()) / m_mass.minCoeff();
   if (m_method == LinearSolver::Automatic) {
     const double iterations = predictedIterations();
     if (n <= kAutomaticDirectPoints || (iterations > kAutomaticIterationLimit && n <= kAutomaticFactorPoints))

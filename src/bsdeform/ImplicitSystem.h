@@ -69,10 +69,13 @@ class ImplicitSystem {
   /// @param coupling off-diagonal entries (moving-point numbers) added to D: a mass matrix that
   ///        is not diagonal next to SIMPLY_SUPPORTED and BUILT_IN sides (EdgeMass), symmetric;
   ///        entries in pinned rows or columns are left out
+  /// @param kappaEstimate if > 0, the condition number Automatic chooses by (and
+  ///        conditionBound() reports) instead of the diagonal formula, which a coupling makes
+  ///        far too pessimistic (Simulation passes kappa(M^-1 K), M the mass with its coupling)
   /// @throws std::runtime_error if the direct factorisation fails
   ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil, const Eigen::VectorXd& massTerm,
                  const std::vector<Eigen::Index>& pinned, LinearSolver kind, double tolerance, int maxIterations,
-                 std::vector<Eigen::Triplet<double>> coupling = {});
+                 std::vector<Eigen::Triplet<double>> coupling = {}, double kappaEstimate = 0.0);
   ~ImplicitSystem();
   ImplicitSystem(const ImplicitSystem&) = delete;
   ImplicitSystem& operator=(const ImplicitSystem&) = delete;
