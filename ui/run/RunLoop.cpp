@@ -88,8 +88,10 @@ Failure RunLoop::prepare() {
   }
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
-  // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad input.
+  // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad
+  // input; --static takes no step.
   for (const Surface& s : m_surfaces) {
+    if (o.staticSolve) break;
     const std::string why = s.node->simulation().refusal();
     if (!why.empty())
       return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(why))};
