@@ -603,3 +603,60 @@ TEST_CASE("SoBSplineDeformSurface: drawing from GL buffers follows the simulatio
   const std::vector<unsigned char> fine = pixels(kept);
   CHECK(fine == fresh());
 }
+
+TEST_CASE("SoBSplineDeformSurface: SIMPLY_SUPPORTED and BUILT_IN sides from a file: round trip, resume, rest shapes, "
+          "refusals",
+          "[nodes]") {
+  // a cone whose base (v = 0) is a hinge, inflated, on both integrators; written, read back and
+  // resumed: the same trajectory, the base circle where it was
+  for (const char* integ : {"EXPLICIT", "IMPLICIT"}) {
+    const std::string scene = std::string("#Inventor V2.1 ascii\nSeparator { DEF Cone SoBSplineDeformSurface {\n"
+                                          "numUControlPoints 12 numVControlPoints 8 restShape CONE on FALSE integrator ") +
+                              integ +
+                              " timeStep 0.05 massModel LUMPED mass 2 damping 2\n"
+                              "boundaryVMin SIMPLY_SUPPORTED\n"
+                              "forces [ SoForceField { type PRESSURE magnitude 0.5 } ] } }";
+    Coin::get().messages.clear();
+    SoSeparator* a = testutil::read(scene);
+    REQUIRE(a);
+    auto* sa = testutil::find<SoBSplineDeformSurface>(a);
+    sa->stepSimulation(20);
+    CHECK(Coin::get().messages.empty());
+    CHECK(sa->simulation().parameters().boundaries.vMin == bsdeform::Boundary::SimplySupported);
+    const std::string text = testutil::write(a);
+    CHECK(text.find("boundaryVMin SIMPLY_SUPPORTED") != std::string::npos);
+    SoSeparator* b = testutil::read(text);
+    REQUIRE(b);
+    auto* sb = testutil::find<SoBSplineDeformSurface>(b);
+    sa->stepSimulation(20);
+    sb->stepSimulation(20);
+    INFO(integ);
+    CHECK(sa->simulation().deformationNorm() > 0.01);
+    CHECK((sb->simulation().current() - sa->simulation().current()).cwiseAbs().maxCoeff() < 1e-12);
+    // the base circle stays at rest
+    double base = 0.0;
+    for (int k = 0; k <= 20; ++k) {
+      const double u = k / 20.0;
+      base = std::max(base, (sb->simulation().evaluate(u, 0.0).position -
+                             sb->simulation().space().evaluate(sb->simulation().rest(), u, 0.0).position)
+                                .norm());
+    }
+    CHECK(base < 1e-12);
+    a->unref();
+    b->unref();
+  }
+  // a BUILT_IN side facing a PERIODIC one: one warning naming both fields, the last model stays
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF Edge SoBSplineDeformSurface { on FALSE "
+                                     "boundaryUMin BUILT_IN } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  s->stepSimulation(1);
+  Coin::get().messages.clear();
+  s->boundaryUMax = SoBSplineDeformSurface::PERIODIC;
+  s->stepSimulation(1);
+  REQUIRE(Coin::get().messages.size() == 1);
+  CHECK(Coin::get().messages[0].find("'Edge'") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("boundaryUMax is PERIODIC but boundaryUMin is BUILT_IN") != std::string::npos);
+  CHECK(s->simulation().parameters().boundaries.uMax == bsdeform::Boundary::Clamped);
+  root->unref();
+}
