@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// SIMPLY_SUPPORTED and BUILT_IN sides (docs/math.md §13): what they hold, their stability bound,
+// SIMPLY_SUPPORTED and BUILT_IN sides (docs/math.md §14): what they hold (their operator and
+// stability bound are tested with the other sides in Boundary_test.cpp),
 // their relation to CLAMPED, and the Kirchhoff plate and beam results they must reproduce.
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
