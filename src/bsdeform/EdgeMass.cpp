@@ -3,7 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <stdexcept>
+#include <cassert>
 
 namespace bsdeform {
 
@@ -13,10 +13,10 @@ namespace {
 // diag(W_s) + Z^T diag(W_e) Z.
 void buildRows(const LayerRange& moving, const std::vector<SplineSpace::DerivedSide>& sides, const std::vector<double>& w,
                std::vector<std::vector<LayerWeight>>& rows, std::vector<std::vector<LayerWeight>>& inverse,
-               std::vector<int>& block) {
+               std::vector<int>& blockOf) {
   rows.assign(w.size(), {});
   inverse.assign(w.size(), {});
-  block.assign(w.size(), -1);
+  blockOf.assign(w.size(), -1);
   for (int l = moving.first; l < moving.first + moving.count; ++l) {
     rows[size_t(l)] = {{l, w[size_t(l)]}};
     inverse[size_t(l)] = {{l, 1.0 / w[size_t(l)]}};
@@ -24,7 +24,7 @@ void buildRows(const LayerRange& moving, const std::vector<SplineSpace::DerivedS
   for (size_t side = 0; side < sides.size(); ++side) {
     const SplineSpace::DerivedSide& d = sides[side];
     const int ns = int(d.sources.size()), nd = int(d.derived.size());
-    for (int a = 0; a < ns; ++a) block[size_t(d.sources[size_t(a)])] = int(side);
+    for (int a = 0; a < ns; ++a) blockOf[size_t(d.sources[size_t(a)])] = int(side);
     Eigen::MatrixXd block = Eigen::MatrixXd::Zero(ns, ns);
     for (int a = 0; a < ns; ++a) block(a, a) = w[size_t(d.sources[size_t(a)])];
     for (int e = 0; e < nd; ++e) {
@@ -170,7 +170,7 @@ EdgeMass::BandPlan EdgeMass::bandPlan(const std::vector<StiffnessStencil::BandPo
   for (size_t k = 0; k < band.size(); ++k) bandIndex[size_t(band[k].m)] = int(k);
   auto indexOf = [&](Eigen::Index f) {
     const int k = bandIndex[size_t(f)];
-    if (k < 0) throw std::logic_error("EdgeMass::bandPlan: the mass couples a band point with a point outside the band");
+    assert(k >= 0 && "the mass couples a band point only with band points (the source layers are)");
     return k;
   };
   BandPlan plan;

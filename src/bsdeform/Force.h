@@ -49,7 +49,7 @@ struct LoadContext {
 struct MassContext {
   const SplineSpace& space;
   double interiorMass;                     ///< mass of a moving point whose B-spline lies inside
-  std::function<double(int, int)> massAt;  ///< mass of moving net point (i, j) (net layers)
+  std::function<double(int, int)> massAt;  ///< mass of net point (i, j) (net layers), moving or derived
 };
 
 /// Base class of all forces. Implementations add their contribution to the load of the moving

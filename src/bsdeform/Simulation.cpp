@@ -216,13 +216,8 @@ void Simulation::init() {
                                             m_params.massModel == MassModel::Lumped, m_params.mass);
     for (int i = 0; i < m_space.netRows(); ++i)
       for (int j = 0; j < m_space.netCols(); ++j)
-        if (!m_space.foldU(i).empty() && !m_space.foldV(j).empty() &&
-            (m_space.movingLayerU(i) < 0 || m_space.movingLayerV(j) < 0))
-          m_derivedRows.push_back(Eigen::Index(i) * m_space.netCols() + j);
-    std::vector<Eigen::Index> pinnedMoving;
-    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
-      if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
-    m_edgeMass->setPinned(pinnedMoving);
+        if (m_space.isDerived(i, j)) m_derivedRows.push_back(Eigen::Index(i) * m_space.netCols() + j);
+    m_edgeMass->setPinned(pinnedMoving());
   }
   m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_edgeMass;
   if (m_uniformMass)
@@ -258,16 +253,13 @@ void Simulation::init() {
       }
       coupling = m_edgeMass->offDiagonal(factor);
       // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
-      // kappa(M^-1 K), what Jacobi-CG meets in practice (measured: the same iterations as
-      // CLAMPED, docs/benchmarks.md); the diagonal formula would be 30x too pessimistic
+      // kappa(M^-1 K), what Jacobi-CG meets in practice (docs/benchmarks.md, issue 23); the
+      // diagonal formula is far too pessimistic with the coupling
       kappa = 1.0 + m_elasticLambda / (4.0 * factor);
     } else {
       massTerm = m_massMoving * factor;
     }
-    std::vector<Eigen::Index> pinnedMoving;
-    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
-      if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
-    m_implicit = std::make_unique<ImplicitSystem>(m_space, m_stencil, massTerm, pinnedMoving, m_params.implicitSolver,
+    m_implicit = std::make_unique<ImplicitSystem>(m_space, m_stencil, massTerm, pinnedMoving(), m_params.implicitSolver,
                                                   m_params.solverTolerance, m_params.maxSolverIterations,
                                                   std::move(coupling), kappa);
   }
@@ -592,6 +584,7 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
       const bool sideHeld = m_space.foldU(i).empty() || m_space.foldV(j).empty();
       if (!sideHeld && (mi < 0 || mj < 0)) continue;  // derived: checked below
       const bool isHeld = sideHeld || m_pinMask[size_t(mi) * m_space.netCols() + mj];
+      // ("clamped": held by its side, CLAMPED or SIMPLY_SUPPORTED/BUILT_IN of low degree)
       if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
       if (held == HeldPoints::Check) {
@@ -751,9 +744,12 @@ ControlNet Simulation::staticSolution() const {
   return net;
 }
 
-}  // namespace bsdeform
-
-namespace bsdeform {
+std::vector<Eigen::Index> Simulation::pinnedMoving() const {
+  std::vector<Eigen::Index> out;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+    if (m_pinMask[size_t(m_space.movingToNet(f))]) out.push_back(f);
+  return out;
+}
 
 ControlNet Simulation::loadAt(const ControlNet& net, double t) const {
   ControlNet load = ControlNet::Zero(m_space.numMoving(), 3);
@@ -796,7 +792,11 @@ std::string Simulation::freeMotions() const {
     cols3[size_t(c)] = Eigen::Map<Eigen::VectorXd>(r.data(), Eigen::Index(r.size()));
   }
   Eigen::MatrixXd C(cols3[0].size(), 3);
-  for (int c = 0; c < 3; ++c) C.col(c) = cols3[size_t(c)] / std::max(1.0, cand[c].cwiseAbs().maxCoeff());
+  Eigen::Vector3d columnScale;
+  for (int c = 0; c < 3; ++c) {
+    columnScale[c] = 1.0 / std::max(1.0, cand[c].cwiseAbs().maxCoeff());
+    C.col(c) = cols3[size_t(c)] * columnScale[c];
+  }
   Eigen::JacobiSVD<Eigen::MatrixXd> svd(C, Eigen::ComputeFullV);
   const Eigen::VectorXd sv = svd.singularValues();
   const double scale = std::max(1.0, m_stencil.gershgorinBound());
@@ -813,7 +813,12 @@ std::string Simulation::freeMotions() const {
     motions.push_back("rotations (displacements linear in u and v)");
   } else if (!translations) {
     for (int k : nullCols) {
-      const Eigen::Vector3d a = svd.matrixV().col(k);
+      // the coefficients of 1, u, v: the null vector of the scaled columns, scaled back
+      Eigen::Vector3d a = svd.matrixV().col(k).cwiseProduct(columnScale);
+      a /= a.cwiseAbs().maxCoeff();
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(a[c]) < 1e-9) a[c] = 0.0;
+      if (a[1] < 0.0 || (a[1] == 0.0 && a[2] < 0.0)) a = -a;  // the u (else v) coefficient positive
       motions.push_back("rotations about the line " + num(a[0]) + " + " + num(a[1]) + " u + " + num(a[2]) +
                         " v = 0 (displacements growing linearly from it)");
     }
@@ -833,12 +838,10 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
   // or multigrid-preconditioned CG on A itself; defect correction with the exact stencil
   // removes the effect of D.
   const double delta = 1e-14 * std::max(m_stencil.movingDiagonal().maxCoeff(), 1e-300);
-  std::vector<Eigen::Index> pinnedMoving;
-  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
-    if (m_pinMask[size_t(m_space.movingToNet(f))]) pinnedMoving.push_back(f);
+  const std::vector<Eigen::Index> pinned = pinnedMoving();
   if (solver == LinearSolver::Automatic)
     solver = m_space.numMoving() <= kAutomaticDirectPoints ? LinearSolver::Direct : LinearSolver::Multigrid;
-  ImplicitSystem K(m_space, m_stencil, Eigen::VectorXd::Constant(m_space.numMoving(), delta), pinnedMoving, solver,
+  ImplicitSystem K(m_space, m_stencil, Eigen::VectorXd::Constant(m_space.numMoving(), delta), pinned, solver,
                    std::min(1e-6, tolerance), 20000);
   StaticResult result;
   result.method = K.method() == LinearSolver::Direct ? "CHOLMOD Cholesky"
@@ -859,7 +862,7 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
     // relative to ||L|| alone)
     m_stencil.applyMoving(net, ax);
     r = L + c0 - ax;
-    for (Eigen::Index f : pinnedMoving) r.row(f).setZero();
+    for (Eigen::Index f : pinned) r.row(f).setZero();
     return r.norm() / std::max(normA * (x - xRest).norm() + L.norm() + c0.norm(), 1e-300);
   };
   double res = 0.0;
@@ -895,7 +898,7 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
                                num(res) + ", tolerance " + num(tolerance) +
                                "); run the dynamics with damping to find this equilibrium");
   }
-  if (!(res <= std::max(tolerance, 1e-6)))
+  if (!(res <= tolerance))
     throw std::runtime_error("static solve: the equilibrium was not reached (relative residual " + num(res) +
                              "); the system is singular or too ill-conditioned");
   result.net = net;

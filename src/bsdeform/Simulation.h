@@ -106,7 +106,7 @@ struct StaticResult {
   /// unknowns: the normwise backward error
   double residual = 0.0;
   int loadIterations = 1;  ///< fixed-point iterations (1 when no load depends on the position)
-  std::string method;      ///< "CHOLMOD Cholesky" or "multigrid-preconditioned CG"
+  std::string method;      ///< "CHOLMOD Cholesky", "multigrid-preconditioned CG" or "Jacobi-preconditioned CG"
 };
 
 /// What setState() does with held points (clamped layers, pins) that differ from the rest net.
@@ -224,7 +224,7 @@ class Simulation {
   ControlNet staticSolution() const;
   /// The paper's static problem (eq. 10) as a user feature: the equilibrium A P = L + c0 of the
   /// loads at time 0 with zero velocity, for nets of any size (CHOLMOD up to
-  /// kAutomaticFactorPoints unknowns, multigrid-preconditioned CG above, each followed by
+  /// kAutomaticDirectPoints unknowns, multigrid-preconditioned CG above, each followed by
   /// defect correction with the stencil to `tolerance`). Loads that depend on the position
   /// (pressure, contact, springs) are evaluated at the solution by fixed-point iteration
   /// until the relative residual is below `tolerance`. The state is left alone.
@@ -232,7 +232,7 @@ class Simulation {
   ///         sides FREE and no pin: translations; only hinges: rotations about them), or when
   ///         the fixed point does not converge in `maxLoadIterations`
   /// @param solver Automatic: CHOLMOD up to kAutomaticDirectPoints unknowns, multigrid-
-  ///        preconditioned CG above (measured faster from 128^2 on, docs/benchmarks.md)
+  ///        preconditioned CG above (docs/benchmarks.md, issue 23)
   StaticResult solveStatic(double tolerance = 1e-10, int maxLoadIterations = 100,
                            LinearSolver solver = LinearSolver::Automatic) const;
 
@@ -255,6 +255,8 @@ class Simulation {
   void init();
   void applyStartRule();
   void holdPins(ControlNet& net) const;
+  /// Moving-point numbers of the pinned points, ascending.
+  std::vector<Eigen::Index> pinnedMoving() const;
   /// Load of all forces on the net `net` at rest (zero velocity) at time t.
   ControlNet loadAt(const ControlNet& net, double t) const;
   /// Free motions of the unloaded model among displacements a + b u + c v (u, v the Greville

@@ -57,7 +57,7 @@ struct Boundaries {
 /// "CLAMPED", "FREE", "PERIODIC", "SIMPLY_SUPPORTED" or "BUILT_IN".
 const char* boundaryName(Boundary b);
 
-/// How one side holds the layers next to it (docs/math.md §13), counted from the edge inwards:
+/// How one side holds the layers next to it (docs/math.md §14), counted from the edge inwards:
 /// `held` layers at rest, then `derived` layers that are not unknowns but follow the next
 /// `sources` layers (moving) so that the held quantities stay at rest:
 ///   P_derived = R_derived + Z (P_sources - R_sources)   (R the rest net), Z derived x sources.
@@ -128,6 +128,13 @@ class SplineSpace {
   /// by the sum of weight x displacement of each entry's layer.
   const std::vector<LayerWeight>& foldU(int i) const { return m_foldU[size_t(i)]; }
   const std::vector<LayerWeight>& foldV(int j) const { return m_foldV[size_t(j)]; }
+  /// Whether net point (i, j) is derived (next to a SIMPLY_SUPPORTED or BUILT_IN side): not an
+  /// unknown, not held, not a periodic copy, but moving with the unknowns it folds onto.
+  bool isDerived(int i, int j) const {
+    auto copy = [](const LayerRange& r, int moving, int layer) { return moving >= 0 && !r.contains(layer); };
+    return !foldU(i).empty() && !foldV(j).empty() && !isMoving(i, j) && !copy(m_movingU, movingLayerU(i), i) &&
+           !copy(m_movingV, movingLayerV(j), j);
+  }
   /// Whether some side has derived layers (SIMPLY_SUPPORTED, or BUILT_IN of degree >= 3).
   bool hasDerived() const { return m_hasDerived; }
   /// Number of moving control points (the unknowns): movingU().count * movingV().count.
@@ -148,7 +155,7 @@ class SplineSpace {
     return Eigen::Index(m_movingU.first + f / w) * netCols() + (m_movingV.first + f % w);
   }
   /// Moving-point number of B-spline (k1, k2) (its own control point, or the one it is a
-  /// periodic copy of), or -1 if that control point is held.
+  /// periodic copy of), or -1 if that control point is held or derived.
   Eigen::Index movingIndex(int k1, int k2) const;
   /// The moving net layer that net layer i (0-based) stands for: itself, or for a periodic copy
   /// layer the layer it copies; -1 if layer i is held or derived (see foldU()).

@@ -588,10 +588,10 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   const Eigen::Index cols = s.netCols();
   // Band points [k0, k1) (consecutive in m_band, closed under the band solve's coupling). The
   // band points of an interior row are done right after the row, while its neighbourhood is in
-  // cache (a pass over the band afterwards missed it on every point at 1024^2).
-  // (A P) of the kernel rows (rows that are not interior rows, done after the parts)
-  thread_local std::vector<double> kernelOut;
-  kernelOut.resize(m_kernelRows.size() * 3 * size_t(m_colsInterior.count));
+  // cache (docs/benchmarks.md, issue 23).
+  // (A P) of the kernel rows (rows that are not interior rows, done after the parts; not a
+  // thread_local: updateBand may run on a worker thread)
+  std::vector<double> kernelOut(m_kernelRows.size() * 3 * size_t(m_colsInterior.count));
   for (size_t r = 0; r < m_kernelRows.size(); ++r)
     kernelRow(current, m_kernelRows[r], kernelOut.data() + r * 3 * size_t(m_colsInterior.count));
   auto elastic = [&](size_t k) {

@@ -169,7 +169,6 @@ TEST_CASE("Boundary: SIMPLY_SUPPORTED and BUILT_IN operators equal brute-force q
         checkOperator(s, rng, 1e-11);
         ++cases;
       }
-  CHECK(cases == 90);
 }
 
 TEST_CASE("Boundary: 1-D edge rows are truncated integrals and row sums add up to the integral of 1", "[core]") {
@@ -367,8 +366,7 @@ TEST_CASE("Boundary: the stability bound stays above the dense lambda_max for fr
     Eigen::MatrixXd M = Eigen::MatrixXd::Zero(A.rows(), A.cols());
     for (int i = 0; i < s.netRows(); ++i)
       for (int j = 0; j < s.netCols(); ++j) {
-        const bool derived = !s.foldU(i).empty() && !s.foldV(j).empty() && (s.movingLayerU(i) < 0 || s.movingLayerV(j) < 0);
-        if (!s.isMoving(i, j) && !derived) continue;
+        if (!s.isMoving(i, j) && !s.isDerived(i, j)) continue;
         Eigen::VectorXd t = Eigen::VectorXd::Zero(A.rows());
         for (const LayerWeight& a : s.foldU(i))
           for (const LayerWeight& b : s.foldV(j))

@@ -125,7 +125,6 @@ TEST_CASE("Edges: edge curve and cross derivative stay at rest after 1000 random
       CHECK(worstSlope <= 1e-12);
       ++cases;
     }
-  CHECK(cases == 10);
 }
 
 TEST_CASE("Edges: degree 2 BUILT_IN and degree 1 SIMPLY_SUPPORTED are CLAMPED, bit for bit", "[core]") {
@@ -304,7 +303,13 @@ TEST_CASE("Static: solveStatic equals the direct solution, iterates position-dep
   q.weights = Weights{0, 0, 1, 1, 1};
   Simulation hinge(q);
   hinge.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
-  CHECK_THROWS_WITH(hinge.solveStatic(), Catch::Contains("rotations about the line"));
+  CHECK_THROWS_WITH(hinge.solveStatic(), Catch::Contains("rotations about the line 0 + 1 u + 0 v = 0"));
+  q.boundaries.uMin = Boundary::Free;  // the hinge at u = 1: the line u = 1
+  q.boundaries.uMax = Boundary::SimplySupported;
+  Simulation hinge1(q);
+  hinge1.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));
+  CHECK_THROWS_WITH(hinge1.solveStatic(), Catch::Contains("rotations about the line -1 + 1 u + 0 v = 0"));
+  q.boundaries.uMax = Boundary::Free;
   q.boundaries.uMin = Boundary::BuiltIn;  // the cantilever: held
   Simulation cantilever(q);
   cantilever.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, 1)));

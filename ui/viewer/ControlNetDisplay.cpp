@@ -172,9 +172,7 @@ void ControlNetDisplay::updateItem(Item& item) {
       for (int i = 0; i < rows; ++i)
         for (int j = 0; j < cols; ++j) {
           const int r = i * cols + j;
-          const bool derived = !space.foldU(i).empty() && !space.foldV(j).empty() &&
-                               (space.movingLayerU(i) < 0 || space.movingLayerV(j) < 0);
-          if (space.isMoving(i, j) || derived)  // a derived point (SIMPLY_SUPPORTED, BUILT_IN) moves too
+          if (space.isMoving(i, j) || space.isDerived(i, j))  // a derived point (SIMPLY_SUPPORTED, BUILT_IN) moves too
             kind[r] = 0;
           else
             kind[r] = space.movingLayerU(i) >= 0 && space.movingLayerV(j) >= 0 ? 2 : 1;

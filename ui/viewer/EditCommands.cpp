@@ -234,11 +234,7 @@ void DeleteCommand::undo() {
   m_context.structureChanged(m_target);
 }
 
-}  // namespace bsdeform
-
 // ---------------------------------------------------------------------------------------------
-
-namespace bsdeform {
 
 SolveStaticCommand::State SolveStaticCommand::capture(SoBSplineDeformSurface* node) {
   node->syncStateFields();

@@ -127,7 +127,7 @@ class SolveStaticCommand : public QUndoCommand {
   void undo() override;
   void redo() override;
   const QString& error() const { return m_error; }
-  /// One line per surface: method and residual.
+  /// Per surface, "; "-separated: its method and residual.
   const QString& report() const { return m_report; }
 
  private:
