@@ -829,11 +829,16 @@ std::string Simulation::freeMotions() const {
 }
 
 StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, LinearSolver solver) const {
+  bool dependsOnPosition = false;
+  for (const auto& f : m_forces) dependsOnPosition |= (f->dependence() & (kDependsOnPosition | kDependsOnNormal)) != 0;
   const std::string free = freeMotions();
   if (!free.empty())
     throw std::runtime_error("static solve: nothing holds the surface against " + free +
                              ": its equilibrium is not unique. Hold a side (CLAMPED, BUILT_IN, SIMPLY_SUPPORTED) or pin "
-                             "points (pins), or run the dynamics with damping");
+                             "points (pins), or run the dynamics with damping" +
+                             (dependsOnPosition ? std::string(" (contact, springs and pressure do not count as holds here: "
+                                                              "the elastic model itself must be held)")
+                                                : std::string()));
   // K = D + A_act/4 with D a negligible positive diagonal (the implicit system's form): CHOLMOD
   // or multigrid-preconditioned CG on A itself; defect correction with the exact stencil
   // removes the effect of D.
@@ -848,8 +853,6 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
                   : K.method() == LinearSolver::Multigrid ? "multigrid-preconditioned CG"
                                                           : "Jacobi-preconditioned CG";
   const ControlNet c0 = restOffset();
-  bool dependsOnPosition = false;
-  for (const auto& f : m_forces) dependsOnPosition |= (f->dependence() & (kDependsOnPosition | kDependsOnNormal)) != 0;
   ControlNet net = m_rest;
   ControlNet x = m_space.gatherMoving(net);
   ControlNet load = loadAt(net, 0.0);
