@@ -140,52 +140,47 @@ void EdgeMass::apply(const ControlNet& x, ControlNet& out) const {
   }
 }
 
-Eigen::RowVector3d EdgeMass::solveAt(const ControlNet& r, int i, int j) const {
+void EdgeMass::inverseRow(int i, int j, double scale, std::vector<std::pair<Eigen::Index, double>>& out) const {
+  const SplineSpace& s = *m_space;
+  const LayerRange mu = s.movingU(), mv = s.movingV();
+  out.clear();
   if (const PinnedGroup* g = pinnedGroup(i, j)) {
-    const SplineSpace& s = *m_space;
-    const Eigen::Index f = Eigen::Index(i - s.movingU().first) * s.movingV().count + (j - s.movingV().first);
-    Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
-    if (m_pinned[size_t(f)]) return acc;
-    const auto it = std::find(g->free.begin(), g->free.end(), f);
-    const Eigen::Index a = it - g->free.begin();
-    for (size_t b = 0; b < g->free.size(); ++b) acc += g->inverse(a, Eigen::Index(b)) * r.row(g->free[b]);
-    return acc;
+    const Eigen::Index f = Eigen::Index(i - mu.first) * mv.count + (j - mv.first);
+    if (m_pinned[size_t(f)]) return;
+    const Eigen::Index a = std::find(g->free.begin(), g->free.end(), f) - g->free.begin();
+    for (size_t c = 0; c < g->free.size(); ++c) out.emplace_back(g->free[c], scale * g->inverse(a, Eigen::Index(c)));
+    return;
   }
-  return kroneckerRow(*m_space, m_invU[size_t(i)], m_invV[size_t(j)], 1.0 / m_scale, r);
+  for (const LayerWeight& u : m_invU[size_t(i)])
+    for (const LayerWeight& v : m_invV[size_t(j)])
+      out.emplace_back(Eigen::Index(u.layer - mu.first) * mv.count + (v.layer - mv.first), scale * u.weight * v.weight / m_scale);
 }
 
 void EdgeMass::solve(ControlNet& r) const {
   const SplineSpace& s = *m_space;
   const ControlNet copy = r;
+  std::vector<std::pair<Eigen::Index, double>> row;
   for (Eigen::Index f = 0; f < s.numMoving(); ++f) {
     const Eigen::Index n = s.movingToNet(f);
-    r.row(f) = solveAt(copy, int(n / s.netCols()), int(n % s.netCols()));
+    inverseRow(int(n / s.netCols()), int(n % s.netCols()), 1.0, row);
+    Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
+    for (const auto& [g, c] : row) acc += c * copy.row(g);
+    r.row(f) = acc;
   }
 }
 
 EdgeMass::BandPlan EdgeMass::bandPlan(const std::vector<StiffnessStencil::BandPoint>& band, double scale) const {
-  const SplineSpace& s = *m_space;
-  const LayerRange mu = s.movingU(), mv = s.movingV();
-  std::vector<int> bandIndex(size_t(s.numMoving()), -1);
+  std::vector<int> bandIndex(size_t(m_space->numMoving()), -1);
   for (size_t k = 0; k < band.size(); ++k) bandIndex[size_t(band[k].m)] = int(k);
-  auto indexOf = [&](Eigen::Index f) {
-    const int k = bandIndex[size_t(f)];
-    assert(k >= 0 && "the mass couples a band point only with band points (the source layers are)");
-    return k;
-  };
   BandPlan plan;
   plan.start.push_back(0);
+  std::vector<std::pair<Eigen::Index, double>> row;
   for (const StiffnessStencil::BandPoint& b : band) {
-    if (const PinnedGroup* g = pinnedGroup(b.i, b.j)) {
-      if (!m_pinned[size_t(b.m)]) {
-        const Eigen::Index a = std::find(g->free.begin(), g->free.end(), b.m) - g->free.begin();
-        for (size_t c = 0; c < g->free.size(); ++c) plan.entries.emplace_back(indexOf(g->free[c]), scale * g->inverse(a, Eigen::Index(c)));
-      }
-    } else {
-      for (const LayerWeight& u : m_invU[size_t(b.i)])
-        for (const LayerWeight& v : m_invV[size_t(b.j)])
-          plan.entries.emplace_back(indexOf(Eigen::Index(u.layer - mu.first) * mv.count + (v.layer - mv.first)),
-                                    scale * u.weight * v.weight / m_scale);
+    inverseRow(b.i, b.j, scale, row);
+    for (const auto& [g, c] : row) {
+      const int k = bandIndex[size_t(g)];
+      assert(k >= 0 && "the mass couples a band point only with band points (the source layers are)");
+      plan.entries.emplace_back(k, c);
     }
     plan.start.push_back(int(plan.entries.size()));
   }

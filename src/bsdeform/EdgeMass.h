@@ -35,9 +35,6 @@ class EdgeMass {
   void apply(const ControlNet& x, ControlNet& out) const;
   /// r = M^-1 r (numMoving x 3).
   void solve(ControlNet& r) const;
-  /// (M^-1 r) at moving net point (i, j), from r given at the moving points (numMoving x 3);
-  /// reads r only at the points of the source blocks through (i, j).
-  Eigen::RowVector3d solveAt(const ControlNet& r, int i, int j) const;
   /// The off-diagonal entries of M (moving-point numbers), times `scale`.
   std::vector<Eigen::Triplet<double>> offDiagonal(double scale) const;
   /// The explicit step's band solve (StiffnessStencil::centralDifferenceUpdate): for band
@@ -49,7 +46,7 @@ class EdgeMass {
     std::vector<std::pair<int, double>> entries;
   };
   BandPlan bandPlan(const std::vector<StiffnessStencil::BandPoint>& band, double scale) const;
-  /// Pinned moving points (by moving-point number): solve() and solveAt() then give the
+  /// Pinned moving points (by moving-point number): solve() and bandPlan() then give the
   /// accelerations of the others with the pinned ones at zero, \f$M_{ff}^{-1} r_f\f$ (pinned
   /// entries of the result are zero).
   void setPinned(const std::vector<Eigen::Index>& pinnedMoving);
@@ -70,6 +67,9 @@ class EdgeMass {
   std::vector<char> m_pinned;  ///< per moving point
   std::vector<std::pair<std::pair<long long, long long>, PinnedGroup>> m_pinnedGroups;
   std::pair<long long, long long> groupKey(int i, int j) const;
+  /// Row of moving net point (i, j) of scale M^-1 (of M_ff^-1 within a group with a pin; empty
+  /// for a pinned point): (moving-point number, coefficient). What solve() and bandPlan() use.
+  void inverseRow(int i, int j, double scale, std::vector<std::pair<Eigen::Index, double>>& out) const;
   const PinnedGroup* pinnedGroup(int i, int j) const;
 };
 

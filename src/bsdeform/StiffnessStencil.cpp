@@ -518,8 +518,8 @@ void StiffnessStencil::kernelRow(const ControlNet& net, const KernelRow& r, doub
   const SplineSpace& s = *m_space;
   const long rowLen = 3L * s.netCols();
   // the layers beyond the net have zero coefficients: a row of zeros stands for them
-  thread_local std::vector<double> zeros;
-  zeros.assign(size_t(rowLen), 0.0);
+  thread_local std::vector<double> zeros;  // never written: sized once per net width
+  if (zeros.size() != size_t(rowLen)) zeros.assign(size_t(rowLen), 0.0);
   const double* q[2 * kMaxDegree + 1];
   for (int a = 0; a <= 2 * m_ru; ++a) {
     const int l = r.i + a - m_ru;
@@ -589,15 +589,17 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   // Band points [k0, k1) (consecutive in m_band, closed under the band solve's coupling). The
   // band points of an interior row are done right after the row, while its neighbourhood is in
   // cache (docs/benchmarks.md, issue 23).
-  // (A P) of the kernel rows (rows that are not interior rows, done after the parts; not a
-  // thread_local: updateBand may run on a worker thread)
-  std::vector<double> kernelOut(m_kernelRows.size() * 3 * size_t(m_colsInterior.count));
+  // (A P) of the kernel rows (rows that are not interior rows, done after the parts). The
+  // buffer is this thread's; updateBand, which may run on a worker, reads it through a pointer.
+  thread_local std::vector<double> kernelBuffer;
+  kernelBuffer.resize(m_kernelRows.size() * 3 * size_t(m_colsInterior.count));
+  const double* const kernelOut = kernelBuffer.data();
   for (size_t r = 0; r < m_kernelRows.size(); ++r)
-    kernelRow(current, m_kernelRows[r], kernelOut.data() + r * 3 * size_t(m_colsInterior.count));
+    kernelRow(current, m_kernelRows[r], kernelBuffer.data() + r * 3 * size_t(m_colsInterior.count));
   auto elastic = [&](size_t k) {
     const int r = m_bandKernelRow[k];
     if (r < 0) return bandRow(current, k);
-    const double* p = kernelOut.data() + (size_t(r) * size_t(m_colsInterior.count) + (k - m_kernelRows[size_t(r)].band)) * 3;
+    const double* p = kernelOut + (size_t(r) * size_t(m_colsInterior.count) + (k - m_kernelRows[size_t(r)].band)) * 3;
     return Eigen::RowVector3d(p[0], p[1], p[2]);
   };
   auto updateBand = [&](size_t k0, size_t k1) {
