@@ -1,0 +1,497 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/Shell.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "bsdeform/GaussLegendre.h"
+#include "bsdeform/NumberText.h"
+#include "bsdeform/Parallel.h"
+
+namespace bsdeform {
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// Dual numbers a + b ε (ε² = 0): the kernel evaluated on them gives its directional derivative.
+struct Dual {
+  double a = 0.0, b = 0.0;
+  Dual() = default;
+  Dual(double x) : a(x) {}  // NOLINT: constants promote
+  Dual(double x, double dx) : a(x), b(dx) {}
+};
+inline Dual operator+(Dual x, Dual y) { return {x.a + y.a, x.b + y.b}; }
+inline Dual operator-(Dual x, Dual y) { return {x.a - y.a, x.b - y.b}; }
+inline Dual operator-(Dual x) { return {-x.a, -x.b}; }
+inline Dual operator*(Dual x, Dual y) { return {x.a * y.a, x.a * y.b + x.b * y.a}; }
+inline Dual operator/(Dual x, Dual y) { return {x.a / y.a, (x.b * y.a - x.a * y.b) / (y.a * y.a)}; }
+inline Dual& operator+=(Dual& x, Dual y) { return x = x + y; }
+inline Dual sqrt(Dual x) {
+  const double s = std::sqrt(x.a);
+  return {s, x.b / (2.0 * s)};
+}
+inline double value(double x) { return x; }
+inline double value(Dual x) { return x.a; }
+using std::sqrt;
+
+template <typename T>
+inline T dot3(const T* x, const T* y) {
+  return x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+}
+template <typename T>
+inline void cross3(const T* x, const T* y, T* out) {
+  out[0] = x[1] * y[2] - x[2] * y[1];
+  out[1] = x[2] * y[0] - x[0] * y[2];
+  out[2] = x[0] * y[1] - x[1] * y[0];
+}
+
+/// Material constants of the kernel.
+struct Constants {
+  double membrane;  ///< t
+  double bending;   ///< t³/12
+  double lambda;    ///< λ̄ = Eν/(1−ν²)
+  double twoMu;     ///< 2μ = E/(1+ν)
+};
+
+/// S = λ̄ A^{αβ} tr(A⁻¹E) + 2μ (A⁻¹ E A⁻¹)^{αβ} for a symmetric E = (E11, E12, E22).
+template <typename T>
+inline void stress(const double* Ac, const Constants& k, const T* E, T* S) {
+  const T tr = Ac[0] * E[0] + 2.0 * (Ac[1] * E[1]) + Ac[2] * E[2];
+  const T P11 = Ac[0] * E[0] + Ac[1] * E[1], P12 = Ac[0] * E[1] + Ac[1] * E[2];
+  const T P21 = Ac[1] * E[0] + Ac[2] * E[1], P22 = Ac[1] * E[1] + Ac[2] * E[2];
+  const T X11 = P11 * Ac[0] + P12 * Ac[1], X12 = P11 * Ac[1] + P12 * Ac[2], X22 = P21 * Ac[1] + P22 * Ac[2];
+  S[0] = k.lambda * Ac[0] * tr + k.twoMu * X11;
+  S[1] = k.lambda * Ac[1] * tr + k.twoMu * X12;
+  S[2] = k.lambda * Ac[2] * tr + k.twoMu * X22;
+}
+
+/// The kernel: energy density (membrane, bending, each times wJ) and its gradient g with
+/// respect to y = (S_u, S_v, S_uu, S_uv, S_vv) at one Gauss point.
+template <typename T>
+inline void density(const T* y, const ShellEnergy::RestPoint& r, const Constants& k, bool bending, T* g, T& em,
+                    T& eb) {
+  const T* a1 = y;
+  const T* a2 = y + 3;
+  const T E[3] = {0.5 * (dot3(a1, a1) - r.A[0]), 0.5 * (dot3(a1, a2) - r.A[1]), 0.5 * (dot3(a2, a2) - r.A[2])};
+  T S[3];
+  stress(r.Ac, k, E, S);
+  const T n11 = (k.membrane * r.wJ) * S[0], n12 = (k.membrane * r.wJ) * S[1], n22 = (k.membrane * r.wJ) * S[2];
+  em = 0.5 * (n11 * E[0] + 2.0 * (n12 * E[1]) + n22 * E[2]);
+  for (int c = 0; c < 3; ++c) {
+    g[c] = n11 * a1[c] + n12 * a2[c];
+    g[3 + c] = n12 * a1[c] + n22 * a2[c];
+    g[6 + c] = g[9 + c] = g[12 + c] = T(0.0);
+  }
+  eb = T(0.0);
+  if (!bending) return;
+  T a3[3];
+  cross3(a1, a2, a3);
+  const T j = sqrt(dot3(a3, a3));
+  if (value(j) == 0.0) return;  // a collapsed current surface has no normal: no bending there
+  const T nrm[3] = {a3[0] / j, a3[1] / j, a3[2] / j};
+  const T* s11 = y + 6;
+  const T* s12 = y + 9;
+  const T* s22 = y + 12;
+  const T kappa[3] = {r.B[0] - dot3(s11, nrm), r.B[1] - dot3(s12, nrm), r.B[2] - dot3(s22, nrm)};
+  T M[3];
+  stress(r.Ac, k, kappa, M);
+  const T m11 = (k.bending * r.wJ) * M[0], m12 = (k.bending * r.wJ) * M[1], m22 = (k.bending * r.wJ) * M[2];
+  eb = 0.5 * (m11 * kappa[0] + 2.0 * (m12 * kappa[1]) + m22 * kappa[2]);
+  // dκ = −(dS_αβ·n + S_αβ·dn), dn = (I − n nᵀ) dã₃ / j, dã₃ = da₁ × a₂ + a₁ × da₂
+  T v[3], w[3], t1[3], t2[3];
+  for (int c = 0; c < 3; ++c) {
+    g[6 + c] = -(m11 * nrm[c]);
+    g[9 + c] = -(2.0 * (m12 * nrm[c]));
+    g[12 + c] = -(m22 * nrm[c]);
+    v[c] = m11 * s11[c] + 2.0 * (m12 * s12[c]) + m22 * s22[c];
+  }
+  const T vn = dot3(v, nrm);
+  for (int c = 0; c < 3; ++c) w[c] = (v[c] - vn * nrm[c]) / j;
+  cross3(a2, w, t1);
+  cross3(w, a1, t2);
+  for (int c = 0; c < 3; ++c) {
+    g[c] = g[c] - t1[c];
+    g[3 + c] = g[3 + c] - t2[c];
+  }
+}
+
+constexpr int kMaxPoints = kMaxDegree + 1;
+/// (u order, v order) of the five derivatives in y.
+constexpr int kOrderU[5] = {1, 0, 2, 1, 0};
+constexpr int kOrderV[5] = {0, 1, 0, 1, 2};
+
+/// What one element pass needs: the tables and sizes.
+struct Tables {
+  int L1, L2, Q1, Q2, cols;
+  const double* tu;  // [q][order][a], L1 wide
+  const double* tv;
+  double u(int q, int d, int a) const { return tu[(q * 3 + d) * L1 + a]; }
+  double v(int q, int d, int b) const { return tv[(q * 3 + d) * L2 + b]; }
+};
+
+/// One element (e1, e2) with sum factorisation: gathers the net (loader(row, c) -> T), runs
+/// the kernel at each Gauss point and adds the gradient to out(row, c, value) when `grad`.
+/// Returns the element's energies.
+template <typename T, typename Load, typename Store>
+void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint* rest, const Constants& k,
+                 bool bending, bool grad, Load&& load, Store&& store, T& em, T& eb) {
+  const int L1 = tb.L1, L2 = tb.L2, Q1 = tb.Q1, Q2 = tb.Q2;
+  // T[a][q2][dv][c] = Σ_b tv[q2][dv][b] X[a][b][c]
+  T Tv[kMaxPoints][kMaxPoints][3][3];
+  for (int a = 0; a < L1; ++a) {
+    T X[kMaxPoints][3];
+    const Eigen::Index base = Eigen::Index(e1 + a) * tb.cols + e2;
+    for (int b = 0; b < L2; ++b)
+      for (int c = 0; c < 3; ++c) X[b][c] = load(base + b, c);
+    for (int q2 = 0; q2 < Q2; ++q2)
+      for (int d = 0; d < 3; ++d)
+        for (int c = 0; c < 3; ++c) {
+          T s = T(0.0);
+          for (int b = 0; b < L2; ++b) s += tb.v(q2, d, b) * X[b][c];
+          Tv[a][q2][d][c] = s;
+        }
+  }
+  T U[kMaxPoints][kMaxPoints][3][3];
+  if (grad)
+    for (int a = 0; a < L1; ++a)
+      for (int q2 = 0; q2 < Q2; ++q2)
+        for (int d = 0; d < 3; ++d)
+          for (int c = 0; c < 3; ++c) U[a][q2][d][c] = T(0.0);
+  em = T(0.0);
+  eb = T(0.0);
+  for (int q1 = 0; q1 < Q1; ++q1)
+    for (int q2 = 0; q2 < Q2; ++q2) {
+      T y[15];
+      for (int m = 0; m < 5; ++m)
+        for (int c = 0; c < 3; ++c) {
+          T s = T(0.0);
+          for (int a = 0; a < L1; ++a) s += tb.u(q1, kOrderU[m], a) * Tv[a][q2][kOrderV[m]][c];
+          y[3 * m + c] = s;
+        }
+      T g[15], pm, pb;
+      density(y, rest[q1 * Q2 + q2], k, bending, g, pm, pb);
+      em += pm;
+      eb += pb;
+      if (!grad) continue;
+      for (int a = 0; a < L1; ++a)
+        for (int m = 0; m < 5; ++m) {
+          const double w = tb.u(q1, kOrderU[m], a);
+          for (int c = 0; c < 3; ++c) U[a][q2][kOrderV[m]][c] += w * g[3 * m + c];
+        }
+    }
+  if (!grad) return;
+  for (int a = 0; a < L1; ++a) {
+    const Eigen::Index base = Eigen::Index(e1 + a) * tb.cols + e2;
+    for (int b = 0; b < L2; ++b)
+      for (int c = 0; c < 3; ++c) {
+        T s = T(0.0);
+        for (int q2 = 0; q2 < Q2; ++q2)
+          for (int d = 0; d < 3; ++d) s += tb.v(q2, d, b) * U[a][q2][d][c];
+        store(base + b, c, s);
+      }
+  }
+}
+
+/// y at one Gauss point (doubles) and the coefficients c[m][k] of y_m = Σ_k c[m][k] X_k.
+void pointCoefficients(const Tables& tb, int q1, int q2, double c[5][kMaxPoints * kMaxPoints]) {
+  for (int m = 0; m < 5; ++m)
+    for (int a = 0; a < tb.L1; ++a)
+      for (int b = 0; b < tb.L2; ++b) c[m][a * tb.L2 + b] = tb.u(q1, kOrderU[m], a) * tb.v(q2, kOrderV[m], b);
+}
+
+/// The 15 x 15 Hessian of the density at y (exact: 15 dual directions).
+Eigen::Matrix<double, 15, 15> densityHessian(const double* y, const ShellEnergy::RestPoint& r, const Constants& k,
+                                             bool bending) {
+  Eigen::Matrix<double, 15, 15> H;
+  Dual yd[15], g[15], em, eb;
+  for (int m = 0; m < 15; ++m) {
+    for (int i = 0; i < 15; ++i) yd[i] = Dual(y[i], i == m ? 1.0 : 0.0);
+    density(yd, r, k, bending, g, em, eb);
+    for (int i = 0; i < 15; ++i) H(i, m) = g[i].b;
+  }
+  return 0.5 * (H + H.transpose());
+}
+
+}  // namespace
+
+ShellEnergy::ShellEnergy(const SplineSpace& space, const ControlNet& rest, const ShellMaterial& material)
+    : m_space(space), m_rest(rest), m_material(material) {
+  auto require = [](bool ok, const std::string& what) {
+    if (!ok) throw std::invalid_argument(what);
+  };
+  const ShellMaterial& m = material;
+  require(std::isfinite(m.youngsModulus) && m.youngsModulus > 0.0,
+          "youngsModulus must be a finite number > 0 (got " + numberText(m.youngsModulus) + ")");
+  require(std::isfinite(m.poissonRatio) && m.poissonRatio >= 0.0 && m.poissonRatio < 0.5,
+          "poissonRatio must lie in [0, 0.5) (got " + numberText(m.poissonRatio) + ")");
+  require(std::isfinite(m.thickness) && m.thickness > 0.0,
+          "thickness must be a finite number > 0 (got " + numberText(m.thickness) + ")");
+  require(std::isfinite(m.density) && m.density > 0.0,
+          "density must be a finite number > 0 (got " + numberText(m.density) + ")");
+  require(rest.rows() == space.netSize(), "ShellEnergy: the rest net does not fit the spline space");
+  m_bending = space.degreeU() >= 2 && space.degreeV() >= 2;
+  m_qu = space.degreeU() + 1;
+  m_qv = space.degreeV() + 1;
+  auto table = [](const BSplineBasis1D& basis, int points, std::vector<double>& t) {
+    const QuadratureRule& rule = gaussLegendre(points);
+    const int L = basis.degree() + 1;
+    t.assign(size_t(points * 3 * L), 0.0);
+    for (int q = 0; q < points; ++q) {
+      LocalBasis lb;
+      basis.evaluateInSpan(0, rule.nodes[size_t(q)] * basis.spacing(), std::min(2, basis.degree()), lb);
+      for (int d = 0; d <= std::min(2, basis.degree()); ++d)
+        for (int a = 0; a < L; ++a) t[size_t((q * 3 + d) * L + a)] = lb.d[size_t(d)][size_t(a)];
+    }
+  };
+  table(space.basisU(), m_qu, m_tu);
+  table(space.basisV(), m_qv, m_tv);
+  const QuadratureRule& ru = gaussLegendre(m_qu);
+  const QuadratureRule& rv = gaussLegendre(m_qv);
+  const int S1 = space.basisU().numSpans(), S2 = space.basisV().numSpans();
+  const double h1 = space.basisU().spacing(), h2 = space.basisV().spacing();
+  m_points.resize(size_t(S1) * S2 * m_qu * m_qv);
+  double area = 0.0;
+  for (int e1 = 0; e1 < S1; ++e1)
+    for (int e2 = 0; e2 < S2; ++e2)
+      for (int q1 = 0; q1 < m_qu; ++q1)
+        for (int q2 = 0; q2 < m_qv; ++q2) {
+          const double u = (e1 + ru.nodes[size_t(q1)]) * h1, v = (e2 + rv.nodes[size_t(q2)]) * h2;
+          const SurfacePoint p = space.evaluate(rest, u, v, 2);
+          const Eigen::Vector3d a3 = p.du.cross(p.dv);
+          const double J = a3.norm();
+          const double scale = p.du.squaredNorm() + p.dv.squaredNorm();
+          if (!(J > 1e-10 * scale) || !std::isfinite(J)) {
+            std::ostringstream os;
+            os << "the rest surface is degenerate at (u, v) = (" << numberText(u) << ", " << numberText(v)
+               << "): S_u x S_v vanishes there (a pole?), and a shell needs a regular rest surface";
+            throw std::invalid_argument(os.str());
+          }
+          const Eigen::Vector3d n = a3 / J;
+          RestPoint& r = m_points[((size_t(e1) * S2 + e2) * m_qu + q1) * m_qv + q2];
+          r.A[0] = p.du.dot(p.du);
+          r.A[1] = p.du.dot(p.dv);
+          r.A[2] = p.dv.dot(p.dv);
+          const double det = r.A[0] * r.A[2] - r.A[1] * r.A[1];
+          r.Ac[0] = r.A[2] / det;
+          r.Ac[1] = -r.A[1] / det;
+          r.Ac[2] = r.A[0] / det;
+          r.B[0] = p.duu.dot(n);
+          r.B[1] = p.duv.dot(n);
+          r.B[2] = p.dvv.dot(n);
+          r.wJ = ru.weights[size_t(q1)] * rv.weights[size_t(q2)] * h1 * h2 * J;
+          area += r.wJ;
+        }
+  m_restArea = area;
+}
+
+double ShellEnergy::restAreaElement(double u, double v) const {
+  const SurfacePoint p = m_space.evaluate(m_rest, u, v, 1);
+  return p.du.cross(p.dv).norm();
+}
+
+// Rows of the net are split into blocks of knot spans in u; blocks of one parity touch disjoint
+// net rows (a block spans at least n1 + 1 spans), so each parity runs its blocks in parallel and
+// every net row receives its sums in the same order for any thread count.
+template <typename Fn>
+void ShellEnergy::forEachBlock(Fn&& fn) const {
+  const int S1 = m_space.basisU().numSpans();
+  const int size = std::max(m_space.degreeU() + 1, 4);
+  const int blocks = (S1 + size - 1) / size;
+  for (int parity = 0; parity < 2; ++parity) {
+    const int parts = (blocks - parity + 1) / 2;
+    if (parts <= 0) continue;
+    runParts(parts, [&](int p) {
+      const int b = 2 * p + parity;
+      fn(b, b * size, std::min(S1, (b + 1) * size));
+    });
+  }
+}
+
+ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
+  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
+  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const int size = std::max(m_space.degreeU() + 1, 4);
+  std::vector<ShellEnergies> partial(size_t((S1 + size - 1) / size));
+  const double* X = net.data();
+  forEachBlock([&](int b, int s0, int s1) {
+    ShellEnergies sum;
+    for (int e1 = s0; e1 < s1; ++e1)
+      for (int e2 = 0; e2 < S2; ++e2) {
+        double em, eb;
+        elementPass<double>(
+            tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, false,
+            [X](Eigen::Index r, int c) { return X[3 * r + c]; }, [](Eigen::Index, int, double) {}, em, eb);
+        sum.membrane += em;
+        sum.bending += eb;
+      }
+    partial[size_t(b)] = sum;
+  });
+  ShellEnergies total;
+  for (const ShellEnergies& p : partial) {
+    total.membrane += p.membrane;
+    total.bending += p.bending;
+  }
+  return total;
+}
+
+void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
+  const int S2 = m_space.basisV().numSpans();
+  const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
+  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
+  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  grad.setZero(net.rows(), 3);
+  const double* X = net.data();
+  double* G = grad.data();
+  forEachBlock([&](int, int s0, int s1) {
+    for (int e1 = s0; e1 < s1; ++e1)
+      for (int e2 = 0; e2 < S2; ++e2) {
+        double em, eb;
+        elementPass<double>(
+            tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, true,
+            [X](Eigen::Index r, int c) { return X[3 * r + c]; },
+            [G](Eigen::Index r, int c, double s) { G[3 * r + c] += s; }, em, eb);
+      }
+  });
+}
+
+void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const {
+  const int S2 = m_space.basisV().numSpans();
+  const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
+  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
+  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  out.setZero(net.rows(), 3);
+  const double* X = net.data();
+  const double* D = dir.data();
+  double* O = out.data();
+  forEachBlock([&](int, int s0, int s1) {
+    for (int e1 = s0; e1 < s1; ++e1)
+      for (int e2 = 0; e2 < S2; ++e2) {
+        Dual em, eb;
+        elementPass<Dual>(
+            tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, true,
+            [X, D](Eigen::Index r, int c) { return Dual(X[3 * r + c], D[3 * r + c]); },
+            [O](Eigen::Index r, int c, Dual s) { O[3 * r + c] += s.b; }, em, eb);
+      }
+  });
+}
+
+void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
+  const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
+  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
+  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  out.clear();
+  out.reserve(size_t(S1) * S2 * size_t(9 * L * L));
+  Eigen::MatrixXd Ke(3 * L, 3 * L), Bq(15, 3 * L), HB(15, 3 * L);
+  double c[5][kMaxPoints * kMaxPoints];
+  for (int e1 = 0; e1 < S1; ++e1)
+    for (int e2 = 0; e2 < S2; ++e2) {
+      Ke.setZero();
+      const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
+      for (int q1 = 0; q1 < m_qu; ++q1)
+        for (int q2 = 0; q2 < m_qv; ++q2) {
+          pointCoefficients(tb, q1, q2, c);
+          double y[15] = {};
+          for (int a = 0; a < L1; ++a)
+            for (int b = 0; b < L2; ++b) {
+              const Eigen::Index r = Eigen::Index(e1 + a) * cols + e2 + b;
+              for (int m = 0; m < 5; ++m)
+                for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][a * L2 + b] * net(r, cc);
+            }
+          Eigen::Matrix<double, 15, 15> H = densityHessian(y, rest[q1 * m_qv + q2], k, m_bending);
+          if (project) {
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es(H);
+            const Eigen::Matrix<double, 15, 1> lam = es.eigenvalues().cwiseMax(0.0);
+            H = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
+          }
+          Bq.setZero();
+          for (int m = 0; m < 5; ++m)
+            for (int p = 0; p < L; ++p)
+              for (int cc = 0; cc < 3; ++cc) Bq(3 * m + cc, 3 * p + cc) = c[m][p];
+          HB.noalias() = H * Bq;
+          Ke.noalias() += Bq.transpose() * HB;
+        }
+      for (int p = 0; p < L; ++p) {
+        const Eigen::Index rp = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
+        for (int q = 0; q < L; ++q) {
+          const Eigen::Index rq = Eigen::Index(e1 + q / L2) * cols + e2 + q % L2;
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b)
+              out.emplace_back(int(3 * rp + a), int(3 * rq + b), Ke(3 * p + a, 3 * q + b));
+        }
+      }
+    }
+}
+
+Eigen::VectorXd ShellEnergy::lumpedMass() const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, cols = m_space.netCols();
+  const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
+  const double rhoT = m_material.density * m_material.thickness;
+  Eigen::VectorXd mass = Eigen::VectorXd::Zero(m_space.netSize());
+  for (int e1 = 0; e1 < S1; ++e1)
+    for (int e2 = 0; e2 < S2; ++e2)
+      for (int q1 = 0; q1 < m_qu; ++q1)
+        for (int q2 = 0; q2 < m_qv; ++q2) {
+          const double wJ = m_points[((size_t(e1) * S2 + e2) * m_qu + q1) * m_qv + q2].wJ;
+          for (int a = 0; a < L1; ++a)
+            for (int b = 0; b < L2; ++b)
+              mass[Eigen::Index(e1 + a) * cols + e2 + b] += rhoT * wJ * tb.u(q1, 0, a) * tb.v(q2, 0, b);
+        }
+  return mass;
+}
+
+double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd& mass) const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
+  const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
+  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
+  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  Eigen::VectorXd rows = Eigen::VectorXd::Zero(m_space.netSize());
+  const int size = std::max(m_space.degreeU() + 1, 4);
+  (void)S1;
+  forEachBlock([&](int, int s0, int s1) {
+    double c[5][kMaxPoints * kMaxPoints];
+    for (int e1 = s0; e1 < s1; ++e1)
+      for (int e2 = 0; e2 < S2; ++e2) {
+        const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
+        for (int q1 = 0; q1 < m_qu; ++q1)
+          for (int q2 = 0; q2 < m_qv; ++q2) {
+            pointCoefficients(tb, q1, q2, c);
+            double y[15] = {};
+            for (int p = 0; p < L; ++p) {
+              const Eigen::Index r = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
+              for (int m = 0; m < 5; ++m)
+                for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * net(r, cc);
+            }
+            const Eigen::Matrix<double, 15, 15> H = densityHessian(y, rest[q1 * m_qv + q2], k, m_bending);
+            double s[5] = {};
+            for (int m = 0; m < 5; ++m)
+              for (int p = 0; p < L; ++p) s[m] += std::abs(c[m][p]);
+            double rd[5] = {};
+            for (int d = 0; d < 5; ++d)
+              for (int e = 0; e < 5; ++e) {
+                const double block = H.block<3, 3>(3 * d, 3 * e).cwiseAbs().rowwise().sum().maxCoeff();
+                rd[d] += s[e] * block;
+              }
+            for (int p = 0; p < L; ++p) {
+              double sum = 0.0;
+              for (int d = 0; d < 5; ++d) sum += std::abs(c[d][p]) * rd[d];
+              rows[Eigen::Index(e1 + p / L2) * cols + e2 + p % L2] += sum;
+            }
+          }
+      }
+  });
+  (void)size;
+  double bound = 0.0;
+  for (Eigen::Index p = 0; p < rows.size(); ++p)
+    if (mass[p] > 0.0) bound = std::max(bound, rows[p] / mass[p]);
+  return bound;
+}
+
+}  // namespace bsdeform

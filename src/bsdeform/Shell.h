@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file Shell.h
+/// The isogeometric Kirchhoff–Love thin shell (Kiendl et al. 2009) on the model's spline space:
+/// the geometrically exact energy the `SHELL` model uses instead of the paper's eq. 7
+/// (docs/math.md §16). Per Gauss point of the parameter square, with a_α = S_,α,
+/// n = a₁×a₂/|a₁×a₂|, the metric a_αβ = a_α·a_β and the curvature b_αβ = S_,αβ·n of the current
+/// surface and A_αβ, B_αβ, J₀ = |A₁×A₂| of the rest surface:
+///   membrane strain E = ½(a − A), bending strain κ = B − b,
+///   C^{αβγδ} = λ̄ A^{αβ}A^{γδ} + μ (A^{αγ}A^{βδ} + A^{αδ}A^{βγ}),  λ̄ = Eν/(1−ν²), μ = E/(2(1+ν)),
+///   W = ∫ (½ t E:C:E + ½ t³/12 κ:C:κ) J₀ du dv   (St. Venant–Kirchhoff, plane stress).
+/// The rest surface is stress-free whatever its shape. Degree 1 in either direction has no
+/// second derivatives: the membrane part only.
+///
+/// Everything is derived from one kernel, the energy density's gradient with respect to the
+/// five surface derivatives (S_u, S_v, S_uu, S_uv, S_vv) at a Gauss point, written once for
+/// doubles and for dual numbers: the Hessian–vector product is the exact directional derivative
+/// of the gradient, and the 15 x 15 Hessian of the density is 15 such derivatives.
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "bsdeform/SplineSpace.h"
+
+namespace bsdeform {
+
+/// A homogeneous, isotropic elastic sheet (SI units in the nodes: Pa, m, kg/m³).
+struct ShellMaterial {
+  double youngsModulus = 1.0e6;  ///< E > 0
+  double poissonRatio = 0.3;     ///< ν in [0, 0.5)
+  double thickness = 1.0e-3;     ///< t > 0
+  double density = 1000.0;       ///< ρ > 0 (mass per volume; ρ t per rest area)
+};
+
+/// The two parts of the shell's strain energy.
+struct ShellEnergies {
+  double membrane = 0.0;
+  double bending = 0.0;
+  double total() const { return membrane + bending; }
+};
+
+class ShellEnergy {
+ public:
+  /// Precomputes the rest surface at every Gauss point ((n+1) per knot span and direction).
+  /// @throws std::invalid_argument naming the parameter for a bad material, and naming (u, v)
+  ///         where the rest surface is degenerate (S_u x S_v = 0: a pole of a sphere or cone)
+  ShellEnergy(const SplineSpace& space, const ControlNet& rest, const ShellMaterial& material);
+
+  const ShellMaterial& material() const { return m_material; }
+  /// Whether the bending part is present (both degrees >= 2).
+  bool hasBending() const { return m_bending; }
+  /// Area of the rest surface, ∫ J₀ du dv.
+  double restArea() const { return m_restArea; }
+
+  /// Membrane and bending energy of the full net `net` (periodic copies in sync).
+  ShellEnergies energy(const ControlNet& net) const;
+  /// grad = dW/dP for every point of the full net (netSize x 3), held points included.
+  void gradient(const ControlNet& net, ControlNet& grad) const;
+  /// out = H(net) dir (netSize x 3): the exact directional derivative of gradient().
+  void hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const;
+  /// Triplets of the Hessian of W at `net` over the full net's coordinates (index 3 row + c).
+  /// `project`: each Gauss point's 15 x 15 Hessian of the density is projected onto the
+  /// positive semidefinite matrices first, so the sum is positive semidefinite (what a Newton
+  /// step on an indefinite tangent uses). Duplicates are summed by setFromTriplets.
+  void hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const;
+  /// Lumped mass of every net point: ρ t ∫ B_k J₀ du dv (the row sums of the consistent mass).
+  Eigen::VectorXd lumpedMass() const;
+  /// A rigorous upper bound of λ_max(W⁻¹ H(net)) for the diagonal `mass` (net points, each
+  /// > 0): the largest row sum of |W⁻¹ H| (Gershgorin), each Gauss point's 3 x 3 blocks bounded
+  /// by their row sums. Valid at this state; the explicit scheme re-evaluates it every step.
+  double eigenvalueBound(const ControlNet& net, const Eigen::VectorXd& mass) const;
+  /// Rest area element J₀ = |S_u x S_v| of the rest surface at (u, v).
+  double restAreaElement(double u, double v) const;
+
+  /// Gauss points per knot span and direction.
+  int pointsU() const { return m_qu; }
+  int pointsV() const { return m_qv; }
+
+  /// Rest data at one Gauss point.
+  struct RestPoint {
+    double Ac[3];  ///< A^{11}, A^{12}, A^{22} (inverse metric)
+    double A[3];   ///< A_11, A_12, A_22
+    double B[3];   ///< B_11, B_12, B_22
+    double wJ;     ///< quadrature weight x J₀ (h1 h2 included)
+  };
+
+ private:
+  template <typename Fn>
+  void forEachBlock(Fn&& fn) const;
+
+  const SplineSpace& m_space;
+  ControlNet m_rest;
+  ShellMaterial m_material;
+  bool m_bending = true;
+  int m_qu = 0, m_qv = 0;
+  /// 1-D tables: value, first and second derivative of the n+1 functions of a span at each
+  /// Gauss point (the same in every span of a uniform basis), [q][order][a].
+  std::vector<double> m_tu, m_tv;
+  std::vector<RestPoint> m_points;  ///< element (e1 * spansV + e2), then q1 * qv + q2
+  double m_restArea = 0.0;
+};
+
+}  // namespace bsdeform
