@@ -45,7 +45,9 @@ struct StrainEnergy {
 struct Diagnostics {
   double norm = 0.0;     ///< eq. 15: ||P_I - P0_I|| over the moving points
   double kinetic = 0.0;  ///< 1/2 v^T M v, v = (P(t) - P(t - dt_sub)) / dt_sub
-  StrainEnergy strain;   ///< 1/2 D^T A_II D per weight term
+  StrainEnergy strain;   ///< 1/2 D^T A_II D per weight term (SHELL: total only)
+  double membrane = 0.0;  ///< SHELL: membrane part of the strain energy (0 for the paper's model)
+  double bending = 0.0;   ///< SHELL: bending part
 };
 
 /// Sums over the moving points of a model, computed in one pass over its nets.

@@ -42,7 +42,10 @@ SurfaceSample sampleFromBases(const LoadContext& ctx, const LocalBasis& bu, cons
   smp.position = now.position;
   if (dep & kDependsOnVelocity)
     smp.velocity = (now.position - ctx.space.evaluate(ctx.previous, bu, bv, 0).position) / ctx.stepSize;
-  if (dep & kDependsOnNormal) smp.normal = now.normal();
+  if (dep & kDependsOnNormal) {
+    smp.normal = now.normal();
+    smp.areaElement = now.du.cross(now.dv).norm();
+  }
   return smp;
 }
 
@@ -170,7 +173,11 @@ std::vector<double> layerIntegrals(const BSplineBasis1D& basis, const LayerRange
 }  // namespace
 
 void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
-  if (!m_isConstant) {
+  if (isLine()) {
+    addLineLoad(ctx, load);
+    return;
+  }
+  if (!m_isConstant || ctx.rest) {
     addLoadByQuadrature(ctx, load);
     return;
   }
@@ -201,16 +208,52 @@ void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& l
   // n+1 points integrate f * B exactly for constant f (B is degree n per span).
   const std::vector<Node1D> qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
   const std::vector<Node1D> qv = splitQuadrature(s.basisV(), m_rect.v0, m_rect.v1, s.degreeV() + 1 + m_extraPoints);
-  const int order = (m_dependence & kDependsOnNormal) ? 1 : 0;
+  // physical units: the rest area element J0, or the current one for a follower load
+  const bool restArea = ctx.rest && !m_perCurrentArea, currentArea = ctx.rest && m_perCurrentArea;
+  const unsigned dependence = m_dependence | (currentArea ? unsigned(kDependsOnNormal) : 0u);
+  const int order = (dependence & kDependsOnNormal) || restArea ? 1 : 0;
   std::vector<LocalBasis> bv(qv.size());
   for (size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, order, bv[j]);
   LocalBasis bu;
   for (const Node1D& nu : qu) {
     s.basisU().evaluateInSpan(nu.span, nu.x, order, bu);
     for (size_t j = 0; j < qv.size(); ++j) {
-      const Eigen::Vector3d f = m_density(sampleFromBases(ctx, bu, bv[j], nu.x, qv[j].x, m_dependence));
-      scatter(s, bu, bv[j], (nu.w * qv[j].w) * f, load);
+      const SurfaceSample smp = sampleFromBases(ctx, bu, bv[j], nu.x, qv[j].x, dependence);
+      double w = nu.w * qv[j].w;
+      if (restArea) {
+        const SurfacePoint r = s.evaluate(*ctx.rest, bu, bv[j], 1);
+        w *= r.du.cross(r.dv).norm();
+      } else if (currentArea) {
+        w *= smp.areaElement;
+      }
+      scatter(s, bu, bv[j], w * m_density(smp), load);
     }
+  }
+}
+
+void DistributedForce::addLineLoad(const LoadContext& ctx, ControlNet& load) const {
+  const SplineSpace& s = ctx.space;
+  const bool alongV = m_rect.u0 == m_rect.u1;  // the line u = u0, v in [v0, v1]
+  const bool point = alongV && m_rect.v0 == m_rect.v1;
+  const BSplineBasis1D& basis = alongV ? s.basisV() : s.basisU();
+  const double lo = alongV ? m_rect.v0 : m_rect.u0, hi = alongV ? m_rect.v1 : m_rect.u1;
+  std::vector<Node1D> nodes =
+      point ? std::vector<Node1D>{{m_rect.v0, 1.0, 0}}
+            : splitQuadrature(basis, lo, hi, basis.degree() + 1 + (m_isConstant ? 0 : m_extraPoints) + (ctx.rest ? 2 : 0));
+  const unsigned dependence = m_dependence | (ctx.rest && m_perCurrentArea ? unsigned(kDependsOnNormal) : 0u);
+  LocalBasis bu, bv;
+  for (const Node1D& q : nodes) {
+    const double u = alongV ? m_rect.u0 : q.x, v = alongV ? q.x : m_rect.v0;
+    s.basisU().evaluate(u, 1, bu);
+    s.basisV().evaluate(v, 1, bv);
+    const SurfaceSample smp = sampleFromBases(ctx, bu, bv, u, v, dependence);
+    double w = q.w;
+    if (ctx.rest && !point) {
+      // length element of the line on the rest surface, or on the current one (follower)
+      const SurfacePoint p = s.evaluate(m_perCurrentArea ? ctx.current : *ctx.rest, bu, bv, 1);
+      w *= (alongV ? p.dv : p.du).norm();
+    }
+    scatter(s, bu, bv, w * m_density(smp), load);
   }
 }
 

@@ -30,6 +30,7 @@ struct SurfaceSample {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double areaElement = 0.0;  ///< |S_u x S_v| of the current surface (filled in with the normal)
 };
 
 /// A force callable: force (point force) or force per unit parameter area (distributed force).
@@ -42,6 +43,10 @@ struct LoadContext {
   const ControlNet& previous;  ///< full net at t - stepSize (for velocities)
   double stepSize;             ///< the (sub-)step between previous and current
   double time;
+  /// The rest net when densities are per unit rest area (the SHELL model): a distributed load
+  /// is then integrated against the rest surface's area element J0 = |S_u x S_v| (and a line
+  /// load against its length element); null: per unit parameter area (the paper's model).
+  const ControlNet* rest = nullptr;
 };
 
 /// What a force needs to bound its share of \f$\lambda_{max}(M^{-1} K)\f$, K being the
@@ -112,6 +117,13 @@ struct ParamRect {
 /// \f$l_u(k_1) = \int_{u_0}^{u_1} b_{k_1}(u)\, du\f$ (1-D quadratures, the same split spans), so
 /// its load costs O(N1 + N2) quadrature and one product per control point instead of
 /// (n1+1)(n2+1) quadrature points per knot cell (issue 11: 2048^2 in milliseconds, not seconds).
+///
+/// A rectangle of zero width in u (u0 = u1) or in v is a line load: f is then a force per unit
+/// length of that parameter line, $L_k = \int f\, B_k(u_0, v)\, \ell(v)\, dv$ (and both zero: a
+/// point force f at (u0, v0)). What a unit of area or length is comes from LoadContext::rest:
+/// per unit parameter area and length ($\ell = 1$, the paper's model), or per unit area and
+/// length of the rest surface ($J_0$, $\ell = |S_v|$ of the rest net: SHELL); a force that
+/// follows the current area (pressure) uses the current surface's instead.
 class DistributedForce : public Force {
  public:
   using Rect = ParamRect;
@@ -134,8 +146,17 @@ class DistributedForce : public Force {
   /// callable), which addLoad() uses for densities that are not constant. For tests: a
   /// constant density's separable load must equal it.
   void addLoadByQuadrature(const LoadContext& ctx, ControlNet& load) const;
+  /// Whether the rectangle has zero width in u or v (a line load, or a point).
+  bool isLine() const { return m_rect.u0 == m_rect.u1 || m_rect.v0 == m_rect.v1; }
+
+ protected:
+  /// With physical units (LoadContext::rest), the density is per unit area of the current
+  /// surface (a follower pressure) instead of the rest surface's.
+  void setPerCurrentArea() { m_perCurrentArea = true; }
 
  private:
+  void addLineLoad(const LoadContext& ctx, ControlNet& load) const;
+  bool m_perCurrentArea = false;
   bool m_isConstant = false;  ///< the density is the constant m_constantDensity
   Eigen::Vector3d m_constantDensity = Eigen::Vector3d::Zero();
   ForceFunction m_density;

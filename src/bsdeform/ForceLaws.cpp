@@ -76,7 +76,9 @@ PressureForce::PressureForce(double pressure, double minStretch)
     : DistributedForce([p = finite(pressure, "pressure")](const SurfaceSample& s) { return Eigen::Vector3d(p * s.normal); },
                        kDependsOnNormal),
       m_pressure(pressure),
-      m_minStretch(positive(minStretch, "pressure minStretch")) {}
+      m_minStretch(positive(minStretch, "pressure minStretch")) {
+  setPerCurrentArea();
+}
 
 double PressureForce::eigenvalueBound(const MassContext& ctx) const {
   const double h1 = ctx.space.basisU().spacing(), h2 = ctx.space.basisV().spacing();

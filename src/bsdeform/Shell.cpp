@@ -74,7 +74,14 @@ inline void density(const T* y, const ShellEnergy::RestPoint& r, const Constants
                     T& eb) {
   const T* a1 = y;
   const T* a2 = y + 3;
-  const T E[3] = {0.5 * (dot3(a1, a1) - r.A[0]), 0.5 * (dot3(a1, a2) - r.A[1]), 0.5 * (dot3(a2, a2) - r.A[2])};
+  // E = (a - A)/2 from the displacement of the tangents d = a - A_vec: no cancellation when
+  // the strain is small
+  const T d1[3] = {a1[0] - r.T[0], a1[1] - r.T[1], a1[2] - r.T[2]};
+  const T d2[3] = {a2[0] - r.T[3], a2[1] - r.T[4], a2[2] - r.T[5]};
+  const T E[3] = {r.T[0] * d1[0] + r.T[1] * d1[1] + r.T[2] * d1[2] + 0.5 * dot3(d1, d1),
+                  0.5 * ((r.T[0] * d2[0] + r.T[1] * d2[1] + r.T[2] * d2[2]) +
+                         (r.T[3] * d1[0] + r.T[4] * d1[1] + r.T[5] * d1[2]) + dot3(d1, d2)),
+                  r.T[3] * d2[0] + r.T[4] * d2[1] + r.T[5] * d2[2] + 0.5 * dot3(d2, d2)};
   T S[3];
   stress(r.Ac, k, E, S);
   const T n11 = (k.membrane * r.wJ) * S[0], n12 = (k.membrane * r.wJ) * S[1], n22 = (k.membrane * r.wJ) * S[2];
@@ -270,6 +277,10 @@ ShellEnergy::ShellEnergy(const SplineSpace& space, const ControlNet& rest, const
           }
           const Eigen::Vector3d n = a3 / J;
           RestPoint& r = m_points[((size_t(e1) * S2 + e2) * m_qu + q1) * m_qv + q2];
+          for (int c = 0; c < 3; ++c) {
+            r.T[c] = p.du[c];
+            r.T[3 + c] = p.dv[c];
+          }
           r.A[0] = p.du.dot(p.du);
           r.A[1] = p.du.dot(p.dv);
           r.A[2] = p.dv.dot(p.dv);

@@ -81,6 +81,8 @@ class ShellEnergy {
   struct RestPoint {
     double Ac[3];  ///< A^{11}, A^{12}, A^{22} (inverse metric)
     double A[3];   ///< A_11, A_12, A_22
+    double T[6];   ///< A_1, A_2 (rest tangents: E = A_a·d_b-symmetrised + d·d/2 with d = a - A,
+                   ///< exact for small displacements where a·a - A cancels)
     double B[3];   ///< B_11, B_12, B_22
     double wJ;     ///< quadrature weight x J₀ (h1 h2 included)
   };

