@@ -190,15 +190,29 @@ class Surface {
 
   void reset() { m_node->resetSimulation(); }
 
-  py::dict solveStatic() {
+  py::dict solveStatic(int loadSteps) {
     checked();
     bsdeform::StaticResult r;
     std::string error;
-    if (!m_node->solveStatic(&r, &error)) raise("SimulationError", nodeLabel(m_node) + ": " + error);
+    py::list path;
+    auto each = [&path](const bsdeform::StaticResult& all, size_t k, const bsdeform::Diagnostics& diag) {
+      const bsdeform::StaticResult::Increment& inc = all.increments[k];
+      py::dict e;
+      e["load_factor"] = inc.loadFactor;
+      e["norm"] = diag.norm;
+      e["strain"] = diag.strain.total;
+      e["strain_membrane"] = diag.membrane;
+      e["strain_bending"] = diag.bending;
+      e["residual"] = inc.residual;
+      e["iterations"] = inc.iterations;
+      path.append(e);
+    };
+    if (!m_node->solveStatic(&r, &error, loadSteps, each)) raise("SimulationError", nodeLabel(m_node) + ": " + error);
     py::dict d;
     d["residual"] = r.residual;
     d["method"] = r.method;
     d["load_iterations"] = r.loadIterations;
+    d["increments"] = path;
     return d;
   }
 
@@ -218,6 +232,8 @@ class Surface {
     r["kinetic"] = d.kinetic;
     r["strain"] = d.strain.total;
     r["strain_terms"] = strain;
+    r["strain_membrane"] = d.membrane;
+    r["strain_bending"] = d.bending;
     r["stability_limit"] = sim.stabilityLimit();
     r["sub_steps"] = sim.subSteps();
     r["time_step"] = sim.parameters().timeStep;
@@ -320,18 +336,20 @@ node, field and value) and SimulationError when the simulation blows up (the las
 is kept) or refuses a step.
 )doc")
       .def("reset", &Surface::reset, "Back to the rest state (same as touching the `reset` field).")
-      .def("solve_static", &Surface::solveStatic, R"doc(
+      .def("solve_static", &Surface::solveStatic, py::arg("load_steps") = 1, R"doc(
 The paper's static problem (eq. 10): the equilibrium of the current loads at t = 0 with zero
 velocity becomes the state (control and previous net both the equilibrium, time and step count
 0), as ``bsdeform-run --static`` does. Returns a dict: residual (relative, the normwise backward
 error), method ('CHOLMOD Cholesky' or 'multigrid-preconditioned CG'), load_iterations (fixed-point
-iterations of position-dependent loads). Raises SimulationError naming the free motions when
-nothing holds the surface, or when position-dependent loads do not settle; the state is then
-left alone.
+iterations of position-dependent loads; SHELL: Newton iterations), increments (one dict per load
+step of ``load_steps``: load_factor, norm, strain, strain_membrane, strain_bending, residual,
+iterations: a load-displacement curve). Raises SimulationError naming the free motions when
+nothing holds the surface, or when position-dependent loads (or SHELL's Newton) do not settle;
+the state is then left alone.
 )doc")
       .def("diagnostics", &Surface::diagnostics, R"doc(
 A dict: time, steps, norm (eq. 15), kinetic, strain (total), strain_terms (w10, w01, w11, w20,
-w02), stability_limit, sub_steps, time_step, status ('ok', 'nonfinite', 'diverged', 'refused'),
+w02), strain_membrane and strain_bending (SHELL; 0 for the paper's model), stability_limit, sub_steps, time_step, status ('ok', 'nonfinite', 'diverged', 'refused'),
 status_message. The same numbers as bsdeform-run's CSV (one pass over the nets).
 )doc")
       .def_property_readonly("time", [](Surface& s) { return s.sim().time(); }, "Simulated time.")

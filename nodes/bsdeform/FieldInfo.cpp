@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 
 namespace bsdeform {
@@ -18,6 +19,9 @@ const char* const kForce = "SoForceField";
 
 constexpr unsigned kScaled = bit(SoForceField::UNIFORM) | bit(SoForceField::POINT) | bit(SoForceField::REGION) |
                              bit(SoForceField::GRAVITY);
+// SoBSplineDeformSurface: bit (1 << energy) for each energy model that reads the field
+constexpr unsigned kPaper = 1u << SoBSplineDeformSurface::PAPER_ENERGY;
+constexpr unsigned kShell = 1u << SoBSplineDeformSurface::SHELL;
 constexpr unsigned kPenalty = bit(SoForceField::PLANE_COLLISION) | bit(SoForceField::SPHERE_COLLISION);
 
 std::vector<FieldInfo> makeTable() {
@@ -29,18 +33,25 @@ std::vector<FieldInfo> makeTable() {
       {S, "numVControlPoints", "Free control points along v.", "", "N2", ">= 1", 1, 100000, 0, true, false},
       {S, "uDegree", "B-spline degree along u.", "", "n1", "1..7", 1, 7, 0, true, false},
       {S, "vDegree", "B-spline degree along v.", "", "n2", "1..7", 1, 7, 0, true, false},
-      {S, "w10", "Resistance to stretching along u: weight of |S_u - S0_u|² in the deformation energy.", "energy per length²", "ω10", ">= 0", 0, kOpen, 0, false, false},
-      {S, "w01", "Resistance to stretching along v: weight of |S_v - S0_v|².", "energy per length²", "ω01", ">= 0", 0, kOpen, 0, false, false},
-      {S, "w11", "Resistance to twist: weight of |S_uv - S0_uv|².", "energy per length²", "ω11", ">= 0", 0, kOpen, 0, false, false},
-      {S, "w20", "Resistance to bending along u: weight of |S_uu - S0_uu|².", "energy per length²", "ω20", ">= 0", 0, kOpen, 0, false, false},
-      {S, "w02", "Resistance to bending along v: weight of |S_vv - S0_vv|².", "energy per length²", "ω02", ">= 0", 0, kOpen, 0, false, false},
-      {S, "massModel", "NODAL: M = m I, mass m per control point. LUMPED: M = m h1 h2 I, m per unit parameter area.", "", "M", "NODAL, LUMPED", 0, 0, 0, false, false},
-      {S, "mass", "Mass per control point (NODAL) or per unit parameter area (LUMPED).", "mass", "m", "> 0", 1e-300, kOpen, 0, false, false},
-      {S, "damping", "Viscous damping, same convention as mass.", "mass per time", "c", ">= 0", 0, kOpen, 0, false, false},
+      {S, "w10", "Resistance to stretching along u: weight of |S_u - S0_u|² in the deformation energy.", "energy per length²", "ω10", ">= 0", 0, kOpen, kPaper, false, false},
+      {S, "w01", "Resistance to stretching along v: weight of |S_v - S0_v|².", "energy per length²", "ω01", ">= 0", 0, kOpen, kPaper, false, false},
+      {S, "w11", "Resistance to twist: weight of |S_uv - S0_uv|².", "energy per length²", "ω11", ">= 0", 0, kOpen, kPaper, false, false},
+      {S, "w20", "Resistance to bending along u: weight of |S_uu - S0_uu|².", "energy per length²", "ω20", ">= 0", 0, kOpen, kPaper, false, false},
+      {S, "w02", "Resistance to bending along v: weight of |S_vv - S0_vv|².", "energy per length²", "ω02", ">= 0", 0, kOpen, kPaper, false, false},
+      {S, "energy", "PAPER: the paper's energy (eq. 7) with the weights ω. SHELL: the Kirchhoff–Love thin shell of a St. Venant–Kirchhoff material (youngsModulus … density; SI units: mass ρ t per rest area, damping a rate in 1/s, loads per unit rest area or length).", "", "", "PAPER, SHELL", 0, 0, 0, true, false},
+      {S, "youngsModulus", "SHELL: Young's modulus of the material.", "Pa", "E", "> 0", 1e-300, kOpen, kShell, true, false},
+      {S, "poissonRatio", "SHELL: Poisson's ratio.", "", "ν", "[0, 0.5)", 0, 0.4999999, kShell, true, false},
+      {S, "thickness", "SHELL: thickness of the sheet (membrane stiffness ∝ t, bending ∝ t³).", "m", "t", "> 0", 1e-300, kOpen, kShell, true, false},
+      {S, "density", "SHELL: mass per volume; the sheet has ρ t per unit rest area.", "kg/m³", "ρ", "> 0", 1e-300, kOpen, kShell, true, false},
+      {S, "massModel", "NODAL: M = m I, mass m per control point. LUMPED: M = m h1 h2 I, m per unit parameter area.", "", "M", "NODAL, LUMPED", 0, 0, kPaper, false, false},
+      {S, "mass", "Mass per control point (NODAL) or per unit parameter area (LUMPED).", "mass", "m", "> 0", 1e-300, kOpen, kPaper, false, false},
+      {S, "damping", "Viscous damping: PAPER, same convention as mass; SHELL, a mass-proportional rate (C = c M, in 1/s).", "mass per time", "c", ">= 0", 0, kOpen, 0, false, false},
       {S, "timeStep", "Simulated time per step; the explicit scheme takes sub-steps below its stability limit.", "s", "Δt", "> 0", 1e-300, kOpen, 0, false, false},
       {S, "integrator", "EXPLICIT: central differences, sub-stepped. IMPLICIT: Newmark (unconditionally stable).", "", "", "EXPLICIT, IMPLICIT", 0, 0, 0, false, false},
       {S, "maxSubSteps", "EXPLICIT: a step that needs more sub-steps is refused instead of running for minutes.", "", "", ">= 1", 1, 2147483647, 0, false, false},
-      {S, "reference", "REST: energy of the displacement S - S_rest. ABSOLUTE: the paper's energy of S itself.", "", "", "REST, ABSOLUTE", 0, 0, 0, false, false},
+      {S, "newtonTolerance", "SHELL, IMPLICIT and the static solve: Newton stops when the residual, relative to the forces it balances, is below this.", "", "", "(0, 1)", 1e-300, 0.9999999, kShell, false, false},
+      {S, "maxNewtonIterations", "SHELL, IMPLICIT: a step whose Newton iteration needs more iterations fails (reported, the last valid state kept).", "", "", ">= 1", 1, 2147483647, kShell, false, false},
+      {S, "reference", "REST: energy of the displacement S - S_rest. ABSOLUTE: the paper's energy of S itself.", "", "", "REST, ABSOLUTE", 0, 0, kPaper, false, false},
       {S, "boundaryUMin", "Side u = 0: CLAMPED (n outer layers held, as in the paper: S and n-1 cross derivatives fixed), FREE (natural boundary), PERIODIC (with boundaryUMax), SIMPLY_SUPPORTED (the edge curve held, free to turn: a hinge) or BUILT_IN (the edge curve and the cross derivative held: an engineering clamp).", "", "", "CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN", 0, 0, 0, true, false},
       {S, "boundaryUMax", "Side u = 1, as boundaryUMin.", "", "", "CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN", 0, 0, 0, true, false},
       {S, "boundaryVMin", "Side v = 0, as boundaryUMin.", "", "", "CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN", 0, 0, 0, true, false},
@@ -103,6 +114,11 @@ const FieldInfo* findFieldInfo(const char* node, const char* field) {
   return nullptr;
 }
 
+bool surfaceFieldUses(int energy, const char* field) {
+  const FieldInfo* f = findFieldInfo(kSurface, field);
+  return f && (f->usedBy == 0 || (energy >= 0 && energy < 32 && (f->usedBy >> energy) & 1u));
+}
+
 bool forceFieldUses(int type, const char* field) {
   const FieldInfo* f = findFieldInfo(kForce, field);
   return f && (f->usedBy == 0 || (type >= 0 && type < 32 && (f->usedBy >> type) & 1u));
@@ -124,7 +140,7 @@ std::string fieldReferenceMarkdown() {
     const bool force = node == kForce;
     out << "### " << node << "\n\n";
     out << (force ? "| field | meaning | unit | range | symbol | read by types |\n|---|---|---|---|---|---|\n"
-                  : "| field | meaning | unit | range | symbol |\n|---|---|---|---|---|\n");
+                  : "| field | meaning | unit | range | symbol | energy |\n|---|---|---|---|---|---|\n");
     for (const FieldInfo& f : fieldInfos()) {
       if (f.node != node) continue;
       std::string notes = cell(f.meaning);
@@ -137,6 +153,10 @@ std::string fieldReferenceMarkdown() {
         for (const auto& t : typeNames)
           if ((f.usedBy >> t.first) & 1u) types += (types.empty() ? "" : ", ") + t.second;
         out << ' ' << (f.usedBy == 0 ? std::string("all") : types) << " |";
+      } else {
+        out << ' '
+            << (f.usedBy == 0 ? "both" : (f.usedBy >> SoBSplineDeformSurface::SHELL) & 1u ? "SHELL" : "PAPER")
+            << " |";
       }
       out << '\n';
     }

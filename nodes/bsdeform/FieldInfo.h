@@ -20,7 +20,8 @@ struct FieldInfo {
   const char* range;    ///< the valid values as text ("> 0", "1..7", "(u, v) in [0, 1]²"), "" when any
   double min, max;      ///< a number's (each component's) bounds for an editor; ±HUGE_VAL when open
   /// SoForceField: bit (1 << SoForceField::Type) set for each type that reads the field; 0
-  /// for every type (type, on) and for the surface's fields
+  /// for every type (type, on). SoBSplineDeformSurface: bit (1 << energy) for each energy
+  /// model (PAPER, SHELL) that reads it; 0 for both
   unsigned usedBy;
   bool restarts;  ///< a change rebuilds the net: the simulation starts again from rest
   bool live;      ///< state the node keeps current; shown, not edited
@@ -30,6 +31,8 @@ struct FieldInfo {
 const std::vector<FieldInfo>& fieldInfos();
 /// The entry of `node`'s `field` (nullptr if there is none).
 const FieldInfo* findFieldInfo(const char* node, const char* field);
+/// Whether a surface whose `energy` field is `energy` (PAPER 0, SHELL 1) reads `field`.
+bool surfaceFieldUses(int energy, const char* field);
 /// Whether a force field of `type` (SoForceField::Type) reads `field`.
 bool forceFieldUses(int type, const char* field);
 /// The reference of both nodes' fields as Markdown tables (what docs/nodes.md holds between

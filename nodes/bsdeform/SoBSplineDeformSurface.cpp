@@ -57,12 +57,19 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(w11, (0.01));
   SO_NODE_ADD_FIELD(w20, (0.01));
   SO_NODE_ADD_FIELD(w02, (0.01));
+  SO_NODE_ADD_FIELD(energy, (PAPER_ENERGY));
+  SO_NODE_ADD_FIELD(youngsModulus, (1.0e6));
+  SO_NODE_ADD_FIELD(poissonRatio, (0.3));
+  SO_NODE_ADD_FIELD(thickness, (0.001));
+  SO_NODE_ADD_FIELD(density, (1000.0));
   SO_NODE_ADD_FIELD(massModel, (NODAL));
   SO_NODE_ADD_FIELD(mass, (1.0));
   SO_NODE_ADD_FIELD(damping, (0.5));
   SO_NODE_ADD_FIELD(timeStep, (0.1));
   SO_NODE_ADD_FIELD(integrator, (EXPLICIT));
   SO_NODE_ADD_FIELD(maxSubSteps, (10000));
+  SO_NODE_ADD_FIELD(newtonTolerance, (1e-8));
+  SO_NODE_ADD_FIELD(maxNewtonIterations, (30));
   SO_NODE_ADD_FIELD(reference, (REST));
   SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
@@ -84,6 +91,9 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(simulationTime, (0.0));
   SO_NODE_ADD_FIELD(stepCount, (0));
   SO_NODE_ADD_FIELD(forces, (nullptr));
+  fieldData->addEnumValue("Energy", "PAPER", PAPER_ENERGY);
+  SO_NODE_DEFINE_ENUM_VALUE(Energy, SHELL);
+  SO_NODE_SET_SF_ENUM_TYPE(energy, Energy);
   SO_NODE_DEFINE_ENUM_VALUE(MassModel, NODAL);
   SO_NODE_DEFINE_ENUM_VALUE(MassModel, LUMPED);
   SO_NODE_SET_SF_ENUM_TYPE(massModel, MassModel);
@@ -234,6 +244,12 @@ std::string fieldMessage(std::string message) {
       {"radius", "radius"},
       {"height", "height"},
       {"minorRadius", "minorRadius"},
+      {"youngsModulus", "youngsModulus"},
+      {"poissonRatio", "poissonRatio"},
+      {"thickness", "thickness"},
+      {"density", "density"},
+      {"newtonTolerance", "newtonTolerance"},
+      {"maxNewtonIterations", "maxNewtonIterations"},
       {"radii", "radii"}};
   for (const auto& n : names) {
     const std::string core = std::string(n.first) + " ";
@@ -263,6 +279,8 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   const int Nu = numUControlPoints.getValue(), Nv = numVControlPoints.getValue();
   check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED,
         "field 'massModel' has an unknown value " + std::to_string(massModel.getValue()));
+  check(energy.getValue() == PAPER_ENERGY || energy.getValue() == SHELL,
+        "field 'energy' has an unknown value " + std::to_string(energy.getValue()));
   check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT,
         "field 'integrator' has an unknown value " + std::to_string(integrator.getValue()));
   check(reference.getValue() == REST || reference.getValue() == ABSOLUTE,
@@ -304,6 +322,13 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   p.timeStep = timeStep.getValue();
   p.integrator = integrator.getValue() == IMPLICIT ? bsdeform::Integrator::Implicit : bsdeform::Integrator::Explicit;
   p.maxSubSteps = maxSubSteps.getValue();
+  p.energy = energy.getValue() == SHELL ? bsdeform::EnergyModel::Shell : bsdeform::EnergyModel::Paper;
+  p.material.youngsModulus = youngsModulus.getValue();
+  p.material.poissonRatio = poissonRatio.getValue();
+  p.material.thickness = thickness.getValue();
+  p.material.density = density.getValue();
+  p.newtonTolerance = newtonTolerance.getValue();
+  p.maxNewtonIterations = maxNewtonIterations.getValue();
   p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
   p.start = start.getValue() == PAPER ? bsdeform::StartRule::Paper : bsdeform::StartRule::SecondOrder;
   auto side = [](const SoSFEnum& f) {
@@ -410,8 +435,10 @@ const bsdeform::Simulation& SoBSplineDeformSurface::simulation() {
 void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
   SoForceField::SurfaceInfo info;
   const double area = sim.space().basisU().spacing() * sim.space().basisV().spacing();
-  info.massDensity = sim.parameters().massModel == bsdeform::MassModel::Nodal ? sim.parameters().mass / area
-                                                                               : sim.parameters().mass;
+  const bsdeform::ModelParameters& mp = sim.parameters();
+  info.massDensity = mp.energy == bsdeform::EnergyModel::Shell ? mp.material.density * mp.material.thickness  // per rest area
+                     : mp.massModel == bsdeform::MassModel::Nodal ? mp.mass / area
+                                                                   : mp.mass;
   bool areaKnown = false;  // info.areaScale, computed when a COLLISION force is built
   bool changed = int(m_forceSlots.size()) != forces.getNum();
   m_forceSlots.resize(forces.getNum());
@@ -518,10 +545,26 @@ void SoBSplineDeformSurface::resetSimulation() {
 }
 
 bool SoBSplineDeformSurface::solveStatic(bsdeform::StaticResult* result, std::string* error) {
+  return solveStatic(result, error, 1, {});
+}
+
+bool SoBSplineDeformSurface::solveStatic(
+    bsdeform::StaticResult* result, std::string* error, int loadSteps,
+    const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each) {
   ensureSimulation();
   updateForces(*m_sim);
   try {
-    bsdeform::StaticResult r = m_sim->solveStatic();
+    // SHELL: Newton to newtonTolerance, at most 100 iterations per increment; the paper's model:
+    // the linear solve to 1e-10, 100 fixed-point iterations of position-dependent loads
+    const bsdeform::ModelParameters& mp = m_sim->parameters();
+    const bool shell = mp.energy == bsdeform::EnergyModel::Shell;
+    bsdeform::StaticResult r =
+        m_sim->solveStatic(shell ? mp.newtonTolerance : 1e-10, 100, bsdeform::LinearSolver::Automatic, loadSteps);
+    if (each)
+      for (size_t k = 0; k < r.increments.size(); ++k) {
+        m_sim->setState(r.increments[k].net, r.increments[k].net, 0.0, 0, 0.0, bsdeform::HeldPoints::Check);
+        each(r, k, m_sim->diagnostics());
+      }
     m_sim->setState(r.net, r.net, 0.0, 0, 0.0, bsdeform::HeldPoints::Check);
     if (result) *result = std::move(r);
   } catch (const std::exception& e) {

@@ -19,12 +19,21 @@
 ///   numUControlPoints 5   numVControlPoints 5     # [N1, N2] free control points, >= 1
 ///   uDegree 3             vDegree 3               # [n1, n2] B-spline degree, 1..7
 ///   w10 0.1  w01 0.1  w11 0.01  w20 0.01  w02 0.01 # [omega] energy weights, >= 0
+///   energy PAPER          # PAPER: the paper's eq. 7 with the weights above | SHELL: the
+///                         #   Kirchhoff–Love thin shell of the material below (SI units;
+///                         #   mass rho t per rest area, damping a rate in 1/s, loads per m²)
+///   youngsModulus 1e6     # SHELL: E (Pa), > 0
+///   poissonRatio 0.3      # SHELL: nu, in [0, 0.5)
+///   thickness 0.001       # SHELL: t (m), > 0
+///   density 1000          # SHELL: rho (kg/m³), > 0
 ///   massModel NODAL       # NODAL: M = m I (per point) | LUMPED: M = m h1 h2 I (per area)
 ///   mass 1                # [m] > 0
 ///   damping 0.5           # [c] >= 0, same convention as mass
 ///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
 ///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark)
 ///   maxSubSteps 10000     # EXPLICIT: a step needing more sub-steps is refused, not run for minutes
+///   newtonTolerance 1e-8  # SHELL, IMPLICIT and static: Newton's relative residual, in (0, 1)
+///   maxNewtonIterations 30 # SHELL, IMPLICIT: a step needing more iterations fails (reported)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -69,6 +78,7 @@
 #include <Inventor/nodes/SoSubNode.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,6 +91,7 @@ class Force;
 class SceneObstacles;
 class SurfaceBuffers;
 struct StaticResult;
+struct Diagnostics;
 }  // namespace bsdeform
 
 class SoTimerSensor;
@@ -99,6 +110,9 @@ class SoBSplineDeformSurface : public SoShape {
   enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN };
   enum Start { PAPER, SECOND_ORDER };
   enum Shape { PLANE, CYLINDER, CONE, SPHERE, ELLIPSOID, TORUS };
+  /// The `energy` field; its values are spelt PAPER and SHELL in files (PAPER_ENERGY only in
+  /// C++, where Start already has a PAPER).
+  enum Energy { PAPER_ENERGY = 0, SHELL = 1 };
 
   static void initClass();
   SoBSplineDeformSurface();
@@ -112,12 +126,19 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble w11;               ///< omega_11 twist; 0.01
   SoSFDouble w20;               ///< omega_20 bending along u; 0.01
   SoSFDouble w02;               ///< omega_02 bending along v; 0.01
+  SoSFEnum energy;              ///< PAPER (eq. 7, the weights above) or SHELL (Kirchhoff–Love); PAPER
+  SoSFDouble youngsModulus;     ///< SHELL: E in Pa; 1e6
+  SoSFDouble poissonRatio;      ///< SHELL: nu in [0, 0.5); 0.3
+  SoSFDouble thickness;         ///< SHELL: t in m; 0.001
+  SoSFDouble density;           ///< SHELL: rho in kg/m^3 (mass rho t per rest area); 1000
   SoSFEnum massModel;           ///< NODAL or LUMPED; NODAL
   SoSFDouble mass;              ///< m: per control point (NODAL) or per unit area (LUMPED); 1
   SoSFDouble damping;           ///< c, same convention; 0.5
   SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
   SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
   SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
+  SoSFDouble newtonTolerance;   ///< SHELL implicit and static: Newton's relative residual; 1e-8
+  SoSFInt32 maxNewtonIterations;  ///< SHELL implicit: a step needing more iterations fails; 30
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED
@@ -155,6 +176,12 @@ class SoBSplineDeformSurface : public SoShape {
   /// opens at rest there. On failure (nothing holds the surface, loads that do not settle)
   /// nothing changes, `error` says why and false is returned.
   bool solveStatic(bsdeform::StaticResult* result, std::string* error);
+  /// The same in `loadSteps` equal load increments (SHELL: Newton from each equilibrium to the
+  /// next, a load-displacement curve); `each` (if set) is called with every increment and its
+  /// diagnostics (the result, the increment's number in result.increments), in order, before
+  /// the last becomes the state.
+  bool solveStatic(bsdeform::StaticResult* result, std::string* error, int loadSteps,
+                   const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each);
   /// Adds / removes a force that is not part of the scene (not written to file), e.g. the
   /// viewer's mouse spring.
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);

@@ -114,6 +114,10 @@ TEST_CASE("Force: a constant density's separable load equals the general quadrat
         for (const ParamRect& r : rects) {
           const Eigen::Vector3d f(1.5, -40.0, 200.0);
           const DistributedForce force(f, r);
+          if (force.isLine()) {  // a line load: see the next test
+            ++compared;
+            continue;
+          }
           const ControlNet net = s.grevillePlane();
           const LoadContext ctx{s, net, net, 0.1, 0.0};
           ControlNet separable = ControlNet::Zero(s.numMoving(), 3), general = separable;
@@ -133,4 +137,46 @@ TEST_CASE("Force: a constant density's separable load equals the general quadrat
         }
       }
   CHECK(compared == 3 * 4 * 3 * 7);
+}
+
+TEST_CASE("Force: a REGION of zero width is a line load per unit length, or a point force", "[core]") {
+  // all sides FREE: every B-spline is an unknown's, so the loads sum to the total force
+  const Boundaries free{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
+  for (int n : {1, 2, 3, 5}) {
+    CAPTURE(n);
+    const SplineSpace s(n, n, 6, 5, free);
+    const Eigen::Vector3d f(0.5, -2.0, 3.0);
+    ControlNet net = s.grevillePlane();
+    const LoadContext paper{s, net, net, 0.1, 0.0};
+    // along v at u = 0.3, v in [0.2, 0.9]: per unit parameter length
+    ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+    DistributedForce(f, ParamRect{0.3, 0.3, 0.2, 0.9}).addLoad(paper, load);
+    CHECK((load.colwise().sum().transpose() - 0.7 * f).norm() <= 1e-13);
+    // its point of action is the middle of the segment: sum of load_z * Greville coordinates
+    double mv = 0.0;
+    for (Eigen::Index m = 0; m < s.numMoving(); ++m) mv += load(m, 2) * net(s.movingToNet(m), 1);
+    CHECK(mv / (0.7 * f.z()) == Approx(0.55).epsilon(1e-12));
+    // physical units (SHELL): per unit length of the rest surface, here stretched 3x along v
+    ControlNet rest = net;
+    rest.col(1) *= 3.0;
+    LoadContext shell{s, rest, rest, 0.1, 0.0};
+    shell.rest = &rest;
+    load.setZero();
+    DistributedForce(f, ParamRect{0.3, 0.3, 0.2, 0.9}).addLoad(shell, load);
+    CHECK((load.colwise().sum().transpose() - 3.0 * 0.7 * f).norm() <= 1e-12);
+    // along u at v = 1 (an edge)
+    load.setZero();
+    DistributedForce(f, ParamRect{0.0, 1.0, 1.0, 1.0}).addLoad(paper, load);
+    CHECK((load.colwise().sum().transpose() - f).norm() <= 1e-13);
+    // both widths zero: a point force
+    load.setZero();
+    ControlNet point = load;
+    DistributedForce(f, ParamRect{0.4, 0.4, 0.6, 0.6}).addLoad(paper, load);
+    PointForce(0.4, 0.6, f).addLoad(paper, point);
+    CHECK((load - point).cwiseAbs().maxCoeff() <= 1e-15);
+    // and an area density per unit rest area: the stretched rest surface carries 3x the load
+    load.setZero();
+    DistributedForce(f).addLoad(shell, load);
+    CHECK((load.colwise().sum().transpose() - 3.0 * f).norm() <= 1e-12);
+  }
 }

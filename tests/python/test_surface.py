@@ -14,7 +14,7 @@ import bsdeform
 from support import RUN, scene
 
 COLUMNS = ("time", "step", "norm", "kinetic", "strain", "strain_w10", "strain_w01", "strain_w11",
-           "strain_w20", "strain_w02", "substeps")
+           "strain_w20", "strain_w02", "substeps", "strain_membrane", "strain_bending")
 
 
 def runner_rows(scene_name, steps):
@@ -43,7 +43,8 @@ def python_rows(scene_name, steps):
         rows[names[i]].append({"time": d["time"], "step": d["steps"], "norm": d["norm"], "kinetic": d["kinetic"],
                              "strain": d["strain"], "strain_w10": t["w10"], "strain_w01": t["w01"],
                              "strain_w11": t["w11"], "strain_w20": t["w20"], "strain_w02": t["w02"],
-                             "substeps": d["sub_steps"]})
+                             "substeps": d["sub_steps"], "strain_membrane": d["strain_membrane"],
+                             "strain_bending": d["strain_bending"]})
 
     # as the runner: realTime follows simulated time (the engines of animated_force.iv read it)
     from pivy import coin

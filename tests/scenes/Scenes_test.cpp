@@ -168,7 +168,8 @@ TEST_CASE("bsdeform-run: CSV columns, final scene and identical output for the s
   std::istringstream lines(csv);
   std::string header, line;
   std::getline(lines, header);
-  CHECK(header == "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps");
+  CHECK(header == "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps,"
+                  "strain_membrane,strain_bending");
   int rows = 0;
   while (std::getline(lines, line)) {
     ++rows;

@@ -45,14 +45,17 @@ QByteArray History::csv() const {
 }
 
 QString History::detailedCsvHeader() {
-  return QStringLiteral("time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps\n");
+  return QStringLiteral(
+      "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps,strain_membrane,"
+      "strain_bending\n");
 }
 
 QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d) {
   const StrainEnergy& e = d.strain;
   return QStringList{historyNumber(time), QString::number(steps), historyNumber(d.norm),
                      historyNumber(d.kinetic), historyNumber(e.total), historyNumber(e.w10), historyNumber(e.w01),
-                     historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(subSteps)}
+                     historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(subSteps),
+                     historyNumber(d.membrane), historyNumber(d.bending)}
              .join(QLatin1Char(',')) +
          QLatin1Char('\n');
 }

@@ -218,17 +218,23 @@ Failure RunLoop::runStatic() {
     one.start();
     StaticResult r;
     std::string error;
-    if (!s.node->solveStatic(&r, &error))
+    // one row per load increment: the load factor, then the usual columns
+    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader();
+    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s](const StaticResult& all, size_t k, const Diagnostics& d) {
+      s.csv += historyNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d);
+      s.history.append(0.0, d);
+    });
+    if (!solved)
       return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(error))};
     m_staticLines << QStringLiteral("%1: equilibrium by %2 in %3 s, relative residual %4%5")
                          .arg(s.name, QString::fromStdString(r.method))
                          .arg(one.elapsed() / 1000.0, 0, 'f', 2)
                          .arg(r.residual, 0, 'g', 3)
-                         .arg(r.loadIterations > 1 ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads")
-                                                         .arg(r.loadIterations)
-                                                   : QString());
-    record(s);
-    flushRow(s);
+                         .arg(r.method.rfind("Newton", 0) == 0
+                                  ? QStringLiteral(", %1 Newton iterations in %2 load step(s)").arg(r.loadIterations).arg(o.loadSteps)
+                              : r.loadIterations > 1
+                                  ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads").arg(r.loadIterations)
+                                  : QString());
   }
   const double seconds = timer.elapsed() / 1000.0;
   if (o.pngEvery > 0 || !o.pngAt.isEmpty()) {

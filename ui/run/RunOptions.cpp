@@ -69,6 +69,11 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       QStringLiteral("static"),
       QStringLiteral("solve for the equilibrium of the loads at t = 0 instead of stepping (the paper's A P = L):\n"
                      "final.iv holds it at rest, the CSV one row, --png-every/--png-at one image; prints the residual"));
+  const QCommandLineOption loadSteps(
+      QStringLiteral("load-steps"),
+      QStringLiteral("with --static: apply the loads in K equal increments (SHELL: Newton from each equilibrium to\n"
+                     "the next), one CSV row per increment with its load factor: a load-displacement curve"),
+      QStringLiteral("K"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
   QCommandLineOption sweepProgram(QStringLiteral("sweep-program"),
@@ -77,7 +82,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
       {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, staticSolve,
-       resultOnly, sweepProgram});
+       loadSteps, resultOnly, sweepProgram});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -138,6 +143,14 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       if (isSet)
         return {kBadInput, QStringLiteral("--static and %1: --static solves for one state, the equilibrium at t = 0")
                                .arg(QLatin1String(name))};
+  }
+  if (parser.isSet(loadSteps)) {
+    bool ok = false;
+    o.loadSteps = parser.value(loadSteps).toInt(&ok);
+    if (!ok || o.loadSteps < 1 || o.loadSteps > 100000)
+      return {kBadInput, QStringLiteral("--load-steps '%1' is not a whole number in 1..100000").arg(parser.value(loadSteps))};
+    if (!o.staticSolve)
+      return {kBadInput, QStringLiteral("--load-steps needs --static: it divides the static load into increments")};
   }
   o.resultOnly = parser.isSet(resultOnly);
   o.sweepProgram = parser.value(sweepProgram);

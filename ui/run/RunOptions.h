@@ -28,6 +28,7 @@ struct RunOptions {
   double videoFps = 25.0;  ///< --video-fps: frames per simulated second
   bool quiet = false;
   bool staticSolve = false;  ///< --static: solve for the equilibrium at t = 0 instead of stepping
+  int loadSteps = 1;         ///< --load-steps K: the static load in K increments, a CSV row each
   bool resultOnly = false;  ///< internal: a sweep child prints RESULT lines and writes nothing
   QString sweepProgram;     ///< internal: the program started per sweep value (default: this one)
   /// The arguments a sweep child gets: the scene and the run options, without the output and

@@ -32,6 +32,7 @@
 
 #include "FieldWidgets.h"
 #include "bsdeform/FieldInfo.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 
 namespace bsdeform {
@@ -121,6 +122,9 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
   heading->setWordWrap(true);
   m_form->addRow(heading);
   const int forceType = container->isOfType(SoForceField::getClassTypeId()) ? static_cast<SoForceField*>(container)->type.getValue() : -1;
+  const int energyModel = container->isOfType(SoBSplineDeformSurface::getClassTypeId())
+                              ? static_cast<SoBSplineDeformSurface*>(container)->energy.getValue()
+                              : -1;
   SoFieldList fields;
   container->getFields(fields);
   for (int i = 0; i < fields.getLength(); ++i) {
@@ -129,6 +133,7 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
     container->getFieldName(f, fieldName);
     const QString name = QString::fromLatin1(fieldName.getString());
     if (forceType >= 0 && !forceFieldUses(forceType, fieldName.getString())) continue;  // not read by this type
+    if (energyModel >= 0 && !surfaceFieldUses(energyModel, fieldName.getString())) continue;  // not read by this energy
     const FieldInfo* info = findFieldInfo(node, fieldName.getString());
     const QString label = info && *info->symbol ? QStringLiteral("%1  %2").arg(name, QString::fromUtf8(info->symbol)) : name;
     const double lo = info ? info->min : -HUGE_VAL, hi = info ? info->max : HUGE_VAL;
