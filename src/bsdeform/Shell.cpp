@@ -398,11 +398,12 @@ void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen
   const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
   out.clear();
   out.reserve(size_t(S1) * S2 * size_t(9 * L * L));
-  Eigen::MatrixXd Ke(3 * L, 3 * L), Bq(15, 3 * L), HB(15, 3 * L);
+  // Bq = C ⊗ I3 (C: 5 x L coefficients): K_pq = Σ_d C[d][p] (Σ_e C[e][q] H_de), 3 x 3 blocks
+  std::vector<double> Ke(size_t(L) * L * 9), HC(size_t(5) * L * 9);
   double c[5][kMaxPoints * kMaxPoints];
   for (int e1 = 0; e1 < S1; ++e1)
     for (int e2 = 0; e2 < S2; ++e2) {
-      Ke.setZero();
+      std::fill(Ke.begin(), Ke.end(), 0.0);
       const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
       for (int q1 = 0; q1 < m_qu; ++q1)
         for (int q2 = 0; q2 < m_qv; ++q2) {
@@ -420,20 +421,35 @@ void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen
             const Eigen::Matrix<double, 15, 1> lam = es.eigenvalues().cwiseMax(0.0);
             H = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
           }
-          Bq.setZero();
-          for (int m = 0; m < 5; ++m)
-            for (int p = 0; p < L; ++p)
-              for (int cc = 0; cc < 3; ++cc) Bq(3 * m + cc, 3 * p + cc) = c[m][p];
-          HB.noalias() = H * Bq;
-          Ke.noalias() += Bq.transpose() * HB;
+          for (int d = 0; d < 5; ++d)
+            for (int q = 0; q < L; ++q) {
+              double* hc = &HC[(size_t(d) * L + q) * 9];
+              for (int i = 0; i < 9; ++i) hc[i] = 0.0;
+              for (int e = 0; e < 5; ++e) {
+                const double w = c[e][q];
+                if (w == 0.0) continue;
+                for (int a = 0; a < 3; ++a)
+                  for (int b = 0; b < 3; ++b) hc[3 * a + b] += w * H(3 * d + a, 3 * e + b);
+              }
+            }
+          for (int p = 0; p < L; ++p)
+            for (int d = 0; d < 5; ++d) {
+              const double w = c[d][p];
+              if (w == 0.0) continue;
+              for (int q = 0; q < L; ++q) {
+                const double* hc = &HC[(size_t(d) * L + q) * 9];
+                double* ke = &Ke[(size_t(p) * L + q) * 9];
+                for (int i = 0; i < 9; ++i) ke[i] += w * hc[i];
+              }
+            }
         }
       for (int p = 0; p < L; ++p) {
         const Eigen::Index rp = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
         for (int q = 0; q < L; ++q) {
           const Eigen::Index rq = Eigen::Index(e1 + q / L2) * cols + e2 + q % L2;
+          const double* ke = &Ke[(size_t(p) * L + q) * 9];
           for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b)
-              out.emplace_back(int(3 * rp + a), int(3 * rq + b), Ke(3 * p + a, 3 * q + b));
+            for (int b = 0; b < 3; ++b) out.emplace_back(int(3 * rp + a), int(3 * rq + b), ke[3 * a + b]);
         }
       }
     }

@@ -398,6 +398,7 @@ class Simulation {
   std::vector<int> m_foldStart;
   std::vector<std::pair<Eigen::Index, double>> m_foldEntries;
   mutable ControlNet m_gradNet;  ///< scratch: the full-net gradient
+  mutable std::vector<Eigen::Triplet<double>> m_hessianScratch;  ///< scratch: the full-net Hessian
   /// Implicit: dW/dP at the current and previous state (valid while m_shellCache).
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_shellCache = false;

@@ -185,7 +185,7 @@ ControlNet Simulation::shellApplyMass(const ControlNet& a) const {
 
 void Simulation::shellTangent(const ControlNet& net, double scale, double shift, bool project,
                               std::vector<Eigen::Triplet<double>>& out) const {
-  std::vector<Eigen::Triplet<double>> h;
+  std::vector<Eigen::Triplet<double>>& h = m_hessianScratch;  // kept: a net's worth of triplets
   m_shell->hessian(net, project, h);
   out.clear();
   out.reserve(h.size() + size_t(3 * m_shellMass.nonZeros()));
