@@ -138,7 +138,7 @@ def find_program(program=None):
         raise InputError("bsdeform-run not found: not on PATH and BSDEFORM_RUN is not set (a sweep runs it on every worker)")
     if not (os.path.isfile(candidate) and os.access(candidate, os.X_OK)):
         raise InputError("bsdeform-run '%s' is not an executable file" % candidate)
-    return candidate
+    return os.path.abspath(candidate)  # the task runs it from its own directory
 
 
 # ---------------------------------------------------------------------------------------------
@@ -238,10 +238,6 @@ def _make_run(task, code, stdout, stderr, out):
             with open(final, encoding="utf-8") as f:
                 run.final_scene = f.read()
     return run
-
-
-def _identity(x):
-    return x
 
 
 # ---------------------------------------------------------------------------------------------
@@ -511,14 +507,13 @@ def _local_client(workers):
 def _gather(client, scene_text, tasks, retries, progress):
     from dask.base import tokenize
     from distributed import as_completed
-    # The scene text travels once, as a task (not scattered data): if the worker holding it
-    # dies, the scheduler recomputes it from the graph instead of losing the sweep.
-    scene_key = "bsdeform-scene-" + tokenize(scene_text)
-    scene_future = client.submit(_identity, scene_text, key=scene_key, pure=True)
+    # Each task carries the scene text itself: no task depends on another, so the scheduler
+    # places every one on any free worker (a shared input would pin short tasks to the worker
+    # holding it), and a worker that dies holds nothing another task needs.
     futures = []
     for i, task in enumerate(tasks):
-        key = "bsdeform-run-%d-%s" % (i, tokenize(scene_key, task))
-        futures.append(client.submit(run_task, scene_future, task, key=key, pure=True, retries=retries))
+        key = "bsdeform-run-%d-%s" % (i, tokenize(scene_text, task))
+        futures.append(client.submit(run_task, scene_text, task, key=key, pure=True, retries=retries))
     index = {f.key: i for i, f in enumerate(futures)}
     runs = [None] * len(futures)
     try:
@@ -529,5 +524,5 @@ def _gather(client, scene_text, tasks, retries, progress):
             if progress:
                 progress(done, len(futures), runs[index[future.key]])
     finally:
-        client.cancel(futures + [scene_future])
+        client.cancel(futures)
     return runs
