@@ -149,6 +149,19 @@ class OnACluster(unittest.TestCase):
                            capture_output=True, text=True, timeout=TIMEOUT)
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn(ref_csv.decode(), r.stdout)
+        # --keep-outputs: each run's final.iv and history as a single bsdeform-run writes them
+        kept = os.path.join(self.tmp, "kept")
+        r = subprocess.run([sys.executable, "-m", "bsdeform", "sweep", SEC7, "--sweep", "Surface.w10=" + ",".join(W10[:2]),
+                            "--until", "1", "--scheduler", self.cluster.address, "-o", kept, "--keep-outputs", "-q"],
+                           capture_output=True, text=True, timeout=TIMEOUT)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout, "")
+        single = os.path.join(self.tmp, "single")
+        subprocess.run([RUN, SEC7, "--until", "1", "--set", "Surface.w10=" + W10[1], "-o", single, "--quiet"],
+                       check=True, timeout=TIMEOUT)
+        for name in ("Surface.csv", "final.iv"):
+            with open(os.path.join(kept, "runs", "1", name), "rb") as a, open(os.path.join(single, name), "rb") as b:
+                self.assertEqual(a.read(), b.read(), name)
         with open(os.path.join(out, "sweep.csv"), "rb") as f:
             self.assertEqual(f.read(), ref_csv)
         with open(os.path.join(out, "sweep.png"), "rb") as f:
@@ -212,6 +225,12 @@ class OnACluster(unittest.TestCase):
         ref_csv, _ = reference(self.tmp, ["100", "1e12"], target="Square.magnitude")
         for row, ref in zip(blown.rows, csv_rows(ref_csv), strict=True):
             self.assertEqual((row.norm, row.status), (float(ref["norm"]), ref["status"]))
+
+        # a run longer than `timeout` is stopped and is a failed row
+        slow = bsdeform.sweep(SEC7, {"Surface.w10": ["1"]}, until=1000, client=self.cluster.client, timeout=0.3,
+                              sets=["Surface.numUControlPoints=256", "Surface.numVControlPoints=256"], progress=False)
+        self.assertEqual(slow[0].status, "failed")
+        self.assertIn("timed out after 0.3 s", slow[0].message)
 
         # the command line: the rows are written, the exit code is bsdeform-run's for a failed run (1)
         r = subprocess.run([sys.executable, "-m", "bsdeform", "sweep", SEC7, "--sweep", "Surface.timeStep=0.1,-0.5",
