@@ -71,13 +71,15 @@ class Run:
     """One combination's run: ``values`` (NAME.field -> value text), ``rows`` (one per surface),
     ``status`` ("ok", "blew-up", "failed": the worst of its rows), ``message``, and with
     ``keep_outputs=True`` ``final_scene`` (final.iv's text) and ``histories`` ({surface: the
-    history CSV text bsdeform-run writes})."""
+    history CSV text bsdeform-run writes}); ``seconds``: the wall time of its bsdeform-run on the
+    worker."""
 
-    __slots__ = ("values", "rows", "message", "final_scene", "histories")
+    __slots__ = ("values", "rows", "message", "final_scene", "histories", "seconds")
 
     def __init__(self, values, rows, message="", final_scene=None, histories=None):
         self.values, self.rows, self.message = dict(values), rows, message
         self.final_scene, self.histories = final_scene, histories
+        self.seconds = None
 
     @property
     def status(self):
@@ -188,13 +190,16 @@ def run_task(scene_text, task):
             args += ["--set", s]
         out = os.path.join(work, "out")
         args += ["-o", out, "--quiet", "--result-lines"] if task.get("keep_outputs") else ["--result-only"]
+        started = time.monotonic()
         try:
             p = subprocess.run(args, stdin=subprocess.DEVNULL, capture_output=True, timeout=task.get("timeout"),
                                cwd=work, start_new_session=True)
             code, stdout, stderr = p.returncode, p.stdout.decode("utf-8", "replace"), p.stderr.decode("utf-8", "replace")
         except subprocess.TimeoutExpired:
             code, stdout, stderr = None, "", "timed out after %g s" % task["timeout"]
-        return _make_run(task, code, stdout, _message(stderr, scene_path, task["scene_name"]), out)
+        run = _make_run(task, code, stdout, _message(stderr, scene_path, task["scene_name"]), out)
+        run.seconds = time.monotonic() - started
+        return run
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
