@@ -146,6 +146,8 @@ def sweep_main(a):
             return _fail(EXIT_BAD_INPUT, str(e))
         except bsdeform.Error as e:
             return _fail(EXIT_INTERNAL, str(e))
+        except Exception as e:  # Dask's own (a task whose workers kept dying: KilledWorker, ...)
+            return _fail(EXIT_INTERNAL, "the sweep stopped: %s: %s" % (type(e).__name__, e))
         written = result.written
         if a.keep_outputs:
             try:
