@@ -311,6 +311,39 @@ class AKilledWorker(unittest.TestCase):
             self.assertEqual(f.read(), ref_png)
 
 
+class TheRunnersWriter(unittest.TestCase):
+    """bsdeform-run --sweep-rows (internal: what bsdeform.sweep writes its files with) refuses
+    rows that are not a sweep.csv, and writes a failed run's row without plotting it."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, self.tmp, True)
+
+    def write(self, text):
+        path = os.path.join(self.tmp, "rows.csv")
+        with open(path, "w") as f:
+            f.write(text)
+        return subprocess.run([RUN, SEC7, "--sweep", "Surface.w10=1,2", "--sweep-rows", path, "-o",
+                               os.path.join(self.tmp, "out"), "--quiet"], capture_output=True, text=True, timeout=TIMEOUT)
+
+    def test_bad_rows_are_bad_input(self):
+        r = self.write("value,norm\n1,2\n")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("not sweep.csv's header", r.stderr)
+        r = self.write("value,surface,norm,kinetic,strain,status\n1,Surface,0.5,0,0\n")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("line 2: expected 6 columns, got 5", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "out")))
+
+    def test_rows_are_written_as_given(self):
+        rows = "value,surface,norm,kinetic,strain,status\n1,Surface,0.5,0.25,0.125,ok\n2,Surface,,,,failed\n"
+        r = self.write(rows)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.tmp, "out", "sweep.csv")) as f:
+            self.assertEqual(f.read(), rows)
+        self.assertTrue(os.path.getsize(os.path.join(self.tmp, "out", "sweep.png")) > 1000)
+
+
 class OnTheLocalDefault(unittest.TestCase):
     def test_client_none_starts_and_closes_a_local_cluster(self):
         tmp = tempfile.mkdtemp()
