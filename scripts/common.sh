@@ -11,6 +11,7 @@ BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 # libclang-rt-14-dev (sanitizer runtimes, libFuzzer) and llvm (llvm-symbolizer for readable
 # reports) are for the sanitizer build. python3-dev, python3-pivy, python3-numpy, pybind11-dev
 # and swig build the Python package (docs/python.md), python3-matplotlib runs its examples,
+# python3-distributed (Dask) runs bsdeform.sweep and its tests,
 # dpkg-dev (dpkg-shlibdeps) lets CPack compute the Debian package's dependencies.
 # libavformat-dev, libavcodec-dev and libswscale-dev (FFmpeg) write videos (MP4/H.264, WebM/VP9).
 BSDEFORM_PACKAGES=(
@@ -22,7 +23,7 @@ BSDEFORM_PACKAGES=(
   libsoqt520-dev xvfb xauth
   clang libclang-rt-14-dev llvm
   locales
-  python3-dev python3-pivy python3-numpy python3-matplotlib pybind11-dev swig dpkg-dev
+  python3-dev python3-pivy python3-numpy python3-matplotlib python3-distributed pybind11-dev swig dpkg-dev
 )
 
 # A locale with a decimal comma: the tests check that scene text does not depend on the

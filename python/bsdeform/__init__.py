@@ -24,6 +24,7 @@ __all__ = [
     "Error", "FieldError", "RenderError", "SceneError", "SimulationError",
     "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
     "set_field", "new_node", "run", "History", "simulated_clock",
+    "sweep", "Run", "Row", "SweepResult",
 ]
 
 
@@ -161,3 +162,7 @@ def run(root, steps=None, until=None, record_every=1):
         if h._rows[-1][1] != s.step_count:
             h._add(s.diagnostics())
     return histories
+
+
+# Last: _sweep uses _field_text above. Dask (python3-distributed) is imported only when a sweep runs.
+from ._sweep import Row, Run, SweepResult, sweep  # noqa: E402

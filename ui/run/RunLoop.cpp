@@ -281,11 +281,13 @@ Failure RunLoop::run() {
 
   if (o.resultOnly) {
     printResults();
-    return {m_blewUp ? kBlowUp : kOk, {}};
+    // the reason goes to stderr (a sweep reads the status from the RESULT lines)
+    return {m_blewUp ? kBlowUp : kOk, m_blewUp ? outcome().message : QString()};
   }
   f = writeOutputs();
   if (!f.ok()) return f;
   if (!o.quiet) printSummary(seconds);
+  if (o.resultLines) printResults();
   return outcome();
 }
 

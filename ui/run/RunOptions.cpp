@@ -76,13 +76,21 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       QStringLiteral("K"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
+  QCommandLineOption resultLines(QStringLiteral("result-lines"),
+                                 QStringLiteral("internal: print RESULT lines after writing the outputs"));
+  resultLines.setFlags(QCommandLineOption::HiddenFromHelp);
   QCommandLineOption sweepProgram(QStringLiteral("sweep-program"),
                                   QStringLiteral("internal (tests): the program started for each sweep value"),
                                   QStringLiteral("PATH"));
   sweepProgram.setFlags(QCommandLineOption::HiddenFromHelp);
+  QCommandLineOption sweepRows(QStringLiteral("sweep-rows"),
+                               QStringLiteral("internal (bsdeform.sweep): write sweep.csv and sweep.png from the rows of "
+                                              "this sweep.csv instead of running the values"),
+                               QStringLiteral("CSV"));
+  sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
       {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, staticSolve,
-       loadSteps, resultOnly, sweepProgram});
+       loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -153,7 +161,10 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       return {kBadInput, QStringLiteral("--load-steps needs --static: it divides the static load into increments")};
   }
   o.resultOnly = parser.isSet(resultOnly);
+  o.resultLines = parser.isSet(resultLines);
   o.sweepProgram = parser.value(sweepProgram);
+  o.sweepRows = parser.value(sweepRows);
+  if (!o.sweepRows.isEmpty() && o.sweep.isEmpty()) return {kBadInput, QStringLiteral("--sweep-rows needs --sweep")};
 
   o.sweepChildArguments = QStringList{o.scene};
   if (parser.isSet(steps)) o.sweepChildArguments << QStringLiteral("--steps") << QString::number(o.steps);

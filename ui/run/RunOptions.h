@@ -30,7 +30,11 @@ struct RunOptions {
   bool staticSolve = false;  ///< --static: solve for the equilibrium at t = 0 instead of stepping
   int loadSteps = 1;         ///< --load-steps K: the static load in K increments, a CSV row each
   bool resultOnly = false;  ///< internal: a sweep child prints RESULT lines and writes nothing
+  bool resultLines = false;  ///< internal (bsdeform.sweep): print RESULT lines after writing the outputs
   QString sweepProgram;     ///< internal: the program started per sweep value (default: this one)
+  /// internal (bsdeform.sweep): a sweep.csv whose rows sweep.csv and sweep.png are written from,
+  /// instead of running the values
+  QString sweepRows;
   /// The arguments a sweep child gets: the scene and the run options, without the output and
   /// sweep ones.
   QStringList sweepChildArguments;

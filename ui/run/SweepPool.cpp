@@ -6,6 +6,7 @@
 #include <QCoreApplication>
 #include <QDir>
 #include <QEventLoop>
+#include <QFile>
 #include <QProcess>
 #include <QThread>
 #include <algorithm>
@@ -106,6 +107,25 @@ Failure SweepPool::runChildren() {
   return {kOk, {}};
 }
 
+Failure SweepPool::readRows() {
+  const QString& path = m_options.sweepRows;
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly))
+    return {kBadInput, QStringLiteral("cannot open sweep rows '%1': %2").arg(path, file.errorString())};
+  const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
+  if (lines.isEmpty() || lines.first() != QLatin1String("value,surface,norm,kinetic,strain,status"))
+    return {kBadInput, QStringLiteral("sweep rows '%1': the first line is not sweep.csv's header").arg(path)};
+  QVector<Row> rows;
+  for (int i = 1; i < lines.size(); ++i) {
+    const QStringList c = lines[i].split(QLatin1Char(','));
+    if (c.size() != 6)
+      return {kBadInput, QStringLiteral("sweep rows '%1', line %2: expected 6 columns, got %3").arg(path).arg(i + 1).arg(c.size())};
+    rows.push_back({c[0], c[1], c[2], c[3], c[4], c[5]});
+  }
+  m_rows = {rows};
+  return {kOk, {}};
+}
+
 // sweep.csv (every row), sweep.png (the final norm against the value, when every value is a
 // number) and the summary.
 Failure SweepPool::writeResults() {
@@ -118,6 +138,7 @@ Failure SweepPool::writeResults() {
       bool ok = false;
       const double x = r.value.toDouble(&ok);
       numeric &= ok;
+      if (r.norm.isEmpty()) continue;  // a run bsdeform.sweep reports as failed has no number to plot
       auto& s = bySurface[r.surface];
       s.name = r.surface;
       s.x << x;
@@ -146,10 +167,11 @@ Failure SweepPool::writeResults() {
 }
 
 Failure SweepPool::run() {
+  const bool replay = !m_options.sweepRows.isEmpty();
   Failure f = parseSweep();
-  if (f.ok()) f = validate();
+  if (f.ok()) f = replay ? readRows() : validate();
   if (f.ok()) f = prepareOutDir(m_options);
-  if (f.ok()) f = runChildren();
+  if (f.ok() && !replay) f = runChildren();
   if (f.ok()) f = writeResults();
   return f;
 }

@@ -29,6 +29,8 @@ class SweepPool {
   /// Names and every value are checked on the scene first: bad input is reported before any run.
   Failure validate();
   Failure runChildren();
+  /// --sweep-rows: the rows of a sweep.csv another driver ran (bsdeform.sweep on Dask), in its order.
+  Failure readRows();
   /// Reads a finished child's output into m_rows[i] and its failure into m_errors[i].
   void collect(int i, const QString& output, const QString& stderrText, int code, bool crashed);
   Failure writeResults();
