@@ -25,6 +25,7 @@ struct Simulation::MassSolver {
 struct Simulation::NewtonSolver {
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
   bool analysed = false;
+  NewtonSolver() { llt.cholmod().print = 0; }  // an indefinite tangent is expected, not news
   /// Factorises K (symbolic analysis once: the pattern never changes); false if K is not
   /// positive definite.
   bool factor(const Eigen::SparseMatrix<double>& K) {
@@ -347,92 +348,137 @@ bool Simulation::shellImplicitStep(double t) {
   return ok;
 }
 
+// Newton's method with a Levenberg–Marquardt safeguard, load increment by load increment. The
+// step solves (H + mu M) d = -R; mu = 0 (pure Newton) while the steps are accepted, raised
+// (x4 from a small multiple of the stiffness) when the tangent is not positive definite or the
+// step is refused, lowered (/4, down to 0) after an accepted step. A step is accepted when it
+// lowers the merit: the total potential W - L.x when every load is constant (the equilibrium
+// is its minimum: a thin plate's first, purely bending step then cannot take the iteration into
+// the membrane's stiff valley), the residual norm otherwise (follower loads have no potential).
+// A surface nothing holds keeps mu > 0 near its free motions and still converges where the
+// loads balance.
 StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
   const Eigen::Index n = m_space.numMoving();
   std::vector<char> pinned(static_cast<size_t>(n));
   for (Eigen::Index f = 0; f < n; ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+  bool conservative = true;
+  for (const auto& f : m_forces) conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
   ControlNet net = m_rest;
-  ControlNet x = m_space.gatherMoving(net), g, R, L;
-  double scale = 1.0;
-  auto residual = [&](const ControlNet& xi, double factor, ControlNet& gi, ControlNet& Ri) {
+  ControlNet x = m_space.gatherMoving(net);
+  const ControlNet L0 = conservative ? loadAt(net, 0.0) : ControlNet();
+  struct State {
+    ControlNet g, R, L;
+    double r = 0.0, merit = 0.0;
+  };
+  // the state at xi: gradient, residual, relative residual, merit
+  auto evaluate = [&](const ControlNet& xi, double factor, State& st) {
     m_space.scatterMoving(xi, net);
     m_space.completeNet(net, &m_rest);
-    shellGradient(net, gi);
-    L = factor * loadAt(net, 0.0);
-    Ri = gi - L;
-    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
-      if (pinned[size_t(f)]) Ri.row(f).setZero();
-    scale = L.norm() + gi.norm() + 1e-300;
-    return Ri.norm() / scale;
+    shellGradient(net, st.g);
+    st.L = conservative ? (factor * L0).eval() : (factor * loadAt(net, 0.0)).eval();
+    st.R = st.g - st.L;
+    for (Eigen::Index f = 0; f < st.R.rows(); ++f)
+      if (pinned[size_t(f)]) st.R.row(f).setZero();
+    st.r = st.R.norm() / (st.L.norm() + st.g.norm() + 1e-300);
+    st.merit = conservative ? m_shell->energy(net).total() - (st.L.array() * xi.array()).sum() : st.R.norm();
   };
   NewtonSolver solver;
   std::vector<Eigen::Triplet<double>> trip;
   Eigen::SparseMatrix<double> K(3 * n, 3 * n);
-  // a shift for a surface nothing holds: a multiple of the mass, from 1e-10 of the stiffness
   const double massMean = m_shellMass.diagonal().mean();
   StaticResult result;
   result.method = "Newton (CHOLMOD)";
   int totalIterations = 0;
-  for (int step = 1; step <= loadSteps; ++step) {
-    const double factor = double(step) / loadSteps;
-    double r = residual(x, factor, g, R);
-    int it = 0;
-    double shift = 0.0;
-    while (!(r <= tolerance)) {
-      if (it >= maxIterations || !std::isfinite(r))
-        throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
-                                 numberText(factor) + " after " + std::to_string(it) + " iterations (relative residual " +
-                                 numberText(r) + ", tolerance " + numberText(tolerance) +
-                                 "); use more load steps (--load-steps), or run the dynamics with damping");
-      ++it;
-      // Levenberg–Marquardt safeguard: where the tangent is indefinite (compression, a
-      // buckling path) or singular (a surface nothing holds), add a multiple of the mass
-      // until it is positive definite; the multiple shrinks again as the iteration converges
+  double muMin = 0.0;  // a small multiple of the stiffness, set at the first need
+  auto raise = [&](double mu) {
+    if (muMin == 0.0) {
+      double diag = 0.0;
+      for (const auto& e : trip)
+        if (e.row() == e.col()) diag = std::max(diag, std::abs(e.value()));
+      muMin = 1e-8 * diag / massMean;
+    }
+    return std::max(4.0 * mu, muMin);
+  };
+  // Newton from x at load factor `factor`, at most `limit` iterations; x is the last accepted
+  // iterate either way
+  State cur, trial;
+  auto newton = [&](ControlNet& xi, double factor, int limit, int& used) {
+    evaluate(xi, factor, cur);
+    double mu = 0.0;
+    used = 0;
+    while (!(cur.r <= tolerance)) {
+      if (used >= limit || !std::isfinite(cur.r)) return false;
+      ++used;
       bool factored = false;
-      for (int attempt = 0; attempt < 40 && !factored; ++attempt) {
-        shellTangent(net, 1.0, shift, false, trip);
+      for (int attempt = 0; attempt < 60 && !factored; ++attempt) {
+        shellTangent(net, 1.0, mu, false, trip);
         K.setFromTriplets(trip.begin(), trip.end());
         factored = solver.factor(K);
-        if (!factored) {
-          if (shift == 0.0) {
-            double diag = 0.0;
-            for (const auto& e : trip)
-              if (e.row() == e.col()) diag = std::max(diag, std::abs(e.value()));
-            shift = 1e-10 * diag / massMean;
-          } else {
-            shift *= 10.0;
-          }
-        }
+        if (!factored) mu = raise(mu);
       }
-      if (!factored) throw std::runtime_error("static solve: the tangent stiffness could not be factorised");
-      const Eigen::VectorXd d = solver.llt.solve(-Eigen::Map<const Eigen::VectorXd>(R.data(), R.size()));
-      const ControlNet step3 = Eigen::Map<const ControlNet>(d.data(), n, 3);
-      ControlNet xNew, gNew, RNew;
-      double tried = -1.0, rNew = 0.0;
-      const double alpha = lineSearch((step3.array() * R.array()).sum(), [&](double al) {
-        tried = al;
-        xNew = x + al * step3;
-        rNew = residual(xNew, factor, gNew, RNew);
-        return (step3.array() * RNew.array()).sum();
-      });
-      if (alpha != tried) {
-        xNew = x + alpha * step3;
-        rNew = residual(xNew, factor, gNew, RNew);
+      if (!factored) return false;
+      const Eigen::VectorXd d = solver.llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.R.data(), cur.R.size()));
+      const ControlNet dx = Eigen::Map<const ControlNet>(d.data(), n, 3);
+      evaluate(xi + dx, factor, trial);
+      // accepted when it lowers the merit (far from the equilibrium) or the residual
+      // (near it, where the potential's change is below its rounding)
+      if ((std::isfinite(trial.merit) && trial.merit < cur.merit) || trial.r < cur.r) {
+        xi += dx;
+        std::swap(cur, trial);
+        // a full Newton step of 1e-11 of the net's size: converged to what the positions'
+        // rounding lets the residual show (stiff membranes under small loads stop here)
+        if (mu == 0.0 && dx.cwiseAbs().maxCoeff() <= 1e-11 * xi.cwiseAbs().maxCoeff()) break;
+        mu = mu * 0.25 < muMin ? 0.0 : mu * 0.25;
+      } else {
+        mu = raise(mu);  // refused: a shorter, more gradient-like step from the same state
+        m_space.scatterMoving(xi, net);
+        m_space.completeNet(net, &m_rest);
       }
-      x = std::move(xNew);
-      g = std::move(gNew);
-      R = std::move(RNew);
-      r = rNew;
-      if (alpha * step3.cwiseAbs().maxCoeff() <= 4e-16 * x.cwiseAbs().maxCoeff()) break;  // at rounding
-      if (shift > 0.0) shift *= 0.1;  // relax the shift as the iteration converges
     }
-    totalIterations += it;
-    StaticResult::Increment inc;
-    inc.loadFactor = factor;
-    inc.net = net;
-    inc.residual = r;
-    inc.iterations = it;
-    result.increments.push_back(std::move(inc));
+    return true;
+  };
+  // Load increments: the loadSteps equal ones are the equilibria reported; between them the
+  // increment is cut by 4 when Newton does not converge within 25 iterations (from the rest of
+  // a thin plate, the first pure-bending step must stay near the linear range), and grown
+  // again after quick convergence. Each increment starts from the secant prediction of the
+  // last two equilibria.
+  const int perIncrement = std::min(maxIterations, 25);
+  double done = 0.0, delta = 1.0 / loadSteps, lastDelta = 0.0;
+  ControlNet previous = x;
+  int next = 1;
+  while (next <= loadSteps) {
+    const double target = double(next) / loadSteps;
+    const double factor = std::min(done + delta, target);
+    ControlNet xi = x;
+    if (lastDelta > 0.0) xi += ((factor - done) / lastDelta) * (x - previous);
+    int used = 0;
+    const bool ok = newton(xi, factor, perIncrement, used);
+    totalIterations += used;
+    if (!ok) {
+      delta = 0.25 * (factor - done);
+      if (delta < 1e-7 / loadSteps || totalIterations > maxIterations * loadSteps * 4)
+        throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
+                                 numberText(factor) + " (relative residual " + numberText(cur.r) + ", tolerance " +
+                                 numberText(tolerance) + ", " + std::to_string(totalIterations) +
+                                 " iterations in all); run the dynamics with damping to find this equilibrium");
+      continue;
+    }
+    previous = x;
+    x = xi;
+    lastDelta = factor - done;
+    done = factor;
+    if (used <= 6) delta = std::min(2.0 * (factor - (done - lastDelta)), 1.0 / loadSteps);
+    if (factor == target) {
+      StaticResult::Increment inc;
+      inc.loadFactor = factor;
+      m_space.scatterMoving(x, net);
+      m_space.completeNet(net, &m_rest);
+      inc.net = net;
+      inc.residual = cur.r;
+      inc.iterations = used;
+      result.increments.push_back(std::move(inc));
+      ++next;
+    }
   }
   result.net = result.increments.back().net;
   result.residual = result.increments.back().residual;
