@@ -550,14 +550,6 @@ Status Simulation::step() {
     fail(Status::Refused, "step refused: " + why);
     return m_status;
   }
-  if (m_shell && m_params.integrator == Integrator::Explicit) {
-    // the shell's stiffness depends on the state: its bound is taken again every step
-    shellUpdateBound();
-    if (std::string why = refusal(); !why.empty()) {
-      fail(Status::Refused, "step refused: " + why);
-      return m_status;
-    }
-  }
   if (m_startPending) applyStartRule();
   const double dt = subStepSize();
   m_solveFailure.clear();
@@ -586,6 +578,11 @@ Status Simulation::step() {
   }
   ++m_steps;
   m_time += m_params.timeStep;
+  // The shell's stiffness depends on the state: its bound is taken again after every step, at
+  // the state the next step starts from (previous rescaled to the new sub-step). So a state
+  // saved between steps, with its previous net, is at the sub-step its own bound gives, and a
+  // run resumed from it takes the same sub-steps as the uninterrupted one.
+  if (m_shell && m_params.integrator == Integrator::Explicit) shellUpdateBound();
   return m_status;
 }
 
@@ -596,6 +593,11 @@ Status Simulation::advance(long steps) {
 
 void Simulation::reset() {
   m_shellCache = false;
+  if (m_shell && m_params.integrator == Integrator::Explicit) {
+    m_current = m_rest;
+    m_startPending = true;
+    shellUpdateBound();
+  }
   m_current = m_rest;
   m_previous = m_rest;
   m_time = 0.0;
@@ -651,6 +653,11 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   m_seamMismatch = std::max(m_seamMismatch, seam);
   m_current = std::move(cur);
   m_previous = std::move(prev);
+  if (m_shell && m_params.integrator == Integrator::Explicit) {
+    // the sub-step of this state (the one the uninterrupted run's next step takes, see step())
+    m_startPending = true;  // nothing to rescale yet: `previous` is read at this sub-step below
+    shellUpdateBound();
+  }
   const double h = subStepSize();
   if (previousStepSize > 0.0 && previousStepSize != h)
     m_previous = m_current - (m_current - m_previous) * (h / previousStepSize);

@@ -104,6 +104,59 @@ TEST_CASE("SoBSplineDeformSurface: resuming from a saved file follows the uninte
   }
 }
 
+TEST_CASE("SoBSplineDeformSurface: a SHELL scene resumes from its saved file on the uninterrupted trajectory",
+          "[nodes]") {
+  const char* shell = R"IV(#Inventor V2.1 ascii
+Separator {
+  DEF Sheet SoBSplineDeformSurface {
+    numUControlPoints 6 numVControlPoints 5
+    energy SHELL youngsModulus 2e4 poissonRatio 0.3 thickness 0.002 density 500
+    damping 0.3 timeStep 0.01 integrator EXPLICIT on FALSE
+    boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax SIMPLY_SUPPORTED
+    forces [ SoForceField { type GRAVITY force 0 0 -9.81 },
+             SoForceField { type REGION regionMin 1 0 regionMax 1 1 force 0 0.3 0 } ]
+  }
+}
+)IV";
+  for (const char* integ : {"EXPLICIT", "IMPLICIT"}) {
+    std::string scene = shell;
+    scene.replace(scene.find("EXPLICIT"), 8, integ);
+    SoSeparator* a = testutil::read(scene);
+    REQUIRE(a);
+    auto* sa = testutil::find<SoBSplineDeformSurface>(a);
+    REQUIRE(sa->stepSimulation(20));
+    REQUIRE(sa->simulation().parameters().energy == bsdeform::EnergyModel::Shell);
+    const std::string text = testutil::write(a);
+    CHECK(text.find("energy SHELL") != std::string::npos);
+    SoSeparator* b = testutil::read(text);  // save, reload
+    REQUIRE(b);
+    auto* sb = testutil::find<SoBSplineDeformSurface>(b);
+    sa->stepSimulation(20);
+    sb->stepSimulation(20);
+    INFO(integ);
+    CHECK(sa->simulation().deformationNorm() > 0.05);  // it swung down
+    CHECK((sb->simulation().current() - sa->simulation().current()).cwiseAbs().maxCoeff() < 1e-12);
+    a->unref();
+    b->unref();
+  }
+}
+
+TEST_CASE("SoBSplineDeformSurface: a refused SHELL material names its field and keeps the last valid state",
+          "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { energy SHELL on FALSE } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  REQUIRE(s->stepSimulation(1));
+  s->poissonRatio = 0.7;
+  CHECK(s->simulation().parameters().material.poissonRatio == 0.3);  // the last valid model
+  CHECK_THAT(s->lastWarning(), Catch::Contains("field 'poissonRatio'") && Catch::Contains("0.69999"));
+  s->poissonRatio = 0.3;
+  s->thickness = -1.0;
+  CHECK(s->simulation().parameters().material.thickness == 0.001);
+  CHECK_THAT(s->lastWarning(), Catch::Contains("field 'thickness'"));
+  root->unref();
+}
+
 TEST_CASE("SoBSplineDeformSurface: bounding box, triangle count and SoComplexity", "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
   REQUIRE(root);

@@ -173,7 +173,7 @@ TEST_CASE("bsdeform-run: CSV columns, final scene and identical output for the s
   int rows = 0;
   while (std::getline(lines, line)) {
     ++rows;
-    CHECK(std::count(line.begin(), line.end(), ',') == 10);
+    CHECK(std::count(line.begin(), line.end(), ',') == 12);
   }
   CHECK(rows == 16);  // t = 0 and 15 steps
   CHECK(r1.out.find("Surface") != std::string::npos);
@@ -184,9 +184,13 @@ TEST_CASE("bsdeform-run: CSV columns, final scene and identical output for the s
   const Run r4 = run(scene("paper_fig7_sinusoidal.iv") + " --steps 20 -o four", dir.path);
   REQUIRE((r3.code == 0 && r4.code == 0));
   const std::string last3 = slurp(dir.path + "/three/Surface.csv"), last4 = slurp(dir.path + "/four/Surface.csv");
-  auto lastNorm = [](const std::string& c) {
-    const std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
-    return std::stod(l.substr(l.find(',', l.find(',') + 1) + 1));
+  auto lastNorm = [](const std::string& c) {  // the "norm" column of the last row
+    const std::string header = c.substr(0, c.find('\n'));
+    int column = 0;
+    for (size_t at = 0; header.compare(at, 5, "norm,") != 0; at = header.find(',', at) + 1) ++column;
+    std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
+    for (int k = 0; k < column; ++k) l = l.substr(l.find(',') + 1);
+    return std::stod(l);
   };
   CHECK(lastNorm(last3) == Approx(lastNorm(last4)).epsilon(1e-10));
 }
@@ -747,9 +751,13 @@ TEST_CASE("bsdeform-run --static: the equilibrium of a long damped run, written 
   REQUIRE(r.code == 0);
   r = run(scene("plate_simply_supported.iv") + " --until 4 --record-every 400 -o dynamic -q", dir.path);
   REQUIRE(r.code == 0);
-  auto lastNorm = [](const std::string& c) {
-    const std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
-    return std::stod(l.substr(l.find(',', l.find(',') + 1) + 1));
+  auto lastNorm = [](const std::string& c) {  // the "norm" column of the last row
+    const std::string header = c.substr(0, c.find('\n'));
+    int column = 0;
+    for (size_t at = 0; header.compare(at, 5, "norm,") != 0; at = header.find(',', at) + 1) ++column;
+    std::string l = c.substr(c.rfind('\n', c.size() - 2) + 1);
+    for (int k = 0; k < column; ++k) l = l.substr(l.find(',') + 1);
+    return std::stod(l);
   };
   const double s = lastNorm(slurp(dir.path + "/static/Plate.csv")), d = lastNorm(slurp(dir.path + "/dynamic/Plate.csv"));
   CHECK(s > 1.0);
@@ -766,4 +774,41 @@ TEST_CASE("bsdeform-run --static: the equilibrium of a long damped run, written 
   r = run(scene("cantilever.iv") + " --static --steps 3 -o x", dir.path);
   CHECK(r.code == 2);
   CHECK(r.err.find("--static and --steps") != std::string::npos);
+}
+
+TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, one row per increment", "[scenes]") {
+  TempDir dir;
+  // Sze et al.'s cantilever (cantilever_roll.iv) at P = 0.5, 1, ..., 4: the last one the exact
+  // elastica's tip, 6.69964 below and 3.28941 short of the rest tip
+  Run r = run(scene("cantilever_roll.iv") + " --static --load-steps 8 --set Ramp.b=1 -o curve -q", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("Newton iterations in 8 load step(s)") != std::string::npos);
+  const std::string csv = slurp(dir.path + "/curve/Strip.csv");
+  std::istringstream lines(csv);
+  std::string header, line;
+  std::getline(lines, header);
+  CHECK(header.rfind("load_factor,time,step,norm,", 0) == 0);
+  CHECK(header.find("strain_membrane,strain_bending") != std::string::npos);
+  std::vector<double> factors, norms;
+  while (std::getline(lines, line)) {
+    factors.push_back(std::stod(line));
+    const size_t a = line.find(',', line.find(',', line.find(',') + 1) + 1);  // after load_factor, time, step
+    norms.push_back(std::stod(line.substr(a + 1)));
+  }
+  REQUIRE(factors.size() == 8);
+  for (size_t k = 0; k < 8; ++k) CHECK(factors[k] == Approx((k + 1) / 8.0));
+  for (size_t k = 1; k < 8; ++k) CHECK(norms[k] > norms[k - 1]);  // the deflection grows with the load
+  Coin::get();
+  SoSeparator* root = testutil::read(slurp(dir.path + "/curve/final.iv"));
+  REQUIRE(root);
+  const auto surfaces = bsdeform::sceneSurfaces(root);
+  REQUIRE(surfaces.size() == 1);
+  const Eigen::Vector3d tip = surfaces[0]->simulation().evaluate(1.0, 0.5).position;
+  CHECK(-tip.z() == Approx(6.69964).epsilon(1e-3));
+  CHECK(10.0 - tip.x() == Approx(3.28941).epsilon(1e-3));
+  root->unref();
+  // --load-steps belongs to --static
+  r = run(scene("cantilever_roll.iv") + " --load-steps 4 -o x", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("--load-steps needs --static") != std::string::npos);
 }
