@@ -474,14 +474,12 @@ Eigen::VectorXd ShellEnergy::lumpedMass() const {
 }
 
 double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd& mass) const {
-  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
   const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
   const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
   Eigen::VectorXd rows = Eigen::VectorXd::Zero(m_space.netSize());
-  const int size = std::max(m_space.degreeU() + 1, 4);
-  (void)S1;
   forEachBlock([&](int, int s0, int s1) {
     double c[5][kMaxPoints * kMaxPoints];
     for (int e1 = s0; e1 < s1; ++e1)
@@ -514,7 +512,6 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
           }
       }
   });
-  (void)size;
   double bound = 0.0;
   for (Eigen::Index p = 0; p < rows.size(); ++p)
     if (mass[p] > 0.0) bound = std::max(bound, rows[p] / mass[p]);

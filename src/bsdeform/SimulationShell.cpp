@@ -344,7 +344,6 @@ bool Simulation::shellImplicitStep(double t) {
   m_current.swap(m_previous);
   m_gradPrevious.swap(m_gradCurrent);
   m_gradCurrent = g;
-  (void)t;
   return ok;
 }
 
