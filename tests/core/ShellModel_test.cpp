@@ -211,7 +211,7 @@ TEST_CASE("SHELL dynamics conserve energy without damping, explicit and implicit
       const double e0 = totalEnergy(sim);
       REQUIRE(e0 > 0.0);
       double worst = 0.0;
-      for (int k = 0; k < int(0.4 / dt + 0.5); ++k) {
+      for (int k = 0; k < int(0.25 / dt + 0.5); ++k) {
         REQUIRE(sim.step() == Status::Ok);
         worst = std::max(worst, std::abs(totalEnergy(sim) - e0) / e0);
       }
