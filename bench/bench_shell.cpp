@@ -48,10 +48,8 @@ void ShellBound(benchmark::State& state) {
   state.counters["points/s"] = benchmark::Counter(double(s.netSize()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-// A cotton curtain hinged along v = 1 falling under gravity: one implicit step of 1/60 s each
-// iteration, from the state the previous ones left (the first 5 steps untimed).
-void ShellImplicitStep(benchmark::State& state) {
-  const int n = int(state.range(0));
+// A cotton curtain of N x N inner points hinged along v = 1, steps of 1/60 s, and its weight.
+ModelParameters curtain(int n) {
   ModelParameters p;
   p.numU = p.numV = n;
   p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
@@ -59,9 +57,19 @@ void ShellImplicitStep(benchmark::State& state) {
   p.material = kCotton;
   p.damping = 0.5;
   p.timeStep = 1.0 / 60.0;
+  return p;
+}
+std::shared_ptr<const Force> gravity() {
+  return std::make_shared<GravityForce>(kCotton.density * kCotton.thickness, Eigen::Vector3d(0, 0, -9.81));
+}
+
+// A cotton curtain hinged along v = 1 falling under gravity: one implicit step of 1/60 s each
+// iteration, from the state the previous ones left (the first 5 steps untimed).
+void ShellImplicitStep(benchmark::State& state) {
+  ModelParameters p = curtain(int(state.range(0)));
   p.integrator = Integrator::Implicit;
   Simulation sim(p);
-  sim.addForce(std::make_shared<GravityForce>(kCotton.density * kCotton.thickness, Eigen::Vector3d(0, 0, -9.81)));
+  sim.addForce(gravity());
   sim.advance(5);
   long newton = 0, steps = 0;
   for (auto _ : state) {
@@ -78,17 +86,10 @@ void ShellImplicitStep(benchmark::State& state) {
 // The explicit counterpart: one step of 1/60 s of the same curtain (sub-stepped below the
 // membrane's limit, the bound taken again every step).
 void ShellExplicitStep(benchmark::State& state) {
-  const int n = int(state.range(0));
-  ModelParameters p;
-  p.numU = p.numV = n;
-  p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
-  p.energy = EnergyModel::Shell;
-  p.material = kCotton;
-  p.damping = 0.5;
-  p.timeStep = 1.0 / 60.0;
+  ModelParameters p = curtain(int(state.range(0)));
   p.maxSubSteps = 100000;
   Simulation sim(p);
-  sim.addForce(std::make_shared<GravityForce>(kCotton.density * kCotton.thickness, Eigen::Vector3d(0, 0, -9.81)));
+  sim.addForce(gravity());
   sim.advance(5);
   for (auto _ : state)
     if (sim.step() != Status::Ok) {

@@ -55,6 +55,11 @@ struct Constants {
   double twoMu;     ///< 2μ = E/(1+ν)
 };
 
+Constants constantsOf(const ShellMaterial& m) {
+  const double t = m.thickness, E = m.youngsModulus, nu = m.poissonRatio;
+  return {t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+}
+
 /// S = λ̄ A^{αβ} tr(A⁻¹E) + 2μ (A⁻¹ E A⁻¹)^{αβ} for a symmetric E = (E11, E12, E22).
 template <typename T>
 inline void stress(const double* Ac, const Constants& k, const T* E, T* S) {
@@ -323,8 +328,7 @@ void ShellEnergy::forEachBlock(Fn&& fn) const {
 ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
-  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const Constants k = constantsOf(m_material);
   const int size = std::max(m_space.degreeU() + 1, 4);
   std::vector<ShellEnergies> partial(size_t((S1 + size - 1) / size));
   const double* X = net.data();
@@ -352,8 +356,7 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
 void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
   const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
-  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const Constants k = constantsOf(m_material);
   grad.setZero(net.rows(), 3);
   const double* X = net.data();
   double* G = grad.data();
@@ -372,8 +375,7 @@ void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
 void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const {
   const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
-  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const Constants k = constantsOf(m_material);
   out.setZero(net.rows(), 3);
   const double* X = net.data();
   const double* D = dir.data();
@@ -394,8 +396,7 @@ void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
-  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
-  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const Constants k = constantsOf(m_material);
   out.clear();
   out.reserve(size_t(S1) * S2 * size_t(9 * L * L));
   // Bq = C ⊗ I3 (C: 5 x L coefficients): K_pq = Σ_d C[d][p] (Σ_e C[e][q] H_de), 3 x 3 blocks
@@ -477,8 +478,7 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
   const int S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
-  const double t = m_material.thickness, E = m_material.youngsModulus, nu = m_material.poissonRatio;
-  const Constants k{t, t * t * t / 12.0, E * nu / (1.0 - nu * nu), E / (1.0 + nu)};
+  const Constants k = constantsOf(m_material);
   Eigen::VectorXd rows = Eigen::VectorXd::Zero(m_space.netSize());
   forEachBlock([&](int, int s0, int s1) {
     double c[5][kMaxPoints * kMaxPoints];
