@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <vector>
 
 #include "bsdeform/Multiversion.h"
@@ -347,6 +348,21 @@ DiagnosticSums diagnosticSums(const SplineSpace& s, const StiffnessStencil& A, c
     for (int b = 0; b < blocks; ++b) pass.computeBlock(b);
   }
   return pass.sums();
+}
+
+Diagnostics diagnosticsFromSums(const DiagnosticSums& sums, const Weights& w, double massScale, double dt) {
+  Diagnostics d;
+  d.norm = std::sqrt(sums.displacement);
+  d.kinetic = 0.5 * massScale * sums.velocity / (dt * dt);
+  StrainEnergy& e = d.strain;
+  // the stencil carries 2 w11 (eq. 7): its half is w11
+  e.w10 = 0.5 * w.w10 * sums.terms[0];
+  e.w01 = 0.5 * w.w01 * sums.terms[1];
+  e.w11 = w.w11 * sums.terms[2];
+  e.w20 = 0.5 * w.w20 * sums.terms[3];
+  e.w02 = 0.5 * w.w02 * sums.terms[4];
+  e.total = e.w10 + e.w01 + e.w11 + e.w20 + e.w02;
+  return d;
 }
 
 }  // namespace bsdeform

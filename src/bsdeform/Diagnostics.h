@@ -62,7 +62,7 @@ struct DiagnosticSums {
 /// writes its own partial sums), added in block order by sums(): the same bits as
 /// diagnosticSums(). Keeps pointers to everything it is given (the nets' storage, the space,
 /// the stencil's Gram rows, the masses): they must stay unchanged and alive until the last
-/// block has run (Simulation::diagnosticsBeside() runs the blocks beside the steps, on copies
+/// block has run (DiagnosticsBeside runs the blocks beside the steps, on copies
 /// of the current and previous nets).
 class DiagnosticPass {
  public:
@@ -99,5 +99,9 @@ class DiagnosticPass {
 /// @param mass per moving point (order of SplineSpace::movingToNet), or null for 1 everywhere
 DiagnosticSums diagnosticSums(const SplineSpace& space, const StiffnessStencil& stencil, const ControlNet& current,
                               const ControlNet& rest, const ControlNet& previous, const double* mass);
+
+/// A history row from its sums. `massScale`: the mass per point when uniform (the sums then
+/// leave it out), else 1; `dt` the sub-step of the velocity.
+Diagnostics diagnosticsFromSums(const DiagnosticSums& sums, const Weights& w, double massScale, double dt);
 
 }  // namespace bsdeform

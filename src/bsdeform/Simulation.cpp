@@ -9,15 +9,13 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#if defined(__SSE2__)
-#include <emmintrin.h>  // _mm_stream_pd: the copy for rows computed beside the steps
-#endif
 
 namespace bsdeform {
 
@@ -64,74 +62,7 @@ void requireNet(const SplineSpace& s, const ControlNet& net, const char* name) {
                                         num(net(i, 0)) + ", " + num(net(i, 1)) + ", " + num(net(i, 2)) + ")");
 }
 
-// A history row from its sums. `massScale`: the mass per point when uniform (the sums then
-// leave it out), else 1; dt the sub-step of the velocity.
-Diagnostics diagnosticsFromSums(const DiagnosticSums& sums, const Weights& w, double massScale, double dt) {
-  Diagnostics d;
-  d.norm = std::sqrt(sums.displacement);
-  d.kinetic = 0.5 * massScale * sums.velocity / (dt * dt);
-  StrainEnergy& e = d.strain;
-  // the stencil carries 2 w11 (eq. 7): its half is w11
-  e.w10 = 0.5 * w.w10 * sums.terms[0];
-  e.w01 = 0.5 * w.w01 * sums.terms[1];
-  e.w11 = w.w11 * sums.terms[2];
-  e.w20 = 0.5 * w.w20 * sums.terms[3];
-  e.w02 = 0.5 * w.w02 * sums.terms[4];
-  e.total = e.w10 + e.w01 + e.w11 + e.w20 + e.w02;
-  return d;
-}
-
-// Sub-steps per step up to which diagnosticsBeside() uses the background thread: a row costs
-// about one explicit sub-step (Diagnostics.h), so beyond this it is under 1/16 of a step and
-// not worth two more nets of memory.
-constexpr int kBesideMaxSubSteps = 16;
-
-// dst = src with streaming stores where the CPU has them: the lines go to memory without being
-// read first and leave this core's caches, so the core that reads them next does not have to
-// take them from here, and this core does not wait for that one when it writes them again.
-void copyStreaming(const ControlNet& src, ControlNet& dst) {
-  const double* s = src.data();
-  double* d = dst.data();
-  const Eigen::Index n = src.size();
-  Eigen::Index i = 0;
-#if defined(__SSE2__)
-  if (reinterpret_cast<std::uintptr_t>(d) % 16 == 0) {
-    for (; i + 2 <= n; i += 2) _mm_stream_pd(d + i, _mm_loadu_pd(s + i));
-    _mm_sfence();  // visible before the background thread is told
-  }
-#endif
-  for (; i < n; ++i) d[i] = s[i];
-}
-
 }  // namespace
-
-// The row's blocks run on the background thread (BackgroundWork) or, when finished before it
-// took them, on the caller.
-struct PendingDiagnostics::Job {
-  const Diagnostics& finish() {
-    if (!done) {
-      work->finish();
-      DiagnosticSums sums = pass->sums();
-      sums.velocity += derivedVelocity;
-      result = diagnosticsFromSums(sums, weights, massScale, dt);
-      done = true;
-      work.reset();
-      pass.reset();
-    }
-    return result;
-  }
-
-  bool done = false;
-  Diagnostics result;
-  // until done:
-  std::unique_ptr<DiagnosticPass> pass;
-  std::unique_ptr<BackgroundWork> work;  // after `pass`: destroyed (finished) first
-  Weights weights;
-  double massScale = 1.0, dt = 1.0;
-  double derivedVelocity = 0.0;  ///< the derived points' part of the velocity sum
-};
-
-Diagnostics PendingDiagnostics::get() const { return m_job->finish(); }
 
 Simulation::Simulation(const ModelParameters& params)
     : m_params(validated(params)),
@@ -154,7 +85,7 @@ Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
   init();
 }
 
-Simulation::~Simulation() { finishBeside(); }
+Simulation::~Simulation() = default;
 
 double Simulation::massPerPoint() const {
   if (m_params.energy == EnergyModel::Shell)
@@ -184,6 +115,8 @@ double Simulation::dampingPerPoint() const {
 }
 
 void Simulation::init() {
+  static std::atomic<std::uint64_t> serials{0};
+  m_serial = ++serials;
   // Pins: the (n1+1)(n2+1) B-splines of the knot span that contains (u, v), through the moving
   // point each stands for (held already if it lies in a clamped layer).
   m_pinMask.assign(size_t(m_space.netSize()), 0);
@@ -755,35 +688,13 @@ Diagnostics Simulation::diagnostics() const {
   return diagnosticsFromSums(sums, m_params.weights, m_uniformMass ? massPerPoint() : 1.0, subStepSize());
 }
 
-PendingDiagnostics Simulation::diagnosticsBeside() const {
-  finishBeside();  // its blocks read the snapshot
-  auto job = std::make_shared<PendingDiagnostics::Job>();
-  const bool beside = !m_shell && backgroundThreadEnabled() && kernelThreads() == 1 &&
-                      m_params.integrator == Integrator::Explicit && m_subSteps <= kBesideMaxSubSteps;
-  if (!beside) {
-    job->result = diagnostics();
-    job->done = true;
-    return PendingDiagnostics(std::move(job));
-  }
-  for (ControlNet& net : m_snapshot) allocateNet(net, m_current.rows());
-  copyStreaming(m_current, m_snapshot[0]);
-  copyStreaming(m_previous, m_snapshot[1]);
-  PendingDiagnostics::Job& j = *job;
-  j.pass = std::make_unique<DiagnosticPass>(m_space, m_stencil, m_snapshot[0], m_rest, m_snapshot[1],
-                                            m_uniformMass ? nullptr : m_massMoving.data());
-  j.weights = m_params.weights;
-  j.massScale = m_uniformMass ? massPerPoint() : 1.0;
-  j.dt = subStepSize();
-  j.derivedVelocity = derivedVelocitySum(m_current, m_previous);
-  j.work = std::make_unique<BackgroundWork>(j.pass->blocks(), [&j](int b) { j.pass->computeBlock(b); });
-  m_beside = job;
-  return PendingDiagnostics(std::move(job));
-}
-
-void Simulation::finishBeside() const {
-  if (!m_beside) return;
-  m_beside->finish();
-  m_beside.reset();
+Simulation::PointMasses Simulation::pointMasses() const {
+  PointMasses m;
+  if (m_uniformMass)
+    m.uniform = massPerPoint();
+  else
+    m.perPoint = m_massMoving.data();
+  return m;
 }
 
 ControlNet Simulation::staticSolution() const {

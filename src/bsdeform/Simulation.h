@@ -6,6 +6,7 @@
 /// automatic sub-stepping below the stability limit) or an unconditionally stable implicit
 /// scheme (Newmark average acceleration in three-level form, matrix factorised once).
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,26 +54,6 @@ enum class Status {
   NonFinite,  ///< a step produced NaN or infinity; the last finite state is kept
   Diverged,   ///< a coordinate exceeded the divergence limit; the last state is kept
   Refused,    ///< the step cannot be taken as asked (see Simulation::refusal()); nothing changed
-};
-
-/// Simulation::diagnosticsBeside(): a history row being computed beside the caller. Holds its
-/// values once finished, even after the Simulation is gone. Use it on the thread that uses
-/// the Simulation (its job is shared with it).
-class PendingDiagnostics {
- public:
-  PendingDiagnostics() = default;
-  /// Whether this stands for a row (default-constructed: none).
-  bool valid() const { return bool(m_job); }
-  /// The values: the first call waits for the background thread, running the blocks it has not
-  /// taken yet. Precondition: valid().
-  Diagnostics get() const;
-
-  struct Job;
-
- private:
-  friend class Simulation;
-  explicit PendingDiagnostics(std::shared_ptr<Job> job) : m_job(std::move(job)) {}
-  std::shared_ptr<Job> m_job;
 };
 
 /// Everything that defines a model. Defaults are the paper's §5 settings, except the start.
@@ -228,20 +209,18 @@ class Simulation {
   /// (Diagnostics.h): what a history row records. Equal to the three to rounding (1e-12
   /// relative, tested; the bending terms of large smooth states are ill-conditioned sums).
   Diagnostics diagnostics() const;
-  /// diagnostics() of the current state, computed on the background thread (Parallel.h) while
-  /// the caller goes on, typically with the next step: a run's history row then costs the
-  /// stepping thread a copy of the two nets instead of the row's arithmetic, when a second core
-  /// is free. The same values as diagnostics(), to the last bit.
-  /// The copy (two more nets of memory, allocated at the first call and reused) is written with
-  /// streaming stores: the background thread reads the copy, never the nets the steps rewrite,
-  /// because a core writing cache lines another core has just read waits for them (measured in
-  /// docs/benchmarks.md: reading the live nets made the 128^2 step 30-45 % slower).
-  /// Computed at once instead (no copy) when the background thread is disabled, when the
-  /// kernels already use more than one thread (kernelThreads()), for the implicit scheme and
-  /// above 16 sub-steps per step (a row then costs little next to a step).
-  /// A second call, and destruction, first finish the row before. Call it, and get() on what it
-  /// returns, from the thread that uses this Simulation.
-  PendingDiagnostics diagnosticsBeside() const;
+  /// The masses a diagnostics pass weighs the velocities with (Diagnostics.h).
+  struct PointMasses {
+    const double* perPoint = nullptr;  ///< per moving point (order of movingToNet), or null:
+    double uniform = 1.0;              ///< every moving point has this mass
+  };
+  PointMasses pointMasses() const;
+  /// sum W |current - previous|^2 over the points derived next to SIMPLY_SUPPORTED and BUILT_IN
+  /// sides (their part of the kinetic energy's sum; 0 without them).
+  double derivedVelocitySum() const { return derivedVelocitySum(m_current, m_previous); }
+  /// A number no other Simulation of this process has had: tells a model from one built later
+  /// at the same address (DiagnosticsBeside keeps copies per model).
+  std::uint64_t serial() const { return m_serial; }
   /// Load vector L (numMoving x 3, order of SplineSpace::movingToNet) of all forces at the
   /// current state and time.
   ControlNet loadVector() const;
@@ -321,8 +300,6 @@ class Simulation {
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
   const ControlNet& effectiveLoad(double t);
-  /// Finishes the row being computed beside, if any (it reads the snapshot nets).
-  void finishBeside() const;
   bool explicitSubStep(double t);
   bool implicitSubStep(double t);
   void fail(Status s, std::string message);
@@ -380,10 +357,7 @@ class Simulation {
   std::unique_ptr<EdgeMass::BandPlan> m_bandPlan;  ///< for massPerPoint(), built at the first explicit step
   ControlNet m_scratch;  ///< implicit: a full net (the stencil's argument)
   std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
-  /// The row being computed beside (diagnosticsBeside()) and its copy of the current and
-  /// previous nets (scratch of a const query, like the row itself).
-  mutable std::shared_ptr<PendingDiagnostics::Job> m_beside;
-  mutable ControlNet m_snapshot[2];
+  std::uint64_t m_serial;
 
   // SHELL
   std::unique_ptr<ShellEnergy> m_shell;

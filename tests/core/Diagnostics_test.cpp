@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "../support/ThreadSettings.h"
+#include "bsdeform/DiagnosticsBeside.h"
 #include "bsdeform/Parallel.h"
 #include "bsdeform/Simulation.h"
 
@@ -257,7 +258,8 @@ TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnost
     setKernelThreads(1);
     Diagnostics expected = sim->diagnostics();
     REQUIRE(expected.strain.total > 0.0);
-    PendingDiagnostics row = sim->diagnosticsBeside();
+    auto rows = std::make_unique<DiagnosticsBeside>();
+    PendingDiagnostics row = rows->begin(*sim);
     sim->advance(3);
     const Diagnostics beside = row.get();
     CHECK(std::memcmp(&beside, &expected, sizeof(Diagnostics)) == 0);
@@ -280,7 +282,7 @@ TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnost
       const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
       while (!busy && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
       CHECK(busy);
-      row = sim->diagnosticsBeside();
+      row = rows->begin(*sim);
       sim->advance(2);
       const Diagnostics late = row.get();
       release = true;
@@ -289,18 +291,30 @@ TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnost
     }
     setBackgroundThreadEnabled(true);  // end the back-off the blocker's long wait started
 
-    // A second row before the first was taken, then the simulation destroyed: each keeps its values.
+    // A second row before the first was taken; then the simulation destroyed while a row is
+    // computed (it reads only DiagnosticsBeside's copies), and a new model at the same place.
     expected = sim->diagnostics();
-    PendingDiagnostics first = sim->diagnosticsBeside();
-    PendingDiagnostics second = sim->diagnosticsBeside();
+    PendingDiagnostics first = rows->begin(*sim);
+    PendingDiagnostics second = rows->begin(*sim);
     sim->step();
     const Diagnostics third = sim->diagnostics();
-    PendingDiagnostics last = sim->diagnosticsBeside();
+    PendingDiagnostics last = rows->begin(*sim);
     sim.reset();
     const Diagnostics values[3] = {first.get(), second.get(), last.get()};
     CHECK(std::memcmp(&values[0], &expected, sizeof(Diagnostics)) == 0);
     CHECK(std::memcmp(&values[1], &expected, sizeof(Diagnostics)) == 0);
     CHECK(std::memcmp(&values[2], &third, sizeof(Diagnostics)) == 0);
+    p.weights.w20 *= 2.0;  // another model: the copies are made again
+    sim = std::make_unique<Simulation>(p, restNet(SplineSpace(p.degreeU, p.degreeV, p.numU, p.numV, c.bc)));
+    sim->addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0.3, -0.2, 5.0), ParamRect{0.2, 0.7, 0.3, 0.9}));
+    sim->advance(4);
+    const Diagnostics rebuilt = sim->diagnostics();
+    PendingDiagnostics again = rows->begin(*sim);
+    PendingDiagnostics pendingAtDestruction = rows->begin(*sim);
+    rows.reset();  // finishes the row
+    const Diagnostics afterRebuild[2] = {again.get(), pendingAtDestruction.get()};
+    CHECK(std::memcmp(&afterRebuild[0], &rebuilt, sizeof(Diagnostics)) == 0);
+    CHECK(std::memcmp(&afterRebuild[1], &rebuilt, sizeof(Diagnostics)) == 0);
   }
   // Computed at once: background thread off, or two kernel threads.
   ModelParameters p;
@@ -314,7 +328,8 @@ TEST_CASE("Diagnostics: a row computed beside the steps has the bits of diagnost
     setKernelThreads(variant == 1 ? 2 : 1);
     INFO((variant == 0 ? "background thread off" : "two kernel threads"));
     const Diagnostics expected = sim.diagnostics();
-    PendingDiagnostics row = sim.diagnosticsBeside();
+    DiagnosticsBeside beside;
+    PendingDiagnostics row = beside.begin(sim);
     sim.step();
     const Diagnostics got = row.get();
     CHECK(std::memcmp(&got, &expected, sizeof(Diagnostics)) == 0);

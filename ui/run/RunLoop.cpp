@@ -137,14 +137,14 @@ Failure RunLoop::checkOutputNames() const {
 
 // One history row: the diagnostics of the current state, computed once, in one pass over the
 // nets, on the background thread while the next step is taken
-// (bsdeform::Simulation::diagnosticsBeside()); written when the next row begins or the run ends.
+// (bsdeform::DiagnosticsBeside); written when the next row begins or the run ends.
 void RunLoop::record(Surface& s) {
   flushRow(s);
   const Simulation& sim = s.node->simulation();
   s.pending.time = sim.time();
   s.pending.steps = sim.stepCount();
   s.pending.subSteps = sim.subSteps();
-  s.pending.values = sim.diagnosticsBeside();
+  s.pending.values = s.beside->begin(sim);
   s.lastRecorded = sim.stepCount();
 }
 

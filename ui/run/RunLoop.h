@@ -18,6 +18,7 @@
 #include "RunSetup.h"
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/DiagnosticsBeside.h"
 #include "bsdeform/Simulation.h"
 
 class SoSeparator;
@@ -46,8 +47,11 @@ class RunLoop {
     History history;
     long lastRecorded = -1;  ///< step count of the last history row
     bool failed = false;
-    /// The last row begun: its values are computed beside the next step
-    /// (Simulation::diagnosticsBeside()) and written by flushRow().
+    /// Computes the rows beside the steps (shared: Surface lives in a QVector). Its destructor
+    /// finishes the row being computed, whose values `pending` keeps.
+    std::shared_ptr<DiagnosticsBeside> beside = std::make_shared<DiagnosticsBeside>();
+    /// The last row begun: its values are computed beside the next step (DiagnosticsBeside)
+    /// and written by flushRow().
     struct PendingRow {
       double time = 0.0;
       long steps = 0;
