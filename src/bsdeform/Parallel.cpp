@@ -2,6 +2,7 @@
 #include "bsdeform/Parallel.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -12,6 +13,11 @@
 #include <system_error>
 #include <thread>
 #include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #if defined(__linux__)
 #include <sched.h>
@@ -80,104 +86,61 @@ class Backoff {
   int m_serial = 0;  // serial jobs still to run
 };
 
-// A job's parts are taken from an atomic counter, so a worker that comes late finds them done
-// by the caller and nothing waits for it. Handshake: a job's fields are written before
-// m_helpers (release); a worker counts itself in m_active before it claims a helper slot, and
-// run() returns only after setting m_helpers to 0 and seeing m_active at 0, so no worker can
-// be inside a finished job when the next one is set up.
-class Pool {
+// The kernels' threads are TBB's (oneTBB, already in the process through Embree): one arena
+// per thread count, so a job never uses more than kernelThreads() threads, the caller included.
+// Each part is one task (simple partitioner, grain 1): a part's result does not depend on the
+// thread that runs it.
+class Kernels {
  public:
-  ~Pool() {
+  void run(int parts, int threads, const std::function<void(int)>& fn) {
+    bool serial;
     {
       std::lock_guard<std::mutex> lock(m_mutex);
-      m_stop = true;
+      serial = m_backoff.serial();
     }
-    m_wake.notify_all();
-    for (std::thread& t : m_workers) t.join();
-  }
-
-  // false if another job is running (the caller then runs its parts itself)
-  bool run(int parts, int threads, const std::function<void(int)>& fn) {
-    std::unique_lock<std::mutex> busy(m_busy, std::try_to_lock);
-    if (!busy.owns_lock()) return false;
-    if (m_backoff.serial()) return false;
-    while (int(m_workers.size()) < threads - 1) m_workers.emplace_back([this] { work(); });
-    m_fn = &fn;
-    m_parts = parts;
-    m_next.store(0, std::memory_order_relaxed);
-    m_pending.store(parts, std::memory_order_relaxed);
-    m_helpers.store(threads - 1, std::memory_order_release);
-    {
-      std::lock_guard<std::mutex> lock(m_mutex);  // a worker about to sleep sees it or is woken
-      m_generation.fetch_add(1, std::memory_order_release);
+    if (serial) {  // after a long wait for a descheduled thread: see Backoff
+      for (int p = 0; p < parts; ++p) fn(p);
+      return;
     }
-    m_wake.notify_all();
-    const auto start = std::chrono::steady_clock::now();
-    const int ownParts = runAvailable();
-    const auto ownEnd = std::chrono::steady_clock::now();
-    m_helpers.store(0, std::memory_order_seq_cst);  // no worker joins from now on
-    auto finished = [this] { return m_pending.load() == 0 && m_active.load() == 0; };
-    if (!spinUntil(finished)) {
-      std::unique_lock<std::mutex> lock(m_mutex);
-      m_done.wait(lock, finished);
+    const std::thread::id caller = std::this_thread::get_id();
+    int ownParts = 0;
+    std::chrono::steady_clock::duration ownTime{};
+    std::chrono::steady_clock::time_point ownEnd{};
+    const auto body = [&](const tbb::blocked_range<int>& r) {
+      const bool own = std::this_thread::get_id() == caller;
+      const auto start = own ? std::chrono::steady_clock::now() : std::chrono::steady_clock::time_point{};
+      for (int p = r.begin(); p != r.end(); ++p) fn(p);
+      if (own) {
+        ownEnd = std::chrono::steady_clock::now();
+        ownTime += ownEnd - start;
+        ownParts += r.size();
+      }
+    };
+    arena(threads).execute(
+        [&] { tbb::parallel_for(tbb::blocked_range<int>(0, parts, 1), body, tbb::simple_partitioner()); });
+    if (ownParts > 0) {
+      const auto waited = std::chrono::steady_clock::now() - ownEnd;
+      std::lock_guard<std::mutex> lock(m_mutex);
+      m_backoff.report(waited > 2 * (ownTime / ownParts) + std::chrono::microseconds(20));
     }
-    m_fn = nullptr;
-    const auto waited = std::chrono::steady_clock::now() - ownEnd;
-    const auto perPart = (ownEnd - start) / std::max(ownParts, 1);
-    m_backoff.report(ownParts > 0 && waited > 2 * perPart + std::chrono::microseconds(20));
-    return true;
   }
 
  private:
-  int runAvailable() {
-    int done = 0;
-    for (int p; (p = m_next.fetch_add(1)) < m_parts; ++done) (*m_fn)(p);
-    if (done > 0 && m_pending.fetch_sub(done) == done) notifyDone();
-    return done;
+  tbb::task_arena& arena(int threads) {
+    std::lock_guard<std::mutex> lock(m_mutex);
+    std::unique_ptr<tbb::task_arena>& a = m_arenas[size_t(threads)];
+    if (!a) a = std::make_unique<tbb::task_arena>(threads);
+    return *a;
   }
 
-  void notifyDone() {
-    { std::lock_guard<std::mutex> lock(m_mutex); }  // the caller is waiting or will see the count
-    m_done.notify_all();
-  }
-
-  void work() {
-    long seen = 0;
-    for (;;) {
-      auto news = [&] { return m_stop.load() || m_generation.load(std::memory_order_acquire) != seen; };
-      if (!spinUntil(news)) {
-        std::unique_lock<std::mutex> lock(m_mutex);
-        m_wake.wait(lock, news);
-      }
-      if (m_stop.load()) return;
-      seen = m_generation.load(std::memory_order_acquire);
-      m_active.fetch_add(1);
-      int wanted = m_helpers.load(std::memory_order_acquire);
-      while (wanted > 0 && !m_helpers.compare_exchange_weak(wanted, wanted - 1, std::memory_order_acquire)) {
-      }
-      if (wanted > 0) runAvailable();
-      if (m_active.fetch_sub(1) == 1) notifyDone();
-    }
-  }
-
-  std::mutex m_busy;   // one job at a time
-  std::mutex m_mutex;  // with the condition variables
-  std::condition_variable m_wake, m_done;
-  std::vector<std::thread> m_workers;
-  const std::function<void(int)>* m_fn = nullptr;
-  int m_parts = 0;
-  std::atomic<int> m_next{0};
-  std::atomic<int> m_pending{0};  // parts not finished
-  std::atomic<int> m_active{0};   // workers between joining and leaving a job
-  std::atomic<int> m_helpers{0};  // workers the job still takes
-  std::atomic<long> m_generation{0};
-  std::atomic<bool> m_stop{false};
+  std::mutex m_mutex;  // the arenas' table and the back-off
+  std::array<std::unique_ptr<tbb::task_arena>, 65> m_arenas;
   Backoff m_backoff;
 };
 
-Pool& pool() {
-  static Pool p;
-  return p;
+Kernels& kernels() {
+  static Kernels& k = *new Kernels;  // never destroyed: a job during static destruction still finds it
+  return k;
 }
 
 // CPUs this process may run on (its affinity mask: `taskset -c 1` gives 1).
@@ -353,8 +316,10 @@ void setKernelThreads(int threads) { g_threads.store(std::clamp(threads, 1, 64),
 
 void runParts(int parts, const std::function<void(int)>& fn) {
   const int threads = std::min(kernelThreads(), parts);
-  if (threads > 1 && pool().run(parts, threads, fn)) return;
-  for (int p = 0; p < parts; ++p) fn(p);
+  if (threads > 1)
+    kernels().run(parts, threads, fn);
+  else
+    for (int p = 0; p < parts; ++p) fn(p);
 }
 
 }  // namespace bsdeform

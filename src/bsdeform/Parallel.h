@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file Parallel.h
-/// A small persistent thread pool for the kernels that split a net into row blocks (the
-/// explicit step, the history diagnostics), and one background thread for work that runs beside
+/// Threads for the kernels that split a net into row blocks (the explicit step, the shell's
+/// forces, the history diagnostics): oneTBB's, in an arena per thread count (runParts()); and
+/// one background thread for work that runs beside
 /// the caller (BackgroundWork: a history row computed while the next step is taken).
 ///
 /// Determinism: callers split their work into parts whose results do not depend on which
@@ -24,12 +25,12 @@ int kernelThreads();
 /// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
 void setKernelThreads(int threads);
 
-/// Runs fn(part) once for every part = 0..parts-1 and returns when all are done. Parts are
-/// handed out in order to the calling thread and up to kernelThreads() - 1 pool threads. Runs
-/// everything on the caller when there is one thread or one part, when the pool is busy (a
-/// call from another thread, or from inside a part), and for a while after a job in which the
-/// caller waited much longer for a worker than a part takes (the other cores busy elsewhere:
-/// 16 jobs, doubling up to 4096 while it repeats).
+/// Runs fn(part) once for every part = 0..parts-1 and returns when all are done: one TBB task
+/// per part in an arena of kernelThreads() threads, the caller's included (TBB's worker threads
+/// are shared by the whole process; nested calls, and calls from several threads at once, are
+/// TBB's to schedule). Runs everything on the caller when there is one thread or one part, and
+/// for a while after a job in which the caller waited much longer for a worker than a part
+/// takes (the other cores busy elsewhere: 16 jobs, doubling up to 4096 while it repeats).
 void runParts(int parts, const std::function<void(int)>& fn);
 
 /// Whether BackgroundWork hands its parts to a background thread. Default: the

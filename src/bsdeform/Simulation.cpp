@@ -97,7 +97,7 @@ double Simulation::massPerPoint() const {
 }
 
 double Simulation::massAt(int i, int j) const {
-  if (m_shell) return m_shellMassNet[Eigen::Index(i) * m_space.netCols() + j];
+  if (m_shellModel) return m_shellModel->netMass()[Eigen::Index(i) * m_space.netCols() + j];
   if (m_params.massModel == MassModel::Nodal) return m_params.mass;
   const GramRows1D &gu = m_stencil.gramU(), &gv = m_stencil.gramV();
   return m_params.mass * gu.rowSum(gu.rowType(i)) * gv.rowSum(gv.rowType(j));
@@ -147,13 +147,18 @@ void Simulation::init() {
   }
 
   m_stencilLambda = m_stencil.eigenvalueBound();
-  // With NODAL mass, or LUMPED mass where every row sum is the interior one, M is a multiple of
-  // the identity and the symbol bound holds; a FREE side makes the lumped edge masses smaller.
+  auto paper = std::make_unique<PaperEnergy>(m_space, m_stencil, m_rest, m_params.reference == ElasticReference::Rest,
+                                             m_params.massModel == MassModel::Lumped, m_params.mass);
+  m_paper = paper.get();
+  m_energy = std::move(paper);
+  m_shellModel = nullptr;
+  m_shell = nullptr;
+  // M is a multiple of the identity with NODAL mass, or LUMPED mass where every row sum is the
+  // interior one; a FREE side makes the lumped edge masses smaller, and derived layers
+  // (SIMPLY_SUPPORTED, BUILT_IN) keep their mass: M = T^T W T (EdgeMass).
   const Boundaries& bc = m_space.boundaries();
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
-  // Derived layers (SIMPLY_SUPPORTED, BUILT_IN) keep their mass: M = T^T W T is not diagonal
-  // there (EdgeMass), and lambda_max(M^-1 A_II) is bounded on the whole layer space.
   m_edgeMass.reset();
   m_bandPlan.reset();
   m_derivedRows.clear();
@@ -166,12 +171,7 @@ void Simulation::init() {
     m_edgeMass->setPinned(pinnedMoving());
   }
   m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_edgeMass;
-  if (m_uniformMass)
-    m_elasticLambda = m_stencilLambda / massPerPoint();
-  else if (m_params.massModel == MassModel::Lumped)
-    m_elasticLambda = m_stencil.elementEigenvalueBound() / m_params.mass;
-  else
-    m_elasticLambda = m_stencil.symbolBound() / m_params.mass;  // derived layers, nodal mass
+  m_elasticLambda = m_energy->eigenvalueBound(m_current);
   if (m_uniformMass) {
     m_massMoving.resize(0);
   } else {
@@ -238,13 +238,10 @@ Eigen::SparseMatrix<double> Simulation::activeMatrix() const {
 }
 
 ControlNet Simulation::restOffset() const {
+  if (m_paper) return m_paper->restOffset();
   ControlNet c0;
-  if (m_params.reference == ElasticReference::Rest && m_params.energy == EnergyModel::Paper) {
-    m_stencil.applyMoving(m_rest, c0);
-  } else {
-    allocateNet(c0, m_space.numMoving());
-    c0.setZero();
-  }
+  allocateNet(c0, m_space.numMoving());
+  c0.setZero();
   return c0;
 }
 
@@ -352,9 +349,9 @@ void Simulation::applyStartRule() {
   const ControlNet& load = effectiveLoad(m_time);
   ControlNet elastic;
   if (m_shell)
-    shellGradient(m_current, elastic);
+    m_energy->gradient(m_current, elastic);
   else
-    m_stencil.applyMoving(m_current, elastic);
+    m_stencil.applyMoving(m_current, elastic);  // c0 is in the load
   const double delta = subStepSize();
   ControlNet acceleration = load - elastic;
   if (m_shell) {

@@ -13,6 +13,7 @@
 
 #include "bsdeform/Diagnostics.h"
 #include "bsdeform/EdgeMass.h"
+#include "bsdeform/ElasticEnergy.h"
 #include "bsdeform/Force.h"
 #include "bsdeform/ImplicitSystem.h"
 #include "bsdeform/Shell.h"
@@ -252,8 +253,10 @@ class Simulation {
   /// movingToNet): -dW/dP for SHELL (W the shell energy of the net the unknowns complete),
   /// c0 - A P for the paper's model.
   ControlNet elasticForce() const;
+  /// The model's elastic energy (ElasticEnergy.h): PaperEnergy or ShellModelEnergy.
+  const ElasticEnergy& energy() const { return *m_energy; }
   /// The shell energy (null for the paper's model).
-  const ShellEnergy* shell() const { return m_shell.get(); }
+  const ShellEnergy* shell() const { return m_shell; }
   /// SHELL: membrane and bending energy of the current state (zeros for the paper's model).
   ShellEnergies shellEnergies() const;
   /// SHELL, implicit: Newton iterations of the last step.
@@ -305,8 +308,6 @@ class Simulation {
   void fail(Status s, std::string message);
   // SHELL (SimulationShell.cpp)
   void initShell();
-  /// dW/dP on the unknowns (numMoving x 3): the full-net gradient folded through T.
-  void shellGradient(const ControlNet& net, ControlNet& out) const;
   /// a := M^-1 a on the unknowns (pinned rows: zero).
   void shellSolveMass(ControlNet& a) const;
   /// M a on the unknowns.
@@ -315,6 +316,8 @@ class Simulation {
   /// coordinates replaced by identity rows; `scale` multiplies H.
   void shellTangent(const ControlNet& net, double scale, double shift, bool project,
                     std::vector<Eigen::Triplet<double>>& out) const;
+  /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
+  void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   bool shellExplicitSubStep(double t);
   bool shellImplicitStep(double t);
   void shellUpdateBound();
@@ -359,19 +362,18 @@ class Simulation {
   std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
   std::uint64_t m_serial;
 
+  std::unique_ptr<ElasticEnergy> m_energy;
+  const PaperEnergy* m_paper = nullptr;  ///< m_energy for the paper's model, else null
+
   // SHELL
-  std::unique_ptr<ShellEnergy> m_shell;
-  Eigen::VectorXd m_shellMassNet;  ///< lumped mass of every net point (W)
+  const ShellModelEnergy* m_shellModel = nullptr;  ///< m_energy for SHELL, else null
+  const ShellEnergy* m_shell = nullptr;            ///< its ShellEnergy
   /// The unknowns' mass T^T W T: diagonal (m_shellMassDiag) unless some side has derived layers
   /// (m_shellMass, factorised without the pinned rows in m_shellMassSolver).
   Eigen::VectorXd m_shellMassDiag;
   Eigen::SparseMatrix<double> m_shellMass;
   struct MassSolver;
   std::shared_ptr<MassSolver> m_shellMassSolver;
-  /// T: for net point p, entries [start[p], start[p+1]) of (unknown, weight).
-  std::vector<int> m_foldStart;
-  std::vector<std::pair<Eigen::Index, double>> m_foldEntries;
-  mutable ControlNet m_gradNet;  ///< scratch: the full-net gradient
   mutable std::vector<Eigen::Triplet<double>> m_hessianScratch;  ///< scratch: the full-net Hessian
   /// Implicit: dW/dP at the current and previous state (valid while m_shellCache).
   ControlNet m_gradCurrent, m_gradPrevious;

@@ -77,29 +77,23 @@ LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet&
 }
 
 void Simulation::initShell() {
-  m_shell = std::make_unique<ShellEnergy>(m_space, m_rest, m_params.material);
-  m_shellMassNet = m_shell->lumpedMass();
-  // T: every net point in terms of the unknowns
+  auto model = std::make_unique<ShellModelEnergy>(m_space, m_rest, m_params.material);
+  m_shellModel = model.get();
+  m_shell = &model->shell();
+  m_energy = std::move(model);
+  m_paper = nullptr;
+  const std::vector<int>& foldStart = m_shellModel->foldStart();
+  const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
+  const Eigen::VectorXd& W = m_shellModel->netMass();
   const int cols = m_space.netCols();
-  const LayerRange &mu = m_space.movingU(), &mv = m_space.movingV();
-  m_foldStart.assign(size_t(m_space.netSize()) + 1, 0);
-  m_foldEntries.clear();
-  for (int i = 0; i < m_space.netRows(); ++i)
-    for (int j = 0; j < cols; ++j) {
-      for (const LayerWeight& wu : m_space.foldU(i))
-        for (const LayerWeight& wv : m_space.foldV(j))
-          m_foldEntries.emplace_back(Eigen::Index(wu.layer - mu.first) * mv.count + (wv.layer - mv.first),
-                                     wu.weight * wv.weight);
-      m_foldStart[size_t(i) * cols + j + 1] = int(m_foldEntries.size());
-    }
   // M = T^T W T
   const Eigen::Index n = m_space.numMoving();
   std::vector<Eigen::Triplet<double>> t;
   for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
-    for (int a = m_foldStart[size_t(p)]; a < m_foldStart[size_t(p) + 1]; ++a)
-      for (int b = m_foldStart[size_t(p)]; b < m_foldStart[size_t(p) + 1]; ++b)
-        t.emplace_back(int(m_foldEntries[size_t(a)].first), int(m_foldEntries[size_t(b)].first),
-                       m_shellMassNet[p] * m_foldEntries[size_t(a)].second * m_foldEntries[size_t(b)].second);
+    for (int a = foldStart[size_t(p)]; a < foldStart[size_t(p) + 1]; ++a)
+      for (int b = foldStart[size_t(p)]; b < foldStart[size_t(p) + 1]; ++b)
+        t.emplace_back(int(fold[size_t(a)].first), int(fold[size_t(b)].first),
+                       W[p] * fold[size_t(a)].second * fold[size_t(b)].second);
   m_shellMass.resize(n, n);
   m_shellMass.setFromTriplets(t.begin(), t.end());
   m_shellMassSolver.reset();
@@ -135,28 +129,16 @@ void Simulation::initShell() {
     for (int j = 0; j < cols; ++j)
       if (m_space.isDerived(i, j)) m_derivedRows.push_back(Eigen::Index(i) * cols + j);
   m_stencilLambda = 0.0;
-  m_elasticLambda = m_shell->eigenvalueBound(m_current, m_shellMassNet);
+  m_elasticLambda = m_energy->eigenvalueBound(m_current);
 }
 
 ControlNet Simulation::elasticForce() const {
   ControlNet f;
-  if (m_shell) {
-    shellGradient(m_current, f);
-    return -f;
-  }
-  m_stencil.applyMoving(m_current, f);
-  return restOffset() - f;
+  m_energy->gradient(m_current, f);
+  return -f;
 }
 
 ShellEnergies Simulation::shellEnergies() const { return m_shell ? m_shell->energy(m_current) : ShellEnergies(); }
-
-void Simulation::shellGradient(const ControlNet& net, ControlNet& out) const {
-  m_shell->gradient(net, m_gradNet);
-  out.setZero(m_space.numMoving(), 3);
-  for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
-    for (int a = m_foldStart[size_t(p)]; a < m_foldStart[size_t(p) + 1]; ++a)
-      out.row(m_foldEntries[size_t(a)].first) += m_foldEntries[size_t(a)].second * m_gradNet.row(p);
-}
 
 void Simulation::shellSolveMass(ControlNet& a) const {
   if (!m_shellMassSolver) {
@@ -188,17 +170,19 @@ void Simulation::shellTangent(const ControlNet& net, double scale, double shift,
                               std::vector<Eigen::Triplet<double>>& out) const {
   std::vector<Eigen::Triplet<double>>& h = m_hessianScratch;  // kept: a net's worth of triplets
   m_shell->hessian(net, project, h);
+  const std::vector<int>& foldStart = m_shellModel->foldStart();
+  const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
   out.clear();
   out.reserve(h.size() + size_t(3 * m_shellMass.nonZeros()));
   auto pinned = [&](Eigen::Index f) { return m_pinMask[size_t(m_space.movingToNet(f))] != 0; };
   for (const Eigen::Triplet<double>& e : h) {
     const Eigen::Index p = e.row() / 3, q = e.col() / 3;
     const int a = e.row() % 3, b = e.col() % 3;
-    for (int i = m_foldStart[size_t(p)]; i < m_foldStart[size_t(p) + 1]; ++i) {
-      const auto& [f, wf] = m_foldEntries[size_t(i)];
+    for (int i = foldStart[size_t(p)]; i < foldStart[size_t(p) + 1]; ++i) {
+      const auto& [f, wf] = fold[size_t(i)];
       if (pinned(f)) continue;
-      for (int j = m_foldStart[size_t(q)]; j < m_foldStart[size_t(q) + 1]; ++j) {
-        const auto& [g, wg] = m_foldEntries[size_t(j)];
+      for (int j = foldStart[size_t(q)]; j < foldStart[size_t(q) + 1]; ++j) {
+        const auto& [g, wg] = fold[size_t(j)];
         if (g > f || pinned(g)) continue;  // the lower triangle (CHOLMOD reads Lower)
         if (g == f && b > a) continue;
         out.emplace_back(int(3 * f + a), int(3 * g + b), scale * wf * wg * e.value());
@@ -216,7 +200,7 @@ void Simulation::shellTangent(const ControlNet& net, double scale, double shift,
 }
 
 void Simulation::shellUpdateBound() {
-  m_elasticLambda = m_shell->eigenvalueBound(m_current, m_shellMassNet);
+  m_elasticLambda = m_energy->eigenvalueBound(m_current);
   updateSubSteps();
 }
 
