@@ -105,6 +105,7 @@ double Simulation::massAt(int i, int j) const {
 
 void Simulation::holdPins(ControlNet& net) const {
   for (Eigen::Index r : m_pinned) net.row(r) = m_rest.row(r);
+  for (const ModelParameters::HeldCoordinate& h : m_params.heldCoordinates) net(h.point, h.axis) = m_rest(h.point, h.axis);
 }
 
 double Simulation::dampingPerPoint() const {
@@ -131,6 +132,26 @@ void Simulation::init() {
         if (!m_pinMask[size_t(r)]) m_pinned.push_back(r);
         m_pinMask[size_t(r)] = 1;
       }
+  }
+
+  m_heldMask.assign(size_t(3 * m_space.numMoving()), 0);
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
+    if (m_pinMask[size_t(m_space.movingToNet(f))]) m_heldMask[size_t(3 * f)] = m_heldMask[size_t(3 * f + 1)] = m_heldMask[size_t(3 * f + 2)] = 1;
+  if (!m_params.heldCoordinates.empty()) {
+    require(m_params.energy == EnergyModel::Shell, "heldCoordinates: only the SHELL energy holds single coordinates");
+    require(!m_space.hasDerived(),
+            "heldCoordinates: not with SIMPLY_SUPPORTED or BUILT_IN sides (their mass couples the coordinates)");
+    std::vector<Eigen::Index> movingOf(size_t(m_space.netSize()), -1);
+    for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) movingOf[size_t(m_space.movingToNet(f))] = f;
+    for (size_t k = 0; k < m_params.heldCoordinates.size(); ++k) {
+      const ModelParameters::HeldCoordinate& h = m_params.heldCoordinates[k];
+      require(h.axis >= 0 && h.axis <= 2, "heldCoordinates[" + std::to_string(k) + "]: axis must be 0, 1 or 2, got " +
+                                              std::to_string(h.axis));
+      require(h.point >= 0 && h.point < m_space.netSize() && movingOf[size_t(h.point)] >= 0,
+              "heldCoordinates[" + std::to_string(k) + "]: net row " + std::to_string(h.point) +
+                  " is not a moving control point");
+      m_heldMask[size_t(3 * movingOf[size_t(h.point)] + h.axis)] = 1;
+    }
   }
 
   allocateNet(m_current, m_rest.rows());
@@ -360,6 +381,7 @@ void Simulation::applyStartRule() {
       const Eigen::Index r = m_space.movingToNet(f);
       if (!m_pinMask[size_t(r)]) m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta) * acceleration.row(f);
     }
+    holdPins(m_previous);  // held coordinates
     m_space.completeNet(m_previous, &m_rest);
     m_shellCache = false;
     return;
@@ -579,6 +601,12 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
     }
     m_space.completeNet(cur, &m_rest);
     m_space.completeNet(prev, &m_rest);
+  }
+  if (!m_params.heldCoordinates.empty()) {  // restored exactly (no derived layers: refused in init())
+    holdPins(cur);
+    holdPins(prev);
+    m_space.refreshPeriodicCopies(cur);
+    m_space.refreshPeriodicCopies(prev);
   }
   m_seamMismatch = std::max(m_seamMismatch, seam);
   m_current = std::move(cur);

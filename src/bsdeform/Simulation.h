@@ -66,6 +66,16 @@ struct ModelParameters {
   /// the knot span containing it (spans half-open, the last closed at 1), so S(u, v) stays at
   /// its rest position.
   std::vector<Eigen::Vector2d> pins;
+  /// SHELL only: single coordinates held at their rest values, each (net row of a moving
+  /// control point, axis 0..2): rollers, and the symmetry conditions that remove a free body's
+  /// rigid motions without a reaction (a point on a symmetry plane keeps its coordinate normal
+  /// to it). Honoured by both time steppers and the static solver; not with SIMPLY_SUPPORTED or
+  /// BUILT_IN sides (their mass is not diagonal).
+  struct HeldCoordinate {
+    Eigen::Index point = 0;
+    int axis = 0;
+  };
+  std::vector<HeldCoordinate> heldCoordinates;
   Weights weights;               ///< omega_10 .. omega_02
   MassModel massModel = MassModel::Nodal;
   double mass = 1.0;     ///< m (> 0): per control point (Nodal) or per unit area (Lumped)
@@ -273,6 +283,9 @@ class Simulation {
   double massAt(int i, int j) const;
   /// Net rows of the points held by pins (moving points only).
   const std::vector<Eigen::Index>& pinnedRows() const { return m_pinned; }
+  /// Whether coordinate `axis` of moving point f (order of movingToNet) is held: by a pin or by
+  /// ModelParameters::heldCoordinates.
+  bool heldCoordinate(Eigen::Index f, int axis) const { return m_heldMask[size_t(3 * f + axis)] != 0; }
 
   /// S(u, v) on the current net.
   SurfacePoint evaluate(double u, double v, int order = 1) const { return m_space.evaluate(m_current, u, v, order); }
@@ -336,6 +349,7 @@ class Simulation {
   ControlNet m_load;           ///< scratch
   std::vector<Eigen::Index> m_pinned;  ///< net rows held by pins
   std::vector<char> m_pinMask;         ///< per net row
+  std::vector<char> m_heldMask;        ///< per coordinate 3 f + axis of the moving points (pins too)
   double m_seamMismatch = 0.0;
   bool m_uniformMass = true;      ///< every moving point has massPerPoint() (else m_massMoving)
   Eigen::VectorXd m_massMoving;   ///< per moving point, when not uniform

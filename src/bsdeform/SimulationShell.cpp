@@ -174,16 +174,16 @@ void Simulation::shellTangent(const ControlNet& net, double scale, double shift,
   const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
   out.clear();
   out.reserve(h.size() + size_t(3 * m_shellMass.nonZeros()));
-  auto pinned = [&](Eigen::Index f) { return m_pinMask[size_t(m_space.movingToNet(f))] != 0; };
+  auto held = [&](Eigen::Index coordinate) { return m_heldMask[size_t(coordinate)] != 0; };
   for (const Eigen::Triplet<double>& e : h) {
     const Eigen::Index p = e.row() / 3, q = e.col() / 3;
     const int a = e.row() % 3, b = e.col() % 3;
     for (int i = foldStart[size_t(p)]; i < foldStart[size_t(p) + 1]; ++i) {
       const auto& [f, wf] = fold[size_t(i)];
-      if (pinned(f)) continue;
+      if (held(3 * f + a)) continue;
       for (int j = foldStart[size_t(q)]; j < foldStart[size_t(q) + 1]; ++j) {
         const auto& [g, wg] = fold[size_t(j)];
-        if (g > f || pinned(g)) continue;  // the lower triangle (CHOLMOD reads Lower)
+        if (g > f || held(3 * g + b)) continue;  // the lower triangle (CHOLMOD reads Lower)
         if (g == f && b > a) continue;
         out.emplace_back(int(3 * f + a), int(3 * g + b), scale * wf * wg * e.value());
       }
@@ -191,12 +191,13 @@ void Simulation::shellTangent(const ControlNet& net, double scale, double shift,
   }
   for (int k = 0; k < m_shellMass.outerSize(); ++k)
     for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
-      if (it.col() > it.row() || pinned(it.row()) || pinned(it.col())) continue;
-      for (int c = 0; c < 3; ++c) out.emplace_back(int(3 * it.row() + c), int(3 * it.col() + c), shift * it.value());
+      if (it.col() > it.row()) continue;
+      for (int c = 0; c < 3; ++c)
+        if (!held(3 * it.row() + c) && !held(3 * it.col() + c))
+          out.emplace_back(int(3 * it.row() + c), int(3 * it.col() + c), shift * it.value());
     }
-  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
-    if (pinned(f))
-      for (int c = 0; c < 3; ++c) out.emplace_back(int(3 * f + c), int(3 * f + c), 1.0);
+  for (Eigen::Index k = 0; k < 3 * m_space.numMoving(); ++k)
+    if (held(k)) out.emplace_back(int(k), int(k), 1.0);
 }
 
 void Simulation::shellUpdateBound() {
@@ -217,7 +218,9 @@ bool Simulation::shellExplicitSubStep(double t) {
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
     const Eigen::Index r = m_space.movingToNet(f);
     if (m_pinMask[size_t(r)]) continue;
-    const Eigen::RowVector3d next = m_current.row(r) + gamma * (m_current.row(r) - m_previous.row(r)) + alpha * a.row(f);
+    Eigen::RowVector3d next = m_current.row(r) + gamma * (m_current.row(r) - m_previous.row(r)) + alpha * a.row(f);
+    for (int c = 0; c < 3; ++c)
+      if (heldCoordinate(f, c)) next[c] = m_rest(r, c);
     ok &= next.cwiseAbs().maxCoeff() <= m_divergenceLimit;  // false for NaN
     m_previous.row(r) = next;
   }
@@ -242,8 +245,6 @@ bool Simulation::shellImplicitStep(double t) {
   }
   const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * shellApplyMass(P - Pm);
   const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
-  std::vector<char> pinned(static_cast<size_t>(m_space.numMoving()));
-  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
   ControlNet net = m_current;
   ControlNet x = P + (P - Pm), g, R;
   auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
@@ -252,11 +253,13 @@ bool Simulation::shellImplicitStep(double t) {
     shellGradient(net, gi);
     Ri = a * shellApplyMass(xi - P) + 0.25 * gi - fixed;
     for (Eigen::Index f = 0; f < Ri.rows(); ++f)
-      if (pinned[size_t(f)]) Ri.row(f).setZero();
+      for (int c = 0; c < 3; ++c)
+        if (heldCoordinate(f, c)) Ri(f, c) = 0.0;
     return Ri.norm();
   };
   for (Eigen::Index f = 0; f < x.rows(); ++f)
-    if (pinned[size_t(f)]) x.row(f) = P.row(f);
+    for (int c = 0; c < 3; ++c)
+      if (heldCoordinate(f, c)) x(f, c) = P(f, c);
   // a failed step leaves the rejected state current and the last good one previous (step())
   auto reject = [&]() {
     m_space.scatterMoving(x, m_previous);
@@ -342,8 +345,6 @@ bool Simulation::shellImplicitStep(double t) {
 // loads balance.
 StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
   const Eigen::Index n = m_space.numMoving();
-  std::vector<char> pinned(static_cast<size_t>(n));
-  for (Eigen::Index f = 0; f < n; ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
   bool conservative = true;
   for (const auto& f : m_forces) conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
   ControlNet net = m_rest;
@@ -361,7 +362,8 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     st.L = conservative ? (factor * L0).eval() : (factor * loadAt(net, 0.0)).eval();
     st.R = st.g - st.L;
     for (Eigen::Index f = 0; f < st.R.rows(); ++f)
-      if (pinned[size_t(f)]) st.R.row(f).setZero();
+      for (int c = 0; c < 3; ++c)
+        if (heldCoordinate(f, c)) st.R(f, c) = 0.0;
     st.r = st.R.norm() / (st.L.norm() + st.g.norm() + 1e-300);
     st.merit = conservative ? m_shell->energy(net).total() - (st.L.array() * xi.array()).sum() : st.R.norm();
   };

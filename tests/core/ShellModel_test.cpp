@@ -334,3 +334,53 @@ TEST_CASE("SHELL pressurised open tube follows the membrane's closed-form pressu
     CHECK(inc.loadFactor * pmax == Approx(closedForm).epsilon(1e-4));
   }
 }
+
+TEST_CASE("SHELL held coordinates stay at rest in both steppers and the static solve, and are refused where they "
+          "cannot hold",
+          "[shell]") {
+  // A free sheet under a sideways and downward load with the middle row's y held (a roller
+  // along x) and one point's z held: those coordinates keep their rest values exactly, the
+  // others move, and the statics reach equilibrium (the held point's z carries the weight).
+  ModelParameters p = shellParams(3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const SplineSpace s(3, 3, 6, 6, p.boundaries);
+  const Eigen::Index middle = s.movingToNet(s.numMoving() / 2);
+  for (Eigen::Index f = 0; f < s.numMoving(); ++f) p.heldCoordinates.push_back({s.movingToNet(f), 1});
+  p.heldCoordinates.push_back({middle, 2});
+  p.heldCoordinates.push_back({middle, 0});
+  for (Integrator integrator : {Integrator::Explicit, Integrator::Implicit}) {
+    CAPTURE(int(integrator));
+    p.integrator = integrator;
+    p.timeStep = 0.01;
+    Simulation sim(p);
+    sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0.0, 3.0, -5.0)));
+    REQUIRE(sim.advance(10) == Status::Ok);
+    for (Eigen::Index f = 0; f < s.numMoving(); ++f) {
+      const Eigen::Index r = s.movingToNet(f);
+      CHECK(sim.current()(r, 1) == sim.rest()(r, 1));
+      CHECK(sim.heldCoordinate(f, 1));
+    }
+    CHECK(sim.current()(middle, 2) == sim.rest()(middle, 2));
+    CHECK((sim.current() - sim.rest()).col(2).cwiseAbs().maxCoeff() > 1e-4);  // the rest fell
+  }
+  p.integrator = Integrator::Explicit;
+  Simulation sim(p);
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0.0, 3.0, -5.0)));
+  const StaticResult r = sim.solveStatic(1e-9, 40);
+  CHECK(r.residual < 1e-9);
+  CHECK(r.net(middle, 2) == sim.rest()(middle, 2));
+  CHECK((r.net - sim.rest()).col(1).cwiseAbs().maxCoeff() == 0.0);
+  // refused: the paper's model, derived layers, a bad axis or a held (not moving) point
+  ModelParameters bad = p;
+  bad.energy = EnergyModel::Paper;
+  CHECK_THROWS_WITH(Simulation(bad), Catch::Contains("heldCoordinates") && Catch::Contains("SHELL"));
+  bad = p;
+  bad.boundaries.vMax = Boundary::SimplySupported;
+  CHECK_THROWS_WITH(Simulation(bad), Catch::Contains("heldCoordinates") && Catch::Contains("SIMPLY_SUPPORTED"));
+  bad = p;
+  bad.heldCoordinates = {{middle, 3}};
+  CHECK_THROWS_WITH(Simulation(bad), Catch::Contains("axis must be 0, 1 or 2, got 3"));
+  bad = p;
+  bad.boundaries.uMin = Boundary::Clamped;
+  bad.heldCoordinates = {{0, 2}};
+  CHECK_THROWS_WITH(Simulation(bad), Catch::Contains("net row 0 is not a moving control point"));
+}
