@@ -340,11 +340,11 @@ void Simulation::clearForces() {
   updateSubSteps();
 }
 
-const ControlNet& Simulation::effectiveLoad(double t) {
+const ControlNet& Simulation::effectiveLoad(double t, double stepSize) {
   if (!m_hasVariableForces) return m_constantLoad;
   allocateNet(m_load, m_constantLoad.rows());
   m_load = m_constantLoad;
-  const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), t);
+  const LoadContext ctx = loadContext(m_current, m_previous, stepSize > 0.0 ? stepSize : subStepSize(), t);
   for (const auto& f : m_forces)
     if (f->dependence() != kConstant) f->addLoad(ctx, m_load);
   return m_load;

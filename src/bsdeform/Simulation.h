@@ -315,7 +315,8 @@ class Simulation {
   void rebuildConstantLoad();
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
-  const ControlNet& effectiveLoad(double t);
+  /// `stepSize`: of the velocity (current - previous) / stepSize the forces see; 0: subStepSize().
+  const ControlNet& effectiveLoad(double t, double stepSize = 0.0);
   bool explicitSubStep(double t);
   bool implicitSubStep(double t);
   void fail(Status s, std::string message);
@@ -332,7 +333,12 @@ class Simulation {
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   bool shellExplicitSubStep(double t);
+  /// One implicit step of Delta t from t; when Newton's method fails, the step is taken again
+  /// in 2, 4, ... 16 equal pieces (the velocity kept), so a fast change (a load ramped by the
+  /// wall clock, a snap) costs time instead of stopping the run.
   bool shellImplicitStep(double t);
+  /// One three-level Newmark step of size h from t (the previous net h before the current).
+  bool shellImplicitStepOf(double t, double h);
   void shellUpdateBound();
   StaticResult solveStaticShell(double tolerance, int maxIterations, int loadSteps) const;
   StaticResult solveStaticPaper(double tolerance, int maxLoadIterations, LinearSolver solver, double loadFactor) const;

@@ -234,8 +234,40 @@ bool Simulation::shellExplicitSubStep(double t) {
 //   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
 // solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
 bool Simulation::shellImplicitStep(double t) {
-  const ControlNet& load = effectiveLoad(t);
-  const double dt = m_params.timeStep, c = m_params.damping;
+  const double dt = m_params.timeStep;
+  const ControlNet start = m_current, before = m_previous;
+  if (shellImplicitStepOf(t, dt)) return true;
+  std::string failure = m_solveFailure;
+  for (int pieces = 2; pieces <= 16 && m_current.allFinite(); pieces *= 2) {
+    const double h = dt / pieces;
+    // the same velocity, over a piece: an affine combination keeps held and derived points
+    m_current = start;
+    m_previous = start - (start - before) / double(pieces);
+    m_shellCache = false;
+    bool ok = true;
+    int iterations = 0;
+    for (int k = 0; k < pieces && ok; ++k) {
+      ok = shellImplicitStepOf(t + k * h, h);
+      iterations += m_newtonIterations;
+    }
+    if (ok) {
+      m_previous = start;  // one step before, as the next step expects
+      m_shellCache = false;
+      m_newtonIterations = iterations;
+      m_solveFailure.clear();
+      return true;
+    }
+    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+  }
+  m_solveFailure = failure;
+  m_previous = start;  // step() keeps it: the last valid state
+  m_shellCache = false;
+  return false;
+}
+
+bool Simulation::shellImplicitStepOf(double t, double dt) {
+  const ControlNet& load = effectiveLoad(t, dt);
+  const double c = m_params.damping;
   const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
   const ControlNet P = m_space.gatherMoving(m_current), Pm = m_space.gatherMoving(m_previous);
   if (!m_shellCache) {
