@@ -102,7 +102,7 @@ void ShellExplicitStep(benchmark::State& state) {
 
 BENCHMARK(ShellForces)->RangeMultiplier(2)->Range(32, 512)->Unit(benchmark::kMillisecond);
 BENCHMARK(ShellBound)->Arg(32)->Arg(128)->Unit(benchmark::kMillisecond);
-BENCHMARK(ShellImplicitStep)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);
+BENCHMARK(ShellImplicitStep)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 BENCHMARK(ShellExplicitStep)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
