@@ -5,6 +5,7 @@
 #include "bsdeform/HugePages.h"
 #include "bsdeform/NumberText.h"
 #include "bsdeform/Parallel.h"
+#include "bsdeform/TimeStepper.h"
 
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
@@ -86,6 +87,10 @@ Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
 }
 
 Simulation::~Simulation() = default;
+
+int Simulation::lastNewtonIterations() const { return m_stepper->newtonIterations(); }
+
+const ImplicitSystem* Simulation::implicitSystem() const { return m_stepper->implicitSystem(); }
 
 double Simulation::massPerPoint() const {
   if (m_params.energy == EnergyModel::Shell)
@@ -181,7 +186,6 @@ void Simulation::init() {
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
   m_edgeMass.reset();
-  m_bandPlan.reset();
   m_derivedRows.clear();
   if (m_space.hasDerived()) {
     m_edgeMass = std::make_unique<EdgeMass>(m_space, m_stencil.gramU(), m_stencil.gramV(),
@@ -202,34 +206,10 @@ void Simulation::init() {
       m_massMoving[f] = massAt(int(r / m_space.netCols()), int(r % m_space.netCols()));
     }
   }
-  if (m_params.integrator == Integrator::Implicit) {
-    // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
-    // next to a free edge
-    const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
-    Eigen::VectorXd massTerm;
-    const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
-    std::vector<Eigen::Triplet<double>> coupling;
-    double kappa = 0.0;
-    if (m_uniformMass) {
-      massTerm = Eigen::VectorXd::Constant(m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
-    } else if (m_edgeMass) {
-      massTerm.resize(m_space.numMoving());
-      for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
-        const Eigen::Index r = m_space.movingToNet(f);
-        massTerm[f] = factor * m_edgeMass->diagonal(int(r / m_space.netCols()), int(r % m_space.netCols()));
-      }
-      coupling = m_edgeMass->offDiagonal(factor);
-      // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
-      // kappa(M^-1 K), what Jacobi-CG meets in practice (docs/benchmarks.md, issue 23); the
-      // diagonal formula is far too pessimistic with the coupling
-      kappa = 1.0 + m_elasticLambda / (4.0 * factor);
-    } else {
-      massTerm = m_massMoving * factor;
-    }
-    m_implicit = std::make_unique<ImplicitSystem>(m_space, m_stencil, massTerm, pinnedMoving(), m_params.implicitSolver,
-                                                  m_params.solverTolerance, m_params.maxSolverIterations,
-                                                  std::move(coupling), kappa);
-  }
+  if (m_params.integrator == Integrator::Implicit)
+    m_stepper = std::make_unique<PaperImplicitStepper>(*this);
+  else
+    m_stepper = std::make_unique<PaperExplicitStepper>(*this);
   rebuildConstantLoad();
   updateSubSteps();
 }
@@ -383,7 +363,7 @@ void Simulation::applyStartRule() {
     }
     holdPins(m_previous);  // held coordinates
     m_space.completeNet(m_previous, &m_rest);
-    m_shellCache = false;
+    m_stepper->invalidate();
     return;
   }
   if (m_edgeMass) m_edgeMass->solve(acceleration);
@@ -394,86 +374,6 @@ void Simulation::applyStartRule() {
     m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta / m) * acceleration.row(f);
   }
   m_space.completeNet(m_previous, &m_rest);
-}
-
-bool Simulation::explicitSubStep(double t) {
-  const ControlNet& load = effectiveLoad(t);
-  const double dt = subStepSize(), m = massPerPoint(), c = dampingPerPoint();
-  const double g = 2.0 * m + dt * c;
-  const double alpha = 2.0 * dt * dt / g, gamma = (2.0 * m - dt * c) / g;
-  // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
-  // ratio s (damping scales alike, so gamma does not change).
-  std::function<double(int, int)> scale;
-  StiffnessStencil::BandSolve bandSolve;
-  if (m_edgeMass) {
-    // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
-    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(m_edgeMass->bandPlan(m_stencil.bandPoints(), m));
-    bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
-      for (size_t k = k0; k < k1; ++k) {
-        Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
-        for (int e = plan->start[k]; e < plan->start[k + 1]; ++e) {
-          const auto& entry = plan->entries[size_t(e)];
-          assert(size_t(entry.first) >= k0 && size_t(entry.first) < k1);
-          acc += entry.second * r[size_t(entry.first) - k0];
-        }
-        out[k - k0] = acc;
-      }
-    };
-  } else if (!m_uniformMass) {
-    scale = [this, m](int i, int j) { return m / massAt(i, j); };
-  }
-  // The new state overwrites the previous one (same buffer); held points are equal in both.
-  const bool ok = m_stencil.centralDifferenceUpdate(m_current, m_previous, load, alpha, gamma, m_divergenceLimit,
-                                                    scale, bandSolve);
-  holdPins(m_previous);
-  m_space.completeNet(m_previous, &m_rest);
-  m_current.swap(m_previous);
-  return ok;
-}
-
-bool Simulation::implicitSubStep(double t) {
-  const ControlNet& load = effectiveLoad(t);
-  const double dt = m_params.timeStep, m = massPerPoint(), c = dampingPerPoint();
-  // Newmark (docs/math.md §6) for the increment d = P+ - P: with K = M/dt^2 + C/(2dt) + A_II/4,
-  //   K d = L - (A_II V + A_IB P_B) + (M/dt^2 - C/(2dt)) (P - P-),   V = P + (P- - P)/4,
-  // where A_II V + A_IB P_B is the stencil applied to the whole net V (its held points are
-  // their rest values exactly): no matrix, and a state at rest gives d = 0 exactly.
-  allocateNet(m_scratch, m_current.rows());
-  m_scratch = m_current + 0.25 * (m_previous - m_current);
-  ControlNet rhs;
-  m_stencil.applyMoving(m_scratch, rhs);
-  const ControlNet velocity = m_space.gatherMoving(m_current) - m_space.gatherMoving(m_previous);  // P - P-
-  if (m_uniformMass) {
-    rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
-  } else if (m_edgeMass) {
-    ControlNet Mv;
-    m_edgeMass->apply(velocity, Mv);
-    rhs = load - rhs + (1.0 / (dt * dt) - (c / m) / (2.0 * dt)) * Mv;
-  } else {
-    const double cm = c / m;
-    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (m_massMoving.asDiagonal() * velocity);
-  }
-  for (Eigen::Index f : m_implicit->pinned()) rhs.row(f).setZero();  // pinned rows of K are D: d = 0
-  // CG starts from the constant-velocity prediction d = P - P-.
-  ControlNet next = velocity;
-  const bool solved = m_implicit->solve(rhs, next);
-  next += m_space.gatherMoving(m_current);
-  bool ok = solved;
-  for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= m_divergenceLimit;
-  m_space.scatterMoving(next, m_previous);
-  if (!m_pinned.empty() || m_space.hasDerived()) {
-    holdPins(m_previous);
-    m_space.completeNet(m_previous, &m_rest);
-  }
-  m_current.swap(m_previous);
-  if (!solved && next.allFinite()) {
-    std::ostringstream os;
-    os << "conjugate gradients stopped at relative residual " << m_implicit->lastResidual() << " after "
-       << m_implicit->lastIterations() << " iterations (solverTolerance " << m_params.solverTolerance
-       << ", maxSolverIterations " << m_params.maxSolverIterations << ")";
-    m_solveFailure = os.str();
-  }
-  return ok;
 }
 
 std::string Simulation::refusal() const {
@@ -504,23 +404,20 @@ Status Simulation::step() {
   }
   if (m_startPending) applyStartRule();
   const double dt = subStepSize();
-  m_solveFailure.clear();
+  m_stepper->clearFailure();
   for (int s = 0; s < m_subSteps; ++s) {
     const double t = m_time + s * dt;
-    const bool ok = m_shell ? (m_params.integrator == Integrator::Explicit ? shellExplicitSubStep(t)
-                                                                            : shellImplicitStep(t))
-                    : (m_params.integrator == Integrator::Explicit) ? explicitSubStep(t)
-                                                                    : implicitSubStep(t);
+    const bool ok = m_stepper->subStep(t);
     if (!ok) {
       // m_current holds the rejected state, m_previous the last good one.
       const bool finite = m_current.allFinite();
       m_current = m_previous;
-      m_shellCache = false;
+      m_stepper->invalidate();
       std::ostringstream os;
       os << (finite ? "diverged" : "non-finite state") << " at t = " << t + dt << " (step " << m_steps + 1
          << ", sub-step " << s + 1 << " of " << m_subSteps << "); last valid state kept. ";
-      if (!m_solveFailure.empty())
-        os << "The implicit solve failed: " << m_solveFailure << ".";
+      if (!m_stepper->solveFailure().empty())
+        os << "The implicit solve failed: " << m_stepper->solveFailure() << ".";
       else if (finite)
         os << "A coordinate exceeded " << m_divergenceLimit << ".";
       os << " Stability limit " << stabilityLimit() << ", sub-step " << dt << ".";
@@ -544,7 +441,7 @@ Status Simulation::advance(long steps) {
 }
 
 void Simulation::reset() {
-  m_shellCache = false;
+  m_stepper->invalidate();
   if (m_shell && m_params.integrator == Integrator::Explicit) {
     m_current = m_rest;
     m_startPending = true;
@@ -624,7 +521,7 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   m_status = Status::Ok;
   m_statusMessage.clear();
   m_startPending = false;
-  m_shellCache = false;
+  m_stepper->invalidate();
 }
 
 void Simulation::setState(const ControlNet& current, double time, long steps, HeldPoints held) {

@@ -5,6 +5,11 @@
 /// points, integrated with the corrected explicit central-difference scheme (design.md §2, with
 /// automatic sub-stepping below the stability limit) or an unconditionally stable implicit
 /// scheme (Newmark average acceleration in three-level form, matrix factorised once).
+///
+/// A Simulation is a model (the spline space, the held points, the mass and the elastic energy,
+/// ElasticEnergy.h), a state (current and previous nets, time, status) and a time stepper that
+/// advances the state one sub-step (TimeStepper.h, not installed: the paper's and the shell's
+/// explicit and implicit schemes, each with its own data).
 
 #include <cstdint>
 #include <memory>
@@ -21,6 +26,8 @@
 #include "bsdeform/StiffnessStencil.h"
 
 namespace bsdeform {
+
+class TimeStepper;
 
 enum class Integrator {
   Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
@@ -270,11 +277,11 @@ class Simulation {
   /// SHELL: membrane and bending energy of the current state (zeros for the paper's model).
   ShellEnergies shellEnergies() const;
   /// SHELL, implicit: Newton iterations of the last step.
-  int lastNewtonIterations() const { return m_newtonIterations; }
+  int lastNewtonIterations() const;
 
   /// The implicit scheme's linear system (null for the explicit scheme): its method, condition
   /// bound and the last solve's iterations.
-  const ImplicitSystem* implicitSystem() const { return m_implicit.get(); }
+  const ImplicitSystem* implicitSystem() const;
 
   /// Mass of net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
   /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge). The
@@ -317,8 +324,6 @@ class Simulation {
   /// Constant load plus the variable forces evaluated at the current state and time t.
   /// `stepSize`: of the velocity (current - previous) / stepSize the forces see; 0: subStepSize().
   const ControlNet& effectiveLoad(double t, double stepSize = 0.0);
-  bool explicitSubStep(double t);
-  bool implicitSubStep(double t);
   void fail(Status s, std::string message);
   // SHELL (SimulationShell.cpp)
   void initShell();
@@ -332,13 +337,6 @@ class Simulation {
                     std::vector<Eigen::Triplet<double>>& out) const;
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
-  bool shellExplicitSubStep(double t);
-  /// One implicit step of Delta t from t; when Newton's method fails, the step is taken again
-  /// in 2, 4, ... 16 equal pieces (the velocity kept), so a fast change (a load ramped by the
-  /// wall clock, a snap) costs time instead of stopping the run.
-  bool shellImplicitStep(double t);
-  /// One three-level Newmark step of size h from t (the previous net h before the current).
-  bool shellImplicitStepOf(double t, double h);
   void shellUpdateBound();
   StaticResult solveStaticShell(double tolerance, int maxIterations, int loadSteps) const;
   StaticResult solveStaticPaper(double tolerance, int maxLoadIterations, LinearSolver solver, double loadFactor) const;
@@ -372,14 +370,10 @@ class Simulation {
   long m_steps = 0;
   Status m_status = Status::Ok;
   std::string m_statusMessage;
-  std::unique_ptr<ImplicitSystem> m_implicit;
   /// The mass of the unknowns next to sides with derived layers (null without them), the
   /// derived points' net rows, and the band's scratch for the explicit step.
   std::unique_ptr<EdgeMass> m_edgeMass;
   std::vector<Eigen::Index> m_derivedRows;
-  std::unique_ptr<EdgeMass::BandPlan> m_bandPlan;  ///< for massPerPoint(), built at the first explicit step
-  ControlNet m_scratch;  ///< implicit: a full net (the stencil's argument)
-  std::string m_solveFailure;  ///< why the last implicit solve failed, if it did
   std::uint64_t m_serial;
 
   std::unique_ptr<ElasticEnergy> m_energy;
@@ -395,12 +389,12 @@ class Simulation {
   struct MassSolver;
   std::shared_ptr<MassSolver> m_shellMassSolver;
   mutable std::vector<Eigen::Triplet<double>> m_hessianScratch;  ///< scratch: the full-net Hessian
-  /// Implicit: dW/dP at the current and previous state (valid while m_shellCache).
-  ControlNet m_gradCurrent, m_gradPrevious;
-  bool m_shellCache = false;
-  int m_newtonIterations = 0;
-  struct NewtonSolver;
-  std::shared_ptr<NewtonSolver> m_newton;  ///< the tangent's symbolic factorisation, kept
+  /// The scheme (TimeStepper.h): created by init() and initShell().
+  std::unique_ptr<TimeStepper> m_stepper;
+  friend class PaperExplicitStepper;
+  friend class PaperImplicitStepper;
+  friend class ShellExplicitStepper;
+  friend class ShellImplicitStepper;
 };
 
 }  // namespace bsdeform

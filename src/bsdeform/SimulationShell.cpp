@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The SHELL model's part of Simulation (docs/math.md §16): the unknowns' mass and force through
-// T (moving points, periodic copies, derived layers), the explicit step with the state's
-// Gershgorin bound, the implicit step by Newton's method, and the nonlinear static problem by
-// Newton with load increments.
+// T (moving points, periodic copies, derived layers), the Newton tangent, the explicit step's
+// bound at the state, and the nonlinear static problem by Newton with load increments. Its
+// time steppers are in TimeStepper.cpp.
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -13,6 +13,8 @@
 #include "bsdeform/HugePages.h"
 #include "bsdeform/NumberText.h"
 #include "bsdeform/Simulation.h"
+#include "bsdeform/SimulationPrivate.h"
+#include "bsdeform/TimeStepper.h"
 
 namespace bsdeform {
 
@@ -22,52 +24,6 @@ struct Simulation::MassSolver {
   Eigen::Index size = 0;
 };
 
-struct Simulation::NewtonSolver {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-  bool analysed = false;
-  NewtonSolver() { llt.cholmod().print = 0; }  // an indefinite tangent is expected, not news
-  /// Factorises K (symbolic analysis once: the pattern never changes); false if K is not
-  /// positive definite.
-  bool factor(const Eigen::SparseMatrix<double>& K) {
-    if (!analysed) {
-      llt.analyzePattern(K);
-      analysed = true;
-    }
-    llt.factorize(K);
-    return llt.info() == Eigen::Success;
-  }
-};
-
-namespace {
-/// Crisfield's line search along a Newton direction d: the step length α where the residual's
-/// component along d, s(α) = d·R(x + αd), vanishes (the energy's minimum along d for a
-/// conservative problem), found by regula falsi from s(0) < 0. The full step is taken when it
-/// already removes half of |s(0)| or the energy still decreases there; at most 10 trials.
-/// `evaluate(α)` sets the trial state and returns s(α).
-template <typename Eval>
-double lineSearch(double s0, Eval&& evaluate) {
-  double a = 0.0, sa = s0, b = 1.0;
-  double sb = evaluate(1.0);
-  if (!(s0 < 0.0) || !std::isfinite(sb)) return std::isfinite(sb) ? 1.0 : 0.0;
-  if (sb <= 0.0 || std::abs(sb) <= 0.5 * std::abs(s0)) return 1.0;
-  double alpha = 1.0;
-  for (int k = 0; k < 10; ++k) {
-    alpha = a - sa * (b - a) / (sb - sa);
-    alpha = std::min(std::max(alpha, a + 0.05 * (b - a)), b - 0.05 * (b - a));
-    const double sAlpha = evaluate(alpha);
-    if (!std::isfinite(sAlpha)) return 0.0;
-    if (std::abs(sAlpha) <= 0.5 * std::abs(s0)) break;
-    if (sAlpha < 0.0) {
-      a = alpha;
-      sa = sAlpha;
-    } else {
-      b = alpha;
-      sb = sAlpha;
-    }
-  }
-  return alpha;
-}
-}  // namespace
 
 LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet& previous, double stepSize,
                                     double t) const {
@@ -119,11 +75,11 @@ void Simulation::initShell() {
   }
   m_uniformMass = false;
   m_massMoving = m_shellMass.diagonal();
-  m_shellCache = false;
-  m_newton.reset();
-  m_implicit.reset();
+  if (m_params.integrator == Integrator::Implicit)
+    m_stepper = std::make_unique<ShellImplicitStepper>(*this);
+  else
+    m_stepper = std::make_unique<ShellExplicitStepper>(*this);
   m_edgeMass.reset();
-  m_bandPlan.reset();
   m_derivedRows.clear();
   for (int i = 0; i < m_space.netRows(); ++i)
     for (int j = 0; j < cols; ++j)
@@ -203,167 +159,6 @@ void Simulation::shellTangent(const ControlNet& net, double scale, double shift,
 void Simulation::shellUpdateBound() {
   m_elasticLambda = m_energy->eigenvalueBound(m_current);
   updateSubSteps();
-}
-
-bool Simulation::shellExplicitSubStep(double t) {
-  const ControlNet& load = effectiveLoad(t);
-  const double dt = subStepSize(), c = m_params.damping;
-  // M (P+ - 2P + P-)/dt^2 + c M (P+ - P-)/(2 dt) = L - dW/dP
-  const double alpha = dt * dt / (1.0 + 0.5 * c * dt), gamma = (1.0 - 0.5 * c * dt) / (1.0 + 0.5 * c * dt);
-  ControlNet a;
-  shellGradient(m_current, a);
-  a = load - a;
-  shellSolveMass(a);
-  bool ok = true;
-  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
-    const Eigen::Index r = m_space.movingToNet(f);
-    if (m_pinMask[size_t(r)]) continue;
-    Eigen::RowVector3d next = m_current.row(r) + gamma * (m_current.row(r) - m_previous.row(r)) + alpha * a.row(f);
-    for (int c = 0; c < 3; ++c)
-      if (heldCoordinate(f, c)) next[c] = m_rest(r, c);
-    ok &= next.cwiseAbs().maxCoeff() <= m_divergenceLimit;  // false for NaN
-    m_previous.row(r) = next;
-  }
-  m_space.completeNet(m_previous, &m_rest);
-  m_current.swap(m_previous);
-  return ok;
-}
-
-// Newmark (average acceleration) in three-level form, the forces averaged as the stiffness term
-// of the linear scheme is (docs/math.md §16):
-//   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
-// solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
-bool Simulation::shellImplicitStep(double t) {
-  const double dt = m_params.timeStep;
-  const ControlNet start = m_current, before = m_previous;
-  if (shellImplicitStepOf(t, dt)) return true;
-  std::string failure = m_solveFailure;
-  for (int pieces = 2; pieces <= 16 && m_current.allFinite(); pieces *= 2) {
-    const double h = dt / pieces;
-    // the same velocity, over a piece: an affine combination keeps held and derived points
-    m_current = start;
-    m_previous = start - (start - before) / double(pieces);
-    m_shellCache = false;
-    bool ok = true;
-    int iterations = 0;
-    for (int k = 0; k < pieces && ok; ++k) {
-      ok = shellImplicitStepOf(t + k * h, h);
-      iterations += m_newtonIterations;
-    }
-    if (ok) {
-      m_previous = start;  // one step before, as the next step expects
-      m_shellCache = false;
-      m_newtonIterations = iterations;
-      m_solveFailure.clear();
-      return true;
-    }
-    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
-  }
-  m_solveFailure = failure;
-  m_previous = start;  // step() keeps it: the last valid state
-  m_shellCache = false;
-  return false;
-}
-
-bool Simulation::shellImplicitStepOf(double t, double dt) {
-  const ControlNet& load = effectiveLoad(t, dt);
-  const double c = m_params.damping;
-  const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
-  const ControlNet P = m_space.gatherMoving(m_current), Pm = m_space.gatherMoving(m_previous);
-  if (!m_shellCache) {
-    shellGradient(m_current, m_gradCurrent);
-    shellGradient(m_previous, m_gradPrevious);
-    m_shellCache = true;
-  }
-  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * shellApplyMass(P - Pm);
-  const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
-  ControlNet net = m_current;
-  ControlNet x = P + (P - Pm), g, R;
-  auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
-    m_space.scatterMoving(xi, net);
-    m_space.completeNet(net, &m_rest);
-    shellGradient(net, gi);
-    Ri = a * shellApplyMass(xi - P) + 0.25 * gi - fixed;
-    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
-      for (int c = 0; c < 3; ++c)
-        if (heldCoordinate(f, c)) Ri(f, c) = 0.0;
-    return Ri.norm();
-  };
-  for (Eigen::Index f = 0; f < x.rows(); ++f)
-    for (int c = 0; c < 3; ++c)
-      if (heldCoordinate(f, c)) x(f, c) = P(f, c);
-  // a failed step leaves the rejected state current and the last good one previous (step())
-  auto reject = [&]() {
-    m_space.scatterMoving(x, m_previous);
-    m_space.completeNet(m_previous, &m_rest);
-    m_current.swap(m_previous);
-    m_shellCache = false;
-    return false;
-  };
-  double r = residual(x, g, R);
-  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
-  const Eigen::Index n = m_space.numMoving();
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
-  int it = 0;
-  m_newtonIterations = 0;
-  while (!(r <= m_params.newtonTolerance * scale)) {
-    if (it >= m_params.maxNewtonIterations || !std::isfinite(r)) {
-      std::ostringstream os;
-      os << "Newton's method stopped at relative residual " << r / scale << " after " << it
-         << " iterations (newtonTolerance " << m_params.newtonTolerance << ", maxNewtonIterations "
-         << m_params.maxNewtonIterations << ")";
-      m_solveFailure = os.str();
-      return reject();
-    }
-    ++it;
-    // an indefinite tangent (compression, buckling): a larger multiple of the mass until it is
-    // positive definite (a shorter step in time for this iteration), then the projected one
-    bool factored = false;
-    double shift = a;
-    for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-      shellTangent(net, 0.25, shift, attempt == 11, trip);
-      K.setFromTriplets(trip.begin(), trip.end());
-      factored = m_newton->factor(K);
-      shift *= 4.0;
-    }
-    if (!factored) {
-      m_solveFailure = "the Newton tangent is not positive definite even with projected element Hessians";
-      return reject();
-    }
-    const Eigen::VectorXd rhs = -Eigen::Map<const Eigen::VectorXd>(R.data(), R.size());
-    const Eigen::VectorXd d = m_newton->llt.solve(rhs);
-    ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
-    ControlNet xNew, gNew, RNew;
-    double tried = -1.0;
-    const double alpha = lineSearch((step.array() * R.array()).sum(), [&](double al) {
-      tried = al;
-      xNew = x + al * step;
-      residual(xNew, gNew, RNew);
-      return (step.array() * RNew.array()).sum();
-    });
-    if (alpha != tried) {
-      xNew = x + alpha * step;
-      residual(xNew, gNew, RNew);
-    }
-    x = std::move(xNew);
-    g = std::move(gNew);
-    R = std::move(RNew);
-    r = R.norm();
-    // a full Newton step of 1e-11 of the net's size: converged to what the positions' rounding
-    // lets the residual show (stiff membranes under small loads reach this first)
-    if (alpha == 1.0 && step.cwiseAbs().maxCoeff() <= 1e-11 * x.cwiseAbs().maxCoeff()) break;
-  }
-  m_newtonIterations = it;
-  bool ok = true;
-  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= m_divergenceLimit;
-  m_space.scatterMoving(x, m_previous);
-  holdPins(m_previous);
-  m_space.completeNet(m_previous, &m_rest);
-  m_current.swap(m_previous);
-  m_gradPrevious.swap(m_gradCurrent);
-  m_gradCurrent = g;
-  return ok;
 }
 
 // Newton's method with a Levenberg–Marquardt safeguard, load increment by load increment. The

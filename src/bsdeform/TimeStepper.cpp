@@ -1,0 +1,334 @@
+// SPDX-License-Identifier: MIT
+// The four time steppers (TimeStepper.h): the paper's explicit and implicit schemes and the
+// shell's, each with the data only it uses. They read and write the state the Simulation holds
+// (its friends: `s` below is the Simulation).
+#include "bsdeform/TimeStepper.h"
+
+#include <Eigen/CholmodSupport>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+#include "bsdeform/HugePages.h"
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SimulationPrivate.h"
+
+namespace bsdeform {
+
+TimeStepper::~TimeStepper() = default;
+
+namespace {
+/// Crisfield's line search along a Newton direction d: the step length α where the residual's
+/// component along d, s(α) = d·R(x + αd), vanishes (the energy's minimum along d for a
+/// conservative problem), found by regula falsi from s(0) < 0. The full step is taken when it
+/// already removes half of |s(0)| or the energy still decreases there; at most 10 trials.
+/// `evaluate(α)` sets the trial state and returns s(α).
+template <typename Eval>
+double lineSearch(double s0, Eval&& evaluate) {
+  double a = 0.0, sa = s0, b = 1.0;
+  double sb = evaluate(1.0);
+  if (!(s0 < 0.0) || !std::isfinite(sb)) return std::isfinite(sb) ? 1.0 : 0.0;
+  if (sb <= 0.0 || std::abs(sb) <= 0.5 * std::abs(s0)) return 1.0;
+  double alpha = 1.0;
+  for (int k = 0; k < 10; ++k) {
+    alpha = a - sa * (b - a) / (sb - sa);
+    alpha = std::min(std::max(alpha, a + 0.05 * (b - a)), b - 0.05 * (b - a));
+    const double sAlpha = evaluate(alpha);
+    if (!std::isfinite(sAlpha)) return 0.0;
+    if (std::abs(sAlpha) <= 0.5 * std::abs(s0)) break;
+    if (sAlpha < 0.0) {
+      a = alpha;
+      sa = sAlpha;
+    } else {
+      b = alpha;
+      sb = sAlpha;
+    }
+  }
+  return alpha;
+}
+}  // namespace
+
+bool PaperExplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.subStepSize(), m = s.massPerPoint(), c = s.dampingPerPoint();
+  const double g = 2.0 * m + dt * c;
+  const double alpha = 2.0 * dt * dt / g, gamma = (2.0 * m - dt * c) / g;
+  // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
+  // ratio s (damping scales alike, so gamma does not change).
+  std::function<double(int, int)> scale;
+  StiffnessStencil::BandSolve bandSolve;
+  if (s.m_edgeMass) {
+    // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
+    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.m_edgeMass->bandPlan(s.m_stencil.bandPoints(), m));
+    bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
+      for (size_t k = k0; k < k1; ++k) {
+        Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
+        for (int e = plan->start[k]; e < plan->start[k + 1]; ++e) {
+          const auto& entry = plan->entries[size_t(e)];
+          assert(size_t(entry.first) >= k0 && size_t(entry.first) < k1);
+          acc += entry.second * r[size_t(entry.first) - k0];
+        }
+        out[k - k0] = acc;
+      }
+    };
+  } else if (!s.m_uniformMass) {
+    scale = [&s, m](int i, int j) { return m / s.massAt(i, j); };
+  }
+  // The new state overwrites the previous one (same buffer); held points are equal in both.
+  const bool ok = s.m_stencil.centralDifferenceUpdate(s.m_current, s.m_previous, load, alpha, gamma, s.m_divergenceLimit,
+                                                    scale, bandSolve);
+  s.holdPins(s.m_previous);
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  return ok;
+}
+
+
+PaperImplicitStepper::PaperImplicitStepper(Simulation& sim) : TimeStepper(sim) {
+  Simulation& s = m_sim;
+  // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
+  // next to a free edge
+  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  Eigen::VectorXd massTerm;
+  const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
+  std::vector<Eigen::Triplet<double>> coupling;
+  double kappa = 0.0;
+  if (s.m_uniformMass) {
+    massTerm = Eigen::VectorXd::Constant(s.m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
+  } else if (s.m_edgeMass) {
+    massTerm.resize(s.m_space.numMoving());
+    for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
+      const Eigen::Index r = s.m_space.movingToNet(f);
+      massTerm[f] = factor * s.m_edgeMass->diagonal(int(r / s.m_space.netCols()), int(r % s.m_space.netCols()));
+    }
+    coupling = s.m_edgeMass->offDiagonal(factor);
+    // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
+    // kappa(M^-1 K), what Jacobi-CG meets in practice (docs/benchmarks.md, issue 23); the
+    // diagonal formula is far too pessimistic with the coupling
+    kappa = 1.0 + s.m_elasticLambda / (4.0 * factor);
+  } else {
+    massTerm = s.m_massMoving * factor;
+  }
+  m_implicit = std::make_unique<ImplicitSystem>(s.m_space, s.m_stencil, massTerm, s.pinnedMoving(), s.m_params.implicitSolver,
+                                                s.m_params.solverTolerance, s.m_params.maxSolverIterations,
+                                                std::move(coupling), kappa);
+}
+
+bool PaperImplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  // Newmark (docs/math.md §6) for the increment d = P+ - P: with K = M/dt^2 + C/(2dt) + A_II/4,
+  //   K d = L - (A_II V + A_IB P_B) + (M/dt^2 - C/(2dt)) (P - P-),   V = P + (P- - P)/4,
+  // where A_II V + A_IB P_B is the stencil applied to the whole net V (its held points are
+  // their rest values exactly): no matrix, and a state at rest gives d = 0 exactly.
+  allocateNet(m_scratch, s.m_current.rows());
+  m_scratch = s.m_current + 0.25 * (s.m_previous - s.m_current);
+  ControlNet rhs;
+  s.m_stencil.applyMoving(m_scratch, rhs);
+  const ControlNet velocity = s.m_space.gatherMoving(s.m_current) - s.m_space.gatherMoving(s.m_previous);  // P - P-
+  if (s.m_uniformMass) {
+    rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
+  } else if (s.m_edgeMass) {
+    ControlNet Mv;
+    s.m_edgeMass->apply(velocity, Mv);
+    rhs = load - rhs + (1.0 / (dt * dt) - (c / m) / (2.0 * dt)) * Mv;
+  } else {
+    const double cm = c / m;
+    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (s.m_massMoving.asDiagonal() * velocity);
+  }
+  for (Eigen::Index f : m_implicit->pinned()) rhs.row(f).setZero();  // pinned rows of K are D: d = 0
+  // CG starts from the constant-velocity prediction d = P - P-.
+  ControlNet next = velocity;
+  const bool solved = m_implicit->solve(rhs, next);
+  next += s.m_space.gatherMoving(s.m_current);
+  bool ok = solved;
+  for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= s.m_divergenceLimit;
+  s.m_space.scatterMoving(next, s.m_previous);
+  if (!s.m_pinned.empty() || s.m_space.hasDerived()) {
+    s.holdPins(s.m_previous);
+    s.m_space.completeNet(s.m_previous, &s.m_rest);
+  }
+  s.m_current.swap(s.m_previous);
+  if (!solved && next.allFinite()) {
+    std::ostringstream os;
+    os << "conjugate gradients stopped at relative residual " << m_implicit->lastResidual() << " after "
+       << m_implicit->lastIterations() << " iterations (solverTolerance " << s.m_params.solverTolerance
+       << ", maxSolverIterations " << s.m_params.maxSolverIterations << ")";
+    m_solveFailure = os.str();
+  }
+  return ok;
+}
+
+
+bool ShellExplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.subStepSize(), c = s.m_params.damping;
+  // M (P+ - 2P + P-)/dt^2 + c M (P+ - P-)/(2 dt) = L - dW/dP
+  const double alpha = dt * dt / (1.0 + 0.5 * c * dt), gamma = (1.0 - 0.5 * c * dt) / (1.0 + 0.5 * c * dt);
+  ControlNet a;
+  s.shellGradient(s.m_current, a);
+  a = load - a;
+  s.shellSolveMass(a);
+  bool ok = true;
+  for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
+    const Eigen::Index r = s.m_space.movingToNet(f);
+    if (s.m_pinMask[size_t(r)]) continue;
+    Eigen::RowVector3d next = s.m_current.row(r) + gamma * (s.m_current.row(r) - s.m_previous.row(r)) + alpha * a.row(f);
+    for (int c = 0; c < 3; ++c)
+      if (s.heldCoordinate(f, c)) next[c] = s.m_rest(r, c);
+    ok &= next.cwiseAbs().maxCoeff() <= s.m_divergenceLimit;  // false for NaN
+    s.m_previous.row(r) = next;
+  }
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  return ok;
+}
+
+
+// Newmark (average acceleration) in three-level form, the forces averaged as the stiffness term
+// of the linear scheme is (docs/math.md §16):
+//   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
+// solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
+bool ShellImplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const double dt = s.m_params.timeStep;
+  const ControlNet start = s.m_current, before = s.m_previous;
+  if (stepOf(t, dt)) return true;
+  std::string failure = m_solveFailure;
+  for (int pieces = 2; pieces <= 16 && s.m_current.allFinite(); pieces *= 2) {
+    const double h = dt / pieces;
+    // the same velocity, over a piece: an affine combination keeps held and derived points
+    s.m_current = start;
+    s.m_previous = start - (start - before) / double(pieces);
+    m_cached = false;
+    bool ok = true;
+    int iterations = 0;
+    for (int k = 0; k < pieces && ok; ++k) {
+      ok = stepOf(t + k * h, h);
+      iterations += m_newtonIterations;
+    }
+    if (ok) {
+      s.m_previous = start;  // one step before, as the next step expects
+      m_cached = false;
+      m_newtonIterations = iterations;
+      m_solveFailure.clear();
+      return true;
+    }
+    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+  }
+  m_solveFailure = failure;
+  s.m_previous = start;  // step() keeps it: the last valid state
+  m_cached = false;
+  return false;
+}
+
+
+bool ShellImplicitStepper::stepOf(double t, double dt) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t, dt);
+  const double c = s.m_params.damping;
+  const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
+  const ControlNet P = s.m_space.gatherMoving(s.m_current), Pm = s.m_space.gatherMoving(s.m_previous);
+  if (!m_cached) {
+    s.shellGradient(s.m_current, m_gradCurrent);
+    s.shellGradient(s.m_previous, m_gradPrevious);
+    m_cached = true;
+  }
+  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.shellApplyMass(P - Pm);
+  const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
+  ControlNet net = s.m_current;
+  ControlNet x = P + (P - Pm), g, R;
+  auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
+    s.m_space.scatterMoving(xi, net);
+    s.m_space.completeNet(net, &s.m_rest);
+    s.shellGradient(net, gi);
+    Ri = a * s.shellApplyMass(xi - P) + 0.25 * gi - fixed;
+    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
+      for (int c = 0; c < 3; ++c)
+        if (s.heldCoordinate(f, c)) Ri(f, c) = 0.0;
+    return Ri.norm();
+  };
+  for (Eigen::Index f = 0; f < x.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (s.heldCoordinate(f, c)) x(f, c) = P(f, c);
+  // a failed step leaves the rejected state current and the last good one previous (step())
+  auto reject = [&]() {
+    s.m_space.scatterMoving(x, s.m_previous);
+    s.m_space.completeNet(s.m_previous, &s.m_rest);
+    s.m_current.swap(s.m_previous);
+    m_cached = false;
+    return false;
+  };
+  double r = residual(x, g, R);
+  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
+  const Eigen::Index n = s.m_space.numMoving();
+  std::vector<Eigen::Triplet<double>> trip;
+  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
+  int it = 0;
+  m_newtonIterations = 0;
+  while (!(r <= s.m_params.newtonTolerance * scale)) {
+    if (it >= s.m_params.maxNewtonIterations || !std::isfinite(r)) {
+      std::ostringstream os;
+      os << "Newton's method stopped at relative residual " << r / scale << " after " << it
+         << " iterations (newtonTolerance " << s.m_params.newtonTolerance << ", maxNewtonIterations "
+         << s.m_params.maxNewtonIterations << ")";
+      m_solveFailure = os.str();
+      return reject();
+    }
+    ++it;
+    // an indefinite tangent (compression, buckling): a larger multiple of the mass until it is
+    // positive definite (a shorter step in time for this iteration), then the projected one
+    bool factored = false;
+    double shift = a;
+    for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+      s.shellTangent(net, 0.25, shift, attempt == 11, trip);
+      K.setFromTriplets(trip.begin(), trip.end());
+      factored = m_newton->factor(K);
+      shift *= 4.0;
+    }
+    if (!factored) {
+      m_solveFailure = "the Newton tangent is not positive definite even with projected element Hessians";
+      return reject();
+    }
+    const Eigen::VectorXd rhs = -Eigen::Map<const Eigen::VectorXd>(R.data(), R.size());
+    const Eigen::VectorXd d = m_newton->llt.solve(rhs);
+    ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    ControlNet xNew, gNew, RNew;
+    double tried = -1.0;
+    const double alpha = lineSearch((step.array() * R.array()).sum(), [&](double al) {
+      tried = al;
+      xNew = x + al * step;
+      residual(xNew, gNew, RNew);
+      return (step.array() * RNew.array()).sum();
+    });
+    if (alpha != tried) {
+      xNew = x + alpha * step;
+      residual(xNew, gNew, RNew);
+    }
+    x = std::move(xNew);
+    g = std::move(gNew);
+    R = std::move(RNew);
+    r = R.norm();
+    // a full Newton step of 1e-11 of the net's size: converged to what the positions' rounding
+    // lets the residual show (stiff membranes under small loads reach this first)
+    if (alpha == 1.0 && step.cwiseAbs().maxCoeff() <= 1e-11 * x.cwiseAbs().maxCoeff()) break;
+  }
+  m_newtonIterations = it;
+  bool ok = true;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
+  s.m_space.scatterMoving(x, s.m_previous);
+  s.holdPins(s.m_previous);
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  m_gradPrevious.swap(m_gradCurrent);
+  m_gradCurrent = g;
+  return ok;
+}
+
+
+}  // namespace bsdeform

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file TimeStepper.h
+/// Not installed. A Simulation is a model (space, held points, mass, energy), a state (current
+/// and previous nets, time) and one of these: a time integration scheme with the data only it
+/// needs (a factorisation, scratch nets, the forces of the last states), which advances the
+/// state by one sub-step. Simulation::step() calls it for every sub-step and handles failure,
+/// the clock and the status. Four implementations, chosen by the integrator and the energy:
+///   PaperExplicitStepper  the paper's corrected central differences through the stencil's
+///                         fused kernel (design.md §2);
+///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
+///   ShellExplicitStepper  central differences with the lumped mass T^T W T;
+///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure.
+
+#include <memory>
+#include <string>
+
+#include "bsdeform/EdgeMass.h"
+#include "bsdeform/ImplicitSystem.h"
+#include "bsdeform/SplineSpace.h"
+
+namespace bsdeform {
+
+class Simulation;
+struct NewtonSolver;
+
+class TimeStepper {
+ public:
+  explicit TimeStepper(Simulation& sim) : m_sim(sim) {}
+  virtual ~TimeStepper();
+  TimeStepper(const TimeStepper&) = delete;
+  TimeStepper& operator=(const TimeStepper&) = delete;
+  /// One sub-step from time t. False when the new state is not valid: the rejected state is
+  /// then current and the last good one previous (Simulation::step() restores it).
+  virtual bool subStep(double t) = 0;
+  /// Forgets what it kept of earlier states (a state was set, reset, or a step failed).
+  virtual void invalidate() {}
+  /// Newton iterations of the last step (0 for the linear schemes).
+  virtual int newtonIterations() const { return 0; }
+  /// The implicit scheme's constant system (null for the others).
+  virtual const ImplicitSystem* implicitSystem() const { return nullptr; }
+  /// Why the last sub-step's solver failed ("" when it did not).
+  const std::string& solveFailure() const { return m_solveFailure; }
+  void clearFailure() { m_solveFailure.clear(); }
+
+ protected:
+  Simulation& m_sim;
+  std::string m_solveFailure;
+};
+
+class PaperExplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+
+ private:
+  std::unique_ptr<EdgeMass::BandPlan> m_bandPlan;  ///< built at the first step with derived layers
+};
+
+class PaperImplicitStepper final : public TimeStepper {
+ public:
+  /// Builds K = M/dt^2 + C/(2dt) + A_II/4 and its solver.
+  explicit PaperImplicitStepper(Simulation& sim);
+  bool subStep(double t) override;
+  const ImplicitSystem* implicitSystem() const override { return m_implicit.get(); }
+
+ private:
+  std::unique_ptr<ImplicitSystem> m_implicit;
+  ControlNet m_scratch;  ///< a full net (the stencil's argument)
+};
+
+class ShellExplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+};
+
+class ShellImplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  /// One implicit step of Delta t from t; when Newton's method fails, the step is taken again
+  /// in 2, 4, ... 16 equal pieces (the velocity kept), so a fast change (a load ramped by the
+  /// wall clock, a snap) costs time instead of stopping the run.
+  bool subStep(double t) override;
+  void invalidate() override { m_cached = false; }
+  int newtonIterations() const override { return m_newtonIterations; }
+
+ private:
+  /// One three-level Newmark step of size dt from t (the previous net dt before the current).
+  bool stepOf(double t, double dt);
+
+  std::shared_ptr<NewtonSolver> m_newton;  ///< the tangent's symbolic factorisation, kept
+  /// dW/dP at the current and previous state (valid while m_cached).
+  ControlNet m_gradCurrent, m_gradPrevious;
+  bool m_cached = false;
+  int m_newtonIterations = 0;
+};
+
+}  // namespace bsdeform
