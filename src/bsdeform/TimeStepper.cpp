@@ -86,7 +86,6 @@ bool PaperExplicitStepper::subStep(double t) {
   return ok;
 }
 
-
 PaperImplicitStepper::PaperImplicitStepper(Simulation& sim) : TimeStepper(sim) {
   Simulation& s = m_sim;
   // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
@@ -163,7 +162,6 @@ bool PaperImplicitStepper::subStep(double t) {
   return ok;
 }
 
-
 bool ShellExplicitStepper::subStep(double t) {
   Simulation& s = m_sim;
   const ControlNet& load = s.effectiveLoad(t);
@@ -179,8 +177,8 @@ bool ShellExplicitStepper::subStep(double t) {
     const Eigen::Index r = s.m_space.movingToNet(f);
     if (s.m_pinMask[size_t(r)]) continue;
     Eigen::RowVector3d next = s.m_current.row(r) + gamma * (s.m_current.row(r) - s.m_previous.row(r)) + alpha * a.row(f);
-    for (int c = 0; c < 3; ++c)
-      if (s.heldCoordinate(f, c)) next[c] = s.m_rest(r, c);
+    for (int k = 0; k < 3; ++k)
+      if (s.heldCoordinate(f, k)) next[k] = s.m_rest(r, k);
     ok &= next.cwiseAbs().maxCoeff() <= s.m_divergenceLimit;  // false for NaN
     s.m_previous.row(r) = next;
   }
@@ -188,7 +186,6 @@ bool ShellExplicitStepper::subStep(double t) {
   s.m_current.swap(s.m_previous);
   return ok;
 }
-
 
 // Newmark (average acceleration) in three-level form, the forces averaged as the stiffness term
 // of the linear scheme is (docs/math.md §16):
@@ -226,7 +223,6 @@ bool ShellImplicitStepper::subStep(double t) {
   m_cached = false;
   return false;
 }
-
 
 bool ShellImplicitStepper::stepOf(double t, double dt) {
   Simulation& s = m_sim;
@@ -329,6 +325,5 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   m_gradCurrent = g;
   return ok;
 }
-
 
 }  // namespace bsdeform
