@@ -155,7 +155,7 @@ TEST_CASE("Scenes: the default scene rises, overshoots a little and rests within
   root->unref();
 }
 
-TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", "[scenes]") {
+TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", "[scenes][slow]") {
   for (const std::string& f : sceneFiles()) {
     INFO(f);
     SoSeparator* a = testutil::read(slurp(f));
@@ -317,7 +317,7 @@ TEST_CASE("bsdeform-run: a decimal-comma locale writes the same files byte for b
 }
 
 TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays above it and keeps its size",
-          "[scenes]") {
+          "[scenes][slow]") {
   // The Cube (0.6 m, centre (0.5, 0.5, -0.4)) has its top at z = -0.1; the 1 m cloth starts at
   // z = 0 and lands at t = 0.14 s. By t = 0.6 s it lies on the top (contact offset 0.015) and
   // its free corners have fallen past the top's edges. The paper's energy made it a sock pulled
@@ -394,7 +394,7 @@ TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and
   root->unref();
 }
 
-TEST_CASE("Scenes: pressed_surfaces' membranes press on each other with equal and opposite forces", "[scenes]") {
+TEST_CASE("Scenes: pressed_surfaces' membranes press on each other with equal and opposite forces", "[scenes][slow]") {
   // Two clamped membranes 0.1 apart, pushed towards each other, each colliding with the other
   // (the lower names the upper in obstacleNames). At rest their centres are within the contact
   // offset of each other, and the contact forces balance to within the quadratures.
