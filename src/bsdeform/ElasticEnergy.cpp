@@ -31,9 +31,9 @@ PaperEnergy::PaperEnergy(const SplineSpace& space, const StiffnessStencil& stenc
   const Boundaries& bc = space.boundaries();
   const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
                        bc.vMax == Boundary::Free;
-  const bool uniform = !(lumpedMass && anyFree) && !space.hasDerived();
+  m_uniformMass = !(lumpedMass && anyFree) && !space.hasDerived();
   const double perPoint = lumpedMass ? mass * space.basisU().spacing() * space.basisV().spacing() : mass;
-  if (uniform)
+  if (m_uniformMass)
     m_lambda = stencil.eigenvalueBound() / perPoint;
   else if (lumpedMass)
     m_lambda = stencil.elementEigenvalueBound() / mass;

@@ -60,6 +60,9 @@ class PaperEnergy final : public ElasticEnergy {
   const StiffnessStencil& stencil() const { return m_stencil; }
   /// c0 = (A P_rest)_I for the Rest reference, else zero (numMoving x 3).
   const ControlNet& restOffset() const { return m_c0; }
+  /// Whether the model's mass is the same multiple of the identity at every moving point
+  /// (NODAL, or LUMPED without FREE sides, and no derived layers): the bound's case.
+  bool uniformMass() const { return m_uniformMass; }
 
   bool isLinear() const override { return true; }
   double energy(const ControlNet& net) const override;
@@ -73,6 +76,7 @@ class PaperEnergy final : public ElasticEnergy {
   const ControlNet& m_rest;
   bool m_restReference;
   ControlNet m_c0;
+  bool m_uniformMass = true;
   double m_lambda = 0.0;
 };
 

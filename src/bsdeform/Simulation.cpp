@@ -179,12 +179,8 @@ void Simulation::init() {
   m_energy = std::move(paper);
   m_shellModel = nullptr;
   m_shell = nullptr;
-  // M is a multiple of the identity with NODAL mass, or LUMPED mass where every row sum is the
-  // interior one; a FREE side makes the lumped edge masses smaller, and derived layers
-  // (SIMPLY_SUPPORTED, BUILT_IN) keep their mass: M = T^T W T (EdgeMass).
-  const Boundaries& bc = m_space.boundaries();
-  const bool anyFree = bc.uMin == Boundary::Free || bc.uMax == Boundary::Free || bc.vMin == Boundary::Free ||
-                       bc.vMax == Boundary::Free;
+  // M = T^T W T next to derived layers (SIMPLY_SUPPORTED, BUILT_IN: EdgeMass); whether M is a
+  // multiple of the identity is the energy's rule (PaperEnergy::uniformMass()).
   m_edgeMass.reset();
   m_derivedRows.clear();
   if (m_space.hasDerived()) {
@@ -195,7 +191,7 @@ void Simulation::init() {
         if (m_space.isDerived(i, j)) m_derivedRows.push_back(Eigen::Index(i) * m_space.netCols() + j);
     m_edgeMass->setPinned(pinnedMoving());
   }
-  m_uniformMass = !(m_params.massModel == MassModel::Lumped && anyFree) && !m_edgeMass;
+  m_uniformMass = m_paper->uniformMass();
   m_elasticLambda = m_energy->eigenvalueBound(m_current);
   if (m_uniformMass) {
     m_massMoving.resize(0);

@@ -78,6 +78,13 @@ const RefRow* refAt(const std::vector<RefRow>& table, double factor) {
     if (std::abs(r.factor - factor) < 1e-9) return &r;
   return nullptr;
 }
+// Half the change, from `rest` to `net`, of the distance between S(u, v) and the point opposite
+// it, S(u + 1/2, v): no rigid motion changes it, and it is the radial displacement of a
+// symmetric solution of a closed (PERIODIC in u) shell.
+double halfChange(const SplineSpace& s, const ControlNet& rest, const ControlNet& net, double u, double v) {
+  auto at = [&](const ControlNet& n, double uu) { return s.evaluate(n, uu, v, 0).position; };
+  return 0.5 * ((at(net, u) - at(net, u + 0.5)).norm() - (at(rest, u) - at(rest, u + 0.5)).norm());
+}
 }  // namespace
 
 TEST_CASE("SHELL slit annular plate under a lifting line force (Sze, Liu and Lo 2004, problem 3.3)",
@@ -189,15 +196,9 @@ TEST_CASE("SHELL hemisphere with an 18 degree hole under alternating radial poin
                                      {0.4, 3.158, 5.196, 0}, {0.5, 3.406, 5.902, 0}, {0.6, 3.598, 6.497, 0},
                                      {0.7, 3.750, 7.006, 0}, {0.8, 3.875, 7.448, 0}, {0.9, 3.979, 7.835, 0},
                                      {1.0, 4.067, 8.178, 0}};
-  auto at = [&](const ControlNet& net, double u, double v) { return sim.space().evaluate(net, u, v, 0).position; };
-  // half the change of the distance to the opposite point (u + 1/2): the radial displacement of
-  // the symmetric solution
-  auto halfChange = [&](const ControlNet& net, double u, double v) {
-    return 0.5 * ((at(net, u, v) - at(net, u + 0.5, v)).norm() - (at(rest, u, v) - at(rest, u + 0.5, v)).norm());
-  };
   for (const StaticResult::Increment& inc : r.increments) {
-    const double out = halfChange(inc.net, 0.0, 0.0);
-    const double in = -halfChange(inc.net, 0.25, 0.0);
+    const double out = halfChange(sim.space(), rest, inc.net, 0.0, 0.0);
+    const double in = -halfChange(sim.space(), rest, inc.net, 0.25, 0.0);
     const RefRow* ref = refAt(table, inc.loadFactor);
     if (!ref) continue;
     CAPTURE(inc.loadFactor, out, in);
@@ -245,18 +246,12 @@ TEST_CASE("SHELL pullout of an open-ended cylinder (Sze, Liu and Lo 2004, proble
       {0.45, 2.425, 3.539, 3.688}, {0.5, 2.473, 3.653, 3.718}, {0.55, 2.577, 4.171, 3.518}, {0.6, 2.618, 4.274, 3.452},
       {0.65, 2.648, 4.338, 3.410}, {0.7, 2.672, 4.385, 3.378}, {0.75, 2.692, 4.423, 3.353}, {0.8, 2.710, 4.455, 3.332},
       {0.85, 2.726, 4.483, 3.313}, {0.9, 2.741, 4.508, 3.297}, {0.95, 2.755, 4.530, 3.283}, {1.0, 2.768, 4.551, 3.269}};
-  auto at = [&](const ControlNet& net, double u, double v) { return sim.space().evaluate(net, u, v, 0).position; };
   // Nothing holds the cylinder: its rigid motion is left to the solver, so the radial
-  // displacements are read off as half the change of the distance between the point and the
-  // one opposite it (u + 1/2), which no rigid motion changes and which is the radial
-  // displacement of the symmetric solution.
-  auto halfChange = [&](const ControlNet& net, double u, double v) {
-    return 0.5 * ((at(net, u, v) - at(net, u + 0.5, v)).norm() - (at(rest, u, v) - at(rest, u + 0.5, v)).norm());
-  };
+  // displacements are read off with halfChange(), which no rigid motion changes.
   for (const StaticResult::Increment& inc : r.increments) {
-    const double wA = halfChange(inc.net, 0.0, 0.5);
-    const double uB = -halfChange(inc.net, 0.25, 0.5);
-    const double uC = -halfChange(inc.net, 0.25, 0.0);
+    const double wA = halfChange(sim.space(), rest, inc.net, 0.0, 0.5);
+    const double uB = -halfChange(sim.space(), rest, inc.net, 0.25, 0.5);
+    const double uC = -halfChange(sim.space(), rest, inc.net, 0.25, 0.0);
     const RefRow* ref = refAt(table, inc.loadFactor);
     if (!ref) continue;
     CAPTURE(inc.loadFactor, wA, uB, uC);
