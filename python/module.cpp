@@ -13,9 +13,6 @@
 
 #include <Inventor/SbViewportRegion.h>
 #include <Inventor/SoDB.h>
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
-#include <Inventor/actions/SoSearchAction.h>
-#include <Inventor/lists/SoPathList.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/SoPath.h>
 
@@ -29,6 +26,7 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
+#include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -162,8 +160,9 @@ class Surface {
   const bsdeform::Simulation& checked() {
     m_node->stepSimulation(0);  // builds the model and the forces, steps nothing
     const bsdeform::Simulation& sim = m_node->simulation();
-    if (sim.status() == bsdeform::Status::Ok && !m_node->lastWarning().empty())
-      raise("FieldError", nodeLabel(m_node) + ": " + m_node->lastWarning());
+    const SoBSplineDeformSurface::Problem& p = m_node->problem();
+    if (p.kind != SoBSplineDeformSurface::Problem::NONE && p.kind != SoBSplineDeformSurface::Problem::STOPPED)
+      raise("FieldError", nodeLabel(m_node) + ": " + p.message);
     return sim;
   }
 
@@ -250,29 +249,77 @@ class Surface {
   SoBSplineDeformSurface* m_node;
 };
 
-/// Every SoBSplineDeformSurface under `root`, in traversal order (each once). A bounding-box
-/// traversal first tells each its scene, as a render would (COLLISION finds its obstacles
-/// through it).
+const char* problemKindName(SoBSplineDeformSurface::Problem::Kind k) {
+  switch (k) {
+    case SoBSplineDeformSurface::Problem::NONE: return "none";
+    case SoBSplineDeformSurface::Problem::FIELD: return "field";
+    case SoBSplineDeformSurface::Problem::FORCE_FIELD: return "force_field";
+    case SoBSplineDeformSurface::Problem::OBSTACLE: return "obstacle";
+    case SoBSplineDeformSurface::Problem::STATE: return "state";
+    case SoBSplineDeformSurface::Problem::STOPPED: return "stopped";
+  }
+  return "unknown";
+}
+
+/// Every SoBSplineDeformSurface under `root`, in traversal order (each once), each told that
+/// `root` is its scene (COLLISION finds its obstacles there).
 py::list surfacesOf(py::handle root) {
   SoNode* r = fromPivy<SoNode>(root, "SoNode *", "root");
-  SoGetBoundingBoxAction bb(SbViewportRegion(640, 480));
-  bb.apply(r);
-  SoSearchAction sa;
-  sa.setType(SoBSplineDeformSurface::getClassTypeId());
-  sa.setInterest(SoSearchAction::ALL);
-  sa.setSearchingAll(TRUE);
-  sa.apply(r);
   py::list out;
-  std::vector<SoNode*> seen;
-  const SoPathList& paths = sa.getPaths();
-  for (int i = 0; i < paths.getLength(); ++i) {
-    SoNode* tail = paths[i]->getTail();
-    if (std::find(seen.begin(), seen.end(), tail) != seen.end()) continue;
-    seen.push_back(tail);
-    out.append(py::cast(std::make_unique<Surface>(static_cast<SoBSplineDeformSurface*>(tail))));
+  for (SoBSplineDeformSurface* s : bsdeform::sceneSurfaces(r)) {
+    s->setScene(r);
+    out.append(py::cast(std::make_unique<Surface>(s)));
   }
   return out;
 }
+
+/// bsdeform::SceneRunner for Python: holds the scene while it lives.
+class Runner {
+ public:
+  explicit Runner(py::handle root) : m_root(fromPivy<SoNode>(root, "SoNode *", "root")) {
+    m_root->ref();
+    m_runner = std::make_unique<bsdeform::SceneRunner>(m_root);
+  }
+  ~Runner() {
+    m_runner.reset();
+    m_root->unref();
+  }
+  py::list surfaces() const {
+    py::list out;
+    for (SoBSplineDeformSurface* s : m_runner->surfaces()) out.append(py::cast(std::make_unique<Surface>(s)));
+    return out;
+  }
+  /// advance_to(t, on_step): on_step(i) after every step of surface i (a Python exception in it
+  /// stops the run and propagates).
+  bool advanceTo(double t, py::object onStep) {
+    std::vector<std::pair<SoBSplineDeformSurface*, int>> ids;
+    bool raised = false;
+    const auto& all = m_runner->surfaces();
+    if (!onStep.is_none())
+      for (size_t i = 0; i < all.size(); ++i)
+        ids.emplace_back(all[i], all[i]->addCallback([&onStep, &raised, i](SoBSplineDeformSurface*, SoBSplineDeformSurface::Event e) {
+          if (e != SoBSplineDeformSurface::STEPPED || raised) return;
+          try {
+            onStep(i);
+          } catch (...) {
+            raised = true;
+            throw;
+          }
+        }));
+    struct Remove {
+      std::vector<std::pair<SoBSplineDeformSurface*, int>>& ids;
+      ~Remove() {
+        for (auto& id : ids) id.first->removeCallback(id.second);
+      }
+    } remove{ids};
+    return m_runner->advanceTo(t);
+  }
+  bsdeform::SceneRunner& runner() { return *m_runner; }
+
+ private:
+  SoNode* m_root;
+  std::unique_ptr<bsdeform::SceneRunner> m_runner;
+};
 
 py::object readScene(const std::string& path) {
   std::string error;
@@ -369,7 +416,21 @@ field and value when the node refused a value.
       .def_property_readonly("norm", [](Surface& s) { return s.sim().deformationNorm(); },
                              "The paper's eq. 15 deformation norm.")
       .def_property_readonly("warning", [](const Surface& s) { return s.node()->lastWarning(); },
-                             "The node's last warning ('' when its fields are valid).")
+                             "The node's current problem as a sentence ('' when there is none).")
+      .def_property_readonly("problem", [](const Surface& s) {
+        const SoBSplineDeformSurface::Problem& p = s.node()->problem();
+        py::dict d;
+        d["kind"] = problemKindName(p.kind);
+        d["node"] = p.node;
+        d["field"] = p.field;
+        d["message"] = p.message;
+        return d;
+      }, R"doc(
+The node's current problem as a dict: kind ('none', 'field': a field's value is refused and the
+last valid model runs on; 'force_field'; 'obstacle'; 'state'; 'stopped': the simulation blew up
+or a step was refused), node (the node at fault), field (the field at fault, '' when none),
+message (the sentence).
+)doc")
       .def_property_readonly("net_shape", [](Surface& s) {
         const bsdeform::SplineSpace& sp = s.sim().space();
         return py::make_tuple(sp.netRows(), sp.netCols(), 3);
@@ -386,6 +447,20 @@ of the simulation's storage, no per-element conversion.
         return py::make_tuple(p.position.x(), p.position.y(), p.position.z());
       }, py::arg("u"), py::arg("v"), "S(u, v) on the current net.")
       .def("__repr__", [](const Surface& s) { return "<bsdeform.Surface " + nodeLabel(s.node()) + ">"; });
+
+  py::class_<Runner>(m, "SceneRunner", R"doc(
+Steps every surface of a scene to a common simulated time, as bsdeform-run does (each takes
+whole steps of its own timeStep while its time + timeStep/2 <= t) and makes Coin's realTime
+follow the simulated time (its real-time sensor off), so engines in the scene animate in step.
+While it lives it alone drives the scene's surfaces.
+)doc")
+      .def(py::init<py::handle>(), py::arg("root"))
+      .def_property_readonly("surfaces", &Runner::surfaces)
+      .def_property_readonly("time_step", [](Runner& r) { return r.runner().timeStep(); }, "Smallest timeStep.")
+      .def_property_readonly("start_time", [](Runner& r) { return r.runner().startTime(); })
+      .def_property_readonly("time", [](Runner& r) { return r.runner().time(); })
+      .def("advance_to", &Runner::advanceTo, py::arg("t"), py::arg("on_step") = py::none(),
+           "Advances to t; on_step(i) is called after every step of surface i. False when a surface failed.");
 
   m.def("surfaces", &surfacesOf, py::arg("root"),
         "Every SoBSplineDeformSurface under `root` (a pivy node), in traversal order, as Surface objects.");

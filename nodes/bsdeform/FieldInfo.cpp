@@ -29,10 +29,10 @@ std::vector<FieldInfo> makeTable() {
   const char* F = kForce;
   return {
       // node, name, meaning, unit, symbol, range, min, max, usedBy, restarts, live
-      {S, "numUControlPoints", "Free control points along u (the net has N1 + 2 n1 points along u).", "", "N1", ">= 1", 1, 100000, 0, true, false},
-      {S, "numVControlPoints", "Free control points along v.", "", "N2", ">= 1", 1, 100000, 0, true, false},
-      {S, "uDegree", "B-spline degree along u.", "", "n1", "1..7", 1, 7, 0, true, false},
-      {S, "vDegree", "B-spline degree along v.", "", "n2", "1..7", 1, 7, 0, true, false},
+      {S, "numUControlPoints", "Free control points along u (the net has N1 + 2 n1 points along u).", "", "N1", ">= 1", 1, 100000, 0, true, false, "numU"},
+      {S, "numVControlPoints", "Free control points along v.", "", "N2", ">= 1", 1, 100000, 0, true, false, "numV"},
+      {S, "uDegree", "B-spline degree along u.", "", "n1", "1..7", 1, 7, 0, true, false, "degreeU"},
+      {S, "vDegree", "B-spline degree along v.", "", "n2", "1..7", 1, 7, 0, true, false, "degreeV"},
       {S, "w10", "Resistance to stretching along u: weight of |S_u - S0_u|² in the deformation energy.", "energy per length²", "ω10", ">= 0", 0, kOpen, kPaper, false, false},
       {S, "w01", "Resistance to stretching along v: weight of |S_v - S0_v|².", "energy per length²", "ω01", ">= 0", 0, kOpen, kPaper, false, false},
       {S, "w11", "Resistance to twist: weight of |S_uv - S0_uv|².", "energy per length²", "ω11", ">= 0", 0, kOpen, kPaper, false, false},
@@ -111,6 +111,12 @@ const std::vector<FieldInfo>& fieldInfos() {
 const FieldInfo* findFieldInfo(const char* node, const char* field) {
   for (const FieldInfo& f : fieldInfos())
     if (std::strcmp(f.node, node) == 0 && std::strcmp(f.name, field) == 0) return &f;
+  return nullptr;
+}
+
+const FieldInfo* surfaceFieldOfParameter(const std::string& parameter) {
+  for (const FieldInfo& f : fieldInfos())
+    if (std::strcmp(f.node, kSurface) == 0 && parameter == (f.parameter ? f.parameter : f.name)) return &f;
   return nullptr;
 }
 

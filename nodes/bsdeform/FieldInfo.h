@@ -25,12 +25,18 @@ struct FieldInfo {
   unsigned usedBy;
   bool restarts;  ///< a change rebuilds the net: the simulation starts again from rest
   bool live;      ///< state the node keeps current; shown, not edited
+  /// The core's name of the parameter the field sets (bsdeform::ParameterError::parameter())
+  /// when it is not the field's own name ("numU" for numUControlPoints); nullptr otherwise
+  const char* parameter = nullptr;
 };
 
 /// Every field of both nodes, in the nodes' field order.
 const std::vector<FieldInfo>& fieldInfos();
 /// The entry of `node`'s `field` (nullptr if there is none).
 const FieldInfo* findFieldInfo(const char* node, const char* field);
+/// The SoBSplineDeformSurface field that sets the core's parameter `parameter` (as
+/// bsdeform::ParameterError names it), or nullptr when no field does.
+const FieldInfo* surfaceFieldOfParameter(const std::string& parameter);
 /// Whether a surface whose `energy` field is `energy` (PAPER 0, SHELL 1) reads `field`.
 bool surfaceFieldUses(int energy, const char* field);
 /// Whether a force field of `type` (SoForceField::Type) reads `field`.

@@ -2,6 +2,7 @@
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 #include <Inventor/SbTime.h>
+#include <Inventor/SoDB.h>
 #include <Inventor/SoPickedPoint.h>
 #include <Inventor/SoPrimitiveVertex.h>
 #include <Inventor/actions/SoGLRenderAction.h>
@@ -12,11 +13,9 @@
 #include <Inventor/errors/SoDebugError.h>
 #include <Inventor/misc/SoNotification.h>
 #include <Inventor/SoPath.h>
-#include <Inventor/actions/SoCallbackAction.h>
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
-#include <Inventor/actions/SoRayPickAction.h>
+#include <Inventor/fields/SoSFTime.h>
+#include <Inventor/sensors/SoFieldSensor.h>
 #include <Inventor/sensors/SoNodeSensor.h>
-#include <Inventor/sensors/SoTimerSensor.h>
 #include <Inventor/system/gl.h>
 
 #include <algorithm>
@@ -25,7 +24,9 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "bsdeform/FieldInfo.h"
 #include "bsdeform/HugePages.h"
+#include "bsdeform/ParameterError.h"
 #include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/RestShape.h"
@@ -132,53 +133,37 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   forces.setNum(0);
   forces.setDefault(TRUE);
 
-  m_timer = new SoTimerSensor(timerCallback, this);
-  m_timer->setInterval(SbTime(1.0 / 60.0));
-  updateTimer();
+  m_forcesChanged.setContainer(this);
+  m_clock = new SoFieldSensor(clockCallback, this);
+  updateClock();
 }
 
 SoBSplineDeformSurface::~SoBSplineDeformSurface() {
-  if (m_timer->isScheduled()) m_timer->unschedule();
-  delete m_timer;
+  m_forcesChanged.disconnect();
+  delete m_clock;
   delete m_rootSensor;
 }
 
 // ---------------------------------------------------------------------------------------------
-// The scene root (for the frames of contact, SceneObstacles.h): the head of the path of a
-// traversal that reaches the surface. A traversal from a graph built around the known root (an
-// offscreen renderer's or a viewer's camera and light above the user's scene, often short-lived)
-// keeps the known root: that graph adds nothing the frames need, and when it is deleted the
-// obstacles would lose their frames until the next traversal.
+// The scene (for the frames of contact, SceneObstacles.h)
 
-void SoBSplineDeformSurface::noteSceneRoot(SoAction* action) {
-  const SoPath* path = action->getCurPath();
-  SoNode* root = path && path->getLength() ? path->getHead() : nullptr;
-  if (!root || root == m_sceneRoot) return;
-  if (m_sceneRoot && path->containsNode(m_sceneRoot)) return;
+void SoBSplineDeformSurface::setScene(SoNode* root) {
+  m_sceneGiven = root != nullptr;
+  if (root == m_sceneRoot) return;
   m_sceneRoot = root;
   if (!m_rootSensor) {
     m_rootSensor = new SoNodeSensor;  // no callback: only its delete callback is used
     m_rootSensor->setPriority(0);
     m_rootSensor->setDeleteCallback(
-        [](void* data, SoSensor*) { static_cast<SoBSplineDeformSurface*>(data)->m_sceneRoot = nullptr; }, this);
+        [](void* data, SoSensor*) {
+          auto* self = static_cast<SoBSplineDeformSurface*>(data);
+          self->m_sceneRoot = nullptr;
+          self->m_sceneGiven = false;
+        },
+        this);
   }
   m_rootSensor->detach();
-  m_rootSensor->attach(root);
-}
-
-void SoBSplineDeformSurface::callback(SoCallbackAction* action) {
-  noteSceneRoot(action);
-  inherited::callback(action);
-}
-
-void SoBSplineDeformSurface::rayPick(SoRayPickAction* action) {
-  noteSceneRoot(action);
-  inherited::rayPick(action);
-}
-
-void SoBSplineDeformSurface::getBoundingBox(SoGetBoundingBoxAction* action) {
-  noteSceneRoot(action);
-  inherited::getBoundingBox(action);
+  if (root) m_rootSensor->attach(root);
 }
 
 int SoBSplineDeformSurface::obstacleBuilds() const {
@@ -198,12 +183,44 @@ int SoBSplineDeformSurface::obstacleRefits() const {
 // ---------------------------------------------------------------------------------------------
 // Fields -> simulation
 
-void SoBSplineDeformSurface::warn(const std::string& message) {
-  if (message == m_lastWarning) return;  // once per distinct problem
-  m_lastWarning = message;
-  const SbName name = getName();
-  SoDebugError::postWarning("SoBSplineDeformSurface", "node '%s': %s",
-                            name.getLength() ? name.getString() : "<unnamed>", message.c_str());
+namespace {
+std::string nameOf(const SoBase* b) {
+  const SbName name = b->getName();
+  return name.getLength() ? name.getString() : "<unnamed>";
+}
+}  // namespace
+
+void SoBSplineDeformSurface::report(Problem::Kind kind, const std::string& field, const std::string& message,
+                                    const std::string& node) {
+  Problem p{kind, node.empty() ? nameOf(this) : node, field, message};
+  if (p.kind == m_problem.kind && p.node == m_problem.node && p.field == m_problem.field && p.message == m_problem.message)
+    return;  // once per distinct problem
+  m_problem = std::move(p);
+  ++m_reports;
+  SoDebugError::postWarning("SoBSplineDeformSurface", "node '%s': %s", nameOf(this).c_str(), message.c_str());
+  tell(PROBLEM_CHANGED);
+}
+
+void SoBSplineDeformSurface::clearProblem() {
+  if (m_problem.kind == Problem::NONE) return;
+  m_problem = Problem();
+  tell(PROBLEM_CHANGED);
+}
+
+int SoBSplineDeformSurface::addCallback(Callback callback) {
+  m_callbacks.emplace_back(m_nextCallback, std::move(callback));
+  return m_nextCallback++;
+}
+
+void SoBSplineDeformSurface::removeCallback(int id) {
+  m_callbacks.erase(std::remove_if(m_callbacks.begin(), m_callbacks.end(), [id](const auto& c) { return c.first == id; }),
+                    m_callbacks.end());
+}
+
+void SoBSplineDeformSurface::tell(Event event) {
+  // a copy: a callback may add or remove callbacks
+  const std::vector<std::pair<int, Callback>> callbacks = m_callbacks;
+  for (const auto& c : callbacks) c.second(this, event);
 }
 
 namespace {
@@ -228,34 +245,16 @@ void fromNet(const bsdeform::ControlNet& net, SoMFVec3d& f) {
   f.finishEditing();
 }
 
-// The core names its parameters as in bsdeform::ModelParameters; a user of the node reads
-// field names.
-std::string fieldMessage(std::string message) {
-  static const std::pair<const char*, const char*> names[] = {
-      {"numU * numV", "numUControlPoints * numVControlPoints"},
-      {"numU", "numUControlPoints"},
-      {"numV", "numVControlPoints"},
-      {"degreeU", "uDegree"},
-      {"degreeV", "vDegree"},
-      {"weight w10", "w10"}, {"weight w01", "w01"}, {"weight w11", "w11"}, {"weight w20", "w20"}, {"weight w02", "w02"},
-      {"timeStep", "timeStep"},
-      {"mass", "mass"},
-      {"damping", "damping"},
-      {"radius", "radius"},
-      {"height", "height"},
-      {"minorRadius", "minorRadius"},
-      {"youngsModulus", "youngsModulus"},
-      {"poissonRatio", "poissonRatio"},
-      {"thickness", "thickness"},
-      {"density", "density"},
-      {"newtonTolerance", "newtonTolerance"},
-      {"maxNewtonIterations", "maxNewtonIterations"},
-      {"radii", "radii"}};
-  for (const auto& n : names) {
-    const std::string core = std::string(n.first) + " ";
-    if (message.compare(0, core.size(), core) == 0) return "field '" + std::string(n.second) + "' " + message.substr(core.size());
-  }
-  return message;
+// The core names the parameter it refuses (bsdeform::ParameterError); a user of the node reads
+// the field that sets it (FieldInfo).
+std::string fieldOf(const bsdeform::ParameterError& e) {
+  const bsdeform::FieldInfo* f = bsdeform::surfaceFieldOfParameter(e.parameter());
+  return f ? f->name : "";
+}
+
+std::string fieldMessage(const bsdeform::ParameterError& e) {
+  const std::string field = fieldOf(e);
+  return field.empty() ? e.what() : "field '" + field + "' " + e.detail();
 }
 
 std::string num(double x) {
@@ -268,47 +267,51 @@ std::string num(double x) {
 }  // namespace
 
 bool SoBSplineDeformSurface::rebuildSimulation() {
-  std::string error;
-  auto check = [&](bool ok, const std::string& msg) {
-    if (!ok && error.empty()) error = msg;
+  std::string error, errorField;  // the first refusal
+  auto check = [&](bool ok, const char* field, const std::string& msg) {
+    if (!ok && error.empty()) {
+      error = msg;
+      errorField = field;
+    }
+  };
+  auto refuse = [&] {
+    report(Problem::FIELD, errorField, error + "; keeping the last valid state");
+    return false;
   };
   // Numbers and their limits are the core's to check (bsdeform::Simulation); the node checks
   // only what is its own (enumerations, net sizes of its fields) and names its fields in the
   // core's messages.
   const int nu = uDegree.getValue(), nv = vDegree.getValue();
   const int Nu = numUControlPoints.getValue(), Nv = numVControlPoints.getValue();
-  check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED,
+  check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED, "massModel",
         "field 'massModel' has an unknown value " + std::to_string(massModel.getValue()));
-  check(energy.getValue() == PAPER_ENERGY || energy.getValue() == SHELL,
+  check(energy.getValue() == PAPER_ENERGY || energy.getValue() == SHELL, "energy",
         "field 'energy' has an unknown value " + std::to_string(energy.getValue()));
-  check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT,
+  check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT, "integrator",
         "field 'integrator' has an unknown value " + std::to_string(integrator.getValue()));
-  check(reference.getValue() == REST || reference.getValue() == ABSOLUTE,
+  check(reference.getValue() == REST || reference.getValue() == ABSOLUTE, "reference",
         "field 'reference' has an unknown value " + std::to_string(reference.getValue()));
-  check(start.getValue() == PAPER || start.getValue() == SECOND_ORDER,
+  check(start.getValue() == PAPER || start.getValue() == SECOND_ORDER, "start",
         "field 'start' has an unknown value " + std::to_string(start.getValue()));
   const std::pair<const SoSFEnum*, const char*> sides[] = {
       {&boundaryUMin, "boundaryUMin"}, {&boundaryUMax, "boundaryUMax"}, {&boundaryVMin, "boundaryVMin"}, {&boundaryVMax, "boundaryVMax"}};
   for (const auto& side : sides)
-    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= BUILT_IN,
+    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= BUILT_IN, side.second,
           std::string("field '") + side.second + "' has an unknown value " + std::to_string(side.first->getValue()));
   for (int i = 0; i < pins.getNum(); ++i) {
     const SbVec2d q = pins[i];
-    check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0,
+    check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0, "pins",
           "field 'pins' [" + std::to_string(i) + "] (" + num(q[0]) + ", " + num(q[1]) + ") must lie in [0,1]^2");
   }
   const long long expected = (static_cast<long long>(Nu) + 2LL * nu) * (static_cast<long long>(Nv) + 2LL * nv);
   for (const auto& net : {std::make_pair(&restNet, "restNet"), std::make_pair(&controlNet, "controlNet"),
                           std::make_pair(&previousNet, "previousNet")}) {
     const int n = net.first->getNum();
-    check(n == 0 || n == expected || nu < 1 || nv < 1 || Nu < 1 || Nv < 1, std::string("field '") + net.second + "' must be empty or have " +
+    check(n == 0 || n == expected || nu < 1 || nv < 1 || Nu < 1 || Nv < 1, net.second, std::string("field '") + net.second + "' must be empty or have " +
                                        std::to_string(expected) + " points ((numU + 2 uDegree)(numV + 2 vDegree)), got " +
                                        std::to_string(n));
   }
-  if (!error.empty()) {
-    warn(error + "; keeping the last valid state");
-    return false;
-  }
+  if (!error.empty()) return refuse();
 
   bsdeform::ModelParameters p;
   p.degreeU = nu;
@@ -343,11 +346,9 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   p.boundaries = {side(boundaryUMin), side(boundaryUMax), side(boundaryVMin), side(boundaryVMax)};
   for (int i = 0; i < pins.getNum(); ++i) p.pins.emplace_back(pins[i][0], pins[i][1]);
   const int shapeValue = restShape.getValue();
-  check(shapeValue >= PLANE && shapeValue <= TORUS, "field 'restShape' has an unknown value " + std::to_string(shapeValue));
-  if (!error.empty()) {
-    warn(error + "; keeping the last valid state");
-    return false;
-  }
+  check(shapeValue >= PLANE && shapeValue <= TORUS, "restShape",
+        "field 'restShape' has an unknown value " + std::to_string(shapeValue));
+  if (!error.empty()) return refuse();
   const auto shape = static_cast<bsdeform::ShapeKind>(shapeValue);
   p.boundaries = bsdeform::shapeBoundaries(shape, p.boundaries);
   bsdeform::ControlNet rest;
@@ -358,20 +359,31 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
                                    Eigen::Vector3d(radii.getValue()[0], radii.getValue()[1], radii.getValue()[2])};
     try {
       rest = bsdeform::shapeRestNet(shape, size, bsdeform::SplineSpace(nu, nv, Nu, Nv, p.boundaries));
+    } catch (const bsdeform::ParameterError& e) {
+      const std::string field = fieldOf(e);
+      report(Problem::FIELD, field.empty() ? "restShape" : field,
+             std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + fieldMessage(e) +
+                 "; keeping the last valid state");
+      return false;
     } catch (const std::exception& e) {
-      warn(std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + fieldMessage(e.what()) +
-           "; keeping the last valid state");
+      report(Problem::FIELD, "restShape",
+             std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + e.what() +
+                 "; keeping the last valid state");
       return false;
     }
   }
   if (rest.rows() == 0 && (p.boundaries.uMin == bsdeform::Boundary::Periodic || p.boundaries.vMin == bsdeform::Boundary::Periodic)) {
-    warn(std::string("field '") + (p.boundaries.uMin == bsdeform::Boundary::Periodic ? "boundaryUMin" : "boundaryVMin") +
-         "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that closes (or a "
-         "rest shape); keeping the last valid state");
+    const char* side = p.boundaries.uMin == bsdeform::Boundary::Periodic ? "boundaryUMin" : "boundaryVMin";
+    report(Problem::FIELD, side,
+           std::string("field '") + side +
+               "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that closes (or a "
+               "rest shape); keeping the last valid state");
     return false;
   }
   std::vector<ForceSlot> oldSlots;  // the last valid model's, kept if the new one fails
+  long reportedBefore = 0;          // a problem of the new model's forces is not cleared below
   try {
+    m_stateKept = false;
     std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
                                                             : std::make_unique<bsdeform::Simulation>(p);
     // Another surface that lists this one as an obstacle and is built while this one gathers
@@ -385,6 +397,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     // Forces first: their stiffness sets the sub-step, and a state is restored at its own
     // sub-step (a force added afterwards would rescale the previous net as if it were older).
     oldSlots.swap(m_forceSlots);
+    reportedBefore = m_reports;
     updateForces(*sim);
     if (m_stateDirty && controlNet.getNum()) {
       const bsdeform::ControlNet cur = toNet(controlNet);
@@ -398,6 +411,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
       // e.g. a pin added, go back to their rest positions). A state still released from rest
       // (not stepped since it was built or reset) stays so: the new model's start rule applies,
       // as if the file had held the new values.
+      m_stateKept = true;
       if (m_sim->startPending())
         sim->setState(m_sim->current(), m_sim->time(), m_sim->stepCount(), bsdeform::HeldPoints::Reset);
       else
@@ -405,25 +419,32 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
                       bsdeform::HeldPoints::Reset);
     }
     m_sim = std::move(sim);
+  } catch (const bsdeform::ParameterError& e) {
+    if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
+    report(Problem::FIELD, fieldOf(e), fieldMessage(e) + "; keeping the last valid state");
+    return false;
   } catch (const std::exception& e) {
     if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
-    warn(fieldMessage(e.what()) + "; keeping the last valid state");
+    report(Problem::FIELD, "", e.what() + std::string("; keeping the last valid state"));
     return false;
   }
-  m_lastWarning.clear();
+  if (m_reports == reportedBefore) clearProblem();
   const double seam = m_sim->seamMismatch();
   if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff()))
-    warn("the last n layers of a periodic direction differ from the first n (by up to " + num(seam) +
-         ") in 'restNet', 'controlNet' or 'previousNet'; the first were used");
+    report(Problem::STATE, "restNet",
+           "the last n layers of a periodic direction differ from the first n (by up to " + num(seam) +
+               ") in 'restNet', 'controlNet' or 'previousNet'; the first were used");
   return true;
 }
 
 void SoBSplineDeformSurface::ensureSimulation() {
   if (m_building) return;  // asked for from within rebuildSimulation (see there)
   if (m_modelDirty || m_stateDirty || !m_sim) {
-    if (!rebuildSimulation() && !m_sim) m_sim = std::make_unique<bsdeform::Simulation>(bsdeform::ModelParameters());
+    const bool rebuilt = rebuildSimulation();
+    if (!rebuilt && !m_sim) m_sim = std::make_unique<bsdeform::Simulation>(bsdeform::ModelParameters());
     m_modelDirty = m_stateDirty = false;
     m_tessValid = false;
+    if (rebuilt) tell(m_stateKept ? MODEL_CHANGED : STATE_CHANGED);
   }
 }
 
@@ -439,16 +460,25 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
   info.massDensity = mp.energy == bsdeform::EnergyModel::Shell ? mp.material.density * mp.material.thickness  // per rest area
                      : mp.massModel == bsdeform::MassModel::Nodal ? mp.mass / area
                                                                    : mp.mass;
+  int fields = 0;  // a copy of the node (SoNode::copy) has the list, not the connections
+  for (int i = 0; i < forces.getNum(); ++i) fields += forces[i] && forces[i]->isOfType(SoForceField::getClassTypeId());
+  if (m_forcesChanged.getNumConnections() != fields) connectForces();
   bool areaKnown = false;  // info.areaScale, computed when a COLLISION force is built
   bool changed = int(m_forceSlots.size()) != forces.getNum();
+  // Force fields are compared with the slots only after one told of a change (m_forcesChanged,
+  // notify()) or the list changed; obstacles are kept current before every step.
+  const bool stale = m_forcesStale || changed || &sim != m_sim.get();
+  m_forcesStale = false;
   m_forceSlots.resize(forces.getNum());
   for (int i = 0; i < forces.getNum(); ++i) {
     SoEngine* e = forces[i];
     ForceSlot& slot = m_forceSlots[i];
     if (!e || !e->isOfType(SoForceField::getClassTypeId())) {
       if (slot.engine != e) {
-        if (e) warn("field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
-                    ", not an SoForceField; ignored");
+        if (e)
+          report(Problem::FORCE_FIELD, "forces",
+                 "field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
+                     ", not an SoForceField; ignored");
         slot = ForceSlot{e, -1, nullptr, nullptr, -1};
         changed = true;
       }
@@ -460,17 +490,16 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
       if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<bsdeform::SceneObstacles>();
       std::vector<std::string> problems;
       slot.obstacles->update(m_sceneRoot, this, ff->obstacles, ff->obstacleNames,
-                             slot.geometryRevision != ff->getGeometryRevision(), problems);
+                             stale && slot.geometryRevision != ff->getGeometryRevision(), problems);
       slot.geometryRevision = ff->getGeometryRevision();
-      const SbName name = ff->getName();
       for (const std::string& p : problems)
-        warn("SoForceField '" + std::string(name.getLength() ? name.getString() : "<unnamed>") + "': " + p);
+        report(Problem::OBSTACLE, "obstacles", "SoForceField '" + nameOf(ff) + "': " + p, nameOf(ff));
       info.contact = slot.obstacles->world();
     } else {
       slot.obstacles.reset();
       info.contact.reset();
     }
-    if (slot.engine == ff && slot.revision == ff->getRevision()) continue;
+    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision())) continue;
     if (ff->type.getValue() == SoForceField::COLLISION && !areaKnown) {
       // the contact law is per unit world area (Contact.h); a degenerate rest surface keeps 1
       const double a = bsdeform::surfaceArea(sim.space(), sim.rest());
@@ -479,13 +508,13 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
     }
     std::string error;
     auto force = ff->makeForce(info, error);
+    ++m_forcesMade;
     slot.engine = ff;
     slot.revision = ff->getRevision();
     changed = true;
     if (!error.empty()) {
-      const SbName name = ff->getName();
-      warn("SoForceField '" + std::string(name.getLength() ? name.getString() : "<unnamed>") + "': " + error +
-           "; keeping its previous force");
+      report(Problem::FORCE_FIELD, "", "SoForceField '" + nameOf(ff) + "': " + error + "; keeping its previous force",
+             nameOf(ff));
       continue;  // keep slot.force
     }
     slot.force = std::move(force);
@@ -505,10 +534,14 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
   updateForces(*m_sim);
   bool ok = true;
   if (steps > 0) {
-    const bsdeform::Status st = m_sim->advance(steps);
-    if (st != bsdeform::Status::Ok) {
-      warn("simulation stopped: " + m_sim->statusMessage());
-      ok = false;
+    // one at a time when someone listens (the same numbers: Simulation::advance steps one by one)
+    for (int k = 0; k < steps && ok; k += m_callbacks.empty() ? steps : 1) {
+      ok = m_sim->advance(m_callbacks.empty() ? steps : 1) == bsdeform::Status::Ok;
+      if (!ok) report(Problem::STOPPED, "", "simulation stopped: " + m_sim->statusMessage());
+      if (!m_callbacks.empty()) {
+        syncClockFields();
+        tell(STEPPED);
+      }
     }
     m_tessValid = false;
     syncClockFields();
@@ -538,10 +571,11 @@ void SoBSplineDeformSurface::resetSimulation() {
   ensureSimulation();
   m_sim->reset();
   m_timeBudget = 0.0;
-  m_lastWarning.clear();
+  clearProblem();
   m_tessValid = false;
   syncClockFields();
   touch();
+  tell(STATE_CHANGED);
 }
 
 bool SoBSplineDeformSurface::solveStatic(bsdeform::StaticResult* result, std::string* error) {
@@ -572,10 +606,11 @@ bool SoBSplineDeformSurface::solveStatic(
     return false;
   }
   m_timeBudget = 0.0;
-  m_lastWarning.clear();
+  clearProblem();
   m_tessValid = false;
   syncClockFields();
   touch();
+  tell(STATE_CHANGED);
   return true;
 }
 
@@ -592,22 +627,44 @@ void SoBSplineDeformSurface::removeTransientForce(const bsdeform::Force* force) 
   if (m_sim) m_sim->removeForce(force);
 }
 
-void SoBSplineDeformSurface::updateTimer() {
-  if (on.getValue()) {
-    if (!m_timer->isScheduled()) {
-      m_lastTick = -1.0;
-      m_timer->schedule();
-    }
-  } else if (m_timer->isScheduled()) {
-    m_timer->unschedule();
+// ---------------------------------------------------------------------------------------------
+// The clock: like SoElapsedTime, the surface reads Coin's global realTime field, through its own
+// sensor (not a field connection: that would make every change of realTime a notification of
+// the scene, and renders would run free). Whoever sets realTime drives the surface: Coin's own
+// real-time sensor and scene manager in a plain viewer, bsdeform-viewer's Play / Pause and
+// speed, a test. A SceneRunner drives the surfaces it holds itself (m_drivers).
+
+namespace {
+SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
+}  // namespace
+
+void SoBSplineDeformSurface::updateClock() {
+  SoSFTime* realTime = realTimeField();
+  const bool listen = on.getValue() && m_drivers == 0 && realTime;
+  if (listen && !m_clock->getAttachedField()) {
+    m_lastTick = realTime->getValue().getValue();  // the time from here on counts
+    m_clock->attach(realTime);
+  } else if (!listen && m_clock->getAttachedField()) {
+    m_clock->detach();
   }
 }
 
-void SoBSplineDeformSurface::timerCallback(void* data, SoSensor*) {
+void SoBSplineDeformSurface::clockCallback(void* data, SoSensor*) {
   auto* self = static_cast<SoBSplineDeformSurface*>(data);
-  const double now = SbTime::getTimeOfDay().getValue();
-  if (self->m_lastTick >= 0.0) self->advanceRealTime(now - self->m_lastTick);
+  const SoSFTime* realTime = realTimeField();
+  if (!realTime) return;
+  const double now = realTime->getValue().getValue();
+  // a clock set back (a driver that restarted) is a new origin, not time to make up
+  if (self->m_lastTick >= 0.0 && now > self->m_lastTick) self->advanceRealTime(now - self->m_lastTick);
   self->m_lastTick = now;
+}
+
+void SoBSplineDeformSurface::connectForces() {
+  m_forcesChanged.disconnect();
+  for (int i = 0; i < forces.getNum(); ++i)
+    if (forces[i] && forces[i]->isOfType(SoForceField::getClassTypeId()))
+      m_forcesChanged.appendConnection(&static_cast<SoForceField*>(forces[i])->revision);
+  m_forcesStale = true;
 }
 
 void SoBSplineDeformSurface::notify(SoNotList* list) {
@@ -620,12 +677,16 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
         m_sim->reset();
         m_timeBudget = 0.0;
         syncClockFields();
+        tell(STATE_CHANGED);
       }
       m_tessValid = false;
     } else if (f == &on || f == &speed) {
-      updateTimer();
+      updateClock();
     } else if (f == &forces) {
-      // slots are compared with the field on the next step
+      connectForces();  // the slots are compared with the list before the next step
+    } else if (f == &m_forcesChanged) {
+      m_forcesStale = true;  // a force field changed: its force is remade before the next step
+      return;                // nothing to draw differently yet
     } else {
       m_modelDirty = true;
     }
@@ -686,6 +747,7 @@ SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
     f->enableNotify(notify);
   }
   m_modelDirty = m_stateDirty = true;
+  connectForces();
   return ok;
 }
 
@@ -721,7 +783,13 @@ void SoBSplineDeformSurface::tessellate(SoState* state) {
 }
 
 void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
-  noteSceneRoot(action);
+  if (!m_sceneGiven && !m_sceneRoot) {  // a plain Coin viewer: its scene, once (setScene())
+    const SoPath* path = action->getCurPath();
+    if (path && path->getLength()) {
+      setScene(path->getHead());
+      m_sceneGiven = false;  // taken, not given: a later setScene() wins
+    }
+  }
   if (!shouldGLRender(action)) return;
   SoState* state = action->getState();
   tessellate(state);

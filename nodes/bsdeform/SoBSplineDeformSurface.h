@@ -52,8 +52,8 @@
 ///   height 1              # H: CYLINDER, CONE (z from -H/2 to H/2)
 ///   minorRadius 0.2       # r: TORUS tube
 ///   radii 0.6 0.45 0.35   # (a, b, c): ELLIPSOID semi-axes along x, y, z
-///   on TRUE               # animate with the real-time clock
-///   speed 1               # simulated seconds per real second (at most 10000 steps per frame)
+///   on TRUE               # animate with Coin's realTime (whoever drives it: a viewer, a runner)
+///   speed 1               # simulated seconds per second of realTime (at most 10000 steps at once)
 ///   reset                 # trigger: back to the rest state
 ///   restNet [ ]           # (N1+2n1)(N2+2n2) points, u-major; empty: the plane (u, v, 0)
 ///   controlNet [ ]        # current state; empty: the rest net
@@ -86,6 +86,7 @@
 #include "bsdeform/Tessellation.h"
 
 namespace bsdeform {
+class SceneRunner;
 class Simulation;
 class Force;
 class SceneObstacles;
@@ -94,7 +95,7 @@ struct StaticResult;
 struct Diagnostics;
 }  // namespace bsdeform
 
-class SoTimerSensor;
+class SoFieldSensor;
 class SoNodeSensor;
 class SoSensor;
 class SoPickedPoint;
@@ -151,8 +152,8 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble height;            ///< H of CYLINDER, CONE; 1
   SoSFDouble minorRadius;       ///< r of TORUS (tube); 0.2
   SoSFVec3d radii;              ///< (a, b, c) of ELLIPSOID; 0.6 0.45 0.35
-  SoSFBool on;                  ///< animate with the clock; TRUE
-  SoSFFloat speed;              ///< simulated seconds per real second; 1
+  SoSFBool on;                  ///< animate with Coin's realTime; TRUE
+  SoSFFloat speed;              ///< simulated seconds per second of realTime; 1
   SoSFTrigger reset;            ///< back to the rest state
   SoMFVec3d restNet;            ///< rest net, empty for the plane S = (u, v, 0)
   SoMFVec3d controlNet;         ///< current net (state), empty for the rest net
@@ -161,12 +162,56 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFInt32 stepCount;          ///< steps taken (live, like simulationTime); 0
   SoMFEngine forces;            ///< SoForceField engines acting on this surface
 
+  /// What is wrong with the surface now: a front end shows it at its place from these fields
+  /// (nobody reads the message's words). Also posted once, as a Coin warning, when it appears.
+  struct Problem {
+    enum Kind {
+      NONE,
+      FIELD,        ///< a field's value is refused (`field` names it): the last valid model runs on
+      FORCE_FIELD,  ///< a force field's value is refused (its previous force acts) or `forces`
+                    ///< holds something else; `node` names it
+      OBSTACLE,     ///< a COLLISION force's obstacle is missing or has no usable geometry
+      STATE,        ///< the state fields were adjusted (a periodic net whose seam did not close)
+      STOPPED       ///< the simulation stopped: it blew up or a step was refused (Simulation::status())
+    };
+    Kind kind = NONE;
+    std::string node;     ///< the node at fault (this surface's or the force field's name, "<unnamed>")
+    std::string field;    ///< the field at fault; "" when no one field is
+    std::string message;  ///< the sentence for the user
+  };
+  /// The current problem (kind NONE when there is none).
+  const Problem& problem() const { return m_problem; }
+  /// The current problem's message ("" when there is none).
+  const std::string& lastWarning() const { return m_problem.message; }
+
+  /// What a surface tells the functions registered with addCallback().
+  enum Event {
+    STEPPED,        ///< one step was taken (after every step, also one that failed)
+    STATE_CHANGED,  ///< the state was replaced: reset, static solve, the state fields read, or a
+                    ///< model rebuilt from rest
+    MODEL_CHANGED,  ///< the model was rebuilt from changed fields, the motion going on from where it was
+    PROBLEM_CHANGED ///< problem() changed
+  };
+  using Callback = std::function<void(SoBSplineDeformSurface*, Event)>;
+  /// Registers `callback` (as an engine's evaluate callbacks are); returns its id for
+  /// removeCallback(). Called on the thread that steps, in registration order.
+  int addCallback(Callback callback);
+  void removeCallback(int id);
+
+  /// The scene this surface is in: COLLISION forces find their obstacles and their frames there
+  /// (SceneObstacles.h). SceneRunner and the front ends give it; a surface that was given none
+  /// (a plain Coin viewer that only reads the file) takes the head of the first render
+  /// traversal's path once. Not ref'ed: forgotten when that node is deleted.
+  void setScene(SoNode* root);
+  SoNode* scene() const { return m_sceneRoot; }
+
   /// The simulation built from the fields (rebuilt lazily after field changes); never null.
   const bsdeform::Simulation& simulation();
   /// Advances by `steps` steps of Delta t now, whatever `on` says. Returns false on blow-up.
   bool stepSimulation(int steps = 1);
-  /// Advances by `seconds` of real time (times `speed`) in whole steps of Delta t, keeping the
-  /// remainder for the next call. This is what the clock calls. Returns the steps taken.
+  /// Advances by `seconds` of realTime (times `speed`) in whole steps of Delta t, keeping the
+  /// remainder for the next call; a quarter second at most per call (a slow frame is not made
+  /// up). This is what the surface's realTime sensor calls. Returns the steps taken.
   int advanceRealTime(double seconds);
   /// Back to the rest state (same as touching `reset`).
   void resetSimulation();
@@ -202,8 +247,9 @@ class SoBSplineDeformSurface : public SoShape {
   /// Obstacle trees built and refitted by this surface's COLLISION force fields (tests).
   int obstacleBuilds() const;
   int obstacleRefits() const;
-  /// The last warning (empty if the fields are valid).
-  const std::string& lastWarning() const { return m_lastWarning; }
+  /// Core forces made from the force fields so far (tests: a force is remade only when its
+  /// force field tells of a change).
+  int forcesMade() const { return m_forcesMade; }
 
   void GLRender(SoGLRenderAction* action) override;
   void write(SoWriteAction* action) override;
@@ -214,18 +260,22 @@ class SoBSplineDeformSurface : public SoShape {
   SbBool readInstance(SoInput* in, unsigned short flags) override;
   void generatePrimitives(SoAction* action) override;
   void computeBBox(SoAction* action, SbBox3f& box, SbVec3f& center) override;
-  void callback(SoCallbackAction* action) override;
-  void rayPick(SoRayPickAction* action) override;
-  void getBoundingBox(SoGetBoundingBoxAction* action) override;
 
  private:
+  friend class bsdeform::SceneRunner;
   void ensureSimulation();
   bool rebuildSimulation();
   void syncClockFields();
   void updateForces(bsdeform::Simulation& sim);
-  void warn(const std::string& message);
-  void updateTimer();
-  static void timerCallback(void* data, SoSensor*);
+  /// Makes `problem` the current one (posted as a Coin warning when it is new).
+  void report(Problem::Kind kind, const std::string& field, const std::string& message, const std::string& node = {});
+  void clearProblem();
+  void tell(Event event);
+  /// Listens to realTime while `on` is TRUE and no SceneRunner drives the surface.
+  void updateClock();
+  static void clockCallback(void* data, SoSensor*);
+  /// Connects m_forcesChanged from the `revision` output of every force field in `forces`.
+  void connectForces();
   void tessellate(SoState* state);
   int segmentsFor(float complexity, int spans) const;
 
@@ -234,24 +284,34 @@ class SoBSplineDeformSurface : public SoShape {
   bool m_modelDirty = true;
   bool m_stateDirty = true;
   bool m_syncing = false;
+  bool m_stateKept = false;  ///< the last rebuild kept the motion going (MODEL_CHANGED)
   struct ForceSlot {
     void* engine = nullptr;
-    int revision = -1;
+    int revision = -1;  ///< the force field's revision the force was made from
     std::shared_ptr<const bsdeform::Force> force;
     std::shared_ptr<bsdeform::SceneObstacles> obstacles;  ///< COLLISION: the gathered obstacles
     int geometryRevision = -1;
   };
   std::vector<ForceSlot> m_forceSlots;
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
-  std::string m_lastWarning;
+  /// Not a field of the file (not in the field data): the slave of every force field's
+  /// `revision` output, so that a changed force field notifies this node (notify()).
+  SoSFInt32 m_forcesChanged;
+  bool m_forcesStale = true;  ///< a force field told of a change: its force is remade before the next step
+  int m_forcesMade = 0;
+  Problem m_problem;
+  long m_reports = 0;  ///< problems reported so far
+  std::vector<std::pair<int, Callback>> m_callbacks;
+  int m_nextCallback = 0;
   bsdeform::SurfaceGrid m_tess;
   std::uint64_t m_tessRevision = 0;                 ///< counts tessellations (the buffers' uploads)
   std::unique_ptr<bsdeform::SurfaceBuffers> m_buffers;  ///< GL buffers of m_tess, per context
-  SoNode* m_sceneRoot = nullptr;        ///< head of a traversal's path (not ref'ed; see noteSceneRoot)
+  SoNode* m_sceneRoot = nullptr;        ///< setScene() (not ref'ed)
+  bool m_sceneGiven = false;            ///< setScene() was called: no traversal changes the scene
   SoNodeSensor* m_rootSensor = nullptr; ///< clears m_sceneRoot when that node is deleted
-  void noteSceneRoot(SoAction* action);
   bool m_tessValid = false;
-  SoTimerSensor* m_timer = nullptr;
-  double m_lastTick = -1.0;
+  SoFieldSensor* m_clock = nullptr;     ///< on Coin's global realTime field
+  int m_drivers = 0;                    ///< SceneRunners driving this surface (its sensor is off)
+  double m_lastTick = -1.0;             ///< realTime at the last tick, -1 before the first
   double m_timeBudget = 0.0;
 };

@@ -18,11 +18,12 @@ See docs/python.md.
 import pivy.coin as coin  # first: the C++ module finds pivy's SWIG types through it
 
 from ._errors import Error, FieldError, RenderError, SceneError, SimulationError
-from ._bsdeform import Surface, read_scene, read_scene_text, render, render_png, scene_text, surfaces
+from ._bsdeform import (SceneRunner, Surface, read_scene, read_scene_text, render, render_png, scene_text,
+                        surfaces)
 
 __all__ = [
     "Error", "FieldError", "RenderError", "SceneError", "SimulationError",
-    "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
+    "SceneRunner", "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
     "set_field", "new_node", "run", "History", "simulated_clock",
     "sweep", "Run", "Row", "SweepResult",
 ]
@@ -123,24 +124,24 @@ class History:
 
 
 def run(root, steps=None, until=None, record_every=1):
-    """Runs every surface of the scene as bsdeform-run does: Coin's realTime follows the
-    simulated time (engines driven by it animate deterministically when simulated_clock() was
-    called before the scene was read), each surface takes its own steps of timeStep up to the
-    common time. Give `steps` (of the smallest timeStep) or
+    """Runs every surface of the scene as bsdeform-run does (one SceneRunner): Coin's realTime
+    follows the simulated time (engines driven by it animate deterministically when
+    simulated_clock() was called before the scene was read), each surface takes its own steps
+    of timeStep up to the common time. Give `steps` (of the smallest timeStep) or
     `until` (simulated time). Returns {surface name (or "surface<i>"): History} with the
-    first state, every state whose step count is a multiple of record_every, and the last."""
+    first state, every state whose step count is a multiple of record_every, and the last.
+    Raises FieldError for a refused field value before anything runs, SimulationError when a
+    surface blows up (its history up to then is lost with the exception)."""
     if (steps is None) == (until is None):
         raise ValueError("give exactly one of steps and until")
-    found = surfaces(root)
+    runner = SceneRunner(root)
+    found = runner.surfaces
     if not found:
         raise Error("the scene has no SoBSplineDeformSurface")
-    coin.SoDB.enableRealTimeSensor(False)
-    real_time = coin.SoDB.getGlobalField("realTime")
     for s in found:
-        s.node.on.setValue(False)  # time is driven here
         s.check()
-    dt = min(s.time_step for s in found)
-    t0 = min(s.time for s in found)
+    dt = runner.time_step
+    t0 = runner.start_time
     frames = steps if steps is not None else max(0, round((until - t0) / dt))
     histories = {}
     for i, s in enumerate(found):
@@ -148,16 +149,18 @@ def run(root, steps=None, until=None, record_every=1):
     named = list(zip(found, histories.values()))
     for s, h in named:
         h._add(s.diagnostics())
-    real_time.setValue(t0)
+
+    def stepped(i):
+        s, h = named[i]
+        if s.step_count % record_every == 0 or s.status != "ok":
+            h._add(s.diagnostics())
+
+    runner.advance_to(t0)
     for frame in range(1, frames + 1):
-        now = t0 + frame * dt
-        real_time.setValue(now)
-        for s, h in named:
-            step_dt = s.time_step
-            while s.time + 0.5 * step_dt <= now:
-                s.step(1)
-                if s.step_count % record_every == 0:
-                    h._add(s.diagnostics())
+        if not runner.advance_to(t0 + frame * dt, stepped):
+            bad = [(s, n) for (s, _), n in zip(named, histories) if s.status != "ok"]
+            raise SimulationError("; ".join("%s: the simulation stopped (%s): %s" % (n, s.status, s.status_message)
+                                            for s, n in bad))
     for s, h in named:
         if h._rows[-1][1] != s.step_count:
             h._add(s.diagnostics())

@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/RestShape.h"
+
+#include "bsdeform/ParameterError.h"
 #include "bsdeform/NumberText.h"
 
 #include <Eigen/SparseCholesky>
@@ -22,8 +24,9 @@ constexpr double kProfileSmoothing = 1.0;
 
 std::string num(double x) { return numberText(x); }
 
-void checkSize(double x, const char* name) {
-  if (!std::isfinite(x) || x <= 0.0) throw std::invalid_argument(std::string(name) + " must be finite and > 0, got " + num(x));
+// `parameter`: the ShapeSize member (radii for each of its components, named in `label`)
+void checkSize(double x, const char* parameter, const char* label = "") {
+  requireParameter(std::isfinite(x) && x > 0.0, parameter, "must be finite and > 0, got " + num(x), label);
 }
 
 // Scale that puts the periodic B-spline with control points on the unit regular M-gon (angles
@@ -155,9 +158,9 @@ ControlNet shapeRestNet(ShapeKind kind, const ShapeSize& size, const SplineSpace
   checkSize(size.radius, "radius");
   checkSize(size.height, "height");
   checkSize(size.minorRadius, "minorRadius");
-  checkSize(size.radii.x(), "radii x");
-  checkSize(size.radii.y(), "radii y");
-  checkSize(size.radii.z(), "radii z");
+  checkSize(size.radii.x(), "radii", "radii x");
+  checkSize(size.radii.y(), "radii", "radii y");
+  checkSize(size.radii.z(), "radii", "radii z");
   const Boundaries expect = shapeBoundaries(kind, space.boundaries());
   const Boundaries& got = space.boundaries();
   if (expect.uMin != got.uMin || expect.uMax != got.uMax || expect.vMin != got.vMin || expect.vMax != got.vMax)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/Shell.h"
 
+#include "bsdeform/ParameterError.h"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -234,14 +236,14 @@ ShellEnergy::ShellEnergy(const SplineSpace& space, const ControlNet& rest, const
     if (!ok) throw std::invalid_argument(what);
   };
   const ShellMaterial& m = material;
-  require(std::isfinite(m.youngsModulus) && m.youngsModulus > 0.0,
-          "youngsModulus must be a finite number > 0 (got " + numberText(m.youngsModulus) + ")");
-  require(std::isfinite(m.poissonRatio) && m.poissonRatio >= 0.0 && m.poissonRatio < 0.5,
-          "poissonRatio must lie in [0, 0.5) (got " + numberText(m.poissonRatio) + ")");
-  require(std::isfinite(m.thickness) && m.thickness > 0.0,
-          "thickness must be a finite number > 0 (got " + numberText(m.thickness) + ")");
-  require(std::isfinite(m.density) && m.density > 0.0,
-          "density must be a finite number > 0 (got " + numberText(m.density) + ")");
+  requireParameter(std::isfinite(m.youngsModulus) && m.youngsModulus > 0.0, "youngsModulus",
+                   "must be a finite number > 0 (got " + numberText(m.youngsModulus) + ")");
+  requireParameter(std::isfinite(m.poissonRatio) && m.poissonRatio >= 0.0 && m.poissonRatio < 0.5, "poissonRatio",
+                   "must lie in [0, 0.5) (got " + numberText(m.poissonRatio) + ")");
+  requireParameter(std::isfinite(m.thickness) && m.thickness > 0.0, "thickness",
+                   "must be a finite number > 0 (got " + numberText(m.thickness) + ")");
+  requireParameter(std::isfinite(m.density) && m.density > 0.0, "density",
+                   "must be a finite number > 0 (got " + numberText(m.density) + ")");
   require(rest.rows() == space.netSize(), "ShellEnergy: the rest net does not fit the spline space");
   m_bending = space.degreeU() >= 2 && space.degreeV() >= 2;
   m_qu = space.degreeU() + 1;

@@ -18,6 +18,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "bsdeform/ParameterError.h"
+
 namespace bsdeform {
 
 namespace {
@@ -32,35 +34,42 @@ const ModelParameters& validated(const ModelParameters& p) {
   // Degrees, counts, their limits and the boundary pairs first (SplineSpace names them), then
   // the rest here; weights are checked by StiffnessStencil.
   (void)SplineSpace(p.degreeU, p.degreeV, p.numU, p.numV, p.boundaries);
-  require(std::isfinite(p.mass) && p.mass > 0.0, "mass must be finite and > 0, got " + num(p.mass));
-  require(std::isfinite(p.damping) && p.damping >= 0.0, "damping must be finite and >= 0, got " + num(p.damping));
-  require(std::isfinite(p.timeStep) && p.timeStep > 0.0, "timeStep must be finite and > 0, got " + num(p.timeStep));
-  require(std::isfinite(p.stabilitySafety) && p.stabilitySafety > 0.0 && p.stabilitySafety <= 1.0,
-          "stabilitySafety must be in (0, 1], got " + num(p.stabilitySafety));
-  require(std::isfinite(p.divergenceLimit) && p.divergenceLimit > 0.0,
-          "divergenceLimit must be finite and > 0, got " + num(p.divergenceLimit));
-  require(p.maxSubSteps >= 1, "maxSubSteps must be >= 1, got " + std::to_string(p.maxSubSteps));
-  require(std::isfinite(p.solverTolerance) && p.solverTolerance > 0.0 && p.solverTolerance < 1.0,
-          "solverTolerance must be in (0, 1), got " + num(p.solverTolerance));
-  require(p.maxSolverIterations >= 1, "maxSolverIterations must be >= 1, got " + std::to_string(p.maxSolverIterations));
-  require(std::isfinite(p.newtonTolerance) && p.newtonTolerance > 0.0 && p.newtonTolerance < 1.0,
-          "newtonTolerance must be in (0, 1), got " + num(p.newtonTolerance));
-  require(p.maxNewtonIterations >= 1, "maxNewtonIterations must be >= 1, got " + std::to_string(p.maxNewtonIterations));
+  requireParameter(std::isfinite(p.mass) && p.mass > 0.0, "mass", "must be finite and > 0, got " + num(p.mass));
+  requireParameter(std::isfinite(p.damping) && p.damping >= 0.0, "damping", "must be finite and >= 0, got " + num(p.damping));
+  requireParameter(std::isfinite(p.timeStep) && p.timeStep > 0.0, "timeStep", "must be finite and > 0, got " + num(p.timeStep));
+  requireParameter(std::isfinite(p.stabilitySafety) && p.stabilitySafety > 0.0 && p.stabilitySafety <= 1.0,
+                   "stabilitySafety", "must be in (0, 1], got " + num(p.stabilitySafety));
+  requireParameter(std::isfinite(p.divergenceLimit) && p.divergenceLimit > 0.0, "divergenceLimit",
+                   "must be finite and > 0, got " + num(p.divergenceLimit));
+  requireParameter(p.maxSubSteps >= 1, "maxSubSteps", "must be >= 1, got " + std::to_string(p.maxSubSteps));
+  requireParameter(std::isfinite(p.solverTolerance) && p.solverTolerance > 0.0 && p.solverTolerance < 1.0,
+                   "solverTolerance", "must be in (0, 1), got " + num(p.solverTolerance));
+  requireParameter(p.maxSolverIterations >= 1, "maxSolverIterations",
+                   "must be >= 1, got " + std::to_string(p.maxSolverIterations));
+  requireParameter(std::isfinite(p.newtonTolerance) && p.newtonTolerance > 0.0 && p.newtonTolerance < 1.0,
+                   "newtonTolerance", "must be in (0, 1), got " + num(p.newtonTolerance));
+  requireParameter(p.maxNewtonIterations >= 1, "maxNewtonIterations",
+                   "must be >= 1, got " + std::to_string(p.maxNewtonIterations));
   for (size_t i = 0; i < p.pins.size(); ++i) {
     const Eigen::Vector2d& q = p.pins[i];
-    require(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0,
-            "pin " + std::to_string(i) + " (" + num(q.x()) + ", " + num(q.y()) + ") must lie in [0,1]^2");
+    requireParameter(q.allFinite() && q.x() >= 0.0 && q.x() <= 1.0 && q.y() >= 0.0 && q.y() <= 1.0, "pins",
+                     std::to_string(i) + " (" + num(q.x()) + ", " + num(q.y()) + ") must lie in [0,1]^2", "pin");
   }
   return p;
 }
 
-void requireNet(const SplineSpace& s, const ControlNet& net, const char* name) {
-  require(net.rows() == s.netSize(),
-          std::string(name) + " must have (numU + 2 degreeU) * (numV + 2 degreeV) = " + std::to_string(s.netSize()) +
-              " points, got " + std::to_string(net.rows()));
+// `parameter`: restNet, controlNet or previousNet (as the nodes spell the state), `name` as the
+// messages do ("rest net")
+void requireNet(const SplineSpace& s, const ControlNet& net, const char* parameter, const char* name) {
+  requireParameter(net.rows() == s.netSize(), parameter,
+                   "must have (numU + 2 degreeU) * (numV + 2 degreeV) = " + std::to_string(s.netSize()) +
+                       " points, got " + std::to_string(net.rows()),
+                   name);
   for (Eigen::Index i = 0; i < net.rows(); ++i)
-    require(net.row(i).allFinite(), std::string(name) + " point " + std::to_string(i) + " is not finite (" +
-                                        num(net(i, 0)) + ", " + num(net(i, 1)) + ", " + num(net(i, 2)) + ")");
+    requireParameter(net.row(i).allFinite(), parameter,
+                     "point " + std::to_string(i) + " is not finite (" + num(net(i, 0)) + ", " + num(net(i, 1)) +
+                         ", " + num(net(i, 2)) + ")",
+                     name);
 }
 
 }  // namespace
@@ -80,7 +89,7 @@ Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
     : m_params(validated(params)),
       m_space(params.degreeU, params.degreeV, params.numU, params.numV, params.boundaries),
       m_stencil(m_space, params.weights) {
-  requireNet(m_space, rest, "rest net");
+  requireNet(m_space, rest, "restNet", "rest net");
   m_rest = rest;
   m_seamMismatch = m_space.closePeriodic(m_rest);
   init();
@@ -454,10 +463,10 @@ void Simulation::reset() {
 
 void Simulation::setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
                           double previousStepSize, HeldPoints held) {
-  requireNet(m_space, current, "current net");
-  requireNet(m_space, previous, "previous net");
-  require(std::isfinite(time), "time must be finite, got " + num(time));
-  require(steps >= 0, "step count must be >= 0, got " + std::to_string(steps));
+  requireNet(m_space, current, "controlNet", "current net");
+  requireNet(m_space, previous, "previousNet", "previous net");
+  requireParameter(std::isfinite(time), "simulationTime", "must be finite, got " + num(time), "time");
+  requireParameter(steps >= 0, "stepCount", "must be >= 0, got " + std::to_string(steps), "step count");
   require(std::isfinite(previousStepSize) && previousStepSize >= 0.0,
           "previous step size must be finite and >= 0, got " + num(previousStepSize));
   ControlNet cur = current, prev = previous;

@@ -2,6 +2,7 @@
 #include "bsdeform/SplineSpace.h"
 
 #include "bsdeform/LoadQuadrature.h"
+#include "bsdeform/ParameterError.h"
 
 #include <Eigen/LU>
 #include <algorithm>
@@ -21,15 +22,11 @@ Eigen::Vector3d SurfacePoint::normal() const {
 
 namespace {
 BSplineBasis1D makeBasis(int degree, int numFree, const char* degreeName, const char* countName) {
-  if (degree < 1 || degree > kMaxDegree)
-    throw std::invalid_argument(std::string(degreeName) + " must be between 1 and " + std::to_string(kMaxDegree) +
-                                ", got " + std::to_string(degree));
-  if (numFree < 1)
-    throw std::invalid_argument(std::string(countName) + " (free control points) must be at least 1, got " +
-                                std::to_string(numFree));
-  if (numFree > kMaxPerSide)
-    throw std::invalid_argument(std::string(countName) + " must be at most " + std::to_string(kMaxPerSide) +
-                                ", got " + std::to_string(numFree));
+  requireParameter(degree >= 1 && degree <= kMaxDegree, degreeName,
+                   "must be between 1 and " + std::to_string(kMaxDegree) + ", got " + std::to_string(degree));
+  requireParameter(numFree >= 1, countName, "(free control points) must be at least 1, got " + std::to_string(numFree));
+  requireParameter(numFree <= kMaxPerSide, countName,
+                   "must be at most " + std::to_string(kMaxPerSide) + ", got " + std::to_string(numFree));
   return BSplineBasis1D(degree, numFree);
 }
 }  // namespace
@@ -85,18 +82,18 @@ EdgeLayers edgeLayers(Boundary side, int n) {
 namespace {
 LayerRange movingLayers(const BSplineBasis1D& basis, Boundary lo, Boundary hi, const char* loName, const char* hiName) {
   if ((lo == Boundary::Periodic) != (hi == Boundary::Periodic))
-    throw std::invalid_argument(std::string(lo == Boundary::Periodic ? loName : hiName) +
-                                " is PERIODIC but " + (lo == Boundary::Periodic ? hiName : loName) + " is " +
-                                boundaryName(lo == Boundary::Periodic ? hi : lo) +
-                                ": a periodic direction needs PERIODIC on both sides");
+    throw ParameterError(lo == Boundary::Periodic ? loName : hiName,
+                         std::string("is PERIODIC but ") + (lo == Boundary::Periodic ? hiName : loName) + " is " +
+                             boundaryName(lo == Boundary::Periodic ? hi : lo) +
+                             ": a periodic direction needs PERIODIC on both sides");
   const int n = basis.degree(), N = basis.numFree();
   if (lo == Boundary::Periodic) return {n, N + n};
   const EdgeLayers a = edgeLayers(lo, n), b = edgeLayers(hi, n);
   const int first = a.held + a.derived, last = N + 2 * n - (b.held + b.derived);
   if (last - first < 1)
-    throw std::invalid_argument(std::string(loName) + " " + boundaryName(lo) + " and " + hiName + " " +
-                                boundaryName(hi) + " hold every control point of the " + std::to_string(N) +
-                                " inner layers at degree " + std::to_string(n) + ": give more control points");
+    throw ParameterError(loName, std::string(boundaryName(lo)) + " and " + hiName + " " + boundaryName(hi) +
+                                     " hold every control point of the " + std::to_string(N) +
+                                     " inner layers at degree " + std::to_string(n) + ": give more control points");
   return {first, last - first};
 }
 
@@ -146,8 +143,10 @@ SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Bou
   m_hasDerived = !m_derivedU.empty() || !m_derivedV.empty();
   const long long points = static_cast<long long>(numU) * numV;
   if (points > kMaxInnerPoints)
-    throw std::invalid_argument("numU * numV must be at most " + std::to_string(kMaxInnerPoints) +
-                                " (2048^2; about 1 GB of memory), got " + std::to_string(points));
+    throw ParameterError("numU",
+                         "must be at most " + std::to_string(kMaxInnerPoints) +
+                             " (2048^2; about 1 GB of memory), got " + std::to_string(points),
+                         "numU * numV");
 }
 
 int SplineSpace::movingLayerU(int i) const { return movingLayer(m_movingU, periodicU(), degreeU(), i); }

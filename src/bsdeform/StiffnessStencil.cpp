@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/StiffnessStencil.h"
 
+#include "bsdeform/ParameterError.h"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <atomic>
@@ -112,8 +114,8 @@ int GramRows1D::rowType(int layer) const {
 
 namespace {
 void checkWeight(double w, const char* name) {
-  if (!std::isfinite(w) || w < 0.0)
-    throw std::invalid_argument(std::string("weight ") + name + " must be finite and >= 0, got " + std::to_string(w));
+  requireParameter(std::isfinite(w) && w >= 0.0, name, "must be finite and >= 0, got " + std::to_string(w),
+                   std::string("weight ") + name);
 }
 }  // namespace
 

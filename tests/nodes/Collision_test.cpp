@@ -1,13 +1,17 @@
 // SPDX-License-Identifier: MIT
 // COLLISION through the scene graph: obstacles with their transforms, re-gathered only on
 // change, bad entries warned about.
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/SoOffscreenRenderer.h>
+#include <Inventor/nodes/SoPerspectiveCamera.h>
+#include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoTransform.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 
 #include "NodesTestUtil.h"
 #include "bsdeform/Contact.h"
+#include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneObstacles.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoForceField.h"
@@ -33,10 +37,9 @@ std::string clothOnBox(const char* transform = "Transform { translation 0.5 0.5 
 // rho g / k (mass 1 per unit parameter area, g = 2, k = 2000).
 constexpr double kRestingZ = -0.05 + 0.02 - 2.0 / 2000.0;
 
-// Applies an action so that the surface knows its scene (as rendering does), then steps.
+// Gives every surface of `root` its scene (as SceneRunner and the front ends do); the first.
 SoBSplineDeformSurface* prepare(SoSeparator* root) {
-  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
-  bb.apply(root);
+  for (SoBSplineDeformSurface* s : bsdeform::sceneSurfaces(root)) s->setScene(root);
   return testutil::find<SoBSplineDeformSurface>(root);
 }
 }  // namespace
@@ -87,26 +90,41 @@ TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refi
   root->unref();
 }
 
-TEST_CASE("Collision: a traversal from a short-lived graph around the scene keeps the obstacles' frames", "[nodes]") {
-  // An offscreen image puts a camera and a light above the scene and deletes them afterwards;
-  // the surface must keep the scene as its root, or the Cube would lose its Transform (and the
+TEST_CASE("Collision: an image from a short-lived graph around the scene keeps the obstacles' frames", "[nodes]") {
+  // An offscreen image puts a camera and a light above the scene and deletes them afterwards:
+  // the surface keeps the scene it was given, or the Cube would lose its Transform (and the
   // cloth would fall through it) after the first image.
   SoSeparator* root = testutil::read(clothOnBox());
   REQUIRE(root);
   SoBSplineDeformSurface* s = prepare(root);
   REQUIRE(s->stepSimulation(100));
-  {
-    auto* around = new SoSeparator;
-    around->ref();
-    around->addChild(new SoTransform);  // a camera's or light's place
-    around->addChild(root);
-    SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
-    bb.apply(around);
-    around->unref();  // gone, as after an image
-  }
+  bsdeform::Image image;
+  std::string error;
+  REQUIRE(bsdeform::renderOffscreen(root, 64, 48, image, error));
+  CHECK(s->scene() == root);
   REQUIRE(s->stepSimulation(500));
   CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(kRestingZ).margin(2e-4));
   root->unref();
+}
+
+TEST_CASE("Collision: a surface given no scene (a plain Coin viewer) takes its render's once", "[nodes]") {
+  SoSeparator* root = testutil::read(clothOnBox());
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK(s->scene() == nullptr);
+  bsdeform::Image image;
+  std::string error;
+  REQUIRE(bsdeform::renderOffscreen(new SoSeparator, 8, 8, image, error));  // GL contexts for Coin
+  auto* viewerRoot = new SoSeparator;  // a plain viewer's graph: its camera, then the scene
+  viewerRoot->ref();
+  viewerRoot->addChild(new SoPerspectiveCamera);
+  viewerRoot->addChild(root);
+  SoOffscreenRenderer renderer(SbViewportRegion(64, 48));  // Coin's own, as such a program uses
+  REQUIRE(renderer.render(viewerRoot));
+  CHECK(s->scene() == viewerRoot);
+  REQUIRE(s->stepSimulation(600));
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() == Approx(kRestingZ).margin(2e-4));  // on the box
+  viewerRoot->unref();
 }
 
 TEST_CASE("Collision: Coin's solids are gathered as closed meshes, under any transform", "[nodes]") {
@@ -239,8 +257,7 @@ Separator {
   REQUIRE(a);
   REQUIRE(b);
   REQUIRE(fromA);
-  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
-  bb.apply(root);
+  prepare(root);
   for (int k = 0; k < 300; ++k) {
     REQUIRE(b->stepSimulation(1));
     REQUIRE(a->stepSimulation(1));

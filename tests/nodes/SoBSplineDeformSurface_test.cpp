@@ -4,6 +4,7 @@
 #include <Inventor/SoPickedPoint.h>
 #include <Inventor/actions/SoCallbackAction.h>
 #include <Inventor/actions/SoGetBoundingBoxAction.h>
+#include <Inventor/fields/SoSFTime.h>
 #include <Inventor/actions/SoRayPickAction.h>
 #include <Inventor/engines/SoCalculator.h>
 #include <Inventor/SbTime.h>
@@ -419,26 +420,24 @@ TEST_CASE("SoBSplineDeformSurface: every field of both classes round-trips with 
   b->unref();
 }
 
-TEST_CASE("SoBSplineDeformSurface: Coin's timer queue animates the node, transient forces act", "[nodes]") {
+TEST_CASE("SoBSplineDeformSurface: Coin's realTime animates the node, on FALSE pauses it, transient forces act", "[nodes]") {
+  testutil::Coin::get();
+  auto* realTime = static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime")));
+  realTime->setValue(SbTime(100.0));
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { timeStep 0.01 speed 1 "
                                      "forces SoForceField { type UNIFORM force 0 0 5 } } }");
   REQUIRE(root);
   auto* s = testutil::find<SoBSplineDeformSurface>(root);
-  // what any Coin viewer does: process the timer queue as time passes
-  for (int i = 0; i < 6; ++i) {
-    const SbTime until = SbTime::getTimeOfDay() + SbTime(0.03);
-    while (SbTime::getTimeOfDay() < until) {
-    }
-    SoDB::getSensorManager()->processTimerQueue();
+  // what any Coin viewer does as time passes: realTime moves on, the sensor queue is processed
+  for (int i = 1; i <= 6; ++i) {
+    realTime->setValue(SbTime(100.0 + 0.025 * i));
+    SoDB::getSensorManager()->processDelayQueue(FALSE);
   }
   const long steps = s->simulation().stepCount();
-  CHECK(steps >= 10);   // ~0.15 s of real time at 0.01 s per step
-  CHECK(steps <= 40);
-  s->on = FALSE;        // pauses
-  const SbTime until = SbTime::getTimeOfDay() + SbTime(0.05);
-  while (SbTime::getTimeOfDay() < until) {
-  }
-  SoDB::getSensorManager()->processTimerQueue();
+  CHECK(steps == 15);  // 0.15 s at 0.01 s per step
+  s->on = FALSE;       // pauses
+  realTime->setValue(SbTime(100.5));
+  SoDB::getSensorManager()->processDelayQueue(FALSE);
   CHECK(s->simulation().stepCount() == steps);
   // a transient spring (the viewer's mouse drag) pulls a point towards its anchor
   s->resetSimulation();
@@ -709,7 +708,10 @@ TEST_CASE("SoBSplineDeformSurface: SIMPLY_SUPPORTED and BUILT_IN sides from a fi
   s->stepSimulation(1);
   REQUIRE(Coin::get().messages.size() == 1);
   CHECK(Coin::get().messages[0].find("'Edge'") != std::string::npos);
-  CHECK(Coin::get().messages[0].find("boundaryUMax is PERIODIC but boundaryUMin is BUILT_IN") != std::string::npos);
+  CHECK(Coin::get().messages[0].find("field 'boundaryUMax' is PERIODIC but boundaryUMin is BUILT_IN") != std::string::npos);
+  CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::FIELD);
+  CHECK(s->problem().field == "boundaryUMax");
+  CHECK(s->problem().node == "Edge");
   CHECK(s->simulation().parameters().boundaries.uMax == bsdeform::Boundary::Clamped);
   root->unref();
 }

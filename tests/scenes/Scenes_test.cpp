@@ -15,7 +15,6 @@
 #include "../support/VideoReadBack.h"
 #include "../nodes/NodesTestUtil.h"
 #include <Inventor/SbTime.h>
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/fields/SoSFTime.h>
 
 #include "../support/FpTraps.h"
@@ -155,17 +154,23 @@ TEST_CASE("Scenes: the default scene rises, overshoots a little and rests within
   root->unref();
 }
 
+namespace {
+// Tells each surface its scene (the obstacles' frames), as SceneRunner and the front ends do.
+void giveScene(SoNode* root) {
+  for (SoBSplineDeformSurface* s : bsdeform::sceneSurfaces(root)) s->setScene(root);
+}
+}  // namespace
+
 TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", "[scenes][slow]") {
   for (const std::string& f : sceneFiles()) {
     INFO(f);
     SoSeparator* a = testutil::read(slurp(f));
     REQUIRE(a);
-    SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));  // tells each surface its scene (obstacles)
-    bb.apply(a);
+    giveScene(a);
     for (auto* s : bsdeform::sceneSurfaces(a)) s->stepSimulation(10);
     SoSeparator* b = testutil::read(testutil::write(a));
     REQUIRE(b);
-    bb.apply(b);
+    giveScene(b);
     const auto sa = bsdeform::sceneSurfaces(a), sb = bsdeform::sceneSurfaces(b);
     REQUIRE(sa.size() == sb.size());
     // cloth_on_cube (SHELL cotton draped over the Cube's edges): a resumed surface starts with
@@ -328,8 +333,7 @@ TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays 
   realTime->setValue(SbTime(0.0));
   SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/cloth_on_cube.iv"));
   REQUIRE(root);
-  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));  // tells the surface its scene
-  bb.apply(root);
+  giveScene(root);
   SoBSplineDeformSurface* s = bsdeform::sceneSurfaces(root).at(0);
   REQUIRE(s->simulation().shell());
   while (s->simulation().time() + 1e-9 < 0.6) {
@@ -371,8 +375,7 @@ TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and
   realTime->setValue(SbTime(0.0));
   SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/rising_sphere.iv"));
   REQUIRE(root);
-  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));  // tells the surface its scene
-  bb.apply(root);
+  giveScene(root);
   SoBSplineDeformSurface* s = bsdeform::sceneSurfaces(root).at(0);
   const double tau = 0.015, radius = 0.25;
   auto runTo = [&](double t) {
@@ -401,8 +404,7 @@ TEST_CASE("Scenes: pressed_surfaces' membranes press on each other with equal an
   Coin::get();
   SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/pressed_surfaces.iv"));
   REQUIRE(root);
-  SoGetBoundingBoxAction bb(SbViewportRegion(100, 100));
-  bb.apply(root);
+  giveScene(root);
   auto* lower = testutil::named<SoBSplineDeformSurface>("Lower");
   auto* upper = testutil::named<SoBSplineDeformSurface>("Upper");
   REQUIRE(lower);

@@ -244,7 +244,7 @@ TEST_CASE("PlotPanel: the history is bounded, keeps its whole time span and stay
   for (int i = 1; i < t.size(); ++i) CHECK(t[i] - t[i - 1] == Approx(16 * dt));  // uniform spacing
   // a reset restarts the history at full resolution
   s->resetSimulation();
-  panel.sample();
+  panel.restart();  // what the window does when the surface tells of a new state
   CHECK(panel.sampleCount() == 1);
   CHECK(panel.historyStride() == 1);
 }

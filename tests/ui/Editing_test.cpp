@@ -153,7 +153,10 @@ TEST_CASE("Editing: undo and redo restore a field value, an inserted and a delet
   REQUIRE(w->document().surfaces().size() == 2);
   SoBSplineDeformSurface* added = w->document().surfaces()[1];
   CHECK(w->selectedNode() == added);
-  CHECK(!added->on.getValue());  // paused like the rest of the scene
+  CHECK(added->on.getValue());  // the author's value: it follows the clock like the rest
+  CHECK(!w->isPlaying());
+  passTime(*w, 0.5);
+  CHECK(added->simulation().stepCount() == 0);  // and the clock is paused
   REQUIRE(w->deleteSelected());
   CHECK(w->document().surfaces().size() == 1);
   undo.undo();
@@ -181,7 +184,7 @@ TEST_CASE("Editing: deleting the only surface leaves a scene that steps, saves a
   CHECK(!w->insertForceField(SoForceField::UNIFORM));  // no surface to add it to
   w->step();
   w->reset();
-  QTest::qWait(250);  // a few ticks of the window with no surface
+  passTime(*w, 0.25);  // a window with no surface lets time pass
   QTemporaryDir dir;
   REQUIRE(w->saveSceneAs(dir.filePath(QStringLiteral("empty.iv"))));
   CHECK(!readAll(dir.filePath(QStringLiteral("empty.iv"))).contains("SoBSplineDeformSurface"));
@@ -197,33 +200,41 @@ TEST_CASE("Editing: a save after pausing keeps on TRUE and the file's speed, Sav
   auto w = makeWindow("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
   w->setSpeed(3.0);
+  w->play();
+  passTime(*w, 0.1);  // at 3x: 0.3 s of simulated time
+  CHECK(s->simulation().time() == Approx(0.3).margin(1e-9));
   w->pause();
   w->step();
-  CHECK(!s->on.getValue());
-  CHECK(s->speed.getValue() == 3.0f);
+  // Play / Pause and the speed are the viewer's clock: the fields stay as the file has them
+  CHECK(s->on.getValue());
+  CHECK(s->on.isDefault());
+  CHECK(s->speed.getValue() == 1.0f);
   QTemporaryDir dir;
   const QString path = dir.filePath(QStringLiteral("paused.iv"));
   REQUIRE(w->saveSceneAs(path));
   QByteArray text = readAll(path);
   CHECK(!text.contains("on FALSE"));
   CHECK(!setsField(text, "speed"));
-  CHECK(text.contains("stepCount 1"));
-  // the viewer's own values are back after the write
-  CHECK(!s->on.getValue());
-  CHECK(s->speed.getValue() == 3.0f);
-  // what the author sets in the field editor is written
+  CHECK(text.contains("stepCount 4"));
+  // what the author sets in the field editor is written, and is not the viewer's Play
   REQUIRE(w->selectNode(s));
   QWidget* on = w->fieldEditor().editorOf(QStringLiteral("on"));
   REQUIRE(on);
   auto* box = qobject_cast<QCheckBox*>(on);
   REQUIRE(box);
-  CHECK(!box->isChecked());  // it shows the paused state
-  box->click();              // plays
-  CHECK(s->on.getValue());
-  CHECK(w->isPlaying());
-  box->click();  // and pauses: `on FALSE` as the author's choice
+  CHECK(box->isChecked());  // the file's value
+  box->click();             // `on FALSE`: the author's choice
   CHECK(!s->on.getValue());
-  CHECK(w->undoStack().count() == 2);
+  CHECK(!w->isPlaying());
+  w->play();
+  passTime(*w, 0.5);
+  CHECK(s->simulation().stepCount() == 4);  // a surface that does not follow the clock stands still
+  w->pause();
+  box->click();
+  CHECK(s->on.getValue());
+  box->click();
+  CHECK(!s->on.getValue());
+  CHECK(w->undoStack().count() == 3);
   REQUIRE(w->saveScene());  // Ctrl+S: to the same file
   CHECK(w->undoStack().isClean());
   CHECK(!w->isWindowModified());
@@ -359,12 +370,12 @@ TEST_CASE("Field editor: typed editors with the field's range, values without fl
   REQUIRE(type);
   type->setCurrentIndex(type->findText(QStringLiteral("DRAG")));
   emit type->activated(type->currentIndex());
-  QTest::qWait(50);  // the rows are rebuilt
+  processEvents();  // the rows are rebuilt
   CHECK(ed.editorOf(QStringLiteral("coefficient")));
   CHECK(!ed.editorOf(QStringLiteral("point")));
   CHECK(!ed.editorOf(QStringLiteral("force")));
   w->undoStack().undo();  // back to POINT
-  QTest::qWait(50);
+  processEvents();
   CHECK(ed.editorOf(QStringLiteral("point")));
   CHECK(!ed.editorOf(QStringLiteral("coefficient")));
 
@@ -421,8 +432,7 @@ TEST_CASE("Field editor: live time and steps, and a net-size change says that it
   SoBSplineDeformSurface* s = firstSurface(*w);
   bsdeform::FieldEditor& ed = w->fieldEditor();
   for (int i = 0; i < 3; ++i) w->step();
-  // the window's 10 Hz refresh (a loaded machine may take longer than one period)
-  for (int i = 0; i < 100 && textOf(ed.editorOf(QStringLiteral("stepCount"))) != QStringLiteral("3"); ++i) QTest::qWait(50);
+  processEvents();  // the window refreshes once after the steps it was told of
   CHECK(textOf(ed.editorOf(QStringLiteral("stepCount"))) == QStringLiteral("3"));
   CHECK(textOf(ed.editorOf(QStringLiteral("simulationTime"))) == QStringLiteral("0.3"));
   CHECK(ed.editorOf(QStringLiteral("numUControlPoints"))->toolTip().contains(QStringLiteral("restarts")));

@@ -27,9 +27,9 @@ TEST_CASE("Recording: a video of the playing simulation has a frame per 1/fps of
   CHECK(w->isRecording());
   const double t0 = s->simulation().time();
   w->setPlaying(true);
-  for (int i = 0; i < 600 && s->simulation().time() < t0 + 1.5; ++i) QTest::qWait(25);
+  passTime(*w, 1.5);
   w->setPlaying(false);
-  QTest::qWait(50);  // the frames due up to the last step
+  processEvents();  // the frames due up to the last step
   const double t1 = s->simulation().time();
   INFO(w->lastError().toStdString());
   REQUIRE(w->stopRecording());
@@ -60,7 +60,7 @@ TEST_CASE("Recording: a numbered PNG sequence while stepping by hand", "[ui]") {
   REQUIRE(w->startRecording(dir.filePath(QStringLiteral("take.png")), 1.0 / dt));  // one frame per step
   for (int k = 0; k < 3; ++k) {
     w->step();
-    QTest::qWait(60);
+    processEvents();
   }
   REQUIRE(w->stopRecording());
   const QStringList files = QDir(dir.path()).entryList(QDir::Files, QDir::Name);

@@ -2,16 +2,20 @@
 #include "ViewerTestSupport.h"
 
 #include <Inventor/Qt/SoQt.h>
+#include <Inventor/SoDB.h>
+#include <Inventor/sensors/SoSensorManager.h>
 
 #include <QApplication>
 #include <QFile>
 #include <QTemporaryDir>
 #include <QTest>
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 #include "AtomicFile.h"
+#include "ViewerClock.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -53,10 +57,26 @@ std::unique_ptr<bsdeform::MainWindow> makeWindow(const char* scene) {
   ensureApp();
   auto w = std::make_unique<bsdeform::MainWindow>();
   w->setInteractive(false);
+  w->clock().setWallClock(false);
   REQUIRE(w->openScene(scenePath(scene)));
   w->show();
   REQUIRE(QTest::qWaitForWindowExposed(w.get()));
   return w;
+}
+
+void processEvents() {
+  for (int i = 0; i < 3; ++i) {  // a refresh posted by a step, the redraw it asks for
+    SoDB::getSensorManager()->processDelayQueue(FALSE);
+    QCoreApplication::processEvents();
+  }
+}
+
+void passTime(bsdeform::MainWindow& w, double seconds) {
+  const int frames = int(std::lround(seconds * 60.0));
+  for (int k = 0; k < frames; ++k) {
+    w.clock().advance(1.0 / 60.0);
+    processEvents();
+  }
 }
 
 SoBSplineDeformSurface* firstSurface(bsdeform::MainWindow& w) {

@@ -17,8 +17,15 @@ namespace viewer_test {
 void ensureApp();
 /// Path of a file in scenes/.
 QString scenePath(const char* name);
-/// A non-interactive window showing `scene`, exposed on the screen.
+/// A non-interactive window showing `scene`, exposed on the screen; its clock moves only by
+/// passTime() (ViewerClock::setWallClock(false)).
 std::unique_ptr<bsdeform::MainWindow> makeWindow(const char* scene);
+/// Lets `seconds` of the window's clock pass (it plays only when playing) in frames of 1/60 s,
+/// each followed by Coin's sensor queue and Qt's events (the surfaces step, the window
+/// refreshes and draws): no wall-clock time is waited for.
+void passTime(bsdeform::MainWindow& w, double seconds);
+/// Qt's and Coin's pending events, without letting time pass.
+void processEvents();
 /// The window's first surface (the test fails without one).
 SoBSplineDeformSurface* firstSurface(bsdeform::MainWindow& w);
 /// Writes a test's input file (a scene, a broken file) through the front ends' atomic writer;

@@ -53,9 +53,9 @@ TEST_CASE("Viewer view: a scene without a camera opens in the default oblique vi
   auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
   ViewFraming& f = w->framing();
   CHECK(f.isFollowing());
-  // the scene was framed when it was opened, before the window had its final size: Follow's
-  // first tick (10 Hz) fits the view as shown
-  QTest::qWait(300);
+  // the scene was framed when it was opened, before the window had its final size: Follow
+  // fits the view as shown once the window has refreshed
+  processEvents();
   // the runner's three-quarter view, not SoQt's view straight down
   SbVec3f look;
   w->viewer()->getCamera()->orientation.getValue().multVec(SbVec3f(0, 0, -1), look);
@@ -98,19 +98,18 @@ TEST_CASE("Viewer view: Follow re-frames a scene that leaves the view, and only 
 TEST_CASE("Viewer view: the default scene stays framed while it plays", "[ui]") {
   auto w = makeWindow("region_load.iv");
   w->setPlaying(true);
-  // until the bump has passed its peak (t = 0.9) and settled (t = 3), however slowly a loaded
-  // machine runs the simulation (it drops time it cannot keep up with)
-  for (int i = 0; i < 120 && firstSurface(*w)->simulation().time() < 3.0; ++i) {
-    QTest::qWait(500);
-    // in view: Follow re-frames at its next tick once the growing bump passes its margin
+  // until the bump has passed its peak (t = 0.9) and settled (t = 3)
+  for (int i = 0; i < 6; ++i) {
+    passTime(*w, 0.5);
+    // in view: Follow re-frames at the window's refresh once the growing bump passes its margin
     checkFramed(w->framing().projectedSceneBox(), 0.3f, 0.0f);
   }
-  CHECK(firstSurface(*w)->simulation().time() >= 3.0);
+  CHECK(firstSurface(*w)->simulation().time() == Approx(3.0).margin(firstSurface(*w)->simulation().parameters().timeStep));
 }
 
 TEST_CASE("Viewer view: a screenshot at another size is lit like the view (one headlight)", "[ui]") {
   auto w = makeWindow("region_load.iv");
-  QTest::qWait(500);  // the GL view has drawn (a grab before its first paint is black)
+  processEvents();  // the GL view has drawn (a grab before its first paint is black)
   const QImage view = w->screenshot();
   const QSize other(view.width() / 2, view.height() / 2);
   const QImage small = w->screenshot(other);
@@ -167,7 +166,7 @@ void answerScreenshotDialogs(const QString& path, const QString& size) {
 
 TEST_CASE("Viewer view: Save Screenshot asks for the file and the size and writes the picture at that size", "[ui]") {
   auto w = makeWindow("region_load.iv");
-  QTest::qWait(500);  // the GL view has drawn
+  processEvents();  // the GL view has drawn
   QTemporaryDir dir;
   answerScreenshotDialogs(dir.filePath(QStringLiteral("shot")), QStringLiteral("320 x 200"));
   w->screenshotDialog();
@@ -207,20 +206,20 @@ TEST_CASE("Viewer view: the control net shows moving and held points, the ghost 
   REQUIRE(net.surfaceCount() == 1);
   w->setPlaying(false);
   for (int i = 0; i < 15; ++i) w->step();
-  QTest::qWait(300);
+  processEvents();
   const QImage plain = w->screenshot();
   net.setNetVisible(true);
   // 5 x 5 bicubic, every side clamped: 25 moving points in a net of 11 x 11
   CHECK(net.movingPointCount(0) == 25);
   CHECK(net.heldPointCount(0) == 121 - 25);
-  QTest::qWait(300);
+  processEvents();
   const QImage withNet = w->screenshot();
   withNet.save(QStringLiteral("viewer_control_net.png"));
   CHECK(countPixels(withNet, yellow) > countPixels(plain, yellow) + 50);
   CHECK(countPixels(withNet, red) > countPixels(plain, red) + 100);
   net.setNetVisible(false);
   net.setGhostVisible(true);
-  QTest::qWait(300);
+  processEvents();
   const QImage withGhost = w->screenshot();
   withGhost.save(QStringLiteral("viewer_rest_ghost.png"));
   CHECK(countPixels(withGhost, paleGrey) > countPixels(plain, paleGrey) + 200);
@@ -262,6 +261,8 @@ TEST_CASE("Viewer view: norm and energies on separate axes with round ticks, y >
   CHECK(range(Axis::Norm) == std::make_pair(0.0, 1.0));
   CHECK(range(Axis::Energy) == std::make_pair(0.0, 1.0));
   for (int i = 0; i < 20; ++i) w->step();
+  processEvents();  // the axes are fitted once per refresh, the samples taken at every step
+  CHECK(plots.sampleCount() == 21);
   const bsdeform::Diagnostics d = firstSurface(*w)->simulation().diagnostics();
   // the norm (about 8 at t = 2) and the energies (below 1) each get their own scale
   CHECK(plots.axis(Axis::Norm)->min() == 0.0);

@@ -42,6 +42,8 @@ using bsdeform::MainWindow;
 
 namespace {
 
+using viewer_test::passTime;
+using viewer_test::processEvents;
 using viewer_test::ensureApp;
 using viewer_test::firstSurface;
 using viewer_test::makeWindow;
@@ -66,9 +68,9 @@ TEST_CASE("Viewer: plays a scene, time advances and the frame buffer shows the s
   auto w = makeWindow("region_load.iv");
   SoBSplineDeformSurface* s = firstSurface(*w);
   w->setPlaying(true);
-  QTest::qWait(1500);
-  CHECK(s->simulation().time() > 0.5);  // ~1.5 s of real time at speed 1
-  CHECK(s->simulation().time() < 3.0);
+  passTime(*w, 1.5);
+  const double dt = s->simulation().parameters().timeStep;
+  CHECK(s->simulation().time() == Approx(1.5).margin(dt));  // 1.5 s of the clock at speed 1
   CHECK(w->framesDrawn() > 5);
   const QImage shot = w->screenshot();
   REQUIRE(!shot.isNull());
@@ -105,7 +107,7 @@ TEST_CASE("Viewer: step advances by one time step and reset returns to t = 0", "
   w->step();
   CHECK(s->simulation().stepCount() == n0 + 3);
   CHECK(!w->isPlaying());
-  QTest::qWait(300);
+  passTime(*w, 0.3);
   CHECK(s->simulation().stepCount() == n0 + 3);  // paused
   w->reset();
   CHECK(s->simulation().time() == 0.0);
@@ -122,7 +124,7 @@ TEST_CASE("Viewer: a mouse drag on the surface pulls it toward the cursor", "[ui
   const Eigen::Vector3d start = s->simulation().evaluate(0.5, 0.5, 0).position;
   const QPoint p0 = toScreen(*w, SbVec3f(float(start.x()), float(start.y()), float(start.z())));
   QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, p0);
-  QTest::qWait(50);
+  processEvents();
   REQUIRE(w->dragTool().isDragging());
   const SbVec2f uv = w->dragTool().pickedParameter();
   CHECK(uv[0] == Approx(0.5).margin(0.03));
@@ -132,10 +134,10 @@ TEST_CASE("Viewer: a mouse drag on the surface pulls it toward the cursor", "[ui
     const QPoint p = p0 + QPoint(6 * i, -8 * i);
     QMouseEvent move(QEvent::MouseMove, p, gl->mapToGlobal(p), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
     QApplication::sendEvent(gl, &move);
-    QTest::qWait(20);
+    passTime(*w, 1.0 / 60.0);
   }
   const SbVec3f anchor = w->dragTool().anchorWorld();
-  QTest::qWait(1500);
+  passTime(*w, 1.5);
   const Eigen::Vector3d now = s->simulation().evaluate(uv[0], uv[1], 0).position;
   const Eigen::Vector3d a(anchor[0], anchor[1], anchor[2]);
   INFO("start " << start.transpose() << " now " << now.transpose() << " anchor " << a.transpose());
@@ -144,7 +146,7 @@ TEST_CASE("Viewer: a mouse drag on the surface pulls it toward the cursor", "[ui
   CHECK((a - now).norm() < (a - start).norm());           // closer than before
   CHECK(s->simulation().forces().size() == size_t(s->forces.getNum()) + 1);  // the scene's and the spring
   QTest::mouseRelease(gl, Qt::LeftButton, Qt::NoModifier, p0 + QPoint(60, -80));
-  QTest::qWait(50);
+  processEvents();
   CHECK(!w->dragTool().isDragging());
   CHECK(s->simulation().forces().size() == size_t(s->forces.getNum()));
 }
@@ -175,7 +177,16 @@ TEST_CASE("Viewer: Save As then reload gives the same state, mesh export, field 
   const double t = s->simulation().time();
   QTemporaryDir dir;
   const QString path = dir.filePath(QStringLiteral("saved.iv"));
+  w->setSpeed(3.0);
   REQUIRE(w->saveSceneAs(path));
+  {
+    // Pause and speed are the viewer's clock: the file animates in any Coin viewer as authored
+    QFile f(path);
+    REQUIRE(f.open(QIODevice::ReadOnly));
+    const QByteArray text = f.readAll();
+    CHECK(!text.contains("on FALSE"));
+    CHECK(!text.contains("speed 3"));
+  }
   REQUIRE(w->openScene(path));
   SoBSplineDeformSurface* r = firstSurface(*w);
   CHECK(r != s);
@@ -380,7 +391,7 @@ TEST_CASE("Viewer: a new window comes back with the size and dock layout the las
     w->resize(900, 640);
     w->addDockWidget(Qt::LeftDockWidgetArea, plots);
     scene->hide();
-    QTest::qWait(100);
+    processEvents();
     closedSize = w->size();
     REQUIRE(closedSize != QSize(1200, 800));
     REQUIRE(w->close());

@@ -2,7 +2,6 @@
 #include "RunLoop.h"
 
 #include <Inventor/SoDB.h>
-#include <Inventor/actions/SoGetBoundingBoxAction.h>
 #include <Inventor/fields/SoSFTime.h>
 #include <Inventor/nodes/SoSeparator.h>
 
@@ -16,7 +15,6 @@
 #include "AtomicFile.h"
 #include "Plot.h"
 #include "VideoWriter.h"
-#include "bsdeform/AuthoredClock.h"
 #include "bsdeform/CoinMessageCapture.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
@@ -27,16 +25,11 @@ namespace bsdeform::run {
 
 namespace {
 
-// Coin's real-time clock follows simulated time in the runner: engines driven by realTime
-// (ElapsedTime, TimeCounter, ...) then animate deterministically, in step with the surfaces.
-SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
-
 // Streams the scene text into the temporary file: it is never held in memory.
-bool writeScene(SoNode* root, const AuthoredClock& authored, const QString& path, QString& error) {
+bool writeScene(SoNode* root, const QString& path, QString& error) {
   return saveFileAtomically(
       path,
-      [root, &authored](QIODevice& device) {
-        const AuthoredClock::Scope fileValues(authored);
+      [root](QIODevice& device) {
         return writeSceneText(root, [&device](const char* data, std::size_t size) {
           return device.write(data, qint64(size)) == qint64(size);
         });
@@ -50,21 +43,30 @@ QByteArray utf8(const QString& s) { return s.toUtf8(); }
 
 RunLoop::RunLoop(const RunOptions& options) : m_options(options), m_out(options.outDir), m_progress(options) {}
 
-// Members go in reverse order: the authored clock (it refers to the surfaces), the surfaces,
-// then the scene that owns them.
-RunLoop::~RunLoop() = default;
+// Members go in reverse order: the runner (it refers to the surfaces), the surfaces, then the
+// scene that owns them.
+RunLoop::~RunLoop() {
+  for (Surface& s : m_surfaces)
+    if (s.callback >= 0) s.node->removeCallback(s.callback);
+}
 
 // Reads the scene, builds every model and force (bad values show up as Coin warnings before
 // anything runs) and finds the time step and start time of the run.
 Failure RunLoop::prepare() {
   const RunOptions& o = m_options;
+  // Coin's realTime follows simulated time in the runner (SceneRunner): engines driven by it
+  // (ElapsedTime, TimeCounter, ...) animate deterministically, in step with the surfaces. Set
+  // before reading: engines start their clocks at 0.
   SoDB::enableRealTimeSensor(FALSE);
-  realTimeField()->setValue(SbTime(0.0));  // before reading: engines start their clocks at 0
+  static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime")))->setValue(SbTime(0.0));
   Failure f = loadSceneWithSets(o, m_root);
   if (!f.ok()) return f;
   // The scene's distinct surfaces, each named by its DEF name or, when it has none, "surfaceN"
-  // after its place among them.
-  for (SoBSplineDeformSurface* node : sceneSurfaces(m_root.get())) {
+  // after its place among them. The runner tells each its scene (the frames of COLLISION
+  // obstacles) and drives them from here on.
+  CoinMessageCapture warnings;
+  m_runner = std::make_unique<SceneRunner>(m_root.get());
+  for (SoBSplineDeformSurface* node : m_runner->surfaces()) {
     Surface s;
     s.node = node;
     const SbName n = node->getName();
@@ -72,20 +74,9 @@ Failure RunLoop::prepare() {
     m_surfaces.push_back(s);
   }
   if (m_surfaces.isEmpty()) return {kBadInput, QStringLiteral("scene '%1' has no SoBSplineDeformSurface").arg(o.scene)};
-  // A traversal first tells each surface its scene (the frames of COLLISION obstacles).
-  CoinMessageCapture warnings;
-  {
-    SoGetBoundingBoxAction bb(SbViewportRegion(o.width, o.height));
-    bb.apply(m_root.get());
-  }
-  m_dtMin = m_t0 = INFINITY;
-  m_authored = std::make_unique<AuthoredClock>(m_root.get());
-  for (Surface& s : m_surfaces) {
-    s.node->on = FALSE;  // the runner drives time itself
-    s.node->stepSimulation(0);
-    m_dtMin = std::min(m_dtMin, s.node->simulation().parameters().timeStep);
-    m_t0 = std::min(m_t0, s.node->simulation().time());  // a resumed scene continues from its time
-  }
+  for (Surface& s : m_surfaces) s.node->stepSimulation(0);  // every model and force built
+  m_dtMin = m_runner->timeStep();
+  m_t0 = m_runner->startTime();  // a resumed scene continues from its time
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
   // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad
@@ -159,20 +150,13 @@ void RunLoop::flushRow(Surface& s) {
 }
 
 // History rows (not in a sweep child, which writes nothing): the first state, every state whose
-// step count is a multiple of --record-every, and the last state.
-void RunLoop::advance(long frame) {
-  const bool recording = !m_options.resultOnly;
-  const double globalTime = m_t0 + frame * m_dtMin;
-  realTimeField()->setValue(SbTime(globalTime));
-  for (Surface& s : m_surfaces) {
-    if (s.failed) continue;
-    const double dt = s.node->simulation().parameters().timeStep;
-    while (!s.failed && s.node->simulation().time() + 0.5 * dt <= globalTime) {
-      if (!s.node->stepSimulation(1)) s.failed = m_blewUp = true;
-      const long step = s.node->simulation().stepCount();  // a failed step does not count
-      if (recording && (s.failed || step % m_options.recordEvery == 0) && s.lastRecorded != step) record(s);
-    }
-  }
+// step count is a multiple of --record-every, and the last state (the surface's step callback).
+void RunLoop::stepped(Surface& s) {
+  const Simulation& sim = s.node->simulation();
+  const bool failed = sim.status() != Status::Ok;
+  m_blewUp |= failed;
+  const long step = sim.stepCount();  // a failed step does not count
+  if (!m_options.resultOnly && (failed || step % m_options.recordEvery == 0) && s.lastRecorded != step) record(s);
 }
 
 Failure RunLoop::render(long frame) {
@@ -257,12 +241,16 @@ Failure RunLoop::run() {
 
   QElapsedTimer timer;
   timer.start();
-  realTimeField()->setValue(SbTime(m_t0));
+  m_runner->advanceTo(m_t0);
   const bool recording = !o.resultOnly;
   if (recording)
     for (Surface& s : m_surfaces) record(s);
+  for (int i = 0; i < m_surfaces.size(); ++i)  // by index: m_surfaces does not change from here on
+    m_surfaces[i].callback = m_surfaces[i].node->addCallback([this, i](SoBSplineDeformSurface*, SoBSplineDeformSurface::Event e) {
+      if (e == SoBSplineDeformSurface::STEPPED) stepped(m_surfaces[i]);
+    });
   for (long frame = 0; frame <= m_frames; ++frame) {
-    if (frame > 0) advance(frame);
+    if (frame > 0) m_runner->advanceTo(m_t0 + frame * m_dtMin);
     if (!o.resultOnly && ((o.pngEvery > 0 && frame % o.pngEvery == 0) || m_imageFrames.contains(frame))) {
       f = writeImage(frame);
       if (!f.ok()) return f;
@@ -320,7 +308,7 @@ Failure RunLoop::writeOutputs() {
       return writeFailure(QString::fromStdString(err), m_written);
   }
   const QString ivPath = m_out.filePath(QStringLiteral("final.iv"));
-  if (!writeScene(m_root.get(), *m_authored, ivPath, error)) return writeFailure(error, m_written);
+  if (!writeScene(m_root.get(), ivPath, error)) return writeFailure(error, m_written);
   m_written << ivPath;
   return {kOk, {}};
 }
@@ -361,7 +349,7 @@ Failure RunLoop::outcome() const {
   QStringList blowUps;
   bool refused = false;
   for (const Surface& s : m_surfaces) {
-    if (!s.failed) continue;
+    if (s.node->simulation().status() == Status::Ok) continue;
     blowUps << s.name + QStringLiteral(": ") + QString::fromStdString(s.node->simulation().statusMessage());
     refused |= s.node->simulation().status() == Status::Refused;
   }

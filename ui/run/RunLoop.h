@@ -17,15 +17,15 @@
 #include "RunOptions.h"
 #include "RunSetup.h"
 #include "bsdeform/NodeRef.h"
-#include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/DiagnosticsBeside.h"
+#include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/SceneRunner.h"
 #include "bsdeform/Simulation.h"
 
 class SoSeparator;
 class SoBSplineDeformSurface;
 
 namespace bsdeform {
-class AuthoredClock;
 class VideoWriter;
 }  // namespace bsdeform
 
@@ -46,7 +46,7 @@ class RunLoop {
     QString csv;   ///< the history CSV (History::detailedCsvHeader and rows)
     History history;
     long lastRecorded = -1;  ///< step count of the last history row
-    bool failed = false;
+    int callback = -1;       ///< the surface's step callback (records the rows)
     /// Computes the rows beside the steps (shared: Surface lives in a QVector). Its destructor
     /// finishes the row being computed, whose values `pending` keeps.
     std::shared_ptr<DiagnosticsBeside> beside = std::make_shared<DiagnosticsBeside>();
@@ -69,8 +69,8 @@ class RunLoop {
   void record(Surface& s);
   /// Writes the row begun last, if it is not written yet.
   void flushRow(Surface& s);
-  /// Steps every surface up to frame `frame` of the run (frames count the smallest time step).
-  void advance(long frame);
+  /// A surface took a step: its history row, when one is due.
+  void stepped(Surface& s);
   Failure render(long frame);
   Failure writeImage(long frame);
   Failure writeVideoFrames(long frame);
@@ -83,7 +83,7 @@ class RunLoop {
   const RunOptions& m_options;
   NodeRef<SoSeparator> m_root;
   QVector<Surface> m_surfaces;
-  std::unique_ptr<AuthoredClock> m_authored;  ///< final.iv keeps the scene's own `on` and `speed`
+  std::unique_ptr<SceneRunner> m_runner;  ///< drives the surfaces and realTime
   double m_dtMin = 0.0, m_t0 = 0.0;
   long m_frames = 0;
   bool m_blewUp = false;

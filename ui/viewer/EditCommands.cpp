@@ -46,9 +46,9 @@ QString refusalOf(SoFieldContainer* owner) {
   if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) {
     auto* s = static_cast<SoBSplineDeformSurface*>(owner);
     s->simulation();  // rebuilt from the fields now
-    // the node's words for a refused model (other warnings, e.g. a force's, do not refuse it)
-    const std::string& w = s->lastWarning();
-    return w.find("keeping the last valid state") != std::string::npos ? QString::fromStdString(w) : QString();
+    // a refused field (other problems, e.g. a force's, do not refuse the model)
+    const SoBSplineDeformSurface::Problem& p = s->problem();
+    return p.kind == SoBSplineDeformSurface::Problem::FIELD ? QString::fromStdString(p.message) : QString();
   }
   if (owner->isOfType(SoForceField::getClassTypeId())) {
     auto* f = static_cast<SoForceField*>(owner);
@@ -84,7 +84,6 @@ SetFieldCommand::~SetFieldCommand() {
 void SetFieldCommand::set(const SoField& value, bool isDefault) {
   m_field->copyFrom(value);
   m_field->setDefault(isDefault);
-  m_context.doc.clock().noteEdited(m_field);
   m_context.fieldChanged(m_owner, m_field);
 }
 
@@ -93,8 +92,7 @@ void SetFieldCommand::undo() { set(*m_before, m_beforeIsDefault); }
 void SetFieldCommand::redo() {
   if (m_skipRedo) {
     m_skipRedo = false;
-    m_context.doc.clock().noteEdited(m_field);
-    m_context.fieldChanged(m_owner, m_field);
+      m_context.fieldChanged(m_owner, m_field);
     return;
   }
   set(*m_after, false);

@@ -48,7 +48,9 @@
 #include "ScenePanel.h"
 #include "Screenshot.h"
 #include "ViewFraming.h"
+#include "ViewerClock.h"
 #include "bsdeform/FieldInfo.h"
+#include "bsdeform/SceneRunner.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
@@ -66,6 +68,7 @@ const char* kLayoutKey = "window/layout";      // docks and tool bar (QMainWindo
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool) {
   setWindowTitle(tr("bsdeform viewer"));
   setAcceptDrops(true);
+  m_clock = new ViewerClock(this);
   m_undo = new QUndoStack(this);
   m_edit.reset(new EditContext{*m_doc, [this](SoFieldContainer* o, SoField* f) { fieldChanged(o, f); },
                                [this](SoBase* focus) { structureChanged(focus); }});
@@ -85,6 +88,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   m_viewer->setBackgroundColor(SbColor(0.18f, 0.2f, 0.24f));
   m_viewer->setSceneGraph(m_wrapper);
   m_framing = new ViewFraming(m_viewer, this);
+  m_viewer->getGLWidget()->installEventFilter(this);
   m_netDisplay = new ControlNetDisplay(this);
 
   createActions();
@@ -96,12 +100,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
   resize(1200, 800);
   restoreLayout();
 
-  m_timer = new QTimer(this);
-  connect(m_timer, &QTimer::timeout, this, &MainWindow::tick);
-  m_timer->start(100);
   m_recorder = std::make_unique<Recorder>();
-  m_recordTimer = new QTimer(this);
-  connect(m_recordTimer, &QTimer::timeout, this, &MainWindow::recordFrames);
   m_rateClock.start();
 
   m_autosave = new Autosave(*m_doc, this);
@@ -118,6 +117,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), m_doc(new SceneDo
 }
 
 MainWindow::~MainWindow() {
+  listenToSurfaces(false);
   m_undo->clear();  // the commands hold nodes of the scene
   m_drag->release();
   m_viewer->setSceneGraph(nullptr);
@@ -197,9 +197,7 @@ void MainWindow::createActions() {
   m_speed->setSuffix(tr(" x"));
   m_speed->setToolTip(tr("Simulated seconds per real second (not written to the scene file)"));
   m_speed->installEventFilter(new SimulationKeysPassThrough(m_speed));
-  connect(m_speed, QOverload<double>::of(&QDoubleSpinBox::valueChanged), this, [this](double v) {
-    for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(v);
-  });
+  connect(m_speed, QOverload<double>::of(&QDoubleSpinBox::valueChanged), m_clock, &ViewerClock::setSpeed);
   bar->addWidget(m_speed);
 
   QMenu* view = menuBar()->addMenu(tr("&View"));
@@ -363,13 +361,17 @@ void MainWindow::showScene() {
   m_framing->sceneShown(m_doc->root());
   setWindowTitle(tr("%1[*] - bsdeform viewer").arg(m_doc->path().isEmpty() ? tr("default scene") : QFileInfo(m_doc->path()).fileName()));
   setWindowModified(false);
-  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->speed = float(m_speed->value());
+  listenToSurfaces(true);
   m_frames = m_lastFrames = 0;
   m_lastSteps = 0;
   m_selectedSurface = -1;
   m_plotted = nullptr;
   m_scenePanel->populate();
-  m_playAction->setChecked(isPlaying());
+  scheduleRefresh();
+  // a scene opens playing when its author let a surface follow the clock (`on`, read, not set)
+  bool authoredOn = false;
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) authoredOn |= bool(s->on.getValue());
+  setPlaying(authoredOn);
 }
 
 void MainWindow::open() {
@@ -532,7 +534,6 @@ bool MainWindow::startRecording(const QString& path, double fps) {
     reportError(tr("Record"), error);
     return false;
   }
-  m_recordTimer->start(15);
   const QSignalBlocker block(m_recordAction);
   m_recordAction->setChecked(true);
   recordFrames();  // the first frame: the state when the recording starts
@@ -540,7 +541,6 @@ bool MainWindow::startRecording(const QString& path, double fps) {
 }
 
 bool MainWindow::stopRecording() {
-  m_recordTimer->stop();
   const QSignalBlocker block(m_recordAction);
   m_recordAction->setChecked(false);
   if (!m_recorder->active()) return true;
@@ -559,7 +559,6 @@ void MainWindow::recordFrames() {
   QString error;
   const double t = m_doc->surfaces().first()->simulation().time();
   if (!m_recorder->capture(t, [this] { return screenshot(); }, error)) {
-    m_recordTimer->stop();
     const QSignalBlocker block(m_recordAction);
     m_recordAction->setChecked(false);
     reportError(tr("Record"), error);
@@ -626,7 +625,7 @@ void MainWindow::closeEvent(QCloseEvent* e) {
     e->ignore();
     return;
   }
-  m_timer->stop();
+  m_clock->setPlaying(false);
   if (isRecording()) stopRecording();  // a finished video rather than a lost one
   m_autosave->discard();  // a clean quit
   m_autosave->setInterval(0);
@@ -713,17 +712,13 @@ bool MainWindow::restoreRecovery(const RecoveryFile& file) {
 // ---------------------------------------------------------------------------------------------
 // Simulation controls
 
-bool MainWindow::isPlaying() const {
-  for (SoBSplineDeformSurface* s : m_doc->surfaces())
-    if (s->on.getValue()) return true;
-  return false;
-}
+bool MainWindow::isPlaying() const { return m_clock->isPlaying(); }
 
 void MainWindow::setPlaying(bool on) {
-  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->on = on;
-  m_editor->refresh();
+  m_clock->setPlaying(on);
   m_playAction->setChecked(on);
   m_playAction->setText(on ? tr("Pause") : tr("Play"));
+  updateStatus();
 }
 
 void MainWindow::setSpeed(double speed) { m_speed->setValue(speed); }
@@ -733,14 +728,15 @@ void MainWindow::pause() { setPlaying(false); }
 
 void MainWindow::step() {
   setPlaying(false);
-  for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->stepSimulation(1);
-  tick();
+  if (!m_doc->root()) return;
+  // one step of the smallest time step, every surface to that common time (realTime is the
+  // paused clock's: it stays)
+  SceneRunner(m_doc->root(), SceneRunner::Clock::Untouched).step();
 }
 
 void MainWindow::reset() {
   m_drag->release();
   for (SoBSplineDeformSurface* s : m_doc->surfaces()) s->resetSimulation();
-  tick();
 }
 
 bool MainWindow::solveStatic() {
@@ -752,14 +748,12 @@ bool MainWindow::solveStatic() {
     const QString error = command->error();
     delete command;
     reportError(tr("Solve Static"), error);
-    tick();
     return false;
   }
   const QString report = command->report();
   m_undo->push(command);
   statusBar()->showMessage(report, 10000);
   if (!m_interactive) std::fprintf(stderr, "bsdeform-viewer: %s\n", report.toUtf8().constData());
-  tick();
   return true;
 }
 
@@ -813,19 +807,11 @@ void MainWindow::fieldChanged(SoFieldContainer* owner, SoField* field) {
   }
   if (m_editor->container() != owner) selectNode(owner);  // an undo shows what it changed
   m_editor->refresh();
-  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId()) &&
-      (field == &static_cast<SoBSplineDeformSurface*>(owner)->on))
-    updateStatus();
 }
 
 void MainWindow::structureChanged(SoBase* focus) {
   m_drag->release();
-  // surfaces that came in run (or not) and at the speed as the others do
-  const bool playing = m_playAction->isChecked();
-  for (SoBSplineDeformSurface* s : m_doc->surfaces()) {
-    if (s->on.getValue() != SbBool(playing)) s->on = playing;
-    if (s->speed.getValue() != float(m_speed->value())) s->speed = float(m_speed->value());
-  }
+  listenToSurfaces(true);  // surfaces that came in (they follow the same realTime as the others)
   m_scenePanel->populate();  // selects the first surface, if any
   if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
     m_editor->setContainer(nullptr, QString());
@@ -851,15 +837,53 @@ void MainWindow::forceFieldSelected(int index) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Periodic updates (10 Hz)
+// What the surfaces tell (SoBSplineDeformSurface::addCallback): the plots take every step; the
+// rest of the window (drag line, framing, control net, editor, status, recording) is brought up
+// to date once per turn of the event loop, however many steps were taken in it.
 
-void MainWindow::tick() {
+void MainWindow::listenToSurfaces(bool on) {
+  for (auto& l : m_listening) {
+    l.first->removeCallback(l.second);
+    l.first->unref();
+  }
+  m_listening.clear();
+  if (!on) return;
+  for (SoBSplineDeformSurface* s : m_doc->surfaces()) {
+    s->ref();
+    m_listening.emplace_back(s, s->addCallback([this](SoBSplineDeformSurface* surface, SoBSplineDeformSurface::Event e) {
+      surfaceEvent(surface, e);
+    }));
+  }
+}
+
+void MainWindow::surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSurface::Event e) {
+  if (surface == m_plotted) {
+    if (e == SoBSplineDeformSurface::STEPPED) m_plots->sample();
+    if (e == SoBSplineDeformSurface::STATE_CHANGED) m_plots->restart();
+  }
+  scheduleRefresh();
+}
+
+void MainWindow::scheduleRefresh() {
+  if (m_refreshPending) return;
+  m_refreshPending = true;
+  QTimer::singleShot(0, this, &MainWindow::refreshViews);
+}
+
+bool MainWindow::eventFilter(QObject* watched, QEvent* e) {
+  if (e->type() == QEvent::Resize && m_viewer && watched == m_viewer->getGLWidget()) scheduleRefresh();
+  return QMainWindow::eventFilter(watched, e);
+}
+
+void MainWindow::refreshViews() {
+  m_refreshPending = false;
   m_drag->update();
   m_framing->follow();
   m_netDisplay->update();
-  m_plots->sample();
+  m_plots->updateAxes();
   m_editor->refresh();  // live values (time, steps) included
   updateStatus();
+  recordFrames();
 }
 
 void MainWindow::updateStatus() {
@@ -891,20 +915,20 @@ void MainWindow::updateStatus() {
                             .arg(p.timeStep)
                             .arg(sim.stabilityLimit(), 0, 'g', 4)
                             .arg(sim.subSteps()));
+  const SoBSplineDeformSurface::Problem& problem = s->problem();
   if (sim.status() != Status::Ok) {
     m_stateLabel->setText(tr("<b style='color:#c00'>STOPPED: blew up</b>"));
     m_stateLabel->setToolTip(QString::fromStdString(sim.statusMessage()));
-  } else if (!s->lastWarning().empty()) {
+  } else if (problem.kind == SoBSplineDeformSurface::Problem::FIELD) {
+    m_stateLabel->setText(tr("<b style='color:#c00'>refused: %1</b>").arg(QString::fromStdString(problem.field)));
+    m_stateLabel->setToolTip(QString::fromStdString(problem.message));
+  } else if (problem.kind != SoBSplineDeformSurface::Problem::NONE) {
     m_stateLabel->setText(tr("<b style='color:#b60'>warning</b>"));
-    m_stateLabel->setToolTip(QString::fromStdString(s->lastWarning()));
+    m_stateLabel->setToolTip(QString::fromStdString(problem.message));
   } else {
     m_stateLabel->setText(isPlaying() ? tr("running") : tr("paused"));
     m_stateLabel->setToolTip(QString());
   }
-  // follow changes made elsewhere (field editor, a file's `on`) without touching the surfaces
-  const bool playing = isPlaying();
-  m_playAction->setChecked(playing);
-  m_playAction->setText(playing ? tr("Pause") : tr("Play"));
 }
 
 }  // namespace bsdeform

@@ -8,9 +8,12 @@
 #include <QImage>
 #include <QMainWindow>
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "Autosave.h"
 #include "SceneDocument.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
 
 class QAction;
 class QDialog;
@@ -25,7 +28,6 @@ class SoFieldContainer;
 class SoQtExaminerViewer;
 class SoSeparator;
 class SoCallback;
-class SoBSplineDeformSurface;
 class SoAction;
 
 namespace bsdeform {
@@ -36,6 +38,7 @@ class ControlNetDisplay;
 class Recorder;
 class ScenePanel;
 class ViewFraming;
+class ViewerClock;
 struct EditContext;
 
 /// What to do with a recovery file left by a viewer that died.
@@ -111,6 +114,8 @@ class MainWindow : public QMainWindow {
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   FieldEditor& fieldEditor() { return *m_editor; }
   Autosave& autosave() { return *m_autosave; }
+  /// The clock that drives realTime (tests: setWallClock(false), then advance()).
+  ViewerClock& clock() { return *m_clock; }
   /// Frames drawn since the scene was opened.
   long framesDrawn() const { return m_frames; }
   void setPlaying(bool on);
@@ -143,6 +148,8 @@ class MainWindow : public QMainWindow {
   void dragEnterEvent(QDragEnterEvent* e) override;
   void dropEvent(QDropEvent* e) override;
   void closeEvent(QCloseEvent* e) override;
+  /// The 3D view's resize: the view is brought up to date (Follow fits the new size).
+  bool eventFilter(QObject* watched, QEvent* e) override;
 
  private:
   void createActions();
@@ -161,7 +168,12 @@ class MainWindow : public QMainWindow {
   void rememberFolder(const QString& path);
   bool exportSurface(const QString& path, bool controlNet);
   void exportDialog(bool controlNet);
-  void tick();
+  /// Registers (on) or removes (off) the window's callback on every surface of the document.
+  void listenToSurfaces(bool on);
+  void surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSurface::Event e);
+  /// Everything but the plots, after the surfaces changed (once per turn of the event loop).
+  void refreshViews();
+  void scheduleRefresh();
   void updateStatus();
   void reportError(const QString& title, const QString& message);
   void addRecent(const QString& path);
@@ -181,7 +193,9 @@ class MainWindow : public QMainWindow {
   PlotPanel* m_plots = nullptr;
   ViewFraming* m_framing = nullptr;
   ControlNetDisplay* m_netDisplay = nullptr;
-  QTimer* m_timer = nullptr;
+  ViewerClock* m_clock = nullptr;  ///< drives realTime: Play / Pause and the speed
+  std::vector<std::pair<SoBSplineDeformSurface*, int>> m_listening;  ///< ref'ed surfaces, callback ids
+  bool m_refreshPending = false;
   Autosave* m_autosave = nullptr;
   bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
   QAction* m_playAction = nullptr;
@@ -195,7 +209,6 @@ class MainWindow : public QMainWindow {
   QMenu* m_simulationMenu = nullptr;
   std::unique_ptr<Recorder> m_recorder;
   QAction* m_recordAction = nullptr;
-  QTimer* m_recordTimer = nullptr;  ///< looks for due frames more often than the 10 Hz tick
   void recordFrames();
   QDoubleSpinBox* m_speed = nullptr;
   QLabel* m_timeLabel = nullptr;

@@ -101,17 +101,21 @@ void PlotPanel::thinHistory() {
 void PlotPanel::setSurface(SoBSplineDeformSurface* surface, const QString& name) {
   m_surface = surface;
   m_views[0]->chart()->setTitle(surface ? name : QString());
+  restart();
+}
+
+void PlotPanel::restart() {
   clearHistory();
   sample();
+  updateAxes();
 }
 
 void PlotPanel::sample() {
   if (!m_surface) return;
   const Simulation& sim = m_surface->simulation();
   const double t = sim.time();
-  if (!m_history.isEmpty() && t < m_history.time().back()) clearHistory();  // reset
   if (!m_history.isEmpty() && t == m_history.time().back()) return;
-  const bsdeform::Diagnostics d = sim.diagnostics();  // one pass over the nets (issue 11)
+  const bsdeform::Diagnostics d = sim.diagnostics();  // one pass over the nets
   const double values[3] = {d.norm, d.kinetic, d.strain.total};
   if (m_history.isEmpty() || ++m_skipped >= m_stride) {
     if (m_history.size() >= m_historyLimit) thinHistory();
@@ -122,7 +126,6 @@ void PlotPanel::sample() {
     if (m_series[i]->count() >= kMaxSamples) m_series[i]->removePoints(0, m_series[i]->count() - kMaxSamples + 1);
     m_series[i]->append(t, values[i]);
   }
-  updateAxes();
 }
 
 // Round ticks over what the series show (the latest kMaxSamples samples); y >= 0: norms and

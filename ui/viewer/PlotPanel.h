@@ -23,8 +23,13 @@ class PlotPanel : public QWidget {
   explicit PlotPanel(QWidget* parent = nullptr);
   /// Follows `surface` (nullptr: none); the history restarts.
   void setSurface(SoBSplineDeformSurface* surface, const QString& name);
-  /// Appends a sample when the surface's time moved; restarts after a reset.
+  /// Appends a sample of the surface's state when its time moved (the window calls it after
+  /// every step, SoBSplineDeformSurface::STEPPED).
   void sample();
+  /// The state was replaced (a reset, a static solve): the history starts again from it.
+  void restart();
+  /// Fits the axes to what the series show (once per batch of samples).
+  void updateAxes();
   /// Samples kept in the history (for export).
   int sampleCount() const { return m_history.size(); }
   /// At most `limit` samples are kept (default 100000, about 3 MB): when the history is full,
@@ -47,7 +52,6 @@ class PlotPanel : public QWidget {
   void clearHistory();
   void thinHistory();
   SoBSplineDeformSurface* m_surface = nullptr;
-  void updateAxes();
   QWidget* m_charts = nullptr;                     // both chart views (exported as one picture)
   QtCharts::QChartView* m_views[2] = {};           // norm, energies
   QtCharts::QLineSeries* m_series[3] = {};         // norm, kinetic, strain

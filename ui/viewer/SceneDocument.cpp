@@ -33,7 +33,6 @@ SceneDocument::~SceneDocument() = default;
 void SceneDocument::adopt(SoSeparator* root, const QString& path) {
   m_root.reset(root);
   m_path = path;
-  m_clock.clear();
   scan();
 }
 
@@ -44,8 +43,8 @@ void SceneDocument::rescan() {
 void SceneDocument::scan() {
   m_surfaces.clear();
   m_forceFields.clear();
-  m_clock.capture(m_root.get());
   for (SoBSplineDeformSurface* s : sceneSurfaces(m_root.get())) {
+    s->setScene(m_root.get());  // COLLISION forces find their obstacles here
     m_surfaces << s;
     for (int k = 0; k < s->forces.getNum(); ++k) {
       SoEngine* e = s->forces[k];
@@ -83,13 +82,11 @@ bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QS
 
 QByteArray SceneDocument::toText() const {
   if (!m_root) return QByteArray();
-  const AuthoredClock::Scope authored(m_clock);
   return QByteArray::fromStdString(sceneToText(m_root.get()));
 }
 
 bool SceneDocument::writeTo(const TextSink& sink) const {
   if (!m_root) return false;
-  const AuthoredClock::Scope authored(m_clock);
   return writeSceneText(m_root.get(), sink);
 }
 

@@ -8,7 +8,6 @@
 #include <QStringList>
 #include <QVector>
 
-#include "bsdeform/AuthoredClock.h"
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/SceneText.h"
 
@@ -32,9 +31,8 @@ class SceneDocument {
   bool load(const QString& path, QString& error);
   /// Reads a scene from memory (the default scene).
   bool loadFromText(const QByteArray& text, const QString& name, QString& error);
-  /// Writes the scene with the current simulation state to `path` atomically, with each
-  /// surface's `on` and `speed` as authored (clock()), not as the viewer's Play and speed set them
-  /// (saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
+  /// Writes the scene with the current simulation state to `path` atomically (the viewer's
+  /// Play and speed are its clock's, never in the file; saveFileAtomically: on failure the previous file is untouched and `error` gives the reason).
   bool save(const QString& path, QString& error) const;
   /// The scene as .iv text, with the current state.
   QByteArray toText() const;
@@ -54,7 +52,6 @@ class SceneDocument {
   /// removed); newly seen surfaces' `on` and `speed` count as authored.
   void rescan();
   /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
-  AuthoredClock& clock() { return m_clock; }
 
   /// Writes the triangles of `surface` as drawn (world coordinates, with every transform above
   /// it) as Wavefront OBJ or binary STL, chosen by the file extension (.obj / .stl). Atomic.
@@ -81,7 +78,6 @@ class SceneDocument {
   QString m_path;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
-  AuthoredClock m_clock;
 };
 
 }  // namespace bsdeform
