@@ -29,9 +29,8 @@ void addTo(const ControlNet& y, ControlNet& x) {
 }
 
 // The smoothers work on [lambda / ratio, lambda] of diag^-1 K: the B-spline coarse spaces take
-// the rest. Measured (docs/benchmarks.md): with degrees 2 to 7 the ratio 3 needs 4-6 iterations
-// where 8 needs 7-8 (bicubic: 2 and 4 are no better, 12 and more worse; lumped mass about as
-// many or up to a fifth more); with degree 1 it needs more, so bilinear levels keep 8.
+// the rest. With degrees 2 to 7 the ratio 3 needs the fewest CG iterations; with degree 1 it
+// needs more, so bilinear levels keep 8 (docs/benchmarks.md, "Multigrid, second pass").
 constexpr double kSmoothingRatio = 3.0, kSmoothingRatioLinear = 8.0;
 
 constexpr Eigen::Index kCoarsestPoints = 400;
