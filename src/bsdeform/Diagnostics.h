@@ -25,9 +25,9 @@
 ///
 /// Threads: the rows are summed in blocks of 32, each block on its own (on kernelThreads(),
 /// bsdeform/Parallel.h, from explicitParallelMinPoints() moving points on), and the block sums
-/// added in block order, so the values are the same bits for any thread count. Against a single
-/// running sum over all rows (before issue 11 item 6) they differ in the last bits on nets of
-/// more than 32 moving rows: at most 1.4e-15 relative over 200 steps of a 128^2 region load.
+/// added in block order, so the values are the same bits for any thread count. They differ from a
+/// single running sum over all rows in the last bits on nets of more than 32 moving rows
+/// (docs/benchmarks.md, "Why the code is as it is").
 
 #include <vector>
 

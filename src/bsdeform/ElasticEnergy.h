@@ -11,7 +11,7 @@
 /// through T. The explicit scheme of the paper's model keeps its fused kernel
 /// (StiffnessStencil::centralDifferenceUpdate(), reached through PaperEnergy::stencil()): the
 /// force, the update and the divergence check in one pass over the net, bit for bit the paper's
-/// scheme since issue 2. Everything else (the SHELL steppers and static solver, the elastic
+/// scheme. Everything else (the SHELL steppers and static solver, the elastic
 /// force, the energies, the stability bound) goes through this interface.
 
 #include <Eigen/Core>

@@ -116,7 +116,8 @@ struct ParamRect {
 /// A constant density f on a rectangle is separable: \f$L_k = f\, l_u(k_1)\, l_v(k_2)\f$ with
 /// \f$l_u(k_1) = \int_{u_0}^{u_1} b_{k_1}(u)\, du\f$ (1-D quadratures, the same split spans), so
 /// its load costs O(N1 + N2) quadrature and one product per control point instead of
-/// (n1+1)(n2+1) quadrature points per knot cell (issue 11: 2048^2 in milliseconds, not seconds).
+/// (n1+1)(n2+1) quadrature points per knot cell: milliseconds, not seconds, at 2048^2
+/// (docs/benchmarks.md, "Why the code is as it is").
 ///
 /// A rectangle of zero width in u (u0 = u1) or in v is a line load: f is then a force per unit
 /// length of that parameter line, $L_k = \int f\, B_k(u_0, v)\, \ell(v)\, dv$ (and both zero: a

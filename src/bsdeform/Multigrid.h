@@ -27,6 +27,8 @@
 /// symmetric positive definite approximation of \f$K^{-1}\f$: conjugate gradients on K converge
 /// with it whatever the pins (they make \f$\tilde K\f$ differ from K by a low-rank term).
 /// docs/benchmarks.md ("Implicit at scale") has the measurements behind the choices.
+/// The pieces live in the core's own headers: a level's Kronecker operator in MultigridOperator.h,
+/// the transfers and Galerkin products in MultigridTransfer.h.
 
 #include <Eigen/Core>
 #include <functional>
@@ -68,7 +70,7 @@ class MultigridPreconditioner {
   int levels() const;
   Eigen::Index levelPoints(int level) const;
 
-  struct Level;  ///< one level's operator, smoother, transfer and work vectors (Multigrid.cpp)
+  struct Level;  ///< one level's operator, smoother, transfers and work vectors (Multigrid.cpp)
 
  private:
   /// x = one V-cycle for K_level x = r from zero.

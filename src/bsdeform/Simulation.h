@@ -257,7 +257,8 @@ class Simulation {
   ///         sides FREE and no pin: translations; only hinges: rotations about them), or when
   ///         the fixed point does not converge in `maxLoadIterations`
   /// @param solver Automatic: CHOLMOD up to kAutomaticDirectPoints unknowns, multigrid-
-  ///        preconditioned CG above (docs/benchmarks.md, issue 23)
+  ///        preconditioned CG above (docs/benchmarks.md, "Engineering edges and the static
+  ///        problem")
   /// `loadSteps` >= 1: the loads are applied in that many equal increments, each equilibrium
   /// kept in StaticResult::increments (a load-displacement curve). For SHELL the equilibria are
   /// found by Newton's method with a line search from the previous one (the tangent projected

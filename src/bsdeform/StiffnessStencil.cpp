@@ -590,7 +590,8 @@ bool StiffnessStencil::centralDifferenceUpdate(const ControlNet& current, Contro
   const Eigen::Index cols = s.netCols();
   // Band points [k0, k1) (consecutive in m_band, closed under the band solve's coupling). The
   // band points of an interior row are done right after the row, while its neighbourhood is in
-  // cache (docs/benchmarks.md, issue 23).
+  // cache: a separate pass over the band misses the cache on every point of a large net
+  // (docs/benchmarks.md, "Why the code is as it is").
   // (A P) of the kernel rows (rows that are not interior rows, done after the parts). The
   // buffer is this thread's; updateBand, which may run on a worker, reads it through a pointer.
   thread_local std::vector<double> kernelBuffer;

@@ -105,8 +105,8 @@ PaperImplicitStepper::PaperImplicitStepper(Simulation& sim) : TimeStepper(sim) {
     }
     coupling = s.m_edgeMass->offDiagonal(factor);
     // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
-    // kappa(M^-1 K), what Jacobi-CG meets in practice (docs/benchmarks.md, issue 23); the
-    // diagonal formula is far too pessimistic with the coupling
+    // kappa(M^-1 K), what Jacobi-CG meets in practice; the diagonal formula is far too
+    // pessimistic with the coupling (docs/benchmarks.md, "Why the code is as it is")
     kappa = 1.0 + s.m_elasticLambda / (4.0 * factor);
   } else {
     massTerm = s.m_massMoving * factor;

@@ -5,7 +5,6 @@
 
 #include "bsdeform/BSpline.h"
 #include "bsdeform/GaussLegendre.h"
-#include "bsdeform/SplineSpace.h"
 
 using namespace bsdeform;
 
@@ -149,32 +148,4 @@ TEST_CASE("GaussLegendre: q points integrate x^p exactly for p <= 2q-1", "[core]
     }
   }
   CHECK_THROWS_WITH(gaussLegendre(0), Catch::Contains("got 0"));
-}
-
-TEST_CASE("SplineSpace: the Greville plane is exactly S(u,v) = (u, v, 0)", "[core]") {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  for (int n1 = 1; n1 <= kMaxDegree; n1 += 2)
-    for (int n2 = 1; n2 <= 4; ++n2) {
-      SplineSpace s(n1, n2, 5, 7);
-      const ControlNet net = s.grevillePlane();
-      for (int t = 0; t < 30; ++t) {
-        const double u = U(rng), v = U(rng);
-        const SurfacePoint p = s.evaluate(net, u, v, 2);
-        CHECK((p.position - Eigen::Vector3d(u, v, 0)).norm() < 1e-14);
-        CHECK((p.du - Eigen::Vector3d(1, 0, 0)).norm() < 1e-12);
-        CHECK((p.dv - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);
-        CHECK(p.duu.norm() < 1e-9);
-        CHECK(p.duv.norm() < 1e-9);
-        CHECK(p.dvv.norm() < 1e-9);
-        CHECK((p.normal() - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);
-      }
-    }
-}
-
-TEST_CASE("SplineSpace: bad degrees and counts are rejected with the parameter and value", "[core]") {
-  CHECK_THROWS_WITH(SplineSpace(0, 3, 5, 5), Catch::Contains("degreeU") && Catch::Contains("got 0"));
-  CHECK_THROWS_WITH(SplineSpace(3, 8, 5, 5), Catch::Contains("degreeV") && Catch::Contains("got 8"));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, 0, 5), Catch::Contains("numU") && Catch::Contains("got 0"));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, 5, -2), Catch::Contains("numV") && Catch::Contains("got -2"));
 }

@@ -4,7 +4,6 @@
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <random>
 
@@ -480,18 +479,4 @@ TEST_CASE("Boundary: start SECOND_ORDER converges at order 2 to the release from
     CHECK(std::log2(p1 / p2) == Approx(1.0).margin(0.25));
     CHECK(e2 < 0.2 * p2);
   }
-}
-
-TEST_CASE("SplineSpace: the size limits are checked here, named, and never overflow", "[core]") {
-  CHECK_NOTHROW(SplineSpace(3, 3, 2048, 2048));
-  CHECK_NOTHROW(SplineSpace(3, 3, 65536, 64));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, 2049, 2048),
-                    Catch::Contains("numU * numV must be at most 4194304") && Catch::Contains("got 4196352"));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, 65537, 1), Catch::Contains("numU must be at most 65536"));
-  // extreme values are refused by name, before any product is formed
-  const int huge = std::numeric_limits<int>::max(), tiny = std::numeric_limits<int>::min();
-  CHECK_THROWS_WITH(SplineSpace(tiny, 3, 5, 5), Catch::Contains("degreeU"));
-  CHECK_THROWS_WITH(SplineSpace(3, huge, 5, 5), Catch::Contains("degreeV"));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, huge, huge), Catch::Contains("numU must be at most"));
-  CHECK_THROWS_WITH(SplineSpace(3, 3, 5, tiny), Catch::Contains("numV"));
 }

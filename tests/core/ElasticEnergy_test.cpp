@@ -2,17 +2,20 @@
 // The energy interface (ElasticEnergy.h), one fixture for both implementations, the paper's
 // eq. 7 and the Kirchhoff–Love shell: on random states of every side kind its gradient is the
 // finite difference of its energy, its Hessian–vector product the finite difference of its
-// gradient, the rest net has zero energy and force, and its stability bound lies above
+// gradient and symmetric (the force-law fixture, support/ForceFieldCheck.h), the rest net has
+// zero energy and force, and its stability bound lies above
 // lambda_max(M^-1 H) as power iteration finds it (and not absurdly far above).
 #include <Eigen/Dense>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <random>
 
+#include "../support/ForceFieldCheck.h"
 #include "bsdeform/ElasticEnergy.h"
 #include "bsdeform/Simulation.h"
 
 using namespace bsdeform;
+using namespace bsdeform::test;
 
 namespace {
 
@@ -21,12 +24,6 @@ ControlNet withUnknowns(const Simulation& sim, const ControlNet& x) {
   sim.space().scatterMoving(x, net);
   sim.space().completeNet(net, &sim.rest());
   return net;
-}
-
-// Fourth-order central difference of f at 0 with step h.
-template <typename F>
-double derivative(F&& f, double h) {
-  return (4 * (f(h) - f(-h)) / (2 * h) - (f(2 * h) - f(-2 * h)) / (4 * h)) / 3;
 }
 
 struct Setup {
@@ -85,28 +82,29 @@ TEST_CASE("ElasticEnergy: gradient and Hessian product are the derivatives of th
         CHECK(E.energy(sim.rest()) == Approx(0.0).margin(1e-12));
         E.gradient(sim.rest(), g);
         if (reference == ElasticReference::Rest) CHECK(g.cwiseAbs().maxCoeff() < 1e-9 * (1.0 + E.eigenvalueBound(sim.rest())));
-        ControlNet x(n, 3), d(n, 3), e(n, 3);
-        for (Eigen::Index i = 0; i < x.size(); ++i) {
-          x.data()[i] = x0.data()[i] + 0.05 * u(rng);
-          d.data()[i] = u(rng);
-          e.data()[i] = u(rng);
-        }
-        const ControlNet net = withUnknowns(sim, x);
-        E.gradient(net, g);
-        const double h = 1e-5;
-        const double dW = derivative([&](double t) { return E.energy(withUnknowns(sim, x + t * d)); }, h);
-        CHECK((g.array() * d.array()).sum() == Approx(dW).epsilon(1e-6).margin(1e-9));
-        // e . H d against the derivative of e . g along d
-        ControlNet Hd;
-        E.hessianProduct(net, d, Hd);
-        const double dg = derivative(
-            [&](double t) {
-              ControlNet gt;
-              E.gradient(withUnknowns(sim, x + t * d), gt);
-              return (gt.array() * e.array()).sum();
-            },
-            h);
-        CHECK((Hd.array() * e.array()).sum() == Approx(dg).epsilon(1e-6).margin(1e-9));
+        // the elastic force -g through the force-law fixture: -g = -dW/dx, -H d its derivative,
+        // H symmetric, at a random state
+        ForceFieldCheck check;
+        check.P = ControlNet(n, 3);
+        for (Eigen::Index i = 0; i < check.P.size(); ++i) check.P.data()[i] = x0.data()[i] + 0.05 * u(rng);
+        check.netOf = [&](const ControlNet& x) { return withUnknowns(sim, x); };
+        check.load = [&](const ControlNet& net) {
+          ControlNet gt;
+          E.gradient(net, gt);
+          return ControlNet(-gt);
+        };
+        check.energy = [&](const ControlNet& net) { return E.energy(net); };
+        const ControlNet net = withUnknowns(sim, check.P);
+        check.jacobianProduct = [&](const ControlNet& d) {
+          ControlNet Hd;
+          E.hessianProduct(net, d, Hd);
+          return ControlNet(-Hd);
+        };
+        check.step = 1e-5;
+        check.absoluteTolerance = 1e-9;
+        check.seed = unsigned(rng());
+        check.directions = 2;
+        check.run();
       }
 }
 

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// The force laws of ForceLaws.h: SOFA-style finite-difference checks of each position-dependent
-// law's load Jacobian (against its formula, and its lambda_max(M^-1 K) against the class's
-// eigenvalueBound), direction and sign tests, parameter validation.
+// The force laws of ForceLaws.h: each position-dependent law's lambda_max(M^-1 K) (K from the
+// finite-difference Jacobian of support/ForceFieldCheck.h) against the class's eigenvalueBound,
+// direction and sign tests, parameter validation. Their Jacobians and energies are checked in
+// ForceField_test.cpp, with every other force law.
 //
 // BSDEFORM_PRINT_FIGURES=1 prints the measured Jacobian errors and bound ratios.
 #include <Eigen/Eigenvalues>
@@ -13,15 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "../support/ForceFieldCheck.h"
 #include "bsdeform/ForceLaws.h"
-#include "bsdeform/GaussLegendre.h"
 #include "bsdeform/Simulation.h"
 
 using namespace bsdeform;
+using namespace bsdeform::test;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-
 void figure(const std::string& line) {
   static const bool on = std::getenv("BSDEFORM_PRINT_FIGURES") != nullptr;
   if (on) std::printf("  [figure] %s\n", line.c_str());
@@ -82,24 +82,6 @@ Model lumpedFreeModel(int n1, int n2, int N1, int N2, double rho) {
   return m;
 }
 
-/// The Greville plane (or, periodic, the Greville abscissae of the moving points) with a bump
-/// of height `amp` and a small in-plane distortion: a "small deformed net".
-ControlNet deformedNet(const SplineSpace& s, double amp) {
-  ControlNet net = ControlNet::Zero(s.netSize(), 3);
-  for (int k1 = -s.degreeU(); k1 < s.numU() + s.degreeU(); ++k1)
-    for (int k2 = -s.degreeV(); k2 < s.numV() + s.degreeV(); ++k2)
-      net.row(s.netIndex(k1, k2)) << s.grevilleU(k1), s.grevilleV(k2), 0.0;
-  ControlNet P = s.gatherMoving(net);
-  for (Eigen::Index f = 0; f < P.rows(); ++f) {
-    const double x = P(f, 0), y = P(f, 1);
-    P(f, 2) += amp * std::sin(kPi * x) * std::sin(kPi * y) + 0.05 * amp * std::cos(3.0 * x + 2.0 * y);
-    P(f, 0) += 0.03 * std::sin(2.0 * y + 0.3);
-    P(f, 1) += 0.02 * std::cos(3.0 * x);
-  }
-  s.scatterMoving(P, net);
-  return net;
-}
-
 ControlNet loadOf(const Force& force, const SplineSpace& s, const ControlNet& cur, const ControlNet& prev,
                   double dt = 0.1) {
   ControlNet load = ControlNet::Zero(s.numMoving(), 3);
@@ -108,22 +90,9 @@ ControlNet loadOf(const Force& force, const SplineSpace& s, const ControlNet& cu
 }
 ControlNet loadOf(const Force& force, const SplineSpace& s, const ControlNet& net) { return loadOf(force, s, net, net); }
 
-Vector flat(const ControlNet& L) { return Eigen::Map<const Vector>(L.data(), L.size()); }
-
-/// J(3m+i, 3n+j) = dL_{m,i} / dP_{n,j} by central differences (periodic copies follow).
-Matrix fdJacobian(const Force& force, const SplineSpace& s, const ControlNet& net, double eps) {
-  const Eigen::Index n = 3 * s.numMoving();
-  Matrix J(n, n);
-  const ControlNet P = s.gatherMoving(net);
-  for (Eigen::Index c = 0; c < n; ++c) {
-    ControlNet plus = net, minus = net, Pp = P, Pm = P;
-    Pp(c / 3, c % 3) += eps;
-    Pm(c / 3, c % 3) -= eps;
-    s.scatterMoving(Pp, plus);
-    s.scatterMoving(Pm, minus);
-    J.col(c) = (flat(loadOf(force, s, plus)) - flat(loadOf(force, s, minus))) / (2.0 * eps);
-  }
-  return J;
+/// dL/dP at `net` by finite differences (support/ForceFieldCheck.h).
+Matrix fdJacobian(const Force& force, const SplineSpace& s, const ControlNet& net) {
+  return forForce("", force, s, net).jacobian();
 }
 
 /// lambda_max(M^-1 K) for a symmetric K (K symmetrised first).
@@ -140,81 +109,12 @@ double spectralRadius(const Matrix& K, const Vector& mass) {
   return Eigen::EigenSolver<Matrix>(A, false).eigenvalues().cwiseAbs().maxCoeff();
 }
 
-/// B-splines of the moving points at (u, v) and their u, v derivatives (periodic copies summed).
-struct MovingBasis {
-  Vector b, bu, bv;
-};
-MovingBasis movingBasis(const SplineSpace& s, double u, double v) {
-  LocalBasis lu, lv;
-  s.basisU().evaluate(u, 1, lu);
-  s.basisV().evaluate(v, 1, lv);
-  MovingBasis out{Vector::Zero(s.numMoving()), Vector::Zero(s.numMoving()), Vector::Zero(s.numMoving())};
-  const int w = s.movingV().count;
-  for (int a = 0; a < lu.count; ++a) {
-    const int i = s.movingLayerU(lu.first + a + s.degreeU());
-    if (i < 0) continue;
-    for (int b = 0; b < lv.count; ++b) {
-      const int j = s.movingLayerV(lv.first + b + s.degreeV());
-      if (j < 0) continue;
-      const Eigen::Index m = Eigen::Index(i - s.movingU().first) * w + (j - s.movingV().first);
-      out.b[m] += lu.d[0][a] * lv.d[0][b];
-      out.bu[m] += lu.d[1][a] * lv.d[0][b];
-      out.bv[m] += lu.d[0][a] * lv.d[1][b];
-    }
-  }
-  return out;
-}
-
-/// Tensor Gauss rule with `points` nodes per knot span and direction, on [0,1]^2.
-struct QPoint {
-  double u, v, w;
-};
-std::vector<QPoint> tensorRule(const SplineSpace& s, int pointsU, int pointsV) {
-  const QuadratureRule &ru = gaussLegendre(pointsU), &rv = gaussLegendre(pointsV);
-  const int su = s.basisU().numSpans(), sv = s.basisV().numSpans();
-  std::vector<QPoint> out;
-  for (int a = 0; a < su; ++a)
-    for (size_t p = 0; p < ru.nodes.size(); ++p)
-      for (int b = 0; b < sv; ++b)
-        for (size_t q = 0; q < rv.nodes.size(); ++q)
-          out.push_back({(a + ru.nodes[p]) / su, (b + rv.nodes[q]) / sv, ru.weights[p] / su * rv.weights[q] / sv});
-  return out;
-}
-/// The rule DistributedForce uses for the contact and pressure laws (n + 1 + 2 points).
-std::vector<QPoint> classRule(const SplineSpace& s) { return tensorRule(s, s.degreeU() + 3, s.degreeV() + 3); }
-
-/// Jacobian of a density law by the same quadrature: J_mn = sum_q w_q B_m (df/dP_n), where
-/// dfdP(q, basis, n) is the 3x3 derivative of the density at point q w.r.t. moving point n.
-Matrix quadratureJacobian(const SplineSpace& s, const std::vector<QPoint>& rule,
-                          const std::function<Eigen::Matrix3d(const QPoint&, const MovingBasis&, Eigen::Index)>& dfdP) {
-  const Eigen::Index N = s.numMoving();
-  Matrix J = Matrix::Zero(3 * N, 3 * N);
-  for (const QPoint& q : rule) {
-    const MovingBasis mb = movingBasis(s, q.u, q.v);
-    for (Eigen::Index n = 0; n < N; ++n) {
-      if (mb.b[n] == 0.0 && mb.bu[n] == 0.0 && mb.bv[n] == 0.0) continue;
-      const Eigen::Matrix3d D = dfdP(q, mb, n);
-      for (Eigen::Index m = 0; m < N; ++m)
-        if (mb.b[m] != 0.0) J.block<3, 3>(3 * m, 3 * n) += q.w * mb.b[m] * D;
-    }
-  }
-  return J;
-}
-
-Eigen::Matrix3d cross(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d X;
-  X << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
-  return X;
-}
-
-double maxAbs(const Matrix& A) { return A.cwiseAbs().maxCoeff(); }
-
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
 // Spring
 
-TEST_CASE("ForceLaws: spring Jacobian is -k beta beta^T and its bound is exact", "[core]") {
+TEST_CASE("ForceLaws: spring: its bound is lambda_max(M^-1 K) exactly", "[core]") {
   std::vector<Model> models;
   models.push_back(nodalModel(3, 2, 4, 3));
   models.push_back(lumpedFreeModel(2, 3, 3, 3, 2.5));
@@ -228,23 +128,14 @@ TEST_CASE("ForceLaws: spring Jacobian is -k beta beta^T and its bound is exact",
                                  Eigen::Vector2d(1.0, 0.0)}) {
       INFO(model.name << " at (" << uv.x() << ", " << uv.y() << ")");
       const SpringForce spring(uv.x(), uv.y(), Eigen::Vector3d(0.4, 0.7, 1.2), k);
-      const Matrix J = fdJacobian(spring, s, net, 1e-6);
-      // beta from a unit point force (whose load is exact, Force_test)
-      const Vector beta = loadOf(PointForce(uv.x(), uv.y(), Eigen::Vector3d(1, 0, 0)), s, net).col(0);
-      Matrix expected = Matrix::Zero(J.rows(), J.cols());
-      for (Eigen::Index m = 0; m < beta.size(); ++m)
-        for (Eigen::Index n = 0; n < beta.size(); ++n)
-          expected.block<3, 3>(3 * m, 3 * n) = -k * beta[m] * beta[n] * Eigen::Matrix3d::Identity();
-      const double err = maxAbs(J - expected) / k;
-      CHECK(err < 1e-8);
+      const Matrix J = fdJacobian(spring, s, net);  // -k beta beta^T (ForceField_test)
       const double lambda = lambdaMaxSymmetric(-J, model.massVector());
       const double bound = spring.eigenvalueBound(model.context());
       // exact, up to the finite-difference error (absolute: beta may be all but 0 near an edge)
       const double tol = 1e-8 * k / model.massVector().minCoeff();
       CHECK(lambda <= bound + tol);
       CHECK(lambda >= bound - tol);
-      figure(model.name + fmt(" spring at (%.2f, %.2f): FD error %.1e", uv.x(), uv.y(), err) +
-             fmt(", lambda %.6e, bound %.6e", lambda, bound));
+      figure(model.name + fmt(" spring at (%.2f, %.2f): lambda %.6e", uv.x(), uv.y(), lambda) + fmt(", bound %.6e", bound));
     }
   }
 }
@@ -252,34 +143,26 @@ TEST_CASE("ForceLaws: spring Jacobian is -k beta beta^T and its bound is exact",
 // ---------------------------------------------------------------------------------------------
 // Plane contact
 
-TEST_CASE("ForceLaws: plane contact, fully penetrating, has Jacobian -k G (x) n n^T", "[core]") {
+TEST_CASE("ForceLaws: plane contact, fully penetrating (K = k G (x) n n^T): bound and lambda_max", "[core]") {
   std::vector<Model> models;
   models.push_back(nodalModel(3, 2, 4, 3));
   models.push_back(lumpedFreeModel(2, 3, 3, 3, 2.5));
   const double k = 50.0;
-  const Eigen::Vector3d normal = Eigen::Vector3d(0.3, -0.2, 1.0).normalized();
   for (const Model& model : models) {
     INFO(model.name);
     const SplineSpace& s = model.space();
     const ControlNet net = deformedNet(s, 0.3);
     const PlaneContactForce plane(Eigen::Vector3d(0.5, 0.5, 3.0), Eigen::Vector3d(0.3, -0.2, 1.0), k);
-    const Matrix J = fdJacobian(plane, s, net, 1e-6);
-    // The Gram matrix of the moving B-splines, exact with n + 1 points per span.
-    const Matrix expected = quadratureJacobian(s, tensorRule(s, s.degreeU() + 1, s.degreeV() + 1),
-                                               [&](const QPoint&, const MovingBasis& mb, Eigen::Index n) {
-                                                 return Eigen::Matrix3d(-k * mb.b[n] * normal * normal.transpose());
-                                               });
-    const double err = maxAbs(J - expected) / maxAbs(expected);
-    CHECK(err < 1e-7);
+    const Matrix J = fdJacobian(plane, s, net);
     const double lambda = lambdaMaxSymmetric(-J, model.massVector());
     const double bound = plane.eigenvalueBound(model.context());
     CHECK(lambda <= bound * (1.0 + 1e-9));
     CHECK(lambda > 0.3 * bound);  // Gershgorin is not far off for the Gram matrix
-    figure(model.name + fmt(" plane, full contact: FD relative error %.1e, lambda/bound %.3f", err, lambda / bound));
+    figure(model.name + fmt(" plane, full contact: lambda/bound %.3f", lambda / bound));
   }
 }
 
-TEST_CASE("ForceLaws: plane contact, partly penetrating: FD Jacobian and bound", "[core]") {
+TEST_CASE("ForceLaws: plane contact, partly penetrating: bound", "[core]") {
   std::vector<Model> models;
   models.push_back(nodalModel(3, 2, 4, 3));
   models.push_back(lumpedFreeModel(2, 3, 3, 3, 2.5));
@@ -290,19 +173,12 @@ TEST_CASE("ForceLaws: plane contact, partly penetrating: FD Jacobian and bound",
     const ControlNet net = deformedNet(s, 0.3);
     const Eigen::Vector3d c(0.0, 0.0, 0.12), n = Eigen::Vector3d(0.1, 0.05, 1.0).normalized();
     const PlaneContactForce plane(c, n, k);
-    const Matrix J = fdJacobian(plane, s, net, 1e-7);
-    const Matrix expected =
-        quadratureJacobian(s, classRule(s), [&](const QPoint& q, const MovingBasis& mb, Eigen::Index m) {
-          const double depth = -(s.evaluate(net, q.u, q.v, 0).position - c).dot(n);
-          return Eigen::Matrix3d(depth > 0.0 ? Eigen::Matrix3d(-k * mb.b[m] * n * n.transpose()) : Eigen::Matrix3d::Zero());
-        });
-    const double err = maxAbs(J - expected) / maxAbs(expected);
-    CHECK(err < 1e-6);
+    const Matrix J = fdJacobian(plane, s, net);
     const double lambda = lambdaMaxSymmetric(-J, model.massVector());
     const double bound = plane.eigenvalueBound(model.context());
     CHECK(lambda > 0.0);
     CHECK(lambda <= bound * (1.0 + 1e-9));
-    figure(model.name + fmt(" plane, partial contact: FD relative error %.1e, lambda/bound %.3f", err, lambda / bound));
+    figure(model.name + fmt(" plane, partial contact: lambda/bound %.3f", lambda / bound));
   }
 }
 
@@ -323,7 +199,7 @@ TEST_CASE("ForceLaws: plane contact pushes out along the normal only where the s
 // ---------------------------------------------------------------------------------------------
 // Sphere contact
 
-TEST_CASE("ForceLaws: sphere contact: FD Jacobian and bound", "[core]") {
+TEST_CASE("ForceLaws: sphere contact: bound", "[core]") {
   std::vector<Model> models;
   models.push_back(nodalModel(3, 2, 4, 3));
   models.push_back(lumpedFreeModel(2, 3, 3, 3, 2.5));
@@ -335,26 +211,12 @@ TEST_CASE("ForceLaws: sphere contact: FD Jacobian and bound", "[core]") {
     const Eigen::Vector3d c(0.45, 0.55, -0.4);
     const double r = 0.75;
     const SphereContactForce sphere(c, r, k);
-    const Matrix J = fdJacobian(sphere, s, net, 1e-7);
-    const Matrix expected =
-        quadratureJacobian(s, classRule(s), [&](const QPoint& q, const MovingBasis& mb, Eigen::Index m) {
-          const Eigen::Vector3d d = s.evaluate(net, q.u, q.v, 0).position - c;
-          const double len = d.norm();
-          if (len >= r) return Eigen::Matrix3d(Eigen::Matrix3d::Zero());
-          const Eigen::Vector3d e = d / len;
-          // df/dS = -k e e^T + k (r/|d| - 1)(I - e e^T)
-          const Eigen::Matrix3d P = e * e.transpose();
-          return Eigen::Matrix3d(mb.b[m] * (-k * P + k * (r / len - 1.0) * (Eigen::Matrix3d::Identity() - P)));
-        });
-    const double err = maxAbs(J - expected) / maxAbs(expected);
-    CHECK(err < 1e-6);
-    const Matrix K = -J;
-    CHECK(maxAbs(K - K.transpose()) < 1e-6 * maxAbs(K));  // a potential force: symmetric
+    const Matrix K = -fdJacobian(sphere, s, net);  // symmetric (ForceField_test)
     const double lambda = lambdaMaxSymmetric(K, model.massVector());
     const double bound = sphere.eigenvalueBound(model.context());
     CHECK(lambda > 0.0);
     CHECK(lambda <= bound * (1.0 + 1e-9));
-    figure(model.name + fmt(" sphere: FD relative error %.1e, lambda/bound %.3f", err, lambda / bound));
+    figure(model.name + fmt(" sphere: lambda/bound %.3f", lambda / bound));
   }
 }
 
@@ -380,7 +242,7 @@ TEST_CASE("ForceLaws: sphere contact pushes out of the sphere only inside it", "
 // ---------------------------------------------------------------------------------------------
 // Pressure
 
-TEST_CASE("ForceLaws: pressure: FD Jacobian of the follower load and its spectral-radius bound", "[core]") {
+TEST_CASE("ForceLaws: pressure: the spectral-radius bound of the follower load", "[core]") {
   std::vector<Model> models;
   models.push_back(nodalModel(3, 2, 4, 3));
   models.push_back(lumpedFreeModel(2, 3, 3, 3, 2.5));
@@ -398,18 +260,7 @@ TEST_CASE("ForceLaws: pressure: FD Jacobian of the follower load and its spectra
         sigma = std::min(sigma, sp.du.cross(sp.dv).norm() / std::max(sp.du.norm(), sp.dv.norm()));
       }
       const PressureForce pressure(p, sigma);
-      const Matrix J = fdJacobian(pressure, s, net, 1e-7);
-      const Matrix expected =
-          quadratureJacobian(s, rule, [&](const QPoint& q, const MovingBasis& mb, Eigen::Index m) {
-            const SurfacePoint sp = s.evaluate(net, q.u, q.v, 1);
-            const Eigen::Vector3d N = sp.du.cross(sp.dv);
-            const Eigen::Vector3d n = N.normalized();
-            // d n / d P_m = (I - n n^T) (B_m,u [.] x S_v + B_m,v S_u x [.]) / |N|
-            const Eigen::Matrix3d dN = -mb.bu[m] * cross(sp.dv) + mb.bv[m] * cross(sp.du);
-            return Eigen::Matrix3d(p * (Eigen::Matrix3d::Identity() - n * n.transpose()) * dN / N.norm());
-          });
-      const double err = maxAbs(J - expected) / maxAbs(expected);
-      CHECK(err < 1e-6);
+      const Matrix J = fdJacobian(pressure, s, net);
       const double rho = spectralRadius(-J, model.massVector());
       const double bound = pressure.eigenvalueBound(model.context());
       CHECK(rho <= bound * (1.0 + 1e-9));
@@ -426,7 +277,7 @@ TEST_CASE("ForceLaws: pressure: FD Jacobian of the follower load and its spectra
         // nearly flat (only the small in-plane distortion): the eigenvalues are close to 0
         CHECK(rho < 1e-3 * bound);
       }
-      figure(model.name + fmt(" pressure, bump %.1f: FD relative error %.1e, sigma %.3f", amp, err, sigma) +
+      figure(model.name + fmt(" pressure, bump %.1f: sigma %.3f", amp, sigma) +
              fmt(", rho/bound %.2e, block-norm/bound %.3f", rho / bound, blockNorm / bound));
     }
   }
