@@ -7,7 +7,9 @@
 #include <catch2/catch.hpp>
 #include <clocale>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <dirent.h>
 #include <fstream>
 #include <sstream>
@@ -292,6 +294,34 @@ TEST_CASE("bsdeform-run: history rows computed beside the steps are the rows com
     }
     CHECK(slurp(dir.path + "/" + name + "_beside/final.iv") == slurp(dir.path + "/" + name + "_between/final.iv"));
   }
+}
+
+TEST_CASE("bsdeform-run: --export-mesh writes every surface's triangles, one OBJ object per surface", "[scenes]") {
+  TempDir dir;
+  const Run r = run(scene("pressed_surfaces.iv") + " --steps 2 -o out --export-mesh both.obj", dir.path);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("wrote both.obj") != std::string::npos);
+  std::istringstream obj(slurp(dir.path + "/both.obj"));
+  std::string line, objects;
+  long faces = 0;
+  while (std::getline(obj, line)) {
+    if (line.rfind("o ", 0) == 0) objects += line.substr(2) + ";";
+    faces += line.rfind("f ", 0) == 0;
+  }
+  CHECK(objects == "Lower;Upper;");  // named as their CSVs
+  CHECK(faces > 0);
+  REQUIRE(run(scene("pressed_surfaces.iv") + " --steps 2 -o out2 --export-mesh both.stl", dir.path).code == 0);
+  const std::string stl = slurp(dir.path + "/both.stl");
+  REQUIRE(stl.size() >= 84);
+  std::uint32_t triangles = 0;
+  std::memcpy(&triangles, stl.data() + 80, 4);
+  CHECK(long(triangles) == faces);
+  CHECK(stl.size() == 84 + std::size_t(triangles) * 50);
+  // a file that cannot be written: exit 4, named, the other outputs said to be written
+  const Run bad = run(scene("pressed_surfaces.iv") + " --steps 1 -o out3 --export-mesh missing/m.obj", dir.path);
+  CHECK(bad.code == 4);
+  CHECK(bad.err.find("cannot write 'missing/m.obj': No such file or directory (already written:") != std::string::npos);
 }
 
 TEST_CASE("bsdeform-run: a decimal-comma locale writes the same files byte for byte", "[scenes]") {
