@@ -18,11 +18,11 @@ See docs/python.md.
 import pivy.coin as coin  # first: the C++ module finds pivy's SWIG types through it
 
 from ._errors import Error, FieldError, RenderError, SceneError, SimulationError
-from ._bsdeform import Surface, read_scene, read_scene_text, render, render_png, scene_text, surfaces
+from ._bsdeform import Surface, export_mesh, read_scene, read_scene_text, render, render_png, scene_text, surfaces
 
 __all__ = [
     "Error", "FieldError", "RenderError", "SceneError", "SimulationError",
-    "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
+    "Surface", "export_mesh", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
     "set_field", "new_node", "run", "History", "simulated_clock",
     "sweep", "Run", "Row", "SweepResult",
 ]
