@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bsdeform/MeshExport.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
@@ -344,6 +345,20 @@ bsdeform::Image renderImage(py::handle scene, int width, int height, std::array<
   return img;
 }
 
+/// export_mesh(): a Surface, a surface node or a scene root (every surface in it).
+void exportMeshOf(py::handle what, const std::string& path) {
+  SoNode* root = py::isinstance<Surface>(what) ? what.cast<Surface&>().node() : fromPivy<SoNode>(what, "SoNode *", "surface_or_root");
+  std::vector<SoBSplineDeformSurface*> found = bsdeform::sceneSurfaces(root);
+  if (found.empty()) raise("Error", path + ": " + nodeLabel(root) + " holds no SoBSplineDeformSurface");
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    const SbName n = found[i]->getName();
+    names.push_back(n.getLength() ? std::string(n.getString()) : "surface" + std::to_string(i));
+  }
+  std::string error;
+  if (!bsdeform::exportMesh(root, found, names, path, "bsdeform (Python)", error)) raise("Error", error);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_bsdeform, m) {
@@ -485,6 +500,13 @@ Renders `scene` offscreen (Mesa surfaceless EGL: no X server needed) and returns
 of shape (height, width, 3), rows top to bottom. Without a camera in the scene a perspective
 three-quarter view framing it is used; a headlight is added as a viewer does. Raises
 RenderError when no EGL context can be made.
+)doc");
+  m.def("export_mesh", &exportMeshOf, py::arg("surface_or_root"), py::arg("path"), R"doc(
+Writes the triangles the surfaces draw as .obj or .stl (by the extension), as the viewer's Export
+Mesh and `bsdeform-run --export-mesh` do: a Surface or an SoBSplineDeformSurface alone (in its own
+coordinates), or every surface under a scene root (with the transforms above it; one OBJ object per
+surface, named by its DEF name or "surface<i>", or all triangles in one STL solid). The file is
+replaced only when it is written completely. Raises Error naming the file and the problem.
 )doc");
   m.def("render_png", [](py::handle scene, const std::string& path, int width, int height,
                          std::array<float, 3> background) {

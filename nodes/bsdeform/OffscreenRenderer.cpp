@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/OffscreenRenderer.h"
+#include "bsdeform/AtomicWrite.h"
 
 #include "bsdeform/DefaultView.h"
 
@@ -239,29 +240,7 @@ bool writePng(const Image& image, const std::string& path, std::string& error, b
   }
   // All or nothing: a temporary file of our own in the same directory, written, synced and
   // renamed over `path` only when every step succeeded (a full disk keeps the previous image).
-  std::string tmp = path + ".XXXXXX";
-  const int fd = ::mkstemp(&tmp[0]);
-  if (fd < 0) {
-    error = "cannot write '" + path + "': " + std::strerror(errno);
-    return false;
-  }
-  int why = 0;
-  if (::fchmod(fd, 0644) != 0) why = errno;
-  for (std::size_t done = 0; !why && done < bytes.size();) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) why = n < 0 ? errno : EIO;
-    else done += std::size_t(n);
-  }
-  if (!why && syncToDisk && ::fsync(fd) != 0) why = errno;
-  if (::close(fd) != 0 && !why) why = errno;
-  if (!why && std::rename(tmp.c_str(), path.c_str()) != 0) why = errno;
-  if (why) {
-    error = "cannot write '" + path + "': " + std::strerror(why);
-    std::remove(tmp.c_str());
-    return false;
-  }
-  return true;
+  return writeFileAtomically(path, bytes.data(), bytes.size(), error, syncToDisk);
 }
 
 bool syncFileSystem(const std::string& directory, std::string& error) {

@@ -4,7 +4,8 @@
 /// The one way our programs read a scene: a guard in front of Coin 4.0's reader that refuses,
 /// with the file, line and reason, the constructs known to crash, hang or exhaust Coin's reader
 /// (docs/reliability.md lists each with the Coin function at fault), then SoDB::readAll with
-/// Coin's read errors collected into the message.
+/// Coin's read errors collected into the message. Its parts (not installed): SceneLexer.h (tokens),
+/// SceneGuard.h (one function per hazard, and the scan checkSceneText); SceneReader.cpp reads.
 
 #include <cstddef>
 #include <string>

@@ -18,12 +18,13 @@ See docs/python.md.
 import pivy.coin as coin  # first: the C++ module finds pivy's SWIG types through it
 
 from ._errors import Error, FieldError, RenderError, SceneError, SimulationError
-from ._bsdeform import (SceneRunner, Surface, read_scene, read_scene_text, render, render_png, scene_text,
-                        surfaces)
+from ._bsdeform import (SceneRunner, Surface, export_mesh, read_scene, read_scene_text, render, render_png,
+                        scene_text, surfaces)
 
 __all__ = [
     "Error", "FieldError", "RenderError", "SceneError", "SimulationError",
-    "SceneRunner", "Surface", "read_scene", "read_scene_text", "render", "render_png", "scene_text", "surfaces",
+    "SceneRunner", "Surface", "export_mesh", "read_scene", "read_scene_text", "render", "render_png", "scene_text",
+    "surfaces",
     "set_field", "new_node", "run", "History", "simulated_clock",
     "sweep", "Run", "Row", "SweepResult",
 ]

@@ -9,9 +9,11 @@
 #include <dirent.h>
 #include <fstream>
 #include <sstream>
+#include <vector>
 #include <unistd.h>
 
 #include "NodesTestUtil.h"
+#include "bsdeform/SceneGuard.h"
 #include "bsdeform/SceneReader.h"
 
 using namespace bsdeform;
@@ -282,4 +284,88 @@ TEST_CASE("SceneReader: file problems are named with the system's reason", "[nod
   // Coin's own read errors come back in the message
   CHECK_FALSE(reads(kHeader + "Cube { width }\n", error));
   CHECK(error.find("t.iv: ") == 0);
+}
+
+// One entry per function of bsdeform/SceneGuard.h (one per hazard of docs/reliability.md): the
+// file on disk is refused by readSceneFile with "FILE:LINE: problem", and the function itself
+// passes the harmless neighbour of its hazard.
+TEST_CASE("SceneReader: each guard function refuses its hazard with the file, the line and the problem", "[nodes]") {
+  testutil::Coin::get();
+  struct Hazard {
+    const char* guard;
+    std::string text;
+    int line;
+    const char* problem;
+  };
+  const std::vector<Hazard> hazards = {
+      {"longName", kHeader + "DEF " + std::string(65600, 'n') + " Cube {}\n", 2, "a name of 65600 characters"},
+      {"undeclaredField", kHeader + "Cube { fields [ SFFloat bogus ] }\n", 2, "declares 'bogus', which Cube does not have"},
+      {"selfReference", kHeader + "DEF E ElapsedTime {\n timeIn 0 = USE E.timeOut\n}\n", 3,
+       "USE E inside the definition of E itself"},
+      {"deepNesting", nested(1001), 1002, "nodes nested 1001 deep"},
+      {"wrongItemInField", kHeader + "SoBSplineDeformSurface {\n forces [ 5 ] }\n", 3,
+       "field 'forces' holds engines; '5' is not an engine type"},
+      {"itemFieldOfUnknownType", kHeader + "Probe { fields [ MFEngine forces ]\n forces [ 5 ] }\n", 3,
+       "field 'forces' holds engines"},
+      {"notANodeOrEngine", kHeader + "Separator { SFTrigger { x } }\n", 2, "'SFTrigger' is a Coin type that is neither"},
+      {"unnamedTopLevelEngine", kHeader + "SoForceField { }\n", 2, "an engine without a DEF name"},
+      {"nulByte", kHeader + "Cube { wid" + std::string(1, '\0') + "th 1 }\n", 2, "a NUL byte"},
+      {"binaryOrCompressed", "#Inventor V2.1 binary\n\x01\x02", 1, "binary Inventor files are not read"},
+  };
+  const std::string dir = tempDir();
+  const std::string path = dir + "/hazard.iv";
+  for (const Hazard& h : hazards) {
+    INFO(h.guard);
+    writeFile(path, h.text);
+    std::string error;
+    CHECK_FALSE(readSceneFile(path, error));
+    CHECK(error.rfind(path + ":" + std::to_string(h.line) + ": ", 0) == 0);
+    CHECK(error.find(h.problem) != std::string::npos);
+  }
+  // the includes: a file including itself, an included file above the size limit
+  writeFile(path, kHeader + "File { name \"hazard.iv\" }\n");
+  std::string error;
+  CHECK_FALSE(readSceneFile(path, error));
+  CHECK(error.rfind(path + ":2: File includes 'hazard.iv', which includes itself", 0) == 0);
+  writeFile(dir + "/big.iv", kHeader + "Cube {}\n" + std::string(200, '#') + "\n");
+  writeFile(path, kHeader + "Separator {\n File { name \"big.iv\" } }\n");
+  SceneLimits small;
+  small.maxFileBytes = 100;
+  CHECK_FALSE(readSceneFile(path, error, small));
+  CHECK(error.rfind(path + ":3: File 'big.iv' has 230 bytes (at most 100)", 0) == 0);
+  CHECK_FALSE(readSceneFile(dir + "/big.iv", error, small));
+  CHECK(error == dir + "/big.iv: 230 bytes (a scene file may have at most 100)");
+  std::remove(path.c_str());
+  std::remove((dir + "/big.iv").c_str());
+  rmdir(dir.c_str());
+
+  // the harmless neighbours pass each function
+  using namespace bsdeform::guard;
+  const SceneLimits limits;
+  CHECK(longName(65000, NameKind::Word, limits).empty());
+  CHECK_FALSE(longName(65001, NameKind::QuotedString, limits).empty());
+  CHECK(undeclaredField("Cube", fieldKinds(typeFromName("Cube")), "width", false).empty());
+  CHECK(undeclaredField("Cube", fieldKinds(typeFromName("Cube")), "SFFloat", true).empty());
+  CHECK_FALSE(undeclaredField("Cube", fieldKinds(typeFromName("Cube")), "exposedField", true).empty());
+  CHECK(selfReference("E", false).empty());
+  CHECK(deepNesting(1000, limits).empty());
+  ItemValue engine;
+  engine.form = ItemValue::Type;
+  engine.text = "SoForceField";
+  engine.type = typeFromName(engine.text);
+  CHECK(wrongItemInField(FieldKind::Engine, "forces", engine).empty());
+  CHECK_FALSE(wrongItemInField(FieldKind::Node, "children", engine).empty());
+  CHECK(itemFieldOfUnknownType("MFEngine") == FieldKind::Engine);
+  CHECK(itemFieldOfUnknownType("SFNode") == FieldKind::Node);
+  CHECK(itemFieldOfUnknownType("SFFloat") == FieldKind::Other);
+  CHECK(notANodeOrEngine(typeFromName("Cube"), "Cube").empty());
+  CHECK(notANodeOrEngine(SoType::badType(), "Unknown").empty());
+  CHECK(unnamedTopLevelEngine(typeFromName("SoForceField"), "SoForceField", true, true).empty());
+  CHECK(unnamedTopLevelEngine(typeFromName("SoForceField"), "SoForceField", false, false).empty());
+  CHECK(nulByte('a').empty());
+  CHECK(binaryOrCompressed(kHeader.data(), kHeader.size()).empty());
+  CHECK_FALSE(binaryOrCompressed("\x1f\x8b", 2).empty());
+  CHECK_FALSE(largeFile(100, small));
+  CHECK(largeFile(101, small));
+  CHECK(includesItself("a.iv", "/x/a.iv", {"/x/b.iv"}).empty());
 }

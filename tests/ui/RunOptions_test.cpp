@@ -27,10 +27,11 @@ TEST_CASE("RunOptions: defaults and good values", "[ui]") {
   CHECK(o.recordEvery == 1);
   CHECK(o.videoFps == 25.0);
   CHECK(o.sweepChildArguments == QStringList{QStringLiteral("dir/drum.iv")});
+  CHECK(o.exportMesh.isEmpty());
 
   const Failure f = parse(QStringLiteral("--until 2.5 --png-at 0.5,1 --png-every 3 --size 320x200 --set A.w10=1 "
                                          "--set B.magnitude=2 --record-every 4 --video v.mp4 --video-fps 50 -o out "
-                                         "--overwrite --plot -q drum.iv")
+                                         "--overwrite --plot --export-mesh m/final.OBJ -q drum.iv")
                               .split(QLatin1Char(' ')),
                           o);
   REQUIRE(f.ok());
@@ -43,6 +44,7 @@ TEST_CASE("RunOptions: defaults and good values", "[ui]") {
   CHECK(o.recordEvery == 4);
   CHECK(o.video == QStringLiteral("v.mp4"));
   CHECK(o.videoFps == 50.0);
+  CHECK(o.exportMesh == QStringLiteral("m/final.OBJ"));
   CHECK(o.outDir == QStringLiteral("out"));
   CHECK(o.overwrite);
   CHECK(o.plot);
@@ -71,6 +73,10 @@ TEST_CASE("RunOptions: a bad value names the option and the value", "[ui]") {
       {"--video-fps 0 s.iv", "--video-fps '0' is not a rate in (0, 1000]"},
       {"--video-fps 2000 s.iv", "--video-fps '2000' is not a rate in (0, 1000]"},
       {"--video v.mp4 --sweep A.w10=1,2 s.iv", "--video and --sweep: a sweep runs many simulations, record one with --set"},
+      {"--export-mesh m.ply s.iv", "--export-mesh 'm.ply': unknown mesh format 'ply' (use .obj or .stl)"},
+      {"--export-mesh mesh s.iv", "--export-mesh 'mesh': unknown mesh format '' (use .obj or .stl)"},
+      {"--export-mesh m.stl --sweep A.w10=1,2 s.iv",
+       "--export-mesh and --sweep: a sweep runs many simulations, export one with --set"},
       {"a.iv b.iv", "expected exactly one scene file (see --help)"},
   };
   for (const auto& c : cases) {

@@ -2,7 +2,7 @@
 #include "Plot.h"
 
 #include "AtomicFile.h"
-#include "bsdeform/PlotScale.h"
+#include "PlotScale.h"
 
 #include <QFileInfo>
 #include <QGraphicsScene>

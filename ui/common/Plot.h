@@ -3,7 +3,7 @@
 /// @file Plot.h
 /// Line plots rendered to PNG with Qt Charts (needs a QApplication; headless programs use the
 /// offscreen platform), and the axis set-up shared with the viewer's live plots: round ticks
-/// (bsdeform/PlotScale.h), y >= 0 for non-negative quantities, a logarithmic x axis when the
+/// (PlotScale.h), y >= 0 for non-negative quantities, a logarithmic x axis when the
 /// values span decades, a least-squares line with its equation and r.
 
 #include <QString>

@@ -16,6 +16,7 @@
 #include "Plot.h"
 #include "VideoWriter.h"
 #include "bsdeform/CoinMessageCapture.h"
+#include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
@@ -279,7 +280,7 @@ Failure RunLoop::run() {
   return outcome();
 }
 
-// The history CSV (and plot) per surface, the video, the images' sync, final.iv.
+// The history CSV (and plot) per surface, the video, the images' sync, final.iv, the mesh.
 Failure RunLoop::writeOutputs() {
   const RunOptions& o = m_options;
   QString error;
@@ -310,6 +311,15 @@ Failure RunLoop::writeOutputs() {
   const QString ivPath = m_out.filePath(QStringLiteral("final.iv"));
   if (!writeScene(m_root.get(), ivPath, error)) return writeFailure(error, m_written);
   m_written << ivPath;
+  if (!o.exportMesh.isEmpty()) {
+    std::vector<SoBSplineDeformSurface*> nodes;
+    std::vector<std::string> names;
+    for (const Surface& s : m_surfaces) nodes.push_back(s.node), names.push_back(s.name.toStdString());
+    std::string err;
+    if (!bsdeform::exportMesh(m_root.get(), nodes, names, QFile::encodeName(o.exportMesh).toStdString(), "bsdeform-run", err))
+      return writeFailure(QString::fromStdString(err), m_written);
+    m_written << o.exportMesh;
+  }
   return {kOk, {}};
 }
 

@@ -64,6 +64,12 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                   QStringLiteral("FILE"));
   const QCommandLineOption videoFps(QStringLiteral("video-fps"),
                                      QStringLiteral("video frames per simulated second (default 25)"), QStringLiteral("F"));
+  const QCommandLineOption exportMesh(
+      QStringLiteral("export-mesh"),
+      QStringLiteral("at the end of the run, also write the triangles the surfaces draw (world coordinates) as "
+                     ".obj (one object per surface, named as its CSV) or .stl (binary, the triangles of all "
+                     "surfaces in one solid), by the extension; the file is replaced only when written completely"),
+      QStringLiteral("FILE"));
   const QCommandLineOption quiet({QStringLiteral("q"), QStringLiteral("quiet")}, QStringLiteral("no summary, no progress"));
   const QCommandLineOption staticSolve(
       QStringLiteral("static"),
@@ -89,8 +95,8 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                QStringLiteral("CSV"));
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, set, sweep, plot, recordEvery, quiet, staticSolve,
-       loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
+      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, quiet,
+       staticSolve, loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -141,6 +147,14 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   }
   if (!o.video.isEmpty() && !o.sweep.isEmpty())
     return {kBadInput, QStringLiteral("--video and --sweep: a sweep runs many simulations, record one with --set")};
+  o.exportMesh = parser.value(exportMesh);
+  if (parser.isSet(exportMesh)) {
+    const QString ext = QFileInfo(o.exportMesh).suffix().toLower();
+    if (ext != QLatin1String("obj") && ext != QLatin1String("stl"))
+      return {kBadInput, QStringLiteral("--export-mesh '%1': unknown mesh format '%2' (use .obj or .stl)").arg(o.exportMesh, ext)};
+    if (!o.sweep.isEmpty())
+      return {kBadInput, QStringLiteral("--export-mesh and --sweep: a sweep runs many simulations, export one with --set")};
+  }
   o.quiet = parser.isSet(quiet);
   o.staticSolve = parser.isSet(staticSolve);
   if (o.staticSolve) {

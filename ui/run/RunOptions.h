@@ -26,6 +26,7 @@ struct RunOptions {
   long recordEvery = 1;
   QString video;           ///< --video FILE (.mp4, .webm)
   double videoFps = 25.0;  ///< --video-fps: frames per simulated second
+  QString exportMesh;      ///< --export-mesh FILE (.obj, .stl): the surfaces' triangles at the end
   bool quiet = false;
   bool staticSolve = false;  ///< --static: solve for the equilibrium at t = 0 instead of stepping
   int loadSteps = 1;         ///< --load-steps K: the static load in K increments, a CSV row each

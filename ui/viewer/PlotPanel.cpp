@@ -14,7 +14,7 @@
 
 #include "AtomicFile.h"
 #include "Plot.h"
-#include "bsdeform/PlotScale.h"
+#include "PlotScale.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 

@@ -2,9 +2,7 @@
 #include "SceneDocument.h"
 
 #include <Inventor/SoDB.h>
-#include <Inventor/SoPrimitiveVertex.h>
 #include <Inventor/SbViewportRegion.h>
-#include <Inventor/actions/SoCallbackAction.h>
 #include <Inventor/actions/SoGetMatrixAction.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/nodes/SoSeparator.h>
@@ -12,11 +10,9 @@
 #include <QFile>
 #include <QFileInfo>
 #include <QTextStream>
-#include <cstdint>
-#include <cstring>
-#include <unordered_map>
 
 #include "AtomicFile.h"
+#include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
@@ -110,59 +106,6 @@ QString SceneDocument::nameOf(SoForceField* f) const {
   return n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("Force %1").arg(m_forceFields.indexOf(f) + 1);
 }
 
-namespace {
-// The triangles a surface draws, with shared vertices: generatePrimitives gives each grid point
-// to every triangle around it with bit-identical position, normal and (u, v), so equal vertices
-// are one (a periodic seam keeps two vertices with different (u, v), as a UV seam should).
-struct Mesh {
-  QVector<SbVec3f> p, n;
-  QVector<SbVec2f> uv;
-  QVector<int> triangles;  // three vertex indices each
-  struct Key {
-    float v[8];
-    bool operator==(const Key& o) const { return std::memcmp(v, o.v, sizeof v) == 0; }
-  };
-  struct KeyHash {
-    std::size_t operator()(const Key& k) const {
-      std::size_t h = 0;
-      for (float x : k.v) {
-        std::uint32_t bits;
-        std::memcpy(&bits, &x, 4);
-        h = h * 1000003u ^ bits;
-      }
-      return h;
-    }
-  };
-  std::unordered_map<Key, int, KeyHash> index;
-
-  int vertex(const SbVec3f& pos, const SbVec3f& normal, const SbVec2f& t) {
-    const Key key{{pos[0], pos[1], pos[2], normal[0], normal[1], normal[2], t[0], t[1]}};
-    const auto it = index.find(key);
-    if (it != index.end()) return it->second;
-    const int i = p.size();
-    index.emplace(key, i);
-    p << pos;
-    n << normal;
-    uv << t;
-    return i;
-  }
-};
-
-void collectTriangle(void* data, SoCallbackAction* action, const SoPrimitiveVertex* a, const SoPrimitiveVertex* b,
-                     const SoPrimitiveVertex* c) {
-  auto* mesh = static_cast<Mesh*>(data);
-  const SbMatrix& m = action->getModelMatrix();
-  SbMatrix normalMatrix = m.inverse().transpose();
-  for (const SoPrimitiveVertex* v : {a, b, c}) {
-    SbVec3f p, n;
-    m.multVecMatrix(v->getPoint(), p);
-    normalMatrix.multDirMatrix(v->getNormal(), n);
-    n.normalize();
-    mesh->triangles << mesh->vertex(p, n, SbVec2f(v->getTextureCoords()[0], v->getTextureCoords()[1]));
-  }
-}
-}  // namespace
-
 SoPath* SceneDocument::pathTo(SoBSplineDeformSurface* surface, QString& error) const {
   if (!m_root || !m_surfaces.contains(surface)) {
     error = QStringLiteral("no surface to export");
@@ -193,56 +136,12 @@ SoPath* SceneDocument::exportPath(SoBSplineDeformSurface* surface, const QString
 bool SceneDocument::exportMesh(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {
   SoPath* found = exportPath(surface, path, QStringLiteral("mesh"), {QStringLiteral("obj"), QStringLiteral("stl")}, error);
   if (!found) return false;
-  const QString ext = QFileInfo(path).suffix().toLower();
-  Mesh mesh;
-  SoCallbackAction ca;
-  ca.addTriangleCallback(SoBSplineDeformSurface::getClassTypeId(), collectTriangle, &mesh);
-  ca.apply(found);
+  const SurfaceMesh mesh = surfaceMesh(found, nameOf(surface).toStdString());
   found->unref();
-  auto writeObj = [&](QIODevice& f) {
-    QTextStream out(&f);
-    out.setRealNumberPrecision(9);
-    out << "# " << nameOf(surface) << ", exported by bsdeform-viewer (world coordinates): " << mesh.p.size() << " vertices, "
-        << mesh.triangles.size() / 3 << " triangles\n";
-    out << "o " << QString(nameOf(surface)).replace(QLatin1Char(' '), QLatin1Char('_')) << '\n';
-    for (const SbVec3f& p : mesh.p) out << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
-    for (const SbVec2f& t : mesh.uv) out << "vt " << t[0] << ' ' << t[1] << '\n';
-    for (const SbVec3f& n : mesh.n) out << "vn " << n[0] << ' ' << n[1] << ' ' << n[2] << '\n';
-    for (int i = 0; i + 2 < mesh.triangles.size(); i += 3) {
-      out << 'f';
-      for (int k = 0; k < 3; ++k) {
-        const int v = mesh.triangles[i + k] + 1;  // a vertex's position, (u, v) and normal share its index
-        out << ' ' << v << '/' << v << '/' << v;
-      }
-      out << '\n';
-    }
-    out.flush();
-    return out.status() == QTextStream::Ok;
-  };
-  auto writeStl = [&](QIODevice& f) {
-    QByteArray header(80, ' ');
-    const QByteArray title = "bsdeform-viewer " + nameOf(surface).toUtf8();
-    std::memcpy(header.data(), title.constData(), size_t(std::min(80, title.size())));
-    bool ok = f.write(header) == header.size();
-    const quint32 count = quint32(mesh.triangles.size() / 3);
-    ok &= f.write(reinterpret_cast<const char*>(&count), 4) == 4;  // STL is little-endian, as is this machine
-    for (int i = 0; ok && i + 2 < mesh.triangles.size(); i += 3) {
-      const SbVec3f& a = mesh.p[mesh.triangles[i]];
-      const SbVec3f& b = mesh.p[mesh.triangles[i + 1]];
-      const SbVec3f& c = mesh.p[mesh.triangles[i + 2]];
-      SbVec3f n = (b - a).cross(c - a);
-      n.normalize();
-      float rec[12] = {n[0], n[1], n[2]};
-      for (int k = 0; k < 3; ++k)
-        for (int d = 0; d < 3; ++d) rec[3 + 3 * k + d] = mesh.p[mesh.triangles[i + k]][d];
-      ok &= f.write(reinterpret_cast<const char*>(rec), sizeof rec) == qint64(sizeof rec);
-      const quint16 attr = 0;
-      ok &= f.write(reinterpret_cast<const char*>(&attr), 2) == 2;
-    }
-    return ok;
-  };
-  if (ext == QLatin1String("obj")) return saveFileAtomically(path, writeObj, error);
-  return saveFileAtomically(path, writeStl, error);
+  std::string why;
+  if (writeMesh({mesh}, QFile::encodeName(path).toStdString(), "bsdeform-viewer", why)) return true;
+  error = QString::fromStdString(why);
+  return false;
 }
 
 bool SceneDocument::exportControlNet(SoBSplineDeformSurface* surface, const QString& path, QString& error) const {

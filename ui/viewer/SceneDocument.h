@@ -54,7 +54,8 @@ class SceneDocument {
   /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
 
   /// Writes the triangles of `surface` as drawn (world coordinates, with every transform above
-  /// it) as Wavefront OBJ or binary STL, chosen by the file extension (.obj / .stl). Atomic.
+  /// it) as Wavefront OBJ or binary STL, chosen by the file extension (.obj / .stl), through
+  /// bsdeform::writeMesh (nodes/bsdeform/MeshExport.h). Atomic.
   /// The OBJ is one connected mesh: one vertex per tessellation point (position, (u, v) texture
   /// coordinate and normal under one index), faces sharing them, so an s x s grid gives
   /// (s + 1)^2 vertices and 2 s^2 triangles (a periodic seam has its own column of vertices).

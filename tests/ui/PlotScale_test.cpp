@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "bsdeform/PlotScale.h"
+#include "PlotScale.h"
 
 using namespace bsdeform;
 
@@ -16,7 +16,7 @@ bool isRound(const AxisTicks& t) {
 }
 }  // namespace
 
-TEST_CASE("PlotScale: ticks are round, cover the data and respect the tick budget", "[core]") {
+TEST_CASE("PlotScale: ticks are round, cover the data and respect the tick budget", "[ui]") {
   const double ranges[][2] = {{0, 1}, {0.0013, 0.0871}, {-3.7, 12.2}, {549, 549.5}, {2.2, 77.3}, {1e-9, 3e-9}, {-5, -1}, {0, 27.4}};
   for (const auto& r : ranges)
     for (int maxTicks : {3, 5, 6, 8}) {
@@ -34,7 +34,7 @@ TEST_CASE("PlotScale: ticks are round, cover the data and respect the tick budge
     }
 }
 
-TEST_CASE("PlotScale: non-negative quantities never go below zero, one sample gets a real range", "[core]") {
+TEST_CASE("PlotScale: non-negative quantities never go below zero, one sample gets a real range", "[ui]") {
   AxisTicks t = niceTicks(0.02, 27.0, 6, true);
   CHECK(t.min == 0.0);
   CHECK(t.max >= 27.0);
@@ -57,7 +57,7 @@ TEST_CASE("PlotScale: non-negative quantities never go below zero, one sample ge
   CHECK(t.max == 1.0);
 }
 
-TEST_CASE("PlotScale: a logarithmic axis when the positive values span decades", "[core]") {
+TEST_CASE("PlotScale: a logarithmic axis when the positive values span decades", "[ui]") {
   CHECK(spansDecades({0, 0.0001, 0.001, 0.01, 0.1, 0.3, 0.5, 1, 2, 5, 7, 10, 25, 50, 75, 100, 150, 200}));
   CHECK_FALSE(spansDecades({1, 2, 5, 10, 25, 50}));
   CHECK_FALSE(spansDecades({0, 0, 0}));
@@ -65,7 +65,7 @@ TEST_CASE("PlotScale: a logarithmic axis when the positive values span decades",
   CHECK(spansDecades({1, 1000}, 3.0));
 }
 
-TEST_CASE("PlotScale: least squares recovers a line and its correlation", "[core]") {
+TEST_CASE("PlotScale: least squares recovers a line and its correlation", "[ui]") {
   // exact line: r = 1, coefficients recovered
   std::vector<double> x = {0, 0.5, 1, 2, 5, 10, 100}, y;
   for (double v : x) y.push_back(0.4 + 0.038 * v);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "bsdeform/PlotScale.h"
+#include "PlotScale.h"
 
 #include <algorithm>
 #include <cmath>
