@@ -20,20 +20,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <sstream>
 
-#include "bsdeform/FieldInfo.h"
-#include "bsdeform/HugePages.h"
 #include "bsdeform/ParameterError.h"
-#include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/RestShape.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/Tessellation.h"
 #include "bsdeform/SoForceField.h"
 #include "bsdeform/SurfaceBuffers.h"
+#include "bsdeform/SurfaceModel.h"
 
 using bsdeform::snap15;
 
@@ -133,6 +128,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   forces.setNum(0);
   forces.setDefault(TRUE);
 
+  m_forces = std::make_unique<bsdeform::ForceSlots>();
   m_forcesChanged.setContainer(this);
   m_clock = new SoFieldSensor(clockCallback, this);
   updateClock();
@@ -166,19 +162,8 @@ void SoBSplineDeformSurface::setScene(SoNode* root) {
   if (root) m_rootSensor->attach(root);
 }
 
-int SoBSplineDeformSurface::obstacleBuilds() const {
-  int n = 0;
-  for (const ForceSlot& s : m_forceSlots)
-    if (s.obstacles) n += s.obstacles->builds();
-  return n;
-}
-
-int SoBSplineDeformSurface::obstacleRefits() const {
-  int n = 0;
-  for (const ForceSlot& s : m_forceSlots)
-    if (s.obstacles) n += s.obstacles->refits();
-  return n;
-}
+int SoBSplineDeformSurface::obstacleBuilds() const { return m_forces->obstacleBuilds(); }
+int SoBSplineDeformSurface::obstacleRefits() const { return m_forces->obstacleRefits(); }
 
 // ---------------------------------------------------------------------------------------------
 // Fields -> simulation
@@ -223,167 +208,18 @@ void SoBSplineDeformSurface::tell(Event event) {
   for (const auto& c : callbacks) c.second(this, event);
 }
 
-namespace {
-// Coin's reader is off by up to a few ulps (0.05 reads as 0.050000000000000010), so
-// write(read(text)) would drift. Snapping every value read to the correctly rounded double of
-// its 15-digit form (snap15, SceneText.h) recovers what was written (up to 5e-16 relative), and
-// sceneToText writes doubles in a form Coin reads back to within that snap: write -> read ->
-// write is a fixed point.
-bsdeform::ControlNet toNet(const SoMFVec3d& f) {
-  bsdeform::ControlNet net(f.getNum(), 3);
-  const SbVec3d* v = f.getValues(0);
-  for (int i = 0; i < f.getNum(); ++i) net.row(i) << v[i][0], v[i][1], v[i][2];
-  return net;
-}
-
-void fromNet(const bsdeform::ControlNet& net, SoMFVec3d& f) {
-  f.setNum(int(net.rows()));
-  SbVec3d* v = f.startEditing();
-  // a new array of a large net is not touched yet: on huge pages (HugePages.h)
-  bsdeform::adviseHugePages(v, sizeof(SbVec3d) * size_t(net.rows()));
-  for (Eigen::Index i = 0; i < net.rows(); ++i) v[i].setValue(snap15(net(i, 0)), snap15(net(i, 1)), snap15(net(i, 2)));
-  f.finishEditing();
-}
-
-// The core names the parameter it refuses (bsdeform::ParameterError); a user of the node reads
-// the field that sets it (FieldInfo).
-std::string fieldOf(const bsdeform::ParameterError& e) {
-  const bsdeform::FieldInfo* f = bsdeform::surfaceFieldOfParameter(e.parameter());
-  return f ? f->name : "";
-}
-
-std::string fieldMessage(const bsdeform::ParameterError& e) {
-  const std::string field = fieldOf(e);
-  return field.empty() ? e.what() : "field '" + field + "' " + e.detail();
-}
-
-std::string num(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
-}
-
-}  // namespace
-
 bool SoBSplineDeformSurface::rebuildSimulation() {
-  std::string error, errorField;  // the first refusal
-  auto check = [&](bool ok, const char* field, const std::string& msg) {
-    if (!ok && error.empty()) {
-      error = msg;
-      errorField = field;
-    }
-  };
-  auto refuse = [&] {
-    report(Problem::FIELD, errorField, error + "; keeping the last valid state");
-    return false;
-  };
-  // Numbers and their limits are the core's to check (bsdeform::Simulation); the node checks
-  // only what is its own (enumerations, net sizes of its fields) and names its fields in the
-  // core's messages.
-  const int nu = uDegree.getValue(), nv = vDegree.getValue();
-  const int Nu = numUControlPoints.getValue(), Nv = numVControlPoints.getValue();
-  check(massModel.getValue() == NODAL || massModel.getValue() == LUMPED, "massModel",
-        "field 'massModel' has an unknown value " + std::to_string(massModel.getValue()));
-  check(energy.getValue() == PAPER_ENERGY || energy.getValue() == SHELL, "energy",
-        "field 'energy' has an unknown value " + std::to_string(energy.getValue()));
-  check(integrator.getValue() == EXPLICIT || integrator.getValue() == IMPLICIT, "integrator",
-        "field 'integrator' has an unknown value " + std::to_string(integrator.getValue()));
-  check(reference.getValue() == REST || reference.getValue() == ABSOLUTE, "reference",
-        "field 'reference' has an unknown value " + std::to_string(reference.getValue()));
-  check(start.getValue() == PAPER || start.getValue() == SECOND_ORDER, "start",
-        "field 'start' has an unknown value " + std::to_string(start.getValue()));
-  const std::pair<const SoSFEnum*, const char*> sides[] = {
-      {&boundaryUMin, "boundaryUMin"}, {&boundaryUMax, "boundaryUMax"}, {&boundaryVMin, "boundaryVMin"}, {&boundaryVMax, "boundaryVMax"}};
-  for (const auto& side : sides)
-    check(side.first->getValue() >= CLAMPED && side.first->getValue() <= BUILT_IN, side.second,
-          std::string("field '") + side.second + "' has an unknown value " + std::to_string(side.first->getValue()));
-  for (int i = 0; i < pins.getNum(); ++i) {
-    const SbVec2d q = pins[i];
-    check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0, "pins",
-          "field 'pins' [" + std::to_string(i) + "] (" + num(q[0]) + ", " + num(q[1]) + ") must lie in [0,1]^2");
-  }
-  const long long expected = (static_cast<long long>(Nu) + 2LL * nu) * (static_cast<long long>(Nv) + 2LL * nv);
-  for (const auto& net : {std::make_pair(&restNet, "restNet"), std::make_pair(&controlNet, "controlNet"),
-                          std::make_pair(&previousNet, "previousNet")}) {
-    const int n = net.first->getNum();
-    check(n == 0 || n == expected || nu < 1 || nv < 1 || Nu < 1 || Nv < 1, net.second, std::string("field '") + net.second + "' must be empty or have " +
-                                       std::to_string(expected) + " points ((numU + 2 uDegree)(numV + 2 vDegree)), got " +
-                                       std::to_string(n));
-  }
-  if (!error.empty()) return refuse();
-
   bsdeform::ModelParameters p;
-  p.degreeU = nu;
-  p.degreeV = nv;
-  p.numU = Nu;
-  p.numV = Nv;
-  p.weights = bsdeform::Weights{w10.getValue(), w01.getValue(), w11.getValue(), w20.getValue(), w02.getValue()};
-  p.massModel = massModel.getValue() == LUMPED ? bsdeform::MassModel::Lumped : bsdeform::MassModel::Nodal;
-  p.mass = mass.getValue();
-  p.damping = damping.getValue();
-  p.timeStep = timeStep.getValue();
-  p.integrator = integrator.getValue() == IMPLICIT ? bsdeform::Integrator::Implicit : bsdeform::Integrator::Explicit;
-  p.maxSubSteps = maxSubSteps.getValue();
-  p.energy = energy.getValue() == SHELL ? bsdeform::EnergyModel::Shell : bsdeform::EnergyModel::Paper;
-  p.material.youngsModulus = youngsModulus.getValue();
-  p.material.poissonRatio = poissonRatio.getValue();
-  p.material.thickness = thickness.getValue();
-  p.material.density = density.getValue();
-  p.newtonTolerance = newtonTolerance.getValue();
-  p.maxNewtonIterations = maxNewtonIterations.getValue();
-  p.reference = reference.getValue() == ABSOLUTE ? bsdeform::ElasticReference::Absolute : bsdeform::ElasticReference::Rest;
-  p.start = start.getValue() == PAPER ? bsdeform::StartRule::Paper : bsdeform::StartRule::SecondOrder;
-  auto side = [](const SoSFEnum& f) {
-    switch (f.getValue()) {
-      case FREE: return bsdeform::Boundary::Free;
-      case PERIODIC: return bsdeform::Boundary::Periodic;
-      case SIMPLY_SUPPORTED: return bsdeform::Boundary::SimplySupported;
-      case BUILT_IN: return bsdeform::Boundary::BuiltIn;
-      default: return bsdeform::Boundary::Clamped;
-    }
-  };
-  p.boundaries = {side(boundaryUMin), side(boundaryUMax), side(boundaryVMin), side(boundaryVMax)};
-  for (int i = 0; i < pins.getNum(); ++i) p.pins.emplace_back(pins[i][0], pins[i][1]);
-  const int shapeValue = restShape.getValue();
-  check(shapeValue >= PLANE && shapeValue <= TORUS, "restShape",
-        "field 'restShape' has an unknown value " + std::to_string(shapeValue));
-  if (!error.empty()) return refuse();
-  const auto shape = static_cast<bsdeform::ShapeKind>(shapeValue);
-  p.boundaries = bsdeform::shapeBoundaries(shape, p.boundaries);
   bsdeform::ControlNet rest;
-  if (restNet.getNum()) {
-    rest = toNet(restNet);
-  } else if (shape != bsdeform::ShapeKind::Plane) {
-    const bsdeform::ShapeSize size{radius.getValue(), height.getValue(), minorRadius.getValue(),
-                                   Eigen::Vector3d(radii.getValue()[0], radii.getValue()[1], radii.getValue()[2])};
-    try {
-      rest = bsdeform::shapeRestNet(shape, size, bsdeform::SplineSpace(nu, nv, Nu, Nv, p.boundaries));
-    } catch (const bsdeform::ParameterError& e) {
-      const std::string field = fieldOf(e);
-      report(Problem::FIELD, field.empty() ? "restShape" : field,
-             std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + fieldMessage(e) +
-                 "; keeping the last valid state");
-      return false;
-    } catch (const std::exception& e) {
-      report(Problem::FIELD, "restShape",
-             std::string("field 'restShape' ") + bsdeform::shapeName(shape) + ": " + e.what() +
-                 "; keeping the last valid state");
-      return false;
-    }
-  }
-  if (rest.rows() == 0 && (p.boundaries.uMin == bsdeform::Boundary::Periodic || p.boundaries.vMin == bsdeform::Boundary::Periodic)) {
-    const char* side = p.boundaries.uMin == bsdeform::Boundary::Periodic ? "boundaryUMin" : "boundaryVMin";
-    report(Problem::FIELD, side,
-           std::string("field '") + side +
-               "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that closes (or a "
-               "rest shape); keeping the last valid state");
+  bsdeform::FieldRefusal refusal;
+  auto refuse = [this](const bsdeform::FieldRefusal& r) {
+    report(Problem::FIELD, r.field, r.message + "; keeping the last valid state");
     return false;
-  }
-  std::vector<ForceSlot> oldSlots;  // the last valid model's, kept if the new one fails
-  long reportedBefore = 0;          // a problem of the new model's forces is not cleared below
+  };
+  if (!bsdeform::modelFromFields(*this, p, rest, refusal)) return refuse(refusal);
+  bsdeform::ForceSlots oldSlots;  // the last valid model's, kept if the new one fails
+  long reportedBefore = 0;        // a problem of the new model's forces is not cleared below
   try {
-    m_stateKept = false;
     std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
                                                             : std::make_unique<bsdeform::Simulation>(p);
     // Another surface that lists this one as an obstacle and is built while this one gathers
@@ -396,44 +232,27 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     m_building = sim.get();
     // Forces first: their stiffness sets the sub-step, and a state is restored at its own
     // sub-step (a force added afterwards would rescale the previous net as if it were older).
-    oldSlots.swap(m_forceSlots);
+    oldSlots.swap(*m_forces);
     reportedBefore = m_reports;
     updateForces(*sim);
-    if (m_stateDirty && controlNet.getNum()) {
-      const bsdeform::ControlNet cur = toNet(controlNet);
-      if (previousNet.getNum())
-        sim->setState(cur, toNet(previousNet), simulationTime.getValue(), stepCount.getValue());
-      else  // released from rest at controlNet
-        sim->setState(cur, simulationTime.getValue(), stepCount.getValue());
-    } else if (!m_stateDirty && m_sim && m_sim->current().rows() == sim->current().rows() &&
-               m_sim->rest() == sim->rest()) {
-      // a live edit of the model: keep the motion going from where it is (newly held points,
-      // e.g. a pin added, go back to their rest positions). A state still released from rest
-      // (not stepped since it was built or reset) stays so: the new model's start rule applies,
-      // as if the file had held the new values.
-      m_stateKept = true;
-      if (m_sim->startPending())
-        sim->setState(m_sim->current(), m_sim->time(), m_sim->stepCount(), bsdeform::HeldPoints::Reset);
-      else
-        sim->setState(m_sim->current(), m_sim->previous(), m_sim->time(), m_sim->stepCount(), m_sim->subStepSize(),
-                      bsdeform::HeldPoints::Reset);
-    }
+    m_stateKept = bsdeform::startState(*sim, *this, m_stateDirty, m_sim.get());
     m_sim = std::move(sim);
   } catch (const bsdeform::ParameterError& e) {
-    if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
-    report(Problem::FIELD, fieldOf(e), fieldMessage(e) + "; keeping the last valid state");
-    return false;
+    if (!oldSlots.empty()) m_forces->swap(oldSlots);
+    return refuse(bsdeform::refusalOf(e));
   } catch (const std::exception& e) {
-    if (!oldSlots.empty()) m_forceSlots.swap(oldSlots);
-    report(Problem::FIELD, "", e.what() + std::string("; keeping the last valid state"));
-    return false;
+    if (!oldSlots.empty()) m_forces->swap(oldSlots);
+    return refuse({"", e.what()});
   }
   if (m_reports == reportedBefore) clearProblem();
   const double seam = m_sim->seamMismatch();
-  if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff()))
-    report(Problem::STATE, "restNet",
-           "the last n layers of a periodic direction differ from the first n (by up to " + num(seam) +
-               ") in 'restNet', 'controlNet' or 'previousNet'; the first were used");
+  if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff())) {
+    std::ostringstream os;
+    os.precision(17);
+    os << "the last n layers of a periodic direction differ from the first n (by up to " << seam
+       << ") in 'restNet', 'controlNet' or 'previousNet'; the first were used";
+    report(Problem::STATE, "restNet", os.str());
+  }
   return true;
 }
 
@@ -454,76 +273,16 @@ const bsdeform::Simulation& SoBSplineDeformSurface::simulation() {
 }
 
 void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
-  SoForceField::SurfaceInfo info;
-  const double area = sim.space().basisU().spacing() * sim.space().basisV().spacing();
-  const bsdeform::ModelParameters& mp = sim.parameters();
-  info.massDensity = mp.energy == bsdeform::EnergyModel::Shell ? mp.material.density * mp.material.thickness  // per rest area
-                     : mp.massModel == bsdeform::MassModel::Nodal ? mp.mass / area
-                                                                   : mp.mass;
   int fields = 0;  // a copy of the node (SoNode::copy) has the list, not the connections
   for (int i = 0; i < forces.getNum(); ++i) fields += forces[i] && forces[i]->isOfType(SoForceField::getClassTypeId());
   if (m_forcesChanged.getNumConnections() != fields) connectForces();
-  bool areaKnown = false;  // info.areaScale, computed when a COLLISION force is built
-  bool changed = int(m_forceSlots.size()) != forces.getNum();
   // Force fields are compared with the slots only after one told of a change (m_forcesChanged,
-  // notify()) or the list changed; obstacles are kept current before every step.
-  const bool stale = m_forcesStale || changed || &sim != m_sim.get();
+  // notify()), the list changed or the model is new; obstacles are kept current every step.
+  const bool stale = m_forcesStale || &sim != m_sim.get();
   m_forcesStale = false;
-  m_forceSlots.resize(forces.getNum());
-  for (int i = 0; i < forces.getNum(); ++i) {
-    SoEngine* e = forces[i];
-    ForceSlot& slot = m_forceSlots[i];
-    if (!e || !e->isOfType(SoForceField::getClassTypeId())) {
-      if (slot.engine != e) {
-        if (e)
-          report(Problem::FORCE_FIELD, "forces",
-                 "field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
-                     ", not an SoForceField; ignored");
-        slot = ForceSlot{e, -1, nullptr, nullptr, -1};
-        changed = true;
-      }
-      continue;
-    }
-    auto* ff = static_cast<SoForceField*>(e);
-    if (ff->type.getValue() == SoForceField::COLLISION) {
-      // the obstacles are kept current before every step; the force reads them in place
-      if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<bsdeform::SceneObstacles>();
-      std::vector<std::string> problems;
-      slot.obstacles->update(m_sceneRoot, this, ff->obstacles, ff->obstacleNames,
-                             stale && slot.geometryRevision != ff->getGeometryRevision(), problems);
-      slot.geometryRevision = ff->getGeometryRevision();
-      for (const std::string& p : problems)
-        report(Problem::OBSTACLE, "obstacles", "SoForceField '" + nameOf(ff) + "': " + p, nameOf(ff));
-      info.contact = slot.obstacles->world();
-    } else {
-      slot.obstacles.reset();
-      info.contact.reset();
-    }
-    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision())) continue;
-    if (ff->type.getValue() == SoForceField::COLLISION && !areaKnown) {
-      // the contact law is per unit world area (Contact.h); a degenerate rest surface keeps 1
-      const double a = bsdeform::surfaceArea(sim.space(), sim.rest());
-      if (std::isfinite(a) && a > 0.0) info.areaScale = a;
-      areaKnown = true;
-    }
-    std::string error;
-    auto force = ff->makeForce(info, error);
-    ++m_forcesMade;
-    slot.engine = ff;
-    slot.revision = ff->getRevision();
-    changed = true;
-    if (!error.empty()) {
-      report(Problem::FORCE_FIELD, "", "SoForceField '" + nameOf(ff) + "': " + error + "; keeping its previous force",
-             nameOf(ff));
-      continue;  // keep slot.force
-    }
-    slot.force = std::move(force);
-  }
-  if (!changed) return;
-  sim.clearForces();
-  for (const ForceSlot& s : m_forceSlots)
-    if (s.force) sim.addForce(s.force);
-  for (const auto& f : m_transient) sim.addForce(f);
+  m_forcesMade += m_forces->update(sim, forces, m_sceneRoot, this, stale, m_transient,
+                                  [this](Problem::Kind kind, const std::string& field, const std::string& message,
+                                         const std::string& node) { report(kind, field, message, node); });
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -570,6 +329,10 @@ int SoBSplineDeformSurface::advanceRealTime(double seconds) {
 void SoBSplineDeformSurface::resetSimulation() {
   ensureSimulation();
   m_sim->reset();
+  stateReplaced();
+}
+
+void SoBSplineDeformSurface::stateReplaced() {
   m_timeBudget = 0.0;
   clearProblem();
   m_tessValid = false;
@@ -605,12 +368,7 @@ bool SoBSplineDeformSurface::solveStatic(
     if (error) *error = e.what();
     return false;
   }
-  m_timeBudget = 0.0;
-  clearProblem();
-  m_tessValid = false;
-  syncClockFields();
-  touch();
-  tell(STATE_CHANGED);
+  stateReplaced();
   return true;
 }
 
@@ -673,13 +431,8 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
     if (f == &controlNet || f == &previousNet || f == &simulationTime || f == &stepCount) {
       m_stateDirty = true;
     } else if (f == &reset) {
-      if (m_sim) {
-        m_sim->reset();
-        m_timeBudget = 0.0;
-        syncClockFields();
-        tell(STATE_CHANGED);
-      }
-      m_tessValid = false;
+      resetSimulation();  // touch()es: the notification goes on from there
+      return;
     } else if (f == &on || f == &speed) {
       updateClock();
     } else if (f == &forces) {
@@ -711,8 +464,8 @@ void SoBSplineDeformSurface::syncStateFields() {
                        static_cast<SoField*>(&simulationTime), static_cast<SoField*>(&stepCount)})
       f->setDefault(TRUE);
   } else {
-    fromNet(s.current(), controlNet);
-    fromNet(s.previous(), previousNet);
+    bsdeform::netToField(s.current(), controlNet);
+    bsdeform::netToField(s.previous(), previousNet);
     simulationTime.setValue(snap15(s.time()));
     stepCount.setValue(int(s.stepCount()));
   }
@@ -741,9 +494,7 @@ SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
   for (SoMFVec3d* f : {&restNet, &controlNet, &previousNet}) {
     if (!f->getNum()) continue;
     const SbBool notify = f->enableNotify(FALSE);
-    SbVec3d* v = f->startEditing();
-    for (int i = 0; i < f->getNum(); ++i) v[i].setValue(snap15(v[i][0]), snap15(v[i][1]), snap15(v[i][2]));
-    f->finishEditing();
+    bsdeform::netToField(bsdeform::netFromField(*f), *f);  // snapped
     f->enableNotify(notify);
   }
   m_modelDirty = m_stateDirty = true;
@@ -816,9 +567,7 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
 
 bool SoBSplineDeformSurface::isClosed() {
   ensureSimulation();
-  const bsdeform::SplineSpace& sp = m_sim->space();
-  const int shape = restShape.getValue();
-  return (sp.periodicU() && sp.periodicV()) || (sp.periodicU() && (shape == SPHERE || shape == ELLIPSOID));
+  return m_sim->restIsClosed();
 }
 
 void SoBSplineDeformSurface::generatePrimitives(SoAction* action) {

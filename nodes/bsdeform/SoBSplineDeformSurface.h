@@ -86,6 +86,7 @@
 #include "bsdeform/Tessellation.h"
 
 namespace bsdeform {
+class ForceSlots;
 class SceneRunner;
 class Simulation;
 class Force;
@@ -266,6 +267,9 @@ class SoBSplineDeformSurface : public SoShape {
   void ensureSimulation();
   bool rebuildSimulation();
   void syncClockFields();
+  /// After the state was replaced (reset, static solve): the clock's remainder, the problem,
+  /// the drawing and the live fields follow, and the listeners are told.
+  void stateReplaced();
   void updateForces(bsdeform::Simulation& sim);
   /// Makes `problem` the current one (posted as a Coin warning when it is new).
   void report(Problem::Kind kind, const std::string& field, const std::string& message, const std::string& node = {});
@@ -285,14 +289,7 @@ class SoBSplineDeformSurface : public SoShape {
   bool m_stateDirty = true;
   bool m_syncing = false;
   bool m_stateKept = false;  ///< the last rebuild kept the motion going (MODEL_CHANGED)
-  struct ForceSlot {
-    void* engine = nullptr;
-    int revision = -1;  ///< the force field's revision the force was made from
-    std::shared_ptr<const bsdeform::Force> force;
-    std::shared_ptr<bsdeform::SceneObstacles> obstacles;  ///< COLLISION: the gathered obstacles
-    int geometryRevision = -1;
-  };
-  std::vector<ForceSlot> m_forceSlots;
+  std::unique_ptr<bsdeform::ForceSlots> m_forces;  ///< the forces of `forces` (SurfaceModel.h, not installed)
   std::vector<std::shared_ptr<const bsdeform::Force>> m_transient;
   /// Not a field of the file (not in the field data): the slave of every force field's
   /// `revision` output, so that a changed force field notifies this node (notify()).

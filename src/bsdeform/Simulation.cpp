@@ -110,6 +110,22 @@ double Simulation::massPerPoint() const {
              : m_params.mass * m_space.basisU().spacing() * m_space.basisV().spacing();
 }
 
+double Simulation::massPerArea() const {
+  if (m_params.energy == EnergyModel::Shell) return m_params.material.density * m_params.material.thickness;
+  const double perPoint = m_space.basisU().spacing() * m_space.basisV().spacing();
+  return m_params.massModel == MassModel::Nodal ? m_params.mass / perPoint : m_params.mass;
+}
+
+double Simulation::restArea() const {
+  if (m_restArea < 0.0) m_restArea = surfaceArea(m_space, m_rest);
+  return m_restArea;
+}
+
+bool Simulation::restIsClosed() const {
+  if (m_restClosed < 0) m_restClosed = isClosedSurface(m_space, m_rest) ? 1 : 0;
+  return m_restClosed == 1;
+}
+
 double Simulation::massAt(int i, int j) const {
   if (m_shellModel) return m_shellModel->netMass()[Eigen::Index(i) * m_space.netCols() + j];
   if (m_params.massModel == MassModel::Nodal) return m_params.mass;

@@ -284,6 +284,16 @@ class Simulation {
   /// bound and the last solve's iterations.
   const ImplicitSystem* implicitSystem() const;
 
+  /// Mass per unit rest area, for loads given per area (gravity): rho t (SHELL), m / (h1 h2)
+  /// (NODAL: m per point, h1 h2 the parameter area per point) or m (LUMPED, per unit parameter
+  /// area).
+  double massPerArea() const;
+  /// World area of the rest surface (surfaceArea(); computed once).
+  double restArea() const;
+  /// Whether the rest surface is closed (isClosedSurface(); computed once): a closed surface
+  /// shows no back faces.
+  bool restIsClosed() const;
+
   /// Mass of net point (i, j) (net layers): m (NODAL) or rho times the exact row sum
   /// \f$\int_{[0,1]^2} B_k\f$ of the Gram matrix (LUMPED; smaller next to a free edge). The
   /// control points derived next to a SIMPLY_SUPPORTED or BUILT_IN side have theirs too: the
@@ -356,6 +366,10 @@ class Simulation {
   std::vector<char> m_pinMask;         ///< per net row
   std::vector<char> m_heldMask;        ///< per coordinate 3 f + axis of the moving points (pins too)
   double m_seamMismatch = 0.0;
+  // restArea(), restIsClosed(): computed when first asked (an area is a quadrature over the
+  // whole net), on the thread that owns the simulation
+  mutable double m_restArea = -1.0;
+  mutable int m_restClosed = -1;
   bool m_uniformMass = true;      ///< every moving point has massPerPoint() (else m_massMoving)
   Eigen::VectorXd m_massMoving;   ///< per moving point, when not uniform
   bool m_startPending = true;  ///< the start rule is applied at the next step

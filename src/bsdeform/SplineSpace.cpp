@@ -306,6 +306,31 @@ SurfacePoint SplineSpace::evaluate(const ControlNet& net, const LocalBasis& bu, 
   return p;
 }
 
+namespace {
+// Whether the edge where `param` (u when alongU, else v) is `at` is one point.
+bool edgeCollapses(const SplineSpace& space, const ControlNet& net, bool alongU, double at, double tolerance) {
+  constexpr int kSamples = 9;
+  Eigen::Vector3d first;
+  for (int k = 0; k < kSamples; ++k) {
+    const double s = double(k) / (kSamples - 1);
+    const Eigen::Vector3d p = alongU ? space.evaluate(net, s, at, 0).position : space.evaluate(net, at, s, 0).position;
+    if (k == 0) first = p;
+    else if ((p - first).norm() > tolerance) return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool isClosedSurface(const SplineSpace& space, const ControlNet& net) {
+  if (!space.periodicU() && !space.periodicV()) return false;
+  const double tolerance = 1e-9 * (1.0 + (net.rows() ? net.cwiseAbs().maxCoeff() : 0.0));
+  auto closedAcross = [&](bool periodic, bool alongU) {
+    return periodic || (edgeCollapses(space, net, alongU, 0.0, tolerance) && edgeCollapses(space, net, alongU, 1.0, tolerance));
+  };
+  // the v edges run along u (v = 0, v = 1); the u edges along v
+  return closedAcross(space.periodicV(), true) && closedAcross(space.periodicU(), false);
+}
+
 double surfaceArea(const SplineSpace& space, const ControlNet& net) {
   const std::vector<Node1D> qu = splitQuadrature(space.basisU(), 0.0, 1.0, space.degreeU() + 3);
   const std::vector<Node1D> qv = splitQuadrature(space.basisV(), 0.0, 1.0, space.degreeV() + 3);

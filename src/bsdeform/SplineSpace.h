@@ -218,4 +218,10 @@ class SplineSpace {
 /// degree + 3 points per knot span and direction.
 double surfaceArea(const SplineSpace& space, const ControlNet& net);
 
+/// Whether the surface of `net` is closed: it has no boundary curve of positive length. Each
+/// direction is periodic, or both of its edges collapse to a point (the poles of a sphere or
+/// an ellipsoid: S(u, 0) and S(u, 1) each the same point for every u, to 1e-9 of the net's
+/// size), and at least one direction is periodic.
+bool isClosedSurface(const SplineSpace& space, const ControlNet& net);
+
 }  // namespace bsdeform

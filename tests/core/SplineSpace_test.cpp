@@ -8,6 +8,7 @@
 #include <random>
 #include <utility>
 
+#include "bsdeform/RestShape.h"
 #include "bsdeform/SplineSpace.h"
 
 using namespace bsdeform;
@@ -103,4 +104,33 @@ TEST_CASE("SplineSpace: moving points gather and scatter back, map to their B-sp
           }
         }
     }
+}
+
+TEST_CASE("SplineSpace: a surface is closed when it has no boundary curve: sphere, ellipsoid, torus; not plane, cylinder, cone",
+          "[core]") {
+  const ShapeSize size{0.5, 1.0, 0.2, Eigen::Vector3d(0.6, 0.45, 0.35)};
+  const std::pair<ShapeKind, bool> kinds[] = {{ShapeKind::Plane, false},  {ShapeKind::Cylinder, false},
+                                              {ShapeKind::Cone, false},   {ShapeKind::Sphere, true},
+                                              {ShapeKind::Ellipsoid, true}, {ShapeKind::Torus, true}};
+  for (const auto& k : kinds) {
+    INFO(shapeName(k.first));
+    const SplineSpace space(3, 3, 10, 8, shapeBoundaries(k.first, Boundaries{}));
+    const ControlNet net = shapeRestNet(k.first, size, space);
+    CHECK(isClosedSurface(space, net) == k.second);
+  }
+  // one end of the tube collapsed to a point (a cone's apex): the other end is still a curve
+  const SplineSpace tube(3, 3, 10, 8, shapeBoundaries(ShapeKind::Cylinder, Boundaries{}));
+  ControlNet capped = shapeRestNet(ShapeKind::Cylinder, size, tube);
+  for (Eigen::Index i = 0; i < tube.netRows(); ++i)
+    for (int j = 0; j < tube.degreeV() + 1; ++j) capped.row(i * tube.netCols() + j) = Eigen::RowVector3d(0, 0, -0.5);
+  CHECK(!isClosedSurface(tube, capped));
+}
+
+TEST_CASE("SplineSpace: surfaceArea of the plane is 1 and of the sphere 4 pi R^2 to the net's geometric error", "[core]") {
+  const SplineSpace plane(3, 2, 6, 5);
+  CHECK(surfaceArea(plane, plane.grevillePlane()) == Approx(1.0).epsilon(1e-13));
+  const ShapeSize size{0.5, 1.0, 0.2, Eigen::Vector3d(0.6, 0.45, 0.35)};
+  const SplineSpace sphere(3, 3, 24, 16, shapeBoundaries(ShapeKind::Sphere, Boundaries{}));
+  const double area = surfaceArea(sphere, shapeRestNet(ShapeKind::Sphere, size, sphere));
+  CHECK(area == Approx(4.0 * M_PI * 0.25).epsilon(2e-2));
 }

@@ -1,0 +1,264 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/SurfaceModel.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "bsdeform/FieldInfo.h"
+#include "bsdeform/HugePages.h"
+#include "bsdeform/ParameterError.h"
+#include "bsdeform/RestShape.h"
+#include "bsdeform/SceneObstacles.h"
+#include "bsdeform/SceneText.h"
+#include "bsdeform/SoForceField.h"
+
+namespace bsdeform {
+
+namespace {
+
+using Surface = SoBSplineDeformSurface;
+
+std::string num(double x) {
+  std::ostringstream os;
+  os.precision(17);
+  os << x;
+  return os.str();
+}
+
+std::string nameOf(const SoBase* b) {
+  const SbName name = b->getName();
+  return name.getLength() ? name.getString() : "<unnamed>";
+}
+
+Boundary sideOf(const SoSFEnum& f) {
+  switch (f.getValue()) {
+    case Surface::FREE: return Boundary::Free;
+    case Surface::PERIODIC: return Boundary::Periodic;
+    case Surface::SIMPLY_SUPPORTED: return Boundary::SimplySupported;
+    case Surface::BUILT_IN: return Boundary::BuiltIn;
+    default: return Boundary::Clamped;
+  }
+}
+
+}  // namespace
+
+ControlNet netFromField(const SoMFVec3d& f) {
+  ControlNet net(f.getNum(), 3);
+  const SbVec3d* v = f.getValues(0);
+  for (int i = 0; i < f.getNum(); ++i) net.row(i) << v[i][0], v[i][1], v[i][2];
+  return net;
+}
+
+void netToField(const ControlNet& net, SoMFVec3d& f) {
+  f.setNum(int(net.rows()));
+  SbVec3d* v = f.startEditing();
+  // a new array of a large net is not touched yet: on huge pages (HugePages.h)
+  adviseHugePages(v, sizeof(SbVec3d) * size_t(net.rows()));
+  for (Eigen::Index i = 0; i < net.rows(); ++i) v[i].setValue(snap15(net(i, 0)), snap15(net(i, 1)), snap15(net(i, 2)));
+  f.finishEditing();
+}
+
+FieldRefusal refusalOf(const ParameterError& e) {
+  const FieldInfo* f = surfaceFieldOfParameter(e.parameter());
+  if (!f) return {"", e.what()};
+  return {f->name, "field '" + std::string(f->name) + "' " + e.detail()};
+}
+
+bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, FieldRefusal& refusal) {
+  auto check = [&](bool ok, const char* field, const std::string& message) {
+    if (!ok && refusal.message.empty()) refusal = {field, message};
+  };
+  auto unknown = [](const char* field, int value) {
+    return std::string("field '") + field + "' has an unknown value " + std::to_string(value);
+  };
+  const int nu = n.uDegree.getValue(), nv = n.vDegree.getValue();
+  const int Nu = n.numUControlPoints.getValue(), Nv = n.numVControlPoints.getValue();
+  check(n.massModel.getValue() == Surface::NODAL || n.massModel.getValue() == Surface::LUMPED, "massModel",
+        unknown("massModel", n.massModel.getValue()));
+  check(n.energy.getValue() == Surface::PAPER_ENERGY || n.energy.getValue() == Surface::SHELL, "energy",
+        unknown("energy", n.energy.getValue()));
+  check(n.integrator.getValue() == Surface::EXPLICIT || n.integrator.getValue() == Surface::IMPLICIT, "integrator",
+        unknown("integrator", n.integrator.getValue()));
+  check(n.reference.getValue() == Surface::REST || n.reference.getValue() == Surface::ABSOLUTE, "reference",
+        unknown("reference", n.reference.getValue()));
+  check(n.start.getValue() == Surface::PAPER || n.start.getValue() == Surface::SECOND_ORDER, "start",
+        unknown("start", n.start.getValue()));
+  const std::pair<const SoSFEnum*, const char*> sides[] = {{&n.boundaryUMin, "boundaryUMin"},
+                                                           {&n.boundaryUMax, "boundaryUMax"},
+                                                           {&n.boundaryVMin, "boundaryVMin"},
+                                                           {&n.boundaryVMax, "boundaryVMax"}};
+  for (const auto& side : sides)
+    check(side.first->getValue() >= Surface::CLAMPED && side.first->getValue() <= Surface::BUILT_IN, side.second,
+          unknown(side.second, side.first->getValue()));
+  for (int i = 0; i < n.pins.getNum(); ++i) {
+    const SbVec2d q = n.pins[i];
+    check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0, "pins",
+          "field 'pins' [" + std::to_string(i) + "] (" + num(q[0]) + ", " + num(q[1]) + ") must lie in [0,1]^2");
+  }
+  const long long expected = (static_cast<long long>(Nu) + 2LL * nu) * (static_cast<long long>(Nv) + 2LL * nv);
+  for (const auto& net : {std::make_pair(&n.restNet, "restNet"), std::make_pair(&n.controlNet, "controlNet"),
+                          std::make_pair(&n.previousNet, "previousNet")}) {
+    const int count = net.first->getNum();
+    check(count == 0 || count == expected || nu < 1 || nv < 1 || Nu < 1 || Nv < 1, net.second,
+          std::string("field '") + net.second + "' must be empty or have " + std::to_string(expected) +
+              " points ((numU + 2 uDegree)(numV + 2 vDegree)), got " + std::to_string(count));
+  }
+  const int shapeValue = n.restShape.getValue();
+  check(shapeValue >= Surface::PLANE && shapeValue <= Surface::TORUS, "restShape", unknown("restShape", shapeValue));
+  if (!refusal.message.empty()) return false;
+
+  p.degreeU = nu;
+  p.degreeV = nv;
+  p.numU = Nu;
+  p.numV = Nv;
+  p.weights = Weights{n.w10.getValue(), n.w01.getValue(), n.w11.getValue(), n.w20.getValue(), n.w02.getValue()};
+  p.massModel = n.massModel.getValue() == Surface::LUMPED ? MassModel::Lumped : MassModel::Nodal;
+  p.mass = n.mass.getValue();
+  p.damping = n.damping.getValue();
+  p.timeStep = n.timeStep.getValue();
+  p.integrator = n.integrator.getValue() == Surface::IMPLICIT ? Integrator::Implicit : Integrator::Explicit;
+  p.maxSubSteps = n.maxSubSteps.getValue();
+  p.energy = n.energy.getValue() == Surface::SHELL ? EnergyModel::Shell : EnergyModel::Paper;
+  p.material.youngsModulus = n.youngsModulus.getValue();
+  p.material.poissonRatio = n.poissonRatio.getValue();
+  p.material.thickness = n.thickness.getValue();
+  p.material.density = n.density.getValue();
+  p.newtonTolerance = n.newtonTolerance.getValue();
+  p.maxNewtonIterations = n.maxNewtonIterations.getValue();
+  p.reference = n.reference.getValue() == Surface::ABSOLUTE ? ElasticReference::Absolute : ElasticReference::Rest;
+  p.start = n.start.getValue() == Surface::PAPER ? StartRule::Paper : StartRule::SecondOrder;
+  p.boundaries = {sideOf(n.boundaryUMin), sideOf(n.boundaryUMax), sideOf(n.boundaryVMin), sideOf(n.boundaryVMax)};
+  for (int i = 0; i < n.pins.getNum(); ++i) p.pins.emplace_back(n.pins[i][0], n.pins[i][1]);
+  const auto shape = static_cast<ShapeKind>(shapeValue);
+  p.boundaries = shapeBoundaries(shape, p.boundaries);
+  rest.resize(0, 3);
+  if (n.restNet.getNum()) {
+    rest = netFromField(n.restNet);
+  } else if (shape != ShapeKind::Plane) {
+    const ShapeSize size{n.radius.getValue(), n.height.getValue(), n.minorRadius.getValue(),
+                         Eigen::Vector3d(n.radii.getValue()[0], n.radii.getValue()[1], n.radii.getValue()[2])};
+    const std::string prefix = std::string("field 'restShape' ") + shapeName(shape) + ": ";
+    try {
+      rest = shapeRestNet(shape, size, SplineSpace(nu, nv, Nu, Nv, p.boundaries));
+    } catch (const ParameterError& e) {
+      const FieldRefusal r = refusalOf(e);
+      refusal = {r.field.empty() ? "restShape" : r.field, prefix + r.message};
+      return false;
+    } catch (const std::exception& e) {
+      refusal = {"restShape", prefix + e.what()};
+      return false;
+    }
+  }
+  if (rest.rows() == 0 && (p.boundaries.uMin == Boundary::Periodic || p.boundaries.vMin == Boundary::Periodic)) {
+    const char* side = p.boundaries.uMin == Boundary::Periodic ? "boundaryUMin" : "boundaryVMin";
+    refusal = {side, std::string("field '") + side +
+                         "' is PERIODIC but field 'restNet' is empty: a periodic direction needs a rest net that "
+                         "closes (or a rest shape)"};
+    return false;
+  }
+  return true;
+}
+
+bool startState(Simulation& sim, const Surface& n, bool stateFromFields, const Simulation* old) {
+  if (stateFromFields) {
+    if (n.controlNet.getNum()) {
+      const ControlNet cur = netFromField(n.controlNet);
+      if (n.previousNet.getNum())
+        sim.setState(cur, netFromField(n.previousNet), n.simulationTime.getValue(), n.stepCount.getValue());
+      else  // released from rest at controlNet
+        sim.setState(cur, n.simulationTime.getValue(), n.stepCount.getValue());
+    }
+    return false;
+  }
+  if (!old || old->current().rows() != sim.current().rows() || old->rest() != sim.rest()) return false;
+  // a live edit of the model: keep the motion going from where it is (newly held points, e.g. a
+  // pin added, go back to their rest positions). A state still released from rest (not stepped
+  // since it was built or reset) stays so: the new model's start rule applies, as if the file
+  // had held the new values.
+  if (old->startPending())
+    sim.setState(old->current(), old->time(), old->stepCount(), HeldPoints::Reset);
+  else
+    sim.setState(old->current(), old->previous(), old->time(), old->stepCount(), old->subStepSize(), HeldPoints::Reset);
+  return true;
+}
+
+int ForceSlots::obstacleBuilds() const {
+  int n = 0;
+  for (const Slot& s : m_slots)
+    if (s.obstacles) n += s.obstacles->builds();
+  return n;
+}
+
+int ForceSlots::obstacleRefits() const {
+  int n = 0;
+  for (const Slot& s : m_slots)
+    if (s.obstacles) n += s.obstacles->refits();
+  return n;
+}
+
+int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene, SoNode* self, bool stale,
+                       const std::vector<std::shared_ptr<const Force>>& transient, const Report& report) {
+  using Problem = Surface::Problem;
+  SoForceField::SurfaceInfo info;
+  info.massDensity = sim.massPerArea();
+  int made = 0;
+  bool changed = int(m_slots.size()) != forces.getNum();
+  stale |= changed;
+  m_slots.resize(forces.getNum());
+  for (int i = 0; i < forces.getNum(); ++i) {
+    SoEngine* e = forces[i];
+    Slot& slot = m_slots[i];
+    if (!e || !e->isOfType(SoForceField::getClassTypeId())) {
+      if (slot.engine != e) {
+        if (e)
+          report(Problem::FORCE_FIELD, "forces",
+                 "field 'forces' [" + std::to_string(i) + "] is a " + e->getTypeId().getName().getString() +
+                     ", not an SoForceField; ignored",
+                 "");
+        slot = Slot{e, -1, nullptr, nullptr, -1};
+        changed = true;
+      }
+      continue;
+    }
+    auto* ff = static_cast<SoForceField*>(e);
+    if (ff->type.getValue() == SoForceField::COLLISION) {
+      // the obstacles are kept current before every step; the force reads them in place
+      if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<SceneObstacles>();
+      std::vector<std::string> problems;
+      slot.obstacles->update(scene, self, ff->obstacles, ff->obstacleNames,
+                             stale && slot.geometryRevision != ff->getGeometryRevision(), problems);
+      slot.geometryRevision = ff->getGeometryRevision();
+      for (const std::string& p : problems)
+        report(Problem::OBSTACLE, "obstacles", "SoForceField '" + nameOf(ff) + "': " + p, nameOf(ff));
+      info.contact = slot.obstacles->world();
+      // the contact law is per unit world area (Contact.h); a degenerate rest surface keeps 1
+      const double a = stale ? sim.restArea() : 0.0;
+      if (std::isfinite(a) && a > 0.0) info.areaScale = a;
+    } else {
+      slot.obstacles.reset();
+      info.contact.reset();
+    }
+    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision())) continue;
+    std::string error;
+    auto force = ff->makeForce(info, error);
+    ++made;
+    slot.engine = ff;
+    slot.revision = ff->getRevision();
+    changed = true;
+    if (!error.empty()) {
+      report(Problem::FORCE_FIELD, "", "SoForceField '" + nameOf(ff) + "': " + error + "; keeping its previous force",
+             nameOf(ff));
+      continue;  // keep slot.force
+    }
+    slot.force = std::move(force);
+  }
+  if (changed) {
+    sim.clearForces();
+    for (const Slot& s : m_slots)
+      if (s.force) sim.addForce(s.force);
+    for (const auto& f : transient) sim.addForce(f);
+  }
+  return made;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file SurfaceModel.h
+/// How an SoBSplineDeformSurface's fields become a bsdeform::Simulation: the model parameters
+/// and rest net its fields describe, the state a new model starts from, and the forces of its
+/// force fields. The node (SoBSplineDeformSurface.cpp) is the Coin plumbing around these: when
+/// to rebuild, what to tell, how to draw. Not installed: the nodes' own.
+
+#include <Inventor/fields/SoMFEngine.h>
+#include <Inventor/fields/SoMFVec3d.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bsdeform/Simulation.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
+
+class SoNode;
+
+namespace bsdeform {
+
+class Force;
+class ParameterError;
+class SceneObstacles;
+
+/// A field the node refuses and why (the sentence names the field).
+struct FieldRefusal {
+  std::string field;
+  std::string message;
+};
+
+/// The model parameters and the rest net (empty: the plane) that the fields of `node` describe.
+/// Numbers and their limits are the core's to check when the Simulation is made (it throws a
+/// ParameterError); here only what is the node's own: enumerations, the sizes of its nets, pins,
+/// the rest shape's net, a periodic direction without a rest net. Returns false with `refusal`
+/// set when a field is refused.
+bool modelFromFields(const SoBSplineDeformSurface& node, ModelParameters& p, ControlNet& rest, FieldRefusal& refusal);
+
+/// The core's refusal named by the node's field that sets the parameter (FieldInfo).
+FieldRefusal refusalOf(const ParameterError& e);
+
+/// Starts the new model `sim`: from the state fields when they were read (`stateFromFields`,
+/// a file or a script set them), else from `old`'s motion when the net and the rest shape are
+/// the same (a live edit of the model: held points go back to rest; a state still released from
+/// rest stays so, the new start rule applying), else at rest. Returns whether `old`'s motion
+/// was carried over.
+bool startState(Simulation& sim, const SoBSplineDeformSurface& node, bool stateFromFields, const Simulation* old);
+
+/// A net field as a control net, and back (values snapped to their 15-digit form, snap15:
+/// write -> read -> write is a fixed point).
+ControlNet netFromField(const SoMFVec3d& f);
+void netToField(const ControlNet& net, SoMFVec3d& f);
+
+/// The core forces of one surface: one slot per entry of its `forces` field, each with the
+/// force made from that force field and, for COLLISION, the obstacles it gathered.
+class ForceSlots {
+ public:
+  using Report = std::function<void(SoBSplineDeformSurface::Problem::Kind kind, const std::string& field,
+                                    const std::string& message, const std::string& node)>;
+  /// Brings the slots in line with `forces` and, when any changed, gives `sim` their forces and
+  /// then `transient`. The obstacles are brought up to date every time (a moved Transform is
+  /// refitted); a force field is compared with its slot only when `stale` (one told of a
+  /// change, or `sim` is a new model) or the list changed. Returns the forces made.
+  int update(Simulation& sim, const SoMFEngine& forces, SoNode* scene, SoNode* self, bool stale,
+             const std::vector<std::shared_ptr<const Force>>& transient, const Report& report);
+  void swap(ForceSlots& other) { m_slots.swap(other.m_slots); }
+  bool empty() const { return m_slots.empty(); }
+  /// Obstacle trees built and refitted (tests).
+  int obstacleBuilds() const;
+  int obstacleRefits() const;
+
+ private:
+  struct Slot {
+    void* engine = nullptr;
+    int revision = -1;  ///< the force field's revision the force was made from
+    std::shared_ptr<const Force> force;
+    std::shared_ptr<SceneObstacles> obstacles;  ///< COLLISION: the gathered obstacles
+    int geometryRevision = -1;
+  };
+  std::vector<Slot> m_slots;
+};
+
+}  // namespace bsdeform
