@@ -16,6 +16,8 @@
 #include <QTextBrowser>
 #include <QVBoxLayout>
 
+#include "bsdeform/FieldInfo.h"
+
 #ifndef BSDEFORM_VERSION
 #error "BSDEFORM_VERSION is set by ui/CMakeLists.txt"
 #endif
@@ -98,6 +100,23 @@ void showAbout(QWidget* parent) { showRichText(parent, QObject::tr("About bsdefo
 
 void showShortcuts(QWidget* parent, const QMenuBar* bar) {
   showRichText(parent, QObject::tr("Keyboard shortcuts"), shortcutsText(menuShortcuts(bar)));
+}
+
+void showFieldReference(QWidget* parent) {
+  const QString name = QStringLiteral("fieldReference");
+  auto* dialog = parent->findChild<QDialog*>(name, Qt::FindDirectChildrenOnly);
+  if (!dialog) {
+    dialog = new QDialog(parent);
+    dialog->setObjectName(name);
+    dialog->setWindowTitle(QObject::tr("Field reference"));
+    auto* text = new QTextBrowser;
+    text->setMarkdown(QString::fromStdString(fieldReferenceMarkdown()));
+    auto* layout = new QVBoxLayout(dialog);
+    layout->addWidget(text);
+    dialog->resize(1000, 700);
+  }
+  dialog->show();
+  dialog->raise();
 }
 
 }  // namespace bsdeform

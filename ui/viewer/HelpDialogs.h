@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file HelpDialogs.h
-/// The Help menu's About box (version and the libraries the viewer was built with and runs on)
-/// and the list of keyboard shortcuts, read from the window's own actions so that it cannot
-/// drift from them.
+/// The Help menu's About box (version and the libraries the viewer was built with and runs on),
+/// the list of keyboard shortcuts, read from the window's own actions so that it cannot drift
+/// from them, and the field reference.
 
 #include <QPair>
 #include <QString>
@@ -33,5 +33,8 @@ QString shortcutsText(const QVector<ShortcutEntry>& entries);
 /// Shows the About box / the shortcut list (non-modal, owned by `parent`).
 void showAbout(QWidget* parent);
 void showShortcuts(QWidget* parent, const QMenuBar* bar);
+/// Shows the fields of both nodes (bsdeform/FieldInfo.h): one non-modal dialog per `parent`,
+/// made the first time and shown again after.
+void showFieldReference(QWidget* parent);
 
 }  // namespace bsdeform

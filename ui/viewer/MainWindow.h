@@ -4,51 +4,45 @@
 /// bsdeform-viewer's main window: an SoQtExaminerViewer with file handling, simulation
 /// controls, a scene panel with a field editor, live plots and mouse dragging.
 
-#include <QElapsedTimer>
 #include <QImage>
 #include <QMainWindow>
 #include <memory>
-#include <utility>
-#include <vector>
 
 #include "Autosave.h"
+#include "DocumentActions.h"
 #include "SceneDocument.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 class QAction;
-class QDialog;
-class QDoubleSpinBox;
-class QLabel;
 class QMenu;
-class QTimer;
 class QUndoStack;
 class SoBase;
 class SoField;
 class SoFieldContainer;
 class SoQtExaminerViewer;
 class SoSeparator;
-class SoCallback;
-class SoAction;
 
 namespace bsdeform {
+class ControlNetDisplay;
 class DragTool;
+class EditActions;
+class ExportActions;
+class Feedback;
 class FieldEditor;
 class PlotPanel;
-class ControlNetDisplay;
-class Recorder;
+class RecordingControls;
 class ScenePanel;
+class SimulationControls;
+class StatusPanel;
+class SurfaceListener;
 class ViewFraming;
 class ViewerClock;
 struct EditContext;
 
-/// What to do with a recovery file left by a viewer that died.
-enum class RecoveryChoice {
-  Ask,      ///< a question box; when not interactive: Keep
-  Restore,  ///< open the newest recovery file (its scene keeps its original file name)
-  Discard,  ///< delete every recovery file
-  Keep,     ///< leave them for the next start
-};
-
+/// The window: the 3D view, the menus, tool bar and docks, and the wiring between the parts
+/// that do the work (DocumentActions, SimulationControls, RecordingControls, ExportActions,
+/// StatusPanel, ScenePanel, FieldEditor, PlotPanel, ...). The public functions below are the
+/// window's commands for main.cpp and the tests; most hand over to those parts.
 class MainWindow : public QMainWindow {
   Q_OBJECT
  public:
@@ -104,8 +98,8 @@ class MainWindow : public QMainWindow {
   bool restoreRecovery(const RecoveryFile& file);
 
   /// Tests and batch measurement: errors go to lastError() and the status bar, no dialogs.
-  void setInteractive(bool on) { m_interactive = on; }
-  const QString& lastError() const { return m_lastError; }
+  void setInteractive(bool on);
+  const QString& lastError() const;
   SceneDocument& document() { return *m_doc; }
   SoQtExaminerViewer* viewer() const { return m_viewer; }
   DragTool& dragTool() { return *m_drag; }
@@ -113,11 +107,11 @@ class MainWindow : public QMainWindow {
   ViewFraming& framing() { return *m_framing; }
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   FieldEditor& fieldEditor() { return *m_editor; }
-  Autosave& autosave() { return *m_autosave; }
+  Autosave& autosave();
   /// The clock that drives realTime (tests: setWallClock(false), then advance()).
-  ViewerClock& clock() { return *m_clock; }
+  ViewerClock& clock();
   /// Frames drawn since the scene was opened.
-  long framesDrawn() const { return m_frames; }
+  long framesDrawn() const;
   void setPlaying(bool on);
   bool isPlaying() const;
   void setDragMode(bool on);
@@ -153,74 +147,50 @@ class MainWindow : public QMainWindow {
 
  private:
   void createActions();
+  void createEditActions();
+  void createHelpMenu();  ///< after the others: its shortcut list reads every menu
   void createDocks();
-  void createStatusBar();
+  /// The document's new scene in the view, the panels and the status; it plays when a surface
+  /// of it is `on`.
   void showScene();
   /// The scene panel's selection: the field editor shows it, the plots follow a surface.
   void surfaceSelected(int index);
   void forceFieldSelected(int index);
-  void createEditActions();
-  void createHelpMenu();  ///< after the others: its shortcut list reads every menu
-  /// Opens `path` after maybeSave() (the menu, recent files, a dropped file).
-  void openAfterAsking(const QString& path);
+  /// The surface the exports, a new force field and the status bar are about (nullptr: none).
+  SoBSplineDeformSurface* selectedSurface() const;
   void fieldChanged(SoFieldContainer* owner, SoField* field);
   void structureChanged(SoBase* focus);
-  void rememberFolder(const QString& path);
-  bool exportSurface(const QString& path, bool controlNet);
-  void exportDialog(bool controlNet);
-  /// Registers (on) or removes (off) the window's callback on every surface of the document.
-  void listenToSurfaces(bool on);
+  /// The plots take every step of the surface they follow.
   void surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSurface::Event e);
   /// Everything but the plots, after the surfaces changed (once per turn of the event loop).
   void refreshViews();
-  void scheduleRefresh();
   void updateStatus();
-  void reportError(const QString& title, const QString& message);
-  void addRecent(const QString& path);
-  void updateRecentMenu();
   /// The window's geometry and dock layout (QSettings): saved on close, restored on start.
   void saveLayout();
   void restoreLayout();
-  static void countFrame(void* data, SoAction* action);
 
   std::unique_ptr<SceneDocument> m_doc;
   std::unique_ptr<DragTool> m_drag;
+  std::unique_ptr<Feedback> m_feedback;
+  std::unique_ptr<EditContext> m_edit;
+  std::unique_ptr<StatusPanel> m_status;
+  std::unique_ptr<EditActions> m_edits;
   SoQtExaminerViewer* m_viewer = nullptr;
   SoSeparator* m_wrapper = nullptr;
-  SoCallback* m_frameCounter = nullptr;
+  QUndoStack* m_undo = nullptr;
+  DocumentActions* m_files = nullptr;
+  SimulationControls* m_simulation = nullptr;
+  RecordingControls* m_recording = nullptr;
+  ExportActions* m_exports = nullptr;
   ScenePanel* m_scenePanel = nullptr;
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
   ViewFraming* m_framing = nullptr;
   ControlNetDisplay* m_netDisplay = nullptr;
-  ViewerClock* m_clock = nullptr;  ///< drives realTime: Play / Pause and the speed
-  std::vector<std::pair<SoBSplineDeformSurface*, int>> m_listening;  ///< ref'ed surfaces, callback ids
-  bool m_refreshPending = false;
-  Autosave* m_autosave = nullptr;
-  bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
-  QAction* m_playAction = nullptr;
+  SurfaceListener* m_listener = nullptr;
   QAction* m_dragAction = nullptr;
-  QUndoStack* m_undo = nullptr;
-  QDialog* m_fieldReference = nullptr;
-  bool m_restoredUnsaved = false;  ///< a restored autosave: unsaved although there is nothing to undo
-  SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow
-  std::unique_ptr<EditContext> m_edit;
-  QMenu* m_recentMenu = nullptr;
   QMenu* m_simulationMenu = nullptr;
-  std::unique_ptr<Recorder> m_recorder;
-  QAction* m_recordAction = nullptr;
-  void recordFrames();
-  QDoubleSpinBox* m_speed = nullptr;
-  QLabel* m_timeLabel = nullptr;
-  QLabel* m_rateLabel = nullptr;
-  QLabel* m_modelLabel = nullptr;
-  QLabel* m_stateLabel = nullptr;
-  bool m_interactive = true;
-  QString m_lastError;
-  long m_frames = 0;
-  long m_lastFrames = 0, m_lastSteps = 0;
-  QElapsedTimer m_rateClock;
-  double m_fps = 0.0, m_stepsPerSecond = 0.0;
+  SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow
   int m_selectedSurface = -1;
 };
 
