@@ -16,7 +16,6 @@
 #include <Inventor/fields/SoSFTime.h>
 #include <Inventor/sensors/SoFieldSensor.h>
 #include <Inventor/sensors/SoNodeSensor.h>
-#include <Inventor/system/gl.h>
 
 #include <algorithm>
 #include <cmath>
@@ -510,23 +509,13 @@ void SoBSplineDeformSurface::write(SoWriteAction* action) {
 // ---------------------------------------------------------------------------------------------
 // Geometry
 
-int SoBSplineDeformSurface::segmentsFor(float complexity, int spans) const {
-  // Per-vertex normals are exact, so 1.5 segments per knot span (default complexity 0.5) look
-  // smooth; small nets get at least 64 c segments, large ones at most 64 + 448 c.
-  const float c = std::max(0.0f, std::min(1.0f, complexity));
-  const double perSpan = spans * (0.5 + 2.0 * c);
-  const int wanted = static_cast<int>(std::lround(std::max(perSpan, 64.0 * c)));
-  const int cap = static_cast<int>(64 + 448 * c);
-  return std::max(4, std::min(wanted, cap));
-}
-
 void SoBSplineDeformSurface::tessellate(SoState* state) {
   ensureSimulation();
   const bsdeform::Simulation& sim = m_building ? *m_building : *m_sim;
   const bsdeform::SplineSpace& sp = sim.space();
   const float complexity = state ? SoComplexityElement::get(state) : 0.5f;
-  const int segU = segmentsFor(complexity, sp.basisU().numSpans());
-  const int segV = segmentsFor(complexity, sp.basisV().numSpans());
+  const int segU = bsdeform::tessellationSegments(complexity, sp.basisU().numSpans());
+  const int segV = bsdeform::tessellationSegments(complexity, sp.basisV().numSpans());
   if (m_tessValid && m_tess.segU == segU && m_tess.segV == segV) return;
   bsdeform::tessellate(sp, sim.current(), segU, segV, m_tess);
   ++m_tessRevision;
@@ -550,18 +539,7 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
   SoMaterialBundle mb(action);
   mb.sendFirst();
   if (!m_buffers) m_buffers = std::make_unique<bsdeform::SurfaceBuffers>();
-  if (!m_buffers->draw(state, m_tess, m_tessRevision)) {  // a GL without buffer objects
-    glEnableClientState(GL_VERTEX_ARRAY);
-    glEnableClientState(GL_NORMAL_ARRAY);
-    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
-    glVertexPointer(3, GL_FLOAT, 0, m_tess.vertices.data());
-    glNormalPointer(GL_FLOAT, 0, m_tess.normals.data());
-    glTexCoordPointer(2, GL_FLOAT, 0, m_tess.texCoords.data());
-    glDrawElements(GL_TRIANGLES, GLsizei(m_tess.indices.size()), GL_UNSIGNED_INT, m_tess.indices.data());
-    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
-    glDisableClientState(GL_NORMAL_ARRAY);
-    glDisableClientState(GL_VERTEX_ARRAY);
-  }
+  m_buffers->draw(state, m_tess, m_tessRevision);
   state->pop();
 }
 

@@ -281,7 +281,6 @@ class SoBSplineDeformSurface : public SoShape {
   /// Connects m_forcesChanged from the `revision` output of every force field in `forces`.
   void connectForces();
   void tessellate(SoState* state);
-  int segmentsFor(float complexity, int spans) const;
 
   std::unique_ptr<bsdeform::Simulation> m_sim;
   const bsdeform::Simulation* m_building = nullptr;  ///< the model rebuildSimulation() is making

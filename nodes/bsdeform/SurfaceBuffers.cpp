@@ -41,7 +41,19 @@ void SurfaceBuffers::contextDestroyed(std::uint32_t context, void* self) {
 bool SurfaceBuffers::draw(SoState* state, const SurfaceGrid& grid, std::uint64_t revision) {
   const std::uint32_t context = std::uint32_t(SoGLCacheContextElement::get(state));
   const cc_glglue* gl = cc_glglue_instance(int(context));
-  if (!gl || !cc_glglue_has_vertex_buffer_object(gl)) return false;
+  if (!gl || !cc_glglue_has_vertex_buffer_object(gl)) {  // a GL without buffer objects
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glEnableClientState(GL_TEXTURE_COORD_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, grid.vertices.data());
+    glNormalPointer(GL_FLOAT, 0, grid.normals.data());
+    glTexCoordPointer(2, GL_FLOAT, 0, grid.texCoords.data());
+    glDrawElements(GL_TRIANGLES, GLsizei(grid.indices.size()), GL_UNSIGNED_INT, grid.indices.data());
+    glDisableClientState(GL_TEXTURE_COORD_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+    return false;
+  }
   auto found = m_contexts.find(context);
   if (found == m_contexts.end()) {
     found = m_contexts.emplace(context, PerContext{}).first;

@@ -26,9 +26,8 @@ class SurfaceBuffers {
 
   /// Draws the grid as GL_TRIANGLES with vertex, normal and texture-coordinate arrays (the
   /// caller has sent the material). `revision` names the grid's contents: the vertex data are
-  /// uploaded again when it differs from the last upload in this context. Returns false, drawing
-  /// nothing, when the context has no vertex buffer objects (the caller then draws from client
-  /// memory).
+  /// uploaded again when it differs from the last upload in this context. Returns false when
+  /// the context has no vertex buffer objects: the grid is then drawn from client memory.
   bool draw(SoState* state, const SurfaceGrid& grid, std::uint64_t revision);
 
  private:

@@ -7,6 +7,14 @@
 
 namespace bsdeform {
 
+int tessellationSegments(float complexity, int spans) {
+  const float c = std::max(0.0f, std::min(1.0f, complexity));
+  const double perSpan = spans * (0.5 + 2.0 * c);
+  const int wanted = static_cast<int>(std::lround(std::max(perSpan, 64.0 * c)));
+  const int cap = static_cast<int>(64 + 448 * c);
+  return std::max(4, std::min(wanted, cap));
+}
+
 void tessellate(const SplineSpace& sp, const ControlNet& net, int segU, int segV, SurfaceGrid& g) {
   assert(segU >= 1 && segV >= 1 && net.rows() == sp.netSize());
   const int cols = sp.netCols(), n1 = sp.degreeU(), n2 = sp.degreeV();

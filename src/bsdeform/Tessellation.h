@@ -37,6 +37,12 @@ struct SurfaceGrid {
 /// @pre segU, segV >= 1
 void tessellate(const SplineSpace& space, const ControlNet& net, int segU, int segV, SurfaceGrid& grid);
 
+/// Segments of a tessellation along a direction of `spans` knot spans at Coin's `complexity`
+/// (0..1): per-vertex normals are exact, so 1.5 segments per knot span (the default complexity
+/// 0.5) look smooth; small nets get at least 64 c segments, large ones at most 64 + 448 c, and
+/// never fewer than 4.
+int tessellationSegments(float complexity, int spans);
+
 /// (u, v) of the point of the surface closest to `p`: the nearest grid vertex, refined by
 /// Gauss-Newton on |S(u, v) - p|^2; a periodic direction wraps, the others are kept in [0,1].
 Eigen::Vector2d closestParameter(const SplineSpace& space, const ControlNet& net, const SurfaceGrid& grid,
