@@ -12,7 +12,7 @@
 #include <cstdlib>
 
 #include "AtomicFile.h"
-#include "../support/FullDisk.h"
+#include "../../support/FullDisk.h"
 #include "PlotPanel.h"
 #include "Plot.h"
 #include "SceneDocument.h"
