@@ -42,8 +42,9 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
 
 /// A renderer kept for many frames: one SoOffscreenRenderer, so one GL context and Coin's GL
 /// caches (compiled shaders, display lists, textures) live across frames instead of being made
-/// again per image (issue 11 item 4). The images are the same as from a fresh renderer. Frames
-/// of another size make a new context. Not for use from several threads at once.
+/// again per image (docs/benchmarks.md, "Why the code is as it is"). The images are the same as
+/// from a fresh renderer. Frames of another size make a new context. Not for use from several
+/// threads at once.
 class OffscreenRenderer {
  public:
   OffscreenRenderer();
@@ -61,9 +62,10 @@ class OffscreenRenderer {
   std::unique_ptr<SoOffscreenRenderer> m_renderer;
 };
 
-/// How PNG rows are compressed (issue 11 item 4). The default, chosen by measuring rendered
-/// frames (docs/benchmarks.md): the SUB filter on every row and zlib level 3, about 4x faster
-/// than libpng's defaults (adaptive filters, level 6) for files about twice as large.
+/// How PNG rows are compressed. The default: the SUB filter on every row and zlib level 3, faster
+/// than libpng's defaults (adaptive filters, level 6) for files about twice as large: rendered
+/// frames are smooth gradients, which SUB alone already flattens (docs/benchmarks.md, "Why the
+/// code is as it is").
 struct PngSettings {
   int zlibLevel = 3;  ///< 0 (stored) .. 9 (smallest, slowest); libpng's own default is 6
   bool subFilterOnly = true;  ///< every row SUB-filtered, else libpng's per-row choice of all five filters

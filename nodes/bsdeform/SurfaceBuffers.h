@@ -4,7 +4,8 @@
 /// OpenGL vertex buffer objects for a SurfaceGrid, one set per GL context: the index buffer is
 /// uploaded when the grid's size changes, positions, normals and texture coordinates when its
 /// contents change; drawing then hands the driver no client memory to copy (Mesa copies client
-/// arrays into fresh allocations on every draw: page faults in every frame, issue 11 item 3).
+/// arrays into fresh allocations on every draw: page faults in every frame; docs/benchmarks.md,
+/// "Why the code is as it is").
 
 #include <Inventor/SbBasic.h>
 

@@ -337,7 +337,7 @@ TEST_CASE("Boundary: the stability bound stays above the dense lambda_max for fr
   const Boundaries allFree{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
   const Boundaries tube{Boundary::Periodic, Boundary::Periodic, Boundary::Free, Boundary::Clamped};
   const Boundaries torus{Boundary::Periodic, Boundary::Periodic, Boundary::Periodic, Boundary::Periodic};
-  // SIMPLY_SUPPORTED and BUILT_IN (issue 23): the mass of the unknowns is T^T W T there
+  // SIMPLY_SUPPORTED and BUILT_IN: the mass of the unknowns is T^T W T there
   using B = Boundary;
   const Boundaries ss{B::SimplySupported, B::SimplySupported, B::SimplySupported, B::SimplySupported};
   const Boundaries bi{B::BuiltIn, B::BuiltIn, B::BuiltIn, B::BuiltIn};

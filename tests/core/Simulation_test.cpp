@@ -409,8 +409,8 @@ TEST_CASE("Simulation: a time at which the step no longer advances the clock is 
 
 
 TEST_CASE("Simulation: the explicit step on 2 or 3 threads gives the same bits as on one", "[core]") {
-  // Blocks of interior rows run on several threads (issue 11 item 6); every point's arithmetic
-  // is the same, so the trajectories must agree exactly, band (FREE sides) and wrap included.
+  // Blocks of interior rows run on several threads; every point's arithmetic is the same, so
+  // the trajectories must agree exactly, band (FREE sides) and wrap included.
   using B = Boundary;
   const Boundaries cases[] = {Boundaries{}, Boundaries{B::Free, B::Free, B::Free, B::Free},
                               Boundaries{B::Periodic, B::Periodic, B::Free, B::Clamped}};

@@ -10,7 +10,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "../support/VideoReadBack.h"
+#include "../../support/VideoReadBack.h"
 #include "ViewerTestSupport.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"

@@ -9,8 +9,8 @@
 #include <iterator>
 #include <vector>
 
-#include "../support/FullDisk.h"
-#include "../support/VideoReadBack.h"
+#include "../../support/FullDisk.h"
+#include "../../support/VideoReadBack.h"
 #include "VideoWriter.h"
 
 namespace fs = std::filesystem;
