@@ -310,17 +310,8 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
 
 int SoBSplineDeformSurface::advanceRealTime(double seconds) {
   ensureSimulation();
-  const double sp = speed.getValue();
-  if (!(seconds > 0.0) || !(sp > 0.0) || m_sim->status() != bsdeform::Status::Ok) return 0;
-  // A slow frame is not made up with an avalanche of steps: at most a quarter second per call.
-  m_timeBudget += std::min(seconds, 0.25) * sp;
-  const double dt = m_sim->parameters().timeStep;
-  // In double first: speed 1e30 or a tiny timeStep ask for more steps than an int holds. At most
-  // kMaxStepsPerCall are taken, and a budget beyond them is dropped, not owed.
-  constexpr int kMaxStepsPerCall = 10000;
-  const double wanted = std::floor(m_timeBudget / dt + 1e-9);
-  const int steps = wanted <= kMaxStepsPerCall ? static_cast<int>(std::max(0.0, wanted)) : kMaxStepsPerCall;
-  m_timeBudget = wanted <= kMaxStepsPerCall ? std::max(0.0, m_timeBudget - steps * dt) : 0.0;
+  if (m_sim->status() != bsdeform::Status::Ok) return 0;
+  const int steps = bsdeform::stepsDue(seconds, speed.getValue(), m_sim->parameters().timeStep, m_timeBudget);
   if (steps > 0) stepSimulation(steps);
   return steps;
 }
@@ -350,18 +341,7 @@ bool SoBSplineDeformSurface::solveStatic(
   ensureSimulation();
   updateForces(*m_sim);
   try {
-    // SHELL: Newton to newtonTolerance, at most 100 iterations per increment; the paper's model:
-    // the linear solve to 1e-10, 100 fixed-point iterations of position-dependent loads
-    const bsdeform::ModelParameters& mp = m_sim->parameters();
-    const bool shell = mp.energy == bsdeform::EnergyModel::Shell;
-    bsdeform::StaticResult r =
-        m_sim->solveStatic(shell ? mp.newtonTolerance : 1e-10, 100, bsdeform::LinearSolver::Automatic, loadSteps);
-    if (each)
-      for (size_t k = 0; k < r.increments.size(); ++k) {
-        m_sim->setState(r.increments[k].net, r.increments[k].net, 0.0, 0, 0.0, bsdeform::HeldPoints::Check);
-        each(r, k, m_sim->diagnostics());
-      }
-    m_sim->setState(r.net, r.net, 0.0, 0, 0.0, bsdeform::HeldPoints::Check);
+    bsdeform::StaticResult r = bsdeform::solveStaticInto(*m_sim, loadSteps, each);
     if (result) *result = std::move(r);
   } catch (const std::exception& e) {
     if (error) *error = e.what();
@@ -483,19 +463,7 @@ void SoBSplineDeformSurface::syncClockFields() {
 
 SbBool SoBSplineDeformSurface::readInstance(SoInput* in, unsigned short flags) {
   const SbBool ok = inherited::readInstance(in, flags);
-  for (SoSFDouble* f : {&w10, &w01, &w11, &w20, &w02, &mass, &damping, &timeStep, &simulationTime, &radius, &height,
-                        &minorRadius}) {
-    if (f->isDefault()) continue;
-    const SbBool notify = f->enableNotify(FALSE);
-    f->setValue(snap15(f->getValue()));
-    f->enableNotify(notify);
-  }
-  for (SoMFVec3d* f : {&restNet, &controlNet, &previousNet}) {
-    if (!f->getNum()) continue;
-    const SbBool notify = f->enableNotify(FALSE);
-    bsdeform::netToField(bsdeform::netFromField(*f), *f);  // snapped
-    f->enableNotify(notify);
-  }
+  bsdeform::snapReadValues(*this);
   m_modelDirty = m_stateDirty = true;
   connectForces();
   return ok;

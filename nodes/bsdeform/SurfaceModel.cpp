@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/SurfaceModel.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -180,6 +181,49 @@ bool startState(Simulation& sim, const Surface& n, bool stateFromFields, const S
   else
     sim.setState(old->current(), old->previous(), old->time(), old->stepCount(), old->subStepSize(), HeldPoints::Reset);
   return true;
+}
+
+StaticResult solveStaticInto(Simulation& sim, int loadSteps,
+                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each) {
+  // at most 100 Newton iterations per increment (SHELL) or fixed-point iterations of the
+  // position-dependent loads (the paper's model)
+  const ModelParameters& mp = sim.parameters();
+  const bool shell = mp.energy == EnergyModel::Shell;
+  StaticResult r = sim.solveStatic(shell ? mp.newtonTolerance : 1e-10, 100, LinearSolver::Automatic, loadSteps);
+  if (each)
+    for (size_t k = 0; k < r.increments.size(); ++k) {
+      sim.setState(r.increments[k].net, r.increments[k].net, 0.0, 0, 0.0, HeldPoints::Check);
+      each(r, k, sim.diagnostics());
+    }
+  sim.setState(r.net, r.net, 0.0, 0, 0.0, HeldPoints::Check);
+  return r;
+}
+
+int stepsDue(double seconds, double speed, double dt, double& owed) {
+  if (!(seconds > 0.0) || !(speed > 0.0)) return 0;
+  owed += std::min(seconds, 0.25) * speed;
+  // In double first: speed 1e30 or a tiny timeStep ask for more steps than an int holds.
+  constexpr int kMaxSteps = 10000;
+  const double wanted = std::floor(owed / dt + 1e-9);
+  const int steps = wanted <= kMaxSteps ? static_cast<int>(std::max(0.0, wanted)) : kMaxSteps;
+  owed = wanted <= kMaxSteps ? std::max(0.0, owed - steps * dt) : 0.0;
+  return steps;
+}
+
+void snapReadValues(Surface& n) {
+  for (SoSFDouble* f : {&n.w10, &n.w01, &n.w11, &n.w20, &n.w02, &n.mass, &n.damping, &n.timeStep, &n.simulationTime,
+                        &n.radius, &n.height, &n.minorRadius}) {
+    if (f->isDefault()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    f->setValue(snap15(f->getValue()));
+    f->enableNotify(notify);
+  }
+  for (SoMFVec3d* f : {&n.restNet, &n.controlNet, &n.previousNet}) {
+    if (!f->getNum()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    netToField(netFromField(*f), *f);  // snapped
+    f->enableNotify(notify);
+  }
 }
 
 int ForceSlots::obstacleBuilds() const {

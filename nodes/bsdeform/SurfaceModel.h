@@ -48,6 +48,22 @@ FieldRefusal refusalOf(const ParameterError& e);
 /// was carried over.
 bool startState(Simulation& sim, const SoBSplineDeformSurface& node, bool stateFromFields, const Simulation* old);
 
+/// The paper's static problem solved for `sim`'s current loads (SHELL: Newton to
+/// newtonTolerance; the paper's model: the linear solve to 1e-10), in `loadSteps` increments,
+/// `each` called with every increment while the state holds it; the last becomes the state.
+/// Throws what Simulation::solveStatic throws, leaving the state alone.
+StaticResult solveStaticInto(Simulation& sim, int loadSteps,
+                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each);
+
+/// Whole steps of `dt` due after `seconds` of realTime at `speed`, the remainder kept in `owed`
+/// for the next call. A slow frame is not made up: a quarter second at most per call, 10000 steps
+/// at most (a budget beyond them is dropped, not owed).
+int stepsDue(double seconds, double speed, double dt, double& owed);
+
+/// After Coin read `node`: the doubles and nets it read snapped to their 15-digit form (Coin's
+/// reader is off by a few ulps; snap15 makes write -> read -> write a fixed point), unnotified.
+void snapReadValues(SoBSplineDeformSurface& node);
+
 /// A net field as a control net, and back (values snapped to their 15-digit form, snap15:
 /// write -> read -> write is a fixed point).
 ControlNet netFromField(const SoMFVec3d& f);

@@ -106,7 +106,7 @@ TEST_CASE("SplineSpace: moving points gather and scatter back, map to their B-sp
     }
 }
 
-TEST_CASE("SplineSpace: a surface is closed when it has no boundary curve: sphere, ellipsoid, torus; not plane, cylinder, cone",
+TEST_CASE("SplineSpace: a surface is closed when it has no boundary curve: sphere, ellipsoid and torus but not plane, cylinder or cone",
           "[core]") {
   const ShapeSize size{0.5, 1.0, 0.2, Eigen::Vector3d(0.6, 0.45, 0.35)};
   const std::pair<ShapeKind, bool> kinds[] = {{ShapeKind::Plane, false},  {ShapeKind::Cylinder, false},

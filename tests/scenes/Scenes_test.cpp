@@ -522,7 +522,7 @@ TEST_CASE("bsdeform-run: bad input gives a clear message, exit code 2, and overw
   CHECK(r.err.find("soft") != std::string::npos);
   r = run(scene("paper_fig2_point_force.iv") + " --set Surface.uDegree=9 -o x", dir.path);
   CHECK(r.code == 2);
-  CHECK(r.err.find("uDegree") != std::string::npos);
+  CHECK(r.err.find("surface Surface: field 'uDegree'") != std::string::npos);  // the node's problem()
   CHECK(r.err.find("9") != std::string::npos);
   r = run(scene("paper_fig2_point_force.iv") + " --set Surface.nosuchfield=1 -o x", dir.path);
   CHECK(r.code == 2);

@@ -78,6 +78,13 @@ Failure RunLoop::prepare() {
   for (Surface& s : m_surfaces) s.node->stepSimulation(0);  // every model and force built
   m_dtMin = m_runner->timeStep();
   m_t0 = m_runner->startTime();  // a resumed scene continues from its time
+  // What a surface refuses (a field's value, a force field's, an obstacle) is bad input: the
+  // run would not be the scene's. Other nodes' warnings (Coin's) likewise.
+  for (const Surface& s : m_surfaces) {
+    const SoBSplineDeformSurface::Problem& p = s.node->problem();
+    if (p.kind != SoBSplineDeformSurface::Problem::NONE)
+      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(p.message))};
+  }
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
   // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad
@@ -215,7 +222,7 @@ Failure RunLoop::runStatic() {
                          .arg(s.name, QString::fromStdString(r.method))
                          .arg(one.elapsed() / 1000.0, 0, 'f', 2)
                          .arg(r.residual, 0, 'g', 3)
-                         .arg(r.method.rfind("Newton", 0) == 0
+                         .arg(s.node->simulation().parameters().energy == EnergyModel::Shell  // solved by Newton
                                   ? QStringLiteral(", %1 Newton iterations in %2 load step(s)").arg(r.loadIterations).arg(o.loadSteps)
                               : r.loadIterations > 1
                                   ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads").arg(r.loadIterations)
