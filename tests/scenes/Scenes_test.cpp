@@ -650,6 +650,28 @@ TEST_CASE("bsdeform-run: a frame image on a full disk keeps the previous image a
   CHECK(listDir(dir.path + "/frames") == files);  // no temporary file left behind
 }
 
+TEST_CASE("bsdeform-run: --png-at past the end is refused, --frame-names time, --set vectors with commas, no noise",
+          "[scenes]") {
+  TempDir dir;
+  // a time the run does not reach: refused before anything is written, saying which and why
+  Run r = run(scene("region_load.iv") + " --until 1 --png-at 2,0.5,7 -o past", dir.path);
+  CHECK(r.code == 2);
+  CHECK(r.err.find("--png-at 2 is outside the run") != std::string::npos);
+  CHECK(r.err.find("--until 2") != std::string::npos);
+  CHECK(!exists(dir.path + "/past"));
+  // frames named by their simulated time
+  r = run(scene("region_load.iv") + " --until 0.5 --png-at 0,0.5 --frame-names time -o named", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(exists(dir.path + "/named/frame_t000000.000000.png"));
+  CHECK(exists(dir.path + "/named/frame_t000000.500000.png"));
+  // a normal run prints its summary and nothing else: no Qt or GL noise
+  CHECK(r.err.empty());
+  // a vector written as a list is: 0,0,-1 as 0 0 -1
+  r = run(scene("paper_fig2_point_force.iv") + " --steps 2 --set Push.force=0,0,-1 -o commas", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(slurp(dir.path + "/commas/final.iv").find("force 0 0 -1") != std::string::npos);
+}
+
 TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", "[scenes]") {
   TempDir dir;
   REQUIRE(mkdir((dir.path + "/scene.iv").c_str(), 0755) == 0);

@@ -100,11 +100,21 @@ Failure RunLoop::prepare() {
     if (!f.ok()) return f;
   }
   m_frames = o.until >= 0 ? std::max(0L, long(std::llround((o.until - m_t0) / m_dtMin))) : o.steps;
+  for (double t : o.pngAt) {
+    // a time the run does not reach is refused before anything runs (not skipped in silence)
+    const long frame = long(std::llround((t - m_t0) / m_dtMin));
+    if (!o.staticSolve && (frame < 0 || frame > m_frames))
+      return {kBadInput, QStringLiteral("--png-at %1 is outside the run, which goes from t = %2 to t = %3: give "
+                                        "--until %1 (or more), or leave that time out")
+                             .arg(t)
+                             .arg(m_t0)
+                             .arg(m_t0 + m_frames * m_dtMin)};
+    m_imageFrames << frame;
+  }
   if (!o.resultOnly) {
     f = prepareOutDir(o);
     if (!f.ok()) return f;
   }
-  for (double t : o.pngAt) m_imageFrames << long(std::llround((t - m_t0) / m_dtMin));
   // --video: a frame at t0 and at every 1/fps of simulated time after it, each the picture of
   // the last state reached by then (a frame repeats when the time step is longer than 1/fps)
   if (!o.video.isEmpty() && !o.resultOnly) {
@@ -178,7 +188,10 @@ Failure RunLoop::render(long frame) {
 Failure RunLoop::writeImage(long frame) {
   const Failure rendered = render(frame);
   if (!rendered.ok()) return rendered;
-  const QString path = m_out.filePath(QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0')));
+  const QString name = m_options.frameNamesTime
+                           ? QStringLiteral("frame_t%1.png").arg(m_t0 + frame * m_dtMin, 13, 'f', 6, QLatin1Char('0'))
+                           : QStringLiteral("frame_%1.png").arg(frame, 6, 10, QLatin1Char('0'));
+  const QString path = m_out.filePath(name);
   // not synced one by one (a frame's fsync cost about as much as its PNG): once at the end
   std::string err;
   if (!writePng(m_image, QFile::encodeName(path).toStdString(), err, false))

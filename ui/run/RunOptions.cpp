@@ -48,6 +48,11 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                     QStringLiteral("K"));
   const QCommandLineOption pngAt(QStringLiteral("png-at"), QStringLiteral("write images at these simulated times"),
                                  QStringLiteral("t1,t2,..."));
+  const QCommandLineOption frameNames(
+      QStringLiteral("frame-names"),
+      QStringLiteral("image file names: 'frame' (frame_NNNNNN.png, the frame number; default) or 'time' "
+                     "(frame_tTTT.TTTTTT.png, the simulated time)"),
+      QStringLiteral("frame|time"));
   const QCommandLineOption size(QStringLiteral("size"), QStringLiteral("image size (default 640x480)"), QStringLiteral("WxH"));
   const QCommandLineOption set(QStringLiteral("set"), QStringLiteral("override a field: NAME is a DEF name (repeatable)"),
                                QStringLiteral("NAME.field=value"));
@@ -95,7 +100,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                QStringLiteral("CSV"));
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, quiet,
+      {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, quiet,
        staticSolve, loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
@@ -122,6 +127,12 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   if (parser.isSet(pngAt)) {
     o.pngAt = parseList(parser.value(pngAt), ok);
     if (!ok) return {kBadInput, QStringLiteral("--png-at '%1' is not a list of times >= 0").arg(parser.value(pngAt))};
+  }
+  if (parser.isSet(frameNames)) {
+    const QString v = parser.value(frameNames);
+    if (v != QLatin1String("frame") && v != QLatin1String("time"))
+      return {kBadInput, QStringLiteral("--frame-names '%1' is neither 'frame' nor 'time'").arg(v)};
+    o.frameNamesTime = v == QLatin1String("time");
   }
   if (parser.isSet(size)) {
     QSize wh;

@@ -19,6 +19,7 @@ struct RunOptions {
   bool overwrite = false;
   int pngEvery = 0;
   QVector<double> pngAt;
+  bool frameNamesTime = false;  ///< --frame-names time: frame_t<time>.png instead of frame_<frame>.png
   int width = 640, height = 480;
   QStringList sets;        ///< --set NAME.field=value, in order
   QString sweep;           ///< --sweep NAME.field=v1,v2,...

@@ -4,12 +4,14 @@
 #include <Inventor/SoType.h>
 #include <Inventor/fields/SoField.h>
 #include <Inventor/fields/SoFieldContainer.h>
+#include <Inventor/fields/SoSField.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <unistd.h>
 
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
+#include <QRegularExpression>
 #include <QTemporaryFile>
 #include <cerrno>
 #include <cstdio>
@@ -49,7 +51,12 @@ Failure applySet(const QString& spec) {
   auto* fc = static_cast<SoFieldContainer*>(base);
   SoField* f = fc->getField(SbName(field.toUtf8().constData()));
   if (!f) return {kBadInput, QStringLiteral("--set '%1': '%2' has no field '%3'").arg(spec, name, field)};
-  if (!f->set(value.toUtf8().constData()))
+  // a vector may be written with commas, as lists are: 0,0,-1 (a single field of numbers)
+  QString text = value;
+  if (f->isOfType(SoSField::getClassTypeId()) && !text.contains(QLatin1Char('"')) && !text.contains(QLatin1Char('[')) &&
+      QString::fromLatin1(f->getTypeId().getName().getString()).contains(QRegularExpression(QStringLiteral("Vec|Color|Rotation"))))
+    text.replace(QLatin1Char(','), QLatin1Char(' '));
+  if (!f->set(text.toUtf8().constData()))
     return {kBadInput, QStringLiteral("--set '%1': '%2' is not a valid value for field %3.%4 (%5)")
                            .arg(spec, value, name, field, QString::fromLatin1(f->getTypeId().getName().getString()))};
   return {kOk, {}};

@@ -7,8 +7,12 @@
 //
 // The driver: RunOptions reads the command line, RunLoop does one run, SweepPool a --sweep.
 #include <QApplication>
+#include <QDir>
+#include <QFile>
+#include <QTemporaryDir>
 #include <cstdio>
 #include <exception>
+#include <memory>
 
 #include "RunLoop.h"
 #include "RunOptions.h"
@@ -20,6 +24,13 @@ int main(int argc, char** argv) {
   using namespace bsdeform::run;
   // No windows are ever shown: plots render on Qt's offscreen platform, images through EGL.
   if (qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "offscreen");
+  // Qt wants a private runtime directory and warns on every run without one (a container, a
+  // batch job): give it one of its own for the run, removed at the end.
+  std::unique_ptr<QTemporaryDir> runtimeDir;
+  if (qEnvironmentVariableIsEmpty("XDG_RUNTIME_DIR")) {
+    runtimeDir = std::make_unique<QTemporaryDir>(QDir::tempPath() + QStringLiteral("/bsdeform-run-XXXXXX"));
+    if (runtimeDir->isValid()) qputenv("XDG_RUNTIME_DIR", QFile::encodeName(runtimeDir->path()));
+  }
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("bsdeform-run"));
   auto fail = [](const Failure& f) {

@@ -54,6 +54,18 @@ TEST_CASE("RunOptions: defaults and good values", "[ui]") {
   CHECK(o.sweepChildArguments == QStringLiteral("drum.iv --until 2.5 --set A.w10=1 --set B.magnitude=2").split(QLatin1Char(' ')));
 }
 
+TEST_CASE("RunOptions: --frame-names names frames by number (default) or by time", "[ui]") {
+  RunOptions o;
+  REQUIRE(parse({QStringLiteral("s.iv")}, o).ok());
+  CHECK(!o.frameNamesTime);
+  RunOptions t;
+  REQUIRE(parse({QStringLiteral("--frame-names"), QStringLiteral("time"), QStringLiteral("s.iv")}, t).ok());
+  CHECK(t.frameNamesTime);
+  RunOptions f;
+  REQUIRE(parse({QStringLiteral("--frame-names"), QStringLiteral("frame"), QStringLiteral("s.iv")}, f).ok());
+  CHECK(!f.frameNamesTime);
+}
+
 TEST_CASE("RunOptions: a bad value names the option and the value", "[ui]") {
   const struct {
     const char* args;
@@ -78,6 +90,7 @@ TEST_CASE("RunOptions: a bad value names the option and the value", "[ui]") {
       {"--export-mesh m.stl --sweep A.w10=1,2 s.iv",
        "--export-mesh and --sweep: a sweep runs many simulations, export one with --set"},
       {"a.iv b.iv", "expected exactly one scene file (see --help)"},
+      {"--frame-names seconds s.iv", "--frame-names 'seconds' is neither 'frame' nor 'time'"},
   };
   for (const auto& c : cases) {
     INFO(c.args);
