@@ -100,11 +100,46 @@ void SetFieldCommand::redo() {
 
 // ---------------------------------------------------------------------------------------------
 
+void insertedForceDefaults(SoForceField* f, int type, SoBSplineDeformSurface* surface) {
+  const Simulation& sim = surface->simulation();
+  const SurfacePoint c = sim.evaluate(0.5, 0.5, 1);  // the centre and its normal
+  const Eigen::Vector3d n = c.normal();
+  Eigen::Vector3d lo = sim.current().colwise().minCoeff().transpose(), hi = sim.current().colwise().maxCoeff().transpose();
+  const double size = std::max(1e-6, (hi - lo).norm());
+  auto vec = [](const Eigen::Vector3d& v) { return SbVec3d(v.x(), v.y(), v.z()); };
+  switch (type) {
+    case SoForceField::GRAVITY:
+      f->force = SbVec3d(0.0, 0.0, -9.81);
+      f->magnitude = 1.0;
+      break;
+    case SoForceField::EXPRESSION:
+      f->expression.set1Value(0, "0");
+      f->expression.set1Value(1, "0");
+      f->expression.set1Value(2, "sin(pi*u)*sin(pi*v)");
+      break;
+    case SoForceField::SPRING:
+      f->point = SbVec2d(0.5, 0.5);
+      f->anchor = vec(c.position);
+      break;
+    case SoForceField::PLANE_COLLISION:
+      f->center = SbVec3d(c.position.x(), c.position.y(), lo.z() - 0.1 * size);
+      f->normal = SbVec3d(0.0, 0.0, 1.0);
+      break;
+    case SoForceField::SPHERE_COLLISION:
+      f->radius = 0.25 * size;
+      f->center = vec(c.position - (0.25 * size + 0.05 * size) * (n.squaredNorm() > 0.0 ? n : Eigen::Vector3d::UnitZ()));
+      break;
+    default:
+      break;  // UNIFORM, POINT, REGION: a unit load along +z (the node's); DRAG, PRESSURE, COLLISION
+  }
+}
+
 InsertForceCommand::InsertForceCommand(EditContext& context, SoBSplineDeformSurface* surface, int type)
     : m_context(context), m_surface(surface), m_force(new SoForceField) {
   m_surface->ref();
   m_force->ref();
   m_force->type = type;
+  insertedForceDefaults(m_force, type, surface);
   setText(QObject::tr("Add %1 force field").arg(enumName(m_force->type)));
 }
 

@@ -62,7 +62,8 @@ class SetFieldCommand : public QUndoCommand {
   bool m_skipRedo;
 };
 
-/// A new SoForceField of `type` appended to a surface's `forces`.
+/// A new SoForceField of `type` appended to a surface's `forces`, with values that act at once
+/// and look like the force (insertedForceDefaults()).
 class InsertForceCommand : public QUndoCommand {
  public:
   InsertForceCommand(EditContext& context, SoBSplineDeformSurface* surface, int type);
@@ -76,6 +77,16 @@ class InsertForceCommand : public QUndoCommand {
   SoBSplineDeformSurface* m_surface;
   SoForceField* m_force;
 };
+
+/// Sets the fields of a force field of `type` that is inserted on `surface` to what a user
+/// expects of that force (the node's own defaults are the file format's and stay):
+/// GRAVITY (0, 0, -9.81) m/s² down, UNIFORM / POINT / REGION a unit load along +z at the centre,
+/// EXPRESSION a bump sin(pi u) sin(pi v) along +z, SPRING at the surface's centre anchored where
+/// that point is now (it holds it), PLANE_COLLISION a floor a tenth of the surface's size below
+/// its lowest point, SPHERE_COLLISION a sphere of a quarter of its size just below its centre,
+/// DRAG, PRESSURE and COLLISION the node's defaults (a unit coefficient, a unit pressure, no
+/// obstacle yet). Positions are in the surface's own coordinates.
+void insertedForceDefaults(SoForceField* force, int type, SoBSplineDeformSurface* surface);
 
 /// A new surface (default fields, the plane (u, v, 0)) in its own Separator, moved along x
 /// beside what the scene already shows.

@@ -171,6 +171,68 @@ TEST_CASE("Editing: undo and redo restore a field value, an inserted and a delet
   CHECK(s->forces.getNum() == 1);
 }
 
+TEST_CASE("Editing: every inserted force field type acts at once the way its name says", "[ui]") {
+  auto w = makeWindow("paper_fig7_sinusoidal.iv");  // a 1 x 1 plane at z = 0, clamped all round
+  w->pause();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  s->forces.setNum(0);  // only the inserted force acts
+  auto inserted = [&](int type) {
+    s->resetSimulation();  // inserted on the surface at rest
+    REQUIRE(w->selectNode(s));
+    REQUIRE(w->insertForceField(type));
+    return static_cast<SoForceField*>(s->forces[s->forces.getNum() - 1]);
+  };
+  auto centreAfter = [&](int steps) {
+    s->resetSimulation();
+    for (int k = 0; k < steps; ++k) w->step();
+    return s->simulation().evaluate(0.5, 0.5, 0).position;
+  };
+  {
+    SoForceField* g = inserted(SoForceField::GRAVITY);
+    CHECK(g->force.getValue() == SbVec3d(0.0, 0.0, -9.81));  // down, one g
+    CHECK(g->magnitude.getValue() == 1.0);
+    CHECK(centreAfter(3).z() < 0.0);
+    w->undoStack().undo();
+  }
+  for (int type : {int(SoForceField::UNIFORM), int(SoForceField::POINT), int(SoForceField::REGION), int(SoForceField::EXPRESSION),
+                   int(SoForceField::PRESSURE)}) {
+    INFO("type " << type);
+    inserted(type);
+    CHECK(centreAfter(3).z() > 1e-4);  // a load along +z lifts the centre at once
+    w->undoStack().undo();
+  }
+  {
+    SoForceField* spring = inserted(SoForceField::SPRING);
+    const Eigen::Vector3d centre = s->simulation().evaluate(0.5, 0.5, 0).position;
+    CHECK(spring->point.getValue() == SbVec2d(0.5, 0.5));
+    CHECK(spring->anchor.getValue() == SbVec3d(centre.x(), centre.y(), centre.z()));  // holds the centre where it is
+    CHECK((centreAfter(3) - centre).norm() < 1e-12);
+    w->undoStack().undo();
+  }
+  {
+    SoForceField* floor = inserted(SoForceField::PLANE_COLLISION);
+    CHECK(floor->normal.getValue() == SbVec3d(0, 0, 1));
+    CHECK(floor->center.getValue()[2] < 0.0);  // below the surface, not through it
+    CHECK((centreAfter(2) - Eigen::Vector3d(0.5, 0.5, 0.0)).norm() < 1e-12);  // a floor below does not push
+    CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::NONE);
+    w->undoStack().undo();
+  }
+  {
+    SoForceField* ball = inserted(SoForceField::SPHERE_COLLISION);
+    const SbVec3d c = ball->center.getValue();
+    CHECK(c[2] + ball->radius.getValue() < 0.0);  // just below the centre, not touching it
+    CHECK(std::abs(c[0] - 0.5) < 1e-9);
+    CHECK(std::abs(c[1] - 0.5) < 1e-9);
+    w->undoStack().undo();
+  }
+  for (int type : {int(SoForceField::DRAG), int(SoForceField::COLLISION)}) {
+    INFO("type " << type);
+    inserted(type);
+    CHECK((centreAfter(2) - Eigen::Vector3d(0.5, 0.5, 0.0)).norm() < 1e-12);  // nothing moves a surface at rest
+    w->undoStack().undo();
+  }
+}
+
 TEST_CASE("Editing: deleting the only surface leaves a scene that steps, saves and comes back with undo", "[ui]") {
   auto w = makeWindow("region_load.iv");
   w->pause();
