@@ -108,7 +108,7 @@ void MainWindow::createActions() {
   a = file->addAction(tr("&Save"), this, &MainWindow::save);
   a->setShortcut(QKeySequence::Save);
   a = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
-  a->setShortcut(QKeySequence::SaveAs);
+  a->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));  // QKeySequence::SaveAs is empty without a desktop theme
   file->addSeparator();
   file->addAction(tr("&Export Mesh (OBJ, STL)..."), this, &MainWindow::exportMeshDialog);
   file->addAction(tr("Export &Control Net (XYZ, OBJ)..."), this, &MainWindow::exportControlNetDialog);

@@ -8,6 +8,7 @@
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QFile>
+#include <cstring>
 #include <QFileInfo>
 #include <QTextStream>
 
@@ -50,6 +51,25 @@ void SceneDocument::scan() {
   }
 }
 
+namespace {
+// The comment block at the top of a scene file: the lines after the `#Inventor` line that are
+// comments or blank, up to the first other line, without trailing blank lines.
+QByteArray headerComment(const QString& path) {
+  QFile f(path);
+  if (!f.open(QIODevice::ReadOnly)) return QByteArray();
+  QByteArray block;
+  f.readLine(1 << 16);  // #Inventor V2.1 ascii
+  while (!f.atEnd()) {
+    const QByteArray line = f.readLine(1 << 16);
+    const QByteArray t = line.trimmed();
+    if (!t.isEmpty() && !t.startsWith('#')) break;
+    block += line.endsWith('\n') ? line : line + '\n';
+  }
+  while (block.endsWith("\n\n")) block.chop(1);
+  return block.trimmed().isEmpty() ? QByteArray() : block;
+}
+}  // namespace
+
 bool SceneDocument::load(const QString& path, QString& error) {
   if (!QFileInfo(path).isFile()) {
     error = QStringLiteral("%1: no such file").arg(path);
@@ -62,6 +82,7 @@ bool SceneDocument::load(const QString& path, QString& error) {
     return false;
   }
   adopt(root, path);
+  m_headerComment = headerComment(path);
   return true;
 }
 
@@ -73,17 +94,33 @@ bool SceneDocument::loadFromText(const QByteArray& text, const QString& name, QS
     return false;
   }
   adopt(root, QString());
+  m_headerComment.clear();
   return true;
 }
 
 QByteArray SceneDocument::toText() const {
-  if (!m_root) return QByteArray();
-  return QByteArray::fromStdString(sceneToText(m_root.get()));
+  QByteArray text;
+  writeTo([&text](const char* data, std::size_t size) {
+    text.append(data, int(size));
+    return true;
+  });
+  return text;
 }
 
 bool SceneDocument::writeTo(const TextSink& sink) const {
   if (!m_root) return false;
-  return writeSceneText(m_root.get(), sink);
+  if (m_headerComment.isEmpty()) return writeSceneText(m_root.get(), sink);
+  // the file's comment block goes right after the `#Inventor` line
+  bool placed = false;
+  return writeSceneText(m_root.get(), [&](const char* data, std::size_t size) {
+    if (placed) return sink(data, size);
+    const char* newline = static_cast<const char*>(std::memchr(data, '\n', size));
+    if (!newline) return sink(data, size);
+    const std::size_t head = std::size_t(newline - data) + 1;
+    placed = true;
+    return sink(data, head) && sink(m_headerComment.constData(), std::size_t(m_headerComment.size())) &&
+           sink(data + head, size - head);
+  });
 }
 
 bool SceneDocument::save(const QString& path, QString& error) const {

@@ -77,6 +77,9 @@ class SceneDocument {
 
   NodeRef<SoSeparator> m_root;
   QString m_path;
+  /// The comment lines that followed the file's `#Inventor` line when it was read: a save
+  /// writes them again (Coin's writer drops every comment).
+  QByteArray m_headerComment;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
 };

@@ -8,7 +8,9 @@
 #include <QApplication>
 #include <QDir>
 #include <QDockWidget>
+#include <QAction>
 #include <QFile>
+#include <QKeySequence>
 #include <QGLWidget>
 #include <QMouseEvent>
 #include <QProcess>
@@ -186,7 +188,23 @@ TEST_CASE("Viewer: Save As then reload gives the same state, mesh export, field 
     const QByteArray text = f.readAll();
     CHECK(!text.contains("on FALSE"));
     CHECK(!text.contains("speed 3"));
+    // the file's leading comment block is kept, right after the #Inventor line
+    QFile original(scenePath("paper_fig6_sinusoidal_degree4.iv"));
+    REQUIRE(original.open(QIODevice::ReadOnly));
+    QByteArray block = original.readLine();  // #Inventor V2.1 ascii
+    while (!original.atEnd()) {
+      const QByteArray line = original.readLine();
+      if (!line.startsWith('#')) break;
+      block += line;
+    }
+    CHECK(block.count('\n') > 3);
+    CHECK(text.startsWith(block));
   }
+  // Save As is Ctrl+Shift+S
+  bool saveAsKey = false;
+  for (QAction* a : w->findChildren<QAction*>())
+    saveAsKey |= a->text() == QStringLiteral("Save &As...") && a->shortcut() == QKeySequence(QStringLiteral("Ctrl+Shift+S"));
+  CHECK(saveAsKey);
   REQUIRE(w->openScene(path));
   SoBSplineDeformSurface* r = firstSurface(*w);
   CHECK(r != s);
