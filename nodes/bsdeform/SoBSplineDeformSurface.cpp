@@ -292,11 +292,14 @@ bool SoBSplineDeformSurface::stepSimulation(int steps) {
   updateForces(*m_sim);
   bool ok = true;
   if (steps > 0) {
-    // one at a time when someone listens (the same numbers: Simulation::advance steps one by one)
-    for (int k = 0; k < steps && ok; k += m_callbacks.empty() ? steps : 1) {
-      ok = m_sim->advance(m_callbacks.empty() ? steps : 1) == bsdeform::Status::Ok;
+    // one at a time when someone listens (the same numbers: Simulation::advance steps one by
+    // one); decided once, whatever a callback adds or removes on the way
+    const bool oneByOne = !m_callbacks.empty();
+    for (int k = 0; k < steps && ok; k += oneByOne ? 1 : steps) {
+      ok = m_sim->advance(oneByOne ? 1 : steps) == bsdeform::Status::Ok;
       if (!ok) report(Problem::STOPPED, "", "simulation stopped: " + m_sim->statusMessage());
-      if (!m_callbacks.empty()) {
+      if (oneByOne) {
+        m_tessValid = false;  // a listener may draw or pick
         syncClockFields();
         tell(STEPPED);
       }
