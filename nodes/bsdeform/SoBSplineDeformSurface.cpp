@@ -167,15 +167,9 @@ int SoBSplineDeformSurface::obstacleRefits() const { return m_forces->obstacleRe
 // ---------------------------------------------------------------------------------------------
 // Fields -> simulation
 
-namespace {
-std::string nameOf(const SoBase* b) {
-  const SbName name = b->getName();
-  return name.getLength() ? name.getString() : "<unnamed>";
-}
-}  // namespace
-
 void SoBSplineDeformSurface::report(Problem::Kind kind, const std::string& field, const std::string& message,
                                     const std::string& node) {
+  using bsdeform::nameOf;
   Problem p{kind, node.empty() ? nameOf(this) : node, field, message};
   if (p.kind == m_problem.kind && p.node == m_problem.node && p.field == m_problem.field && p.message == m_problem.message)
     return;  // once per distinct problem

@@ -26,11 +26,6 @@ std::string num(double x) {
   return os.str();
 }
 
-std::string nameOf(const SoBase* b) {
-  const SbName name = b->getName();
-  return name.getLength() ? name.getString() : "<unnamed>";
-}
-
 Boundary sideOf(const SoSFEnum& f) {
   switch (f.getValue()) {
     case Surface::FREE: return Boundary::Free;
@@ -42,6 +37,11 @@ Boundary sideOf(const SoSFEnum& f) {
 }
 
 }  // namespace
+
+std::string nameOf(const SoBase* b) {
+  const SbName name = b->getName();
+  return name.getLength() ? name.getString() : "<unnamed>";
+}
 
 ControlNet netFromField(const SoMFVec3d& f) {
   ControlNet net(f.getNum(), 3);

@@ -25,6 +25,9 @@ class Force;
 class ParameterError;
 class SceneObstacles;
 
+/// A node's or engine's DEF name, "<unnamed>" without one (as problems name them).
+std::string nameOf(const SoBase* b);
+
 /// A field the node refuses and why (the sentence names the field).
 struct FieldRefusal {
   std::string field;
