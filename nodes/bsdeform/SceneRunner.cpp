@@ -14,6 +14,8 @@
 
 namespace bsdeform {
 
+SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
+
 SceneRunner::SceneRunner(SoNode* root, Clock clock) : m_root(root), m_clock(clock) {
   if (m_clock == Clock::Simulated) SoDB::enableRealTimeSensor(FALSE);
   if (root) m_surfaces = sceneSurfaces(root);
@@ -44,7 +46,7 @@ double SceneRunner::timeStep() const {
 
 bool SceneRunner::advanceTo(double t) {
   if (m_clock == Clock::Simulated)
-    static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime")))->setValue(SbTime(t));
+    realTimeField()->setValue(SbTime(t));
   bool ok = true;
   for (SoBSplineDeformSurface* s : m_surfaces) {
     // simulation() each time: a step callback may change a field and so rebuild the model

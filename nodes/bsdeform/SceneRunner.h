@@ -24,8 +24,13 @@
 
 class SoNode;
 class SoBSplineDeformSurface;
+class SoSFTime;
 
 namespace bsdeform {
+
+/// Coin's global realTime field: what every surface (and engine) follows, and what a driver
+/// sets (SceneRunner, the viewer's clock, bsdeform-run).
+SoSFTime* realTimeField();
 
 class SceneRunner {
  public:

@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "bsdeform/ParameterError.h"
+#include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/Tessellation.h"
@@ -368,12 +369,8 @@ void SoBSplineDeformSurface::removeTransientForce(const bsdeform::Force* force) 
 // real-time sensor and scene manager in a plain viewer, bsdeform-viewer's Play / Pause and
 // speed, a test. A SceneRunner drives the surfaces it holds itself (m_drivers).
 
-namespace {
-SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
-}  // namespace
-
 void SoBSplineDeformSurface::updateClock() {
-  SoSFTime* realTime = realTimeField();
+  SoSFTime* realTime = bsdeform::realTimeField();
   const bool listen = on.getValue() && m_drivers == 0 && realTime;
   if (listen && !m_clock->getAttachedField()) {
     m_lastTick = realTime->getValue().getValue();  // the time from here on counts
@@ -385,7 +382,7 @@ void SoBSplineDeformSurface::updateClock() {
 
 void SoBSplineDeformSurface::clockCallback(void* data, SoSensor*) {
   auto* self = static_cast<SoBSplineDeformSurface*>(data);
-  const SoSFTime* realTime = realTimeField();
+  const SoSFTime* realTime = bsdeform::realTimeField();
   if (!realTime) return;
   const double now = realTime->getValue().getValue();
   // a clock set back (a driver that restarted) is a new origin, not time to make up

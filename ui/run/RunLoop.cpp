@@ -59,7 +59,7 @@ Failure RunLoop::prepare() {
   // (ElapsedTime, TimeCounter, ...) animate deterministically, in step with the surfaces. Set
   // before reading: engines start their clocks at 0.
   SoDB::enableRealTimeSensor(FALSE);
-  static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime")))->setValue(SbTime(0.0));
+  realTimeField()->setValue(SbTime(0.0));
   Failure f = loadSceneWithSets(o, m_root);
   if (!f.ok()) return f;
   // The scene's distinct surfaces, each named by its DEF name or, when it has none, "surfaceN"

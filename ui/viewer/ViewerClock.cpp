@@ -7,11 +7,9 @@
 
 #include <QTimer>
 
-namespace bsdeform {
+#include "bsdeform/SceneRunner.h"
 
-namespace {
-SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
-}  // namespace
+namespace bsdeform {
 
 ViewerClock::ViewerClock(QObject* parent) : QObject(parent) {
   m_sceneManagerUpdateWas = SoSceneManager::isRealTimeUpdateEnabled();
