@@ -18,6 +18,7 @@
 #include <Inventor/sensors/SoNodeSensor.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -380,13 +381,38 @@ void SoBSplineDeformSurface::updateClock() {
   }
 }
 
+namespace {
+bool catchUpWithRealTime = false;
+}
+
+void SoBSplineDeformSurface::setRealTimeCatchUp(bool catchUp) { catchUpWithRealTime = catchUp; }
+bool SoBSplineDeformSurface::realTimeCatchUp() { return catchUpWithRealTime; }
+
 void SoBSplineDeformSurface::clockCallback(void* data, SoSensor*) {
   auto* self = static_cast<SoBSplineDeformSurface*>(data);
   const SoSFTime* realTime = bsdeform::realTimeField();
   if (!realTime) return;
   const double now = realTime->getValue().getValue();
   // a clock set back (a driver that restarted) is a new origin, not time to make up
-  if (self->m_lastTick >= 0.0 && now > self->m_lastTick) self->advanceRealTime(now - self->m_lastTick);
+  if (self->m_lastTick >= 0.0 && now > self->m_lastTick) {
+    self->ensureSimulation();
+    const double dt = self->m_sim->parameters().timeStep;
+    // Steps that cannot keep up with realTime: one per tick, the rest of the time dropped, so
+    // that a frame follows every step instead of a quarter second of steps (setRealTimeCatchUp).
+    const bool behind = !catchUpWithRealTime && self->m_stepWallSeconds * self->speed.getValue() > dt;
+    const auto start = std::chrono::steady_clock::now();
+    int steps = 0;
+    if (!behind) {
+      steps = self->advanceRealTime(now - self->m_lastTick);
+    } else if (self->m_sim->status() == bsdeform::Status::Ok &&
+               bsdeform::stepsDue(now - self->m_lastTick, self->speed.getValue(), dt, self->m_timeBudget) > 0) {
+      self->m_timeBudget = 0.0;
+      self->stepSimulation(1);
+      steps = 1;
+    }
+    if (steps > 0)
+      self->m_stepWallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps;
+  }
   self->m_lastTick = now;
 }
 

@@ -214,6 +214,15 @@ class SoBSplineDeformSurface : public SoShape {
   /// remainder for the next call; a quarter second at most per call (a slow frame is not made
   /// up). This is what the surface's realTime sensor calls. Returns the steps taken.
   int advanceRealTime(double seconds);
+  /// How the realTime sensor treats a surface whose steps cost more wall time than they
+  /// simulate (the last steps' cost times `speed` above timeStep): `false` (the default, for
+  /// interaction) takes one step per change of realTime and drops the rest of the time due, so
+  /// the picture is redrawn after every step (frames never fewer than steps) and simulated time
+  /// falls behind realTime; `true` takes every step due, as advanceRealTime() does (a driver
+  /// that sets realTime to simulated times, such as a test, wants the exact count). Steps that
+  /// keep up are taken the same either way. Process-wide.
+  static void setRealTimeCatchUp(bool catchUp);
+  static bool realTimeCatchUp();
   /// Back to the rest state (same as touching `reset`).
   void resetSimulation();
   /// The paper's static problem: the equilibrium of the current loads at t = 0 with zero
@@ -310,4 +319,5 @@ class SoBSplineDeformSurface : public SoShape {
   int m_drivers = 0;                    ///< SceneRunners driving this surface (its sensor is off)
   double m_lastTick = -1.0;             ///< realTime at the last tick, -1 before the first
   double m_timeBudget = 0.0;
+  double m_stepWallSeconds = 0.0;       ///< wall time per step of the realTime sensor's last steps
 };

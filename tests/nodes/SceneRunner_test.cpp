@@ -58,6 +58,30 @@ TEST_CASE("Clock: a surface follows Coin's realTime, as SoElapsedTime does, time
   root->unref();
 }
 
+TEST_CASE("Clock: steps that cannot keep up with realTime are taken one per tick, unless told to catch up", "[nodes]") {
+  Coin::get();
+  REQUIRE_FALSE(SoBSplineDeformSurface::realTimeCatchUp());  // the default: interaction
+  setRealTime(300.0);
+  SoSeparator* root = testutil::read(kTwo);
+  REQUIRE(root);
+  auto* fine = testutil::named<SoBSplineDeformSurface>("Fine");
+  fine->speed = 1048576.0f;  // 2^20 simulated seconds per second: no step keeps up with that
+  const double tick = 1.0 / 1048576.0;  // one simulated second, exactly
+  fine->simulation();
+  setRealTime(300.0);
+  setRealTime(300.0 + tick);  // one simulated second: 20 steps, before their cost is known
+  CHECK(fine->simulation().stepCount() == 20);
+  setRealTime(300.0 + 2 * tick);  // now known to be slower than realTime: one step, a frame after it
+  CHECK(fine->simulation().stepCount() == 21);
+  setRealTime(300.0 + 3 * tick);
+  CHECK(fine->simulation().stepCount() == 22);  // the time dropped is not owed
+  SoBSplineDeformSurface::setRealTimeCatchUp(true);
+  setRealTime(300.0 + 4 * tick);
+  CHECK(fine->simulation().stepCount() == 42);  // every step due
+  SoBSplineDeformSurface::setRealTimeCatchUp(false);
+  root->unref();
+}
+
 TEST_CASE("Clock: `on FALSE` stands still, a clock set back is a new origin, a slow frame is not made up", "[nodes]") {
   Coin::get();
   setRealTime(50.0);

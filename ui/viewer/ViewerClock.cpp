@@ -8,6 +8,7 @@
 #include <QTimer>
 
 #include "bsdeform/SceneRunner.h"
+#include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {
 
@@ -25,6 +26,7 @@ ViewerClock::ViewerClock(QObject* parent) : QObject(parent) {
 }
 
 ViewerClock::~ViewerClock() {
+  SoBSplineDeformSurface::setRealTimeCatchUp(false);
   SoSceneManager::enableRealTimeUpdate(m_sceneManagerUpdateWas);
   SoDB::enableRealTimeSensor(m_realTimeSensorWas);
 }
@@ -42,6 +44,9 @@ void ViewerClock::setSpeed(double speed) {
 
 void ViewerClock::setWallClock(bool on) {
   m_wallClock = on;
+  // Wall time: a surface whose steps cannot keep up takes one per frame and falls behind. Off
+  // (tests): realTime is simulated time, every step due is taken.
+  SoBSplineDeformSurface::setRealTimeCatchUp(!on);
   updateTimer();
 }
 
