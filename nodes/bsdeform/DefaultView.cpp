@@ -92,7 +92,10 @@ SbBox3f sceneBoundingBox(SoNode* scene, const SbViewportRegion& viewport) {
 
 void frameScene(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewport) {
   camera->viewAll(scene, viewport);  // a start that sees the whole scene
-  const SbBox3f box = sceneBoundingBox(scene, viewport);
+  frameBox(camera, sceneBoundingBox(scene, viewport), viewport);
+}
+
+void frameBox(SoCamera* camera, const SbBox3f& box, const SbViewportRegion& viewport) {
   auto* ortho = camera->isOfType(SoOrthographicCamera::getClassTypeId()) ? static_cast<SoOrthographicCamera*>(camera) : nullptr;
   if (box.isEmpty() || (!ortho && !camera->isOfType(SoPerspectiveCamera::getClassTypeId())))
     return;  // nothing to frame, or another camera type: viewAll's framing
@@ -101,6 +104,8 @@ void frameScene(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewpor
   camera->orientation.getValue().multVec(SbVec3f(0.0f, 0.0f, -1.0f), dir);
   SbVec3f target = box.getCenter();
   float distance = std::max(camera->focalDistance.getValue(), 1e-6f);
+  // outside the box's sphere (a viewAll start already is: the iterations below keep it there)
+  if (!ortho) distance = std::max(distance, 2.0f * radius);
   // The projected size is about inversely proportional to the distance (the height), and the
   // projection of the box is not centred on the projection of its centre (perspective): a few
   // corrections of both converge.

@@ -62,6 +62,10 @@ constexpr float kFramedFraction = 0.8f;
 /// far planes enclose the box. Tighter than SoCamera::viewAll, which fits the bounding sphere.
 void frameScene(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewport);
 
+/// The same framing of a given world-space `box` (the union of the scene's boxes over a run:
+/// one camera that holds the whole motion), starting from the camera's focal distance.
+void frameBox(SoCamera* camera, const SbBox3f& box, const SbViewportRegion& viewport);
+
 /// Turns `camera` to `view` and frames `scene` for `viewport` (frameScene).
 void frameView(SoCamera* camera, SoNode* scene, const SbViewportRegion& viewport,
                StandardView view = StandardView::Default);

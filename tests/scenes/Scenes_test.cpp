@@ -14,6 +14,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../support/PngReadBack.h"
 #include "../support/VideoReadBack.h"
 #include "../nodes/NodesTestUtil.h"
 #include <Inventor/SbTime.h>
@@ -670,6 +671,60 @@ TEST_CASE("bsdeform-run: --png-at past the end is refused, --frame-names time, -
   r = run(scene("paper_fig2_point_force.iv") + " --steps 2 --set Push.force=0,0,-1 -o commas", dir.path);
   REQUIRE(r.code == 0);
   CHECK(slurp(dir.path + "/commas/final.iv").find("force 0 0 -1") != std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: the pictures of a scene without a camera share one camera that holds the motion",
+          "[scenes]") {
+  TempDir dir;
+  // A surface falls freely past a red box that stays where it is: a camera framed per picture
+  // would zoom out as the surface falls, and the box would shrink from picture to picture.
+  {
+    std::ofstream f(dir.path + "/falling.iv");
+    f << "#Inventor V2.1 ascii\n"
+         "Separator {\n"
+         "  Separator { Transform { translation 2 0.5 0 } Material { diffuseColor 1 0 0 }\n"
+         "              Cube { width 0.4 height 0.4 depth 0.4 } }\n"
+         "  Material { diffuseColor 0 0.6 0 }\n"
+         "  SoBSplineDeformSurface { numUControlPoints 5 numVControlPoints 5 boundaryUMin FREE\n"
+         "    boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE timeStep 0.05\n"
+         "    forces SoForceField { type GRAVITY force 0 0 -9.81 } }\n"
+         "}\n";
+  }
+  const Run r = run("falling.iv --until 1 --png-at 0,0.5,1 --size 160x120 -o out", dir.path);
+  REQUIRE(r.code == 0);
+  const testsupport::Picture first = testsupport::readPng(dir.path + "/out/frame_000000.png");
+  // the box's pixels: red well above green and blue
+  auto boxPixels = [](const testsupport::Picture& p) {
+    std::vector<std::size_t> at;
+    for (std::size_t i = 0; i + 2 < p.rgb.size(); i += 3)
+      if (p.rgb[i] > 2 * (p.rgb[i + 1] + p.rgb[i + 2]) + 40) at.push_back(i);
+    return at;
+  };
+  const std::vector<std::size_t> box = boxPixels(first);
+  REQUIRE(box.size() > 20);  // the box is in the picture
+  for (const char* later : {"frame_000010.png", "frame_000020.png"}) {
+    const testsupport::Picture p = testsupport::readPng(dir.path + "/out/" + later);
+    INFO(later);
+    CHECK(boxPixels(p) == box);  // where it was, the same size
+    bool same = true;
+    for (std::size_t i : box) same = same && std::memcmp(&p.rgb[i], &first.rgb[i], 3) == 0;
+    CHECK(same);
+  }
+  // and the surface fell within the view: green pixels in the last picture, lower than in the first
+  auto lowestGreen = [](const testsupport::Picture& p) {
+    int lowest = -1;
+    for (int y = 0; y < p.height; ++y)
+      for (int x = 0; x < p.width; ++x) {
+        const unsigned char* c = &p.rgb[std::size_t(y * p.width + x) * 3];
+        if (c[1] > 2 * (c[0] + c[2]) + 20) lowest = y;
+      }
+    return lowest;
+  };
+  const int start = lowestGreen(first);
+  const int end = lowestGreen(testsupport::readPng(dir.path + "/out/frame_000020.png"));
+  CHECK(start >= 0);
+  CHECK(end > start);
+  CHECK(end < 120);
 }
 
 TEST_CASE("bsdeform-run: a directory given as the scene is called a directory", "[scenes]") {

@@ -3,6 +3,7 @@
 
 #include <Inventor/SoDB.h>
 #include <Inventor/fields/SoSFTime.h>
+#include <Inventor/nodes/SoPerspectiveCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QElapsedTimer>
@@ -16,6 +17,7 @@
 #include "Plot.h"
 #include "VideoWriter.h"
 #include "bsdeform/CoinMessageCapture.h"
+#include "bsdeform/DefaultView.h"
 #include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
@@ -123,6 +125,39 @@ Failure RunLoop::prepare() {
     if (!m_video) return {kBadInput, QString::fromStdString(err)};
     m_videoClock = FrameClock(o.videoFps, m_t0);
   }
+  const bool pictures = o.pngEvery > 0 || !m_imageFrames.isEmpty() || m_video;
+  if (pictures && !o.resultOnly && !o.staticSolve && !findSceneCamera(m_root.get())) return frameMotion();
+  return {kOk, {}};
+}
+
+// A scene without a camera: every image and video frame is taken with one camera, in the
+// default view, that holds the whole motion. A copy of the scene is stepped through the run
+// first (the steps are taken twice) and the union of its bounding boxes at every step framed
+// once; a camera re-framed per picture would zoom with the motion (a clamped edge that seems to
+// shrink, a balloon that never seems to grow). A scene's own camera is used as it is.
+Failure RunLoop::frameMotion() {
+  NodeRef<SoSeparator> copy;
+  const Failure f = loadSceneWithSets(m_options, copy);
+  if (!f.ok()) return f;
+  const SbViewportRegion viewport(short(m_options.width), short(m_options.height));
+  SbBox3f motion;
+  {
+    SceneRunner runner(copy.get());
+    runner.advanceTo(m_t0);
+    motion.extendBy(sceneBoundingBox(copy.get(), viewport));
+    for (long frame = 1; frame <= m_frames; ++frame) {
+      const bool ok = runner.advanceTo(m_t0 + frame * m_dtMin);
+      motion.extendBy(sceneBoundingBox(copy.get(), viewport));
+      if (!ok) break;  // the run itself reports the blow-up
+    }
+  }
+  auto* view = new SoSeparator;
+  auto* camera = new SoPerspectiveCamera;
+  camera->orientation = viewOrientation(StandardView::Default);
+  frameBox(camera, motion, viewport);
+  view->addChild(camera);
+  view->addChild(m_root.get());
+  m_view.reset(view);
   return {kOk, {}};
 }
 
@@ -179,7 +214,7 @@ void RunLoop::stepped(Surface& s) {
 
 Failure RunLoop::render(long frame) {
   std::string err;
-  if (m_renderedFrame != frame && !m_renderer.render(m_root.get(), m_options.width, m_options.height, m_image, err))
+  if (m_renderedFrame != frame && !m_renderer.render(m_view.get() ? m_view.get() : m_root.get(), m_options.width, m_options.height, m_image, err))
     return {kInternal, QStringLiteral("rendering failed: %1").arg(QString::fromStdString(err))};
   m_renderedFrame = frame;
   return {kOk, {}};

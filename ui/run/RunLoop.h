@@ -71,6 +71,8 @@ class RunLoop {
   void flushRow(Surface& s);
   /// A surface took a step: its history row, when one is due.
   void stepped(Surface& s);
+  /// Images and video of a scene without a camera: one camera for the whole output (m_view).
+  Failure frameMotion();
   Failure render(long frame);
   Failure writeImage(long frame);
   Failure writeVideoFrames(long frame);
@@ -82,6 +84,9 @@ class RunLoop {
 
   const RunOptions& m_options;
   NodeRef<SoSeparator> m_root;
+  /// What images show: m_root under the one camera frameMotion() made, or null (m_root itself,
+  /// with its own camera).
+  NodeRef<SoSeparator> m_view;
   QVector<Surface> m_surfaces;
   std::unique_ptr<SceneRunner> m_runner;  ///< drives the surfaces and realTime
   double m_dtMin = 0.0, m_t0 = 0.0;
