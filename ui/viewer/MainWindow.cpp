@@ -339,7 +339,11 @@ void MainWindow::surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSu
 
 void MainWindow::refreshViews() {
   m_drag->update();
-  m_framing->follow();
+  // the camera stays put under a drag and through a recording (one camera for the whole video)
+  if (m_drag->isDragging() || isRecording())
+    m_framing->hold();
+  else
+    m_framing->follow();
   m_netDisplay->update();
   m_plots->updateAxes();
   m_editor->refresh();  // live values (time, steps) included

@@ -3,13 +3,22 @@
 
 #include <Inventor/Qt/viewers/SoQtViewer.h>
 #include <Inventor/nodes/SoCamera.h>
+#include <Inventor/nodes/SoOrthographicCamera.h>
+#include <Inventor/nodes/SoPerspectiveCamera.h>
 
 #include <QAction>
 #include <QMenu>
+#include <QTimer>
+
+#include <algorithm>
 
 namespace bsdeform {
 
-ViewFraming::ViewFraming(SoQtViewer* viewer, QObject* parent) : QObject(parent), m_viewer(viewer) {}
+ViewFraming::ViewFraming(SoQtViewer* viewer, QObject* parent) : QObject(parent), m_viewer(viewer) {
+  m_glideTimer = new QTimer(this);
+  m_glideTimer->setInterval(16);
+  connect(m_glideTimer, &QTimer::timeout, this, &ViewFraming::glideStep);
+}
 
 void ViewFraming::addActions(QMenu* menu) {
   QAction* a = menu->addAction(tr("View &All"), this, &ViewFraming::viewAll);
@@ -40,6 +49,7 @@ void ViewFraming::addActions(QMenu* menu) {
 }
 
 void ViewFraming::sceneShown(SoNode* scene) {
+  m_glideTimer->stop();
   m_scene = scene;
   m_reframes = 0;
   m_framedCamera = CameraState();
@@ -50,6 +60,7 @@ void ViewFraming::sceneShown(SoNode* scene) {
 }
 
 void ViewFraming::setView(StandardView view) {
+  m_glideTimer->stop();
   SoCamera* camera = m_viewer->getCamera();
   if (!camera || !m_scene) return;
   frameView(camera, m_scene, m_viewer->getViewportRegion(), view);
@@ -57,6 +68,7 @@ void ViewFraming::setView(StandardView view) {
 }
 
 void ViewFraming::viewAll() {
+  m_glideTimer->stop();
   SoCamera* camera = m_viewer->getCamera();
   if (!camera || !m_scene) return;
   frameScene(camera, m_scene, m_viewer->getViewportRegion());
@@ -112,26 +124,106 @@ void ViewFraming::framed() {
 }
 
 bool ViewFraming::follow() {
-  if (!isFollowing() || !m_scene) return false;
+  if (!isFollowing() || !m_scene || isGliding()) return false;
+  const CameraState now = cameraState();
+  if (!(now == m_lastCamera)) {  // the user took the camera: it stays where they put it
+    setFollowing(false);
+    return false;
+  }
   const SbBox2f box = projectedSceneBox();
   if (box.isEmpty()) return false;
-  const CameraState now = cameraState();
   bool reframe;
-  if (now == m_framedCamera) {
+  if (now == m_framedCamera)
     reframe = !isInside(box) || isSmall(box) || m_viewer->getViewportRegion().getWindowSize() != m_framedViewport;
-  } else {
-    const bool userMoved = !(now == m_lastCamera);
-    reframe = !userMoved && ((m_wasInside && !isInside(box)) || (!m_wasSmall && isSmall(box)));
-  }
+  else
+    reframe = (m_wasInside && !isInside(box)) || (!m_wasSmall && isSmall(box));
   if (reframe) {
-    viewAll();
     ++m_reframes;
+    if (!(m_glideSeconds > 0.0)) {
+      viewAll();
+      return true;
+    }
+    // where View All would put the camera, then back: the glide goes there
+    m_glideFrom = pose();
+    viewAll();
+    m_glideTo = pose();
+    setPose(m_glideFrom);
+    m_lastCamera = cameraState();
+    m_glideClock.start();
+    m_glideTimer->start();
     return true;
   }
   m_wasInside = isInside(box);
   m_wasSmall = isSmall(box);
   m_lastCamera = cameraState();
   return false;
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+bool ViewFraming::isGliding() const { return m_glideTimer->isActive(); }
+
+void ViewFraming::hold() {
+  if (!isGliding()) return;
+  m_glideTimer->stop();
+  setPose(m_glideTo);
+  framed();
+}
+
+ViewFraming::Pose ViewFraming::pose() const {
+  Pose p;
+  if (SoCamera* c = m_viewer->getCamera()) {
+    p.position = c->position.getValue();
+    p.orientation = c->orientation.getValue();
+    p.focalDistance = c->focalDistance.getValue();
+    p.nearDistance = c->nearDistance.getValue();
+    p.farDistance = c->farDistance.getValue();
+    if (c->isOfType(SoOrthographicCamera::getClassTypeId())) p.height = static_cast<SoOrthographicCamera*>(c)->height.getValue();
+  }
+  return p;
+}
+
+void ViewFraming::setPose(const Pose& p) {
+  SoCamera* c = m_viewer->getCamera();
+  if (!c) return;
+  c->position = p.position;
+  c->orientation = p.orientation;
+  c->focalDistance = p.focalDistance;
+  c->nearDistance = p.nearDistance;
+  c->farDistance = p.farDistance;
+  if (c->isOfType(SoOrthographicCamera::getClassTypeId())) static_cast<SoOrthographicCamera*>(c)->height = p.height;
+}
+
+// One frame of a glide: smoothstep from where the camera was to where View All puts it. A camera
+// moved by someone else on the way (the user) ends the glide and Follow.
+void ViewFraming::glideStep() {
+  if (!(cameraState() == m_lastCamera)) {
+    m_glideTimer->stop();
+    setFollowing(false);
+    return;
+  }
+  const double s = std::min(1.0, m_glideClock.elapsed() / (1000.0 * m_glideSeconds));
+  const float e = float(s * s * (3.0 - 2.0 * s));
+  auto mix = [e](float a, float b) { return a + (b - a) * e; };
+  Pose p;
+  p.position = m_glideFrom.position + (m_glideTo.position - m_glideFrom.position) * e;
+  p.orientation = SbRotation::slerp(m_glideFrom.orientation, m_glideTo.orientation, e);
+  p.focalDistance = mix(m_glideFrom.focalDistance, m_glideTo.focalDistance);
+  // the clipping planes wide enough for both ends all the way
+  p.nearDistance = std::min(m_glideFrom.nearDistance, m_glideTo.nearDistance);
+  p.farDistance = std::max(m_glideFrom.farDistance, m_glideTo.farDistance) +
+                  (m_glideFrom.position - m_glideTo.position).length();
+  p.height = mix(m_glideFrom.height, m_glideTo.height);
+  if (s >= 1.0) {
+    m_glideTimer->stop();
+    setPose(m_glideTo);
+    framed();
+    return;
+  }
+  setPose(p);
+  m_lastCamera = cameraState();
 }
 
 }  // namespace bsdeform

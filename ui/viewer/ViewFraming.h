@@ -4,18 +4,21 @@
 /// The 3D view's camera: the default three-quarter view of scenes without a camera (the same as
 /// bsdeform-run's pictures, bsdeform/DefaultView.h), View All and the standard views of the View
 /// menu, and "Follow", which re-frames when the scene leaves the view or shrinks to a small part
-/// of it while it deforms.
+/// of it while it deforms: gliding there (a third of a second), never while the window holds
+/// the camera (a drag, a recording: hold()), and turned off as soon as the user moves the camera.
 
 #include <Inventor/SbBox2f.h>
 #include <Inventor/SbRotation.h>
 #include <Inventor/SbVec2s.h>
 #include <Inventor/SbVec3f.h>
+#include <QElapsedTimer>
 #include <QObject>
 
 #include "bsdeform/DefaultView.h"
 
 class QAction;
 class QMenu;
+class QTimer;
 class SoNode;
 class SoQtViewer;
 
@@ -43,12 +46,20 @@ class ViewFraming : public QObject {
   void viewAll();
   void setFollowing(bool on);
   bool isFollowing() const;
-  /// Follow's check, called periodically. While the camera is as this class last framed it,
-  /// re-frames whenever the scene is outside the margins or small, or the view changed size.
-  /// After the user moved the camera, re-frames only when the scene leaves the margins or
-  /// becomes small between two checks without camera moves (the user's framing is respected
-  /// until the scene moves out of it). Returns true when it re-framed.
+  /// Follow's check, called after the scene changed. A camera moved since the last check (by
+  /// the user: this class's own moves are remembered) turns Follow off. While the camera is as
+  /// this class last framed it, re-frames whenever the scene is outside the margins or small, or
+  /// the view changed size. When Follow was turned on for a camera placed by the user,
+  /// re-frames only when the scene leaves the margins or becomes small between two checks.
+  /// A re-framing glides there (glideSeconds()); returns true when one began.
   bool follow();
+  /// The camera is the window's to keep (a drag, a recording): a glide under way ends where it
+  /// was going, and follow() is not called until the hold ends.
+  void hold();
+  /// How long a re-framing by Follow takes (wall seconds; 0: at once, as tests want it).
+  void setGlideSeconds(double seconds) { m_glideSeconds = seconds; }
+  double glideSeconds() const { return m_glideSeconds; }
+  bool isGliding() const;
   /// The scene's bounding box projected on the view, (0, 0)-(1, 1) being the whole view.
   SbBox2f projectedSceneBox() const;
   /// Re-framings made by follow() since the scene was shown.
@@ -63,6 +74,15 @@ class ViewFraming : public QObject {
       return position == o.position && orientation == o.orientation && focalDistance == o.focalDistance;
     }
   };
+  /// Every camera field a framing sets, for a glide between two framings.
+  struct Pose {
+    SbVec3f position;
+    SbRotation orientation;
+    float focalDistance = 1.0f, nearDistance = 0.1f, farDistance = 10.0f, height = 2.0f;
+  };
+  Pose pose() const;
+  void setPose(const Pose& p);
+  void glideStep();
   CameraState cameraState() const;
   bool isInside(const SbBox2f& box) const;
   bool isSmall(const SbBox2f& box) const;
@@ -77,6 +97,10 @@ class ViewFraming : public QObject {
   SbVec2s m_framedViewport;
   bool m_wasInside = false, m_wasSmall = false;
   int m_reframes = 0;
+  double m_glideSeconds = 0.3;
+  QTimer* m_glideTimer = nullptr;
+  QElapsedTimer m_glideClock;
+  Pose m_glideFrom, m_glideTo;
 };
 
 }  // namespace bsdeform

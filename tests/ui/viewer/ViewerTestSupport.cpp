@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "ViewerTestSupport.h"
 
+#include "ViewFraming.h"
+
 #include <Inventor/Qt/SoQt.h>
 #include <Inventor/SoDB.h>
 #include <Inventor/sensors/SoSensorManager.h>
@@ -15,6 +17,7 @@
 #include <cstdlib>
 
 #include "AtomicFile.h"
+#include "ViewFraming.h"
 #include "ViewerClock.h"
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -58,6 +61,7 @@ std::unique_ptr<bsdeform::MainWindow> makeWindow(const char* scene) {
   auto w = std::make_unique<bsdeform::MainWindow>();
   w->setInteractive(false);
   w->clock().setWallClock(false);
+  w->framing().setGlideSeconds(0.0);  // Follow re-frames at once (a glide takes wall time)
   REQUIRE(w->openScene(scenePath(scene)));
   w->show();
   REQUIRE(QTest::qWaitForWindowExposed(w.get()));

@@ -7,6 +7,7 @@
 
 #include <QApplication>
 #include <QDir>
+#include <QElapsedTimer>
 #include <QFile>
 #include <QFileDialog>
 #include <QLineEdit>
@@ -18,7 +19,9 @@
 #include <QtCharts/QLogValueAxis>
 #include <QtCharts/QValueAxis>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "ControlNetDisplay.h"
 #include "HelpDialogs.h"
@@ -88,11 +91,79 @@ TEST_CASE("Viewer view: Follow re-frames a scene that leaves the view, and only 
   CHECK(f.follow());
   CHECK(f.followReframes() == reframes + 1);
   checkFramed(f.projectedSceneBox(), 0.4f);
-  // the user zooms in on a detail: Follow does not fight the user's camera
+  // the user zooms in on a detail: Follow does not fight the user's camera, it turns off
   SoCamera* cam = w->viewer()->getCamera();
   cam->position = cam->position.getValue() + (SbVec3f(4.5f, 0.5f, 0.0f) - cam->position.getValue()) * 0.8f;
+  const SbVec3f userPlaced = cam->position.getValue();
   CHECK_FALSE(f.follow());
+  CHECK_FALSE(f.isFollowing());
+  move->translation.setValue(9.0f, 0.0f, 0.0f);  // the scene leaves the user's view: still theirs
+  CHECK_FALSE(f.follow());
+  CHECK(cam->position.getValue() == userPlaced);
   CHECK(f.followReframes() == reframes + 1);
+}
+
+TEST_CASE("Viewer view: Follow glides to its new framing, and a drag or a recording holds the camera", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  ViewFraming& f = w->framing();
+  processEvents();
+  f.setGlideSeconds(0.3);
+  REQUIRE(f.isFollowing());
+  auto* move = new SoTranslation;
+  w->document().root()->insertChild(move, 0);
+  SoCamera* cam = w->viewer()->getCamera();
+  const SbVec3f start = cam->position.getValue();
+  move->translation.setValue(3.0f, 0.0f, 0.0f);
+  REQUIRE(f.follow());
+  CHECK(f.isGliding());
+  CHECK(cam->position.getValue() == start);  // not a jump
+  // a glide is wall-clock animation, not simulated time: it is waited for
+  std::vector<float> along;
+  QElapsedTimer t;
+  t.start();
+  while (f.isGliding() && t.elapsed() < 5000) {
+    QTest::qWait(20);
+    along.push_back(cam->position.getValue()[0]);
+  }
+  CHECK_FALSE(f.isGliding());
+  CHECK(along.size() >= 3);  // several frames on the way
+  CHECK(std::is_sorted(along.begin(), along.end()));  // towards the scene, never back
+  checkFramed(f.projectedSceneBox(), 0.4f);
+  CHECK(f.isFollowing());
+  // a hold (a drag, a recording) ends a glide where it was going and is not a user move
+  move->translation.setValue(6.0f, 0.0f, 0.0f);
+  REQUIRE(f.follow());
+  f.hold();
+  CHECK_FALSE(f.isGliding());
+  checkFramed(f.projectedSceneBox(), 0.4f);
+  CHECK_FALSE(f.follow());
+  CHECK(f.isFollowing());
+}
+
+TEST_CASE("Viewer view: the camera stays put through a recording while the scene leaves the view", "[ui]") {
+  auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
+  processEvents();
+  REQUIRE(w->framing().isFollowing());
+  auto* move = new SoTranslation;
+  w->document().root()->insertChild(move, 0);
+  QTemporaryDir dir;
+  REQUIRE(w->startRecording(dir.filePath(QStringLiteral("held.webm")), 25.0));
+  SoCamera* cam = w->viewer()->getCamera();
+  const SbVec3f position = cam->position.getValue();
+  const SbRotation orientation = cam->orientation.getValue();
+  const float focal = cam->focalDistance.getValue();
+  w->setPlaying(true);
+  for (int i = 1; i <= 6; ++i) {
+    move->translation.setValue(0.5f * float(i), 0.0f, 0.0f);  // out of the view by the end
+    passTime(*w, 0.2);
+    CHECK(cam->position.getValue() == position);
+    CHECK(cam->orientation.getValue() == orientation);
+    CHECK(cam->focalDistance.getValue() == focal);
+  }
+  w->stopRecording();
+  CHECK(w->framing().isFollowing());  // Follow is back after the recording
+  passTime(*w, 0.1);
+  checkFramed(w->framing().projectedSceneBox(), 0.4f);
 }
 
 TEST_CASE("Viewer view: the default scene stays framed while it plays", "[ui]") {
