@@ -76,6 +76,8 @@ class DocumentActions : public QObject {
   void sceneLoaded();
 
  private:
+  /// After a scene opened: every value its nodes refuse, in one warning box (SceneProblems.h).
+  void reportProblems();
   /// Opens `path` after maybeSave() (recent files, a dropped file).
   void openAfterAsking(const QString& path);
   /// The document's new scene: no edits, the title names it, then sceneLoaded().

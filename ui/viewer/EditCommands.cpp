@@ -60,6 +60,15 @@ QString refusalOf(SoFieldContainer* owner) {
   return QString();
 }
 
+std::pair<QString, QString> refusedFieldOf(SoFieldContainer* owner) {
+  if (!owner || !owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) return {};
+  auto* s = static_cast<SoBSplineDeformSurface*>(owner);
+  s->simulation();
+  const SoBSplineDeformSurface::Problem& p = s->problem();
+  if (p.kind != SoBSplineDeformSurface::Problem::FIELD) return {};
+  return {QString::fromStdString(p.field), QString::fromStdString(p.message)};
+}
+
 // ---------------------------------------------------------------------------------------------
 
 SetFieldCommand::SetFieldCommand(EditContext& context, SoFieldContainer* owner, SoField* field, const SoField& before,

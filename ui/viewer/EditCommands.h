@@ -29,6 +29,9 @@ class SceneDocument;
 /// last valid one when refused); a force field builds its core force (COLLISION, which needs
 /// the scene's obstacles, is taken as it is).
 QString refusalOf(SoFieldContainer* owner);
+/// The field of a surface the node refuses as its values stand, and the reason (FIELD
+/// problems; empty for anything else: a force field's refusal names no field).
+std::pair<QString, QString> refusedFieldOf(SoFieldContainer* owner);
 
 /// What the commands change and whom they tell.
 struct EditContext {

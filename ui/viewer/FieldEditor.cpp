@@ -238,6 +238,10 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
         spin->setValue(get());
       };
       row.problem = [spin] { return spin->problem(); };
+      row.readUnclamped = [spin, get] {
+        const QSignalBlocker block(spin);
+        spin->showUnclamped(get());
+      };
     } else if (t.isDerivedFrom(SoSFVec2d::getClassTypeId()) || t.isDerivedFrom(SoSFVec3d::getClassTypeId())) {
       const int n = t.isDerivedFrom(SoSFVec2d::getClassTypeId()) ? 2 : 3;
       auto* rowWidget = new QWidget;
@@ -297,6 +301,9 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
 
 void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
   SoField* field = row.field;
+  // what the node refused before the change (a file's value of another field)
+  const QString alreadyRefused = m_check ? m_check(m_container) : QString();
+  const QString refusedField = m_refused ? m_refused(m_container).first : QString();
   std::unique_ptr<SoField> before(copyOf(*field));
   const bool beforeIsDefault = field->isDefault();
   const QString name = row.name;
@@ -309,7 +316,9 @@ void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
   }
   if (before->isSame(*field)) return;
   const QString reason = m_check ? m_check(m_container) : QString();
-  if (!reason.isEmpty()) {
+  // still refused for another field's value, as before this change: this one is taken
+  const bool sameAsBefore = !reason.isEmpty() && alreadyRefused == reason && refusedField != row.name;
+  if (!reason.isEmpty() && !sameAsBefore) {
     field->copyFrom(*before);  // the node keeps its last valid values
     field->setDefault(beforeIsDefault);
     showInvalid(row, reason);
@@ -346,6 +355,30 @@ void FieldEditor::revert(Row& row) {
   row.editor->setStyleSheet(QString());
   if (row.read) row.read();
   row.message->setText(tr("Not applied: %1").arg(row.message->text()));
+  markRefused();
+}
+
+void FieldEditor::markRefused() {
+  const std::pair<QString, QString> refused = m_refused && m_container ? m_refused(m_container) : std::pair<QString, QString>();
+  QWidget* focus = QApplication::focusWidget();
+  for (const auto& r : m_rows) {
+    const bool now = !refused.first.isEmpty() && r->name == refused.first;
+    if (focus && (focus == r->editor || r->editor->isAncestorOf(focus))) continue;  // being edited
+    if (now) {
+      if (r->readUnclamped)
+        r->readUnclamped();
+      else if (r->read)
+        r->read();
+      r->refusedByNode = true;
+      showInvalid(*r, refused.second);
+    } else if (r->refusedByNode) {
+      r->refusedByNode = false;
+      r->invalid = false;
+      r->editor->setStyleSheet(QString());
+      r->message->hide();
+      if (r->read) r->read();
+    }
+  }
 }
 
 bool FieldEditor::eventFilter(QObject* watched, QEvent* event) {
@@ -402,6 +435,7 @@ void FieldEditor::refresh() {
     if (focus && (focus == r->editor || r->editor->isAncestorOf(focus))) continue;  // being edited
     r->read();
   }
+  markRefused();
 }
 
 }  // namespace bsdeform

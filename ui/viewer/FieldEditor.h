@@ -11,6 +11,7 @@
 #include <QWidget>
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 class SoFieldContainer;
@@ -45,6 +46,11 @@ class FieldEditor : public QWidget {
   /// empty when it takes them. Without one every parsed value is taken.
   using Checker = std::function<QString(SoFieldContainer* owner)>;
   void setChecker(Checker checker) { m_check = std::move(checker); }
+  /// The field the node refuses as its values stand (a value read from a file, say) and why;
+  /// an empty name when none. Its row shows the field's own value, not one clamped to the
+  /// editor's range, in red with the reason, until the node takes its values.
+  using RefusedField = std::function<std::pair<QString, QString>(SoFieldContainer* owner)>;
+  void setRefusedField(RefusedField refused) { m_refused = std::move(refused); }
 
  signals:
   /// A value was refused (message names the field, the value and the reason).
@@ -68,7 +74,9 @@ class FieldEditor : public QWidget {
     QLabel* message = nullptr;   ///< the reason of a refusal, a restart notice
     std::function<void()> read;  ///< field -> editor
     std::function<QString()> problem;  ///< why the editor's text cannot be taken (number boxes)
+    std::function<void()> readUnclamped;  ///< field -> editor beyond the editor's range (number boxes)
     bool invalid = false;        ///< showing a refused value
+    bool refusedByNode = false;  ///< showing the value the node refuses as it stands (m_refused)
     bool restarts = false;
   };
   void clear();
@@ -78,12 +86,15 @@ class FieldEditor : public QWidget {
   void commit(Row& row, const std::function<bool()>& apply);
   void showInvalid(Row& row, const QString& reason);
   void revert(Row& row);
+  /// Marks the row of the field the node refuses as it stands, and unmarks the others.
+  void markRefused();
 
   SoFieldContainer* m_container = nullptr;
   QFormLayout* m_form = nullptr;
   std::vector<std::unique_ptr<Row>> m_rows;
   ChangeHandler m_onChange;
   Checker m_check;
+  RefusedField m_refused;
 };
 
 }  // namespace bsdeform

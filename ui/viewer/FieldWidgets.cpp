@@ -56,6 +56,10 @@ QValidator::State NumberSpinBox::validate(QString& text, int&) const {
   return QValidator::Intermediate;
 }
 
+void NumberSpinBox::showUnclamped(double value) {
+  lineEdit()->setText(m_kind == Single ? numberText(float(value)) : numberText(value));
+}
+
 QString NumberSpinBox::problem() const {
   const QString text = lineEdit()->text().trimmed();
   bool ok = false;

@@ -30,6 +30,9 @@ class NumberSpinBox : public QDoubleSpinBox {
   /// Why the text now in the box cannot be taken (not a number, outside the range); empty when
   /// it can.
   QString problem() const;
+  /// Shows `value` as it is, outside the range too (a value read from a file that the node
+  /// refuses): the text stays until the user edits it or it is read again.
+  void showUnclamped(double value);
   QString textFromValue(double value) const override;
   double valueFromText(const QString& text) const override;
   QValidator::State validate(QString& text, int& pos) const override;

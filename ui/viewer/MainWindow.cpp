@@ -195,6 +195,7 @@ void MainWindow::createDocks() {
   connect(m_scenePanel, &ScenePanel::forceFieldSelected, this, &MainWindow::forceFieldSelected);
   m_editor = new FieldEditor;
   m_editor->setChecker(refusalOf);
+  m_editor->setRefusedField(refusedFieldOf);
   connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { m_feedback->show(m, 8000); });
   // after an edit the keyboard goes back to the 3D view, where Space, S, R, D act
   connect(m_editor, &FieldEditor::done, this, [this] { m_viewer->getGLWidget()->setFocus(Qt::OtherFocusReason); });
@@ -203,11 +204,19 @@ void MainWindow::createDocks() {
   });
   connect(m_editor, &FieldEditor::rejected, this, [this](const QString& m) { m_feedback->show(m, 5000); });
   auto* scroll = new QScrollArea;
+  scroll->setObjectName(QStringLiteral("fieldEditorScroll"));
   scroll->setWidget(m_editor);
   scroll->setWidgetResizable(true);
+  // the rows fit the dock's width (reasons wrap): no sideways scrolling
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   split->addWidget(m_scenePanel);
   split->addWidget(scroll);
-  split->setStretchFactor(1, 3);
+  split->setStretchFactor(0, 1);
+  split->setStretchFactor(1, 4);
+  split->setSizes({160, 640});
+  // the scene and the editor take the window's whole height; the plots go under the 3D view
+  setCorner(Qt::TopRightCorner, Qt::RightDockWidgetArea);
+  setCorner(Qt::BottomRightCorner, Qt::RightDockWidgetArea);
   sceneDock->setWidget(split);
   addDockWidget(Qt::RightDockWidgetArea, sceneDock);
   resizeDocks({sceneDock}, {420}, Qt::Horizontal);  // the field editor's labels and spin boxes side by side
@@ -319,6 +328,7 @@ void MainWindow::surfaceSelected(int index) {
   if (s != m_plotted) m_plots->setSurface(s, m_doc->nameOf(s));  // the same one again (a panel rebuild): its history stays
   m_plotted = s;
   m_status->follow(s);
+  updateStatus();
 }
 
 void MainWindow::forceFieldSelected(int index) {
@@ -351,7 +361,12 @@ void MainWindow::refreshViews() {
   m_recording->recordFrames();
 }
 
-void MainWindow::updateStatus() { m_status->update(selectedSurface(), isPlaying()); }
+void MainWindow::updateStatus() {
+  SoBSplineDeformSurface* troubled = nullptr;
+  for (SoBSplineDeformSurface* s : m_doc->surfaces())
+    if (!troubled && s->problem().kind != SoBSplineDeformSurface::Problem::NONE) troubled = s;
+  m_status->update(selectedSurface(), isPlaying(), troubled);
+}
 
 // ---------------------------------------------------------------------------------------------
 // Commands handed over to the parts that do them

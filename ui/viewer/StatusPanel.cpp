@@ -36,7 +36,7 @@ void StatusPanel::restart() {
 
 void StatusPanel::follow(SoBSplineDeformSurface* surface) { m_lastSteps = surface->simulation().stepCount(); }
 
-void StatusPanel::update(SoBSplineDeformSurface* s, bool playing) {
+void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDeformSurface* troubled) {
   const double dt = m_rateClock.elapsed() / 1000.0;
   const long steps = s ? s->simulation().stepCount() : 0;
   if (dt >= 1.0) {
@@ -64,14 +64,26 @@ void StatusPanel::update(SoBSplineDeformSurface* s, bool playing) {
                             .arg(p.timeStep)
                             .arg(sim.stabilityLimit(), 0, 'g', 4)
                             .arg(sim.subSteps()));
-  const SoBSplineDeformSurface::Problem& problem = s->problem();
+  using Problem = SoBSplineDeformSurface::Problem;
+  // the selected surface's problem, else another's: a refusal stays red until it is fixed
+  SoBSplineDeformSurface* shown = s->problem().kind == Problem::NONE && troubled ? troubled : s;
+  const Problem& problem = shown->problem();
+  const SbName shownName = shown->getName();
+  const QString who = shown == s ? QString()
+                                 : (shownName.getLength() ? QString::fromUtf8(shownName.getString()) : tr("another surface")) +
+                                       QLatin1Char('.');
   if (sim.status() != Status::Ok) {
     m_stateLabel->setText(tr("<b style='color:#c00'>STOPPED: blew up</b>"));
     m_stateLabel->setToolTip(QString::fromStdString(sim.statusMessage()));
-  } else if (problem.kind == SoBSplineDeformSurface::Problem::FIELD) {
-    m_stateLabel->setText(tr("<b style='color:#c00'>refused: %1</b>").arg(QString::fromStdString(problem.field)));
+  } else if (problem.kind == Problem::FIELD) {
+    m_stateLabel->setText(tr("<b style='color:#c00'>refused: %1</b>").arg((who + QString::fromStdString(problem.field)).toHtmlEscaped()));
     m_stateLabel->setToolTip(QString::fromStdString(problem.message));
-  } else if (problem.kind != SoBSplineDeformSurface::Problem::NONE) {
+  } else if (problem.kind == Problem::FORCE_FIELD || problem.kind == Problem::STOPPED) {
+    m_stateLabel->setText((problem.kind == Problem::STOPPED ? tr("<b style='color:#c00'>STOPPED: %1</b>")
+                                                             : tr("<b style='color:#c00'>refused: %1</b>"))
+                              .arg(QString::fromStdString(problem.node).toHtmlEscaped()));
+    m_stateLabel->setToolTip(QString::fromStdString(problem.message));
+  } else if (problem.kind != Problem::NONE) {
     m_stateLabel->setText(tr("<b style='color:#b60'>warning</b>"));
     m_stateLabel->setToolTip(QString::fromStdString(problem.message));
   } else {

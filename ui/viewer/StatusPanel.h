@@ -37,7 +37,9 @@ class StatusPanel {
   /// The steps per second count `surface`'s steps from now (another surface is shown).
   void follow(SoBSplineDeformSurface* surface);
   /// The labels for `surface` (nullptr: only the rates) and the clock's `playing`.
-  void update(SoBSplineDeformSurface* surface, bool playing);
+  /// `troubled`: a surface of the scene with a problem when `surface` (the selected one) has
+  /// none: the state shows it, red while a value is refused, until it is fixed.
+  void update(SoBSplineDeformSurface* surface, bool playing, SoBSplineDeformSurface* troubled = nullptr);
 
  private:
   static void countFrame(void* data, SoAction* action);

@@ -15,7 +15,9 @@
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
+#include <QStatusBar>
 #include <QRegularExpression>
+#include <QScrollArea>
 #include <QSettings>
 #include <QTemporaryDir>
 #include <QTest>
@@ -28,6 +30,8 @@
 
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "SceneDocument.h"
+#include "ViewerClock.h"
 #include "ViewerTestSupport.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -682,4 +686,112 @@ TEST_CASE("Editing: Simulation > Solve Static puts the surface at its equilibriu
   CHECK(w->lastError().contains(QStringLiteral("translations")));
   CHECK(w->undoStack().count() == commands);
   CHECK(s->simulation().deformationNorm() == 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Values a file gives that the nodes refuse (issue 26, item 6)
+
+namespace {
+
+QString stateOfStatusBar(MainWindow& w) {
+  QString all;
+  for (QLabel* l : w.statusBar()->findChildren<QLabel*>()) all += l->text() + QLatin1Char('\n');
+  return all;
+}
+
+}  // namespace
+
+TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as read in red, and the status stays red until fixed",
+          "[ui]") {
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("refused.iv"));
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator {\n"
+                  "  DEF Sheet SoBSplineDeformSurface { uDegree 9\n"
+                  "    forces [ DEF Bump SoForceField { type EXPRESSION expression [ \"sin(\", \"0\", \"0\" ] } ] }\n"
+                  "  DEF Fine SoBSplineDeformSurface { numUControlPoints 6 }\n"
+                  "}\n");
+  ensureApp();
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  REQUIRE(w.openScene(path));
+  // one box lists every problem: node, field, the file's value, the reason
+  const QString box = w.lastError();
+  INFO(box.toStdString());
+  CHECK(box.contains(QStringLiteral("Sheet: uDegree = 9: ")));
+  CHECK(box.contains(QStringLiteral("Bump: ")));
+  CHECK(box.contains(QStringLiteral("sin(")));
+  CHECK_FALSE(box.contains(QStringLiteral("Fine")));  // a surface without a problem is not listed
+  // the editor shows 9 (not the 7 its range would clamp to), in red, with the node's reason
+  auto* sheet = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Sheet"));
+  auto* fine = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Fine"));
+  REQUIRE(sheet);
+  REQUIRE(fine);
+  REQUIRE(w.selectNode(sheet));
+  bsdeform::FieldEditor& ed = w.fieldEditor();
+  QWidget* degree = ed.editorOf(QStringLiteral("uDegree"));
+  CHECK(textOf(degree) == QStringLiteral("9"));
+  CHECK(degree->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  CHECK(ed.messageOf(QStringLiteral("uDegree")).contains(QStringLiteral("uDegree")));
+  w.show();
+  processEvents();
+  w.windowScreenshot().save(QStringLiteral("viewer_refused_value.png"));  // looked at
+  // another field of the same surface can still be edited: the refusal is the file's, not its
+  auto* numU = qobject_cast<QAbstractSpinBox*>(ed.editorOf(QStringLiteral("numUControlPoints")));
+  REQUIRE(numU);
+  numU->setFocus();
+  numU->selectAll();
+  QTest::keyClicks(numU, QStringLiteral("8"));
+  QTest::keyClick(numU, Qt::Key_Return);
+  CHECK(sheet->numUControlPoints.getValue() == 8);
+  processEvents();
+  // the status bar names the refusal, in red, also while the other surface is selected
+  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+  REQUIRE(w.selectNode(fine));
+  processEvents();
+  INFO(stateOfStatusBar(w).toStdString());
+  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: Sheet.uDegree")));
+  CHECK(stateOfStatusBar(w).contains(QStringLiteral("#c00")));
+  // fixed from the editor: the mark and the red go
+  REQUIRE(w.selectNode(sheet));
+  degree = ed.editorOf(QStringLiteral("uDegree"));
+  auto* spin = qobject_cast<QAbstractSpinBox*>(degree);
+  REQUIRE(spin);
+  spin->setFocus();
+  spin->selectAll();
+  QTest::keyClicks(spin, QStringLiteral("3"));
+  QTest::keyClick(spin, Qt::Key_Return);
+  CHECK(sheet->uDegree.getValue() == 3);
+  processEvents();
+  ed.refresh();
+  CHECK(ed.messageOf(QStringLiteral("uDegree")).isEmpty());
+  CHECK_FALSE(degree->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  CHECK(sheet->problem().kind != SoBSplineDeformSurface::Problem::FIELD);
+  CHECK_FALSE(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+}
+
+TEST_CASE("Editor: at the window's default size the field editor shows its rows whole, with no sideways scrolling",
+          "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  processEvents();
+  REQUIRE(w->selectNode(w->document().surfaces().front()));
+  processEvents();
+  auto* scroll = w->findChild<QScrollArea*>(QStringLiteral("fieldEditorScroll"));
+  REQUIRE(scroll);
+  const QWidget* viewport = scroll->viewport();
+  // every editor lies within the width; count the rows wholly visible from the top
+  int whole = 0;
+  for (const char* name : {"numUControlPoints", "numVControlPoints", "uDegree", "vDegree", "w10", "w01", "w11", "w20",
+                           "w02", "energy", "massModel", "mass", "damping", "timeStep"}) {
+    QWidget* e = w->fieldEditor().editorOf(QLatin1String(name));
+    REQUIRE(e);
+    const QRect r(e->mapTo(viewport, QPoint(0, 0)), e->size());
+    INFO(name << " at " << r.x() << "," << r.y() << " " << r.width() << "x" << r.height() << " in " << viewport->width() << "x"
+              << viewport->height());
+    CHECK(r.left() >= 0);
+    CHECK(r.right() < viewport->width());
+    if (r.top() >= 0 && r.bottom() < viewport->height()) ++whole;
+  }
+  CHECK(whole >= 12);
 }

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file SceneProblems.h
+/// What the nodes of an opened scene refuse, listed for the user: every surface's problem
+/// (SoBSplineDeformSurface::problem()) and every force field whose values make no force, each
+/// with the node, the field, the value as the file has it and the reason. The viewer shows the
+/// list in one box when a scene opens, so that a refused value is not only a word in the status
+/// bar while the model runs on other values.
+
+#include <QString>
+#include <QVector>
+
+class SoFieldContainer;
+
+namespace bsdeform {
+
+class SceneDocument;
+
+struct SceneProblem {
+  QString node;    ///< the node's DEF name, or its type and place ("SoForceField #2")
+  QString field;   ///< the refused field ("" when no one field is)
+  QString value;   ///< the field's value as it would be written (the file's)
+  QString reason;  ///< the node's sentence
+  bool refused = true;  ///< a value the model does not take; false: a warning (an obstacle, a state adjusted)
+  /// One line: "Cloth: uDegree = 9: <reason>".
+  QString text() const;
+};
+
+/// Every problem of the document's surfaces and force fields, surfaces first, in scene order
+/// (building each surface's model now).
+QVector<SceneProblem> sceneProblems(const SceneDocument& doc);
+
+/// The field's value in the text Coin writes ("9", "0 0 -1", "[ 1, 2 ]").
+QString fieldValueText(SoFieldContainer* owner, const QString& field);
+
+}  // namespace bsdeform
