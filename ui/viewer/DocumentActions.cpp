@@ -5,6 +5,7 @@
 
 #include <QCoreApplication>
 #include <QDragEnterEvent>
+#include <QDir>
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -15,7 +16,9 @@
 #include <QMimeData>
 #include <QPushButton>
 #include <QSettings>
+#include <QStandardPaths>
 #include <QUndoStack>
+#include <memory>
 
 #include "DragTool.h"
 #include "Feedback.h"
@@ -63,7 +66,9 @@ bool DocumentActions::openScene(const QString& path) {
   }
   m_feedback.clearError();
   addRecent(QFileInfo(path).absoluteFilePath());
-  rememberFolder(path);
+  const QString folder = QFileInfo(path).canonicalPath();
+  m_template = shippedSceneFolders().contains(folder);
+  if (!m_template) rememberFolder(path);  // Save As starts in the user's folder, not in the shipped scenes
   loaded();
   m_autosave->markClean();
   reportProblems();
@@ -92,6 +97,7 @@ void DocumentActions::openDefaultScene() {
     m_feedback.error(tr("Cannot open the default scene"), error);
     return;
   }
+  m_template = false;
   loaded();
   m_autosave->markClean();
 }
@@ -105,7 +111,18 @@ void DocumentActions::loaded() {
 }
 
 void DocumentActions::setTitle() {
-  m_window.setWindowTitle(tr("%1[*] - bsdeform viewer").arg(m_doc.path().isEmpty() ? tr("default scene") : QFileInfo(m_doc.path()).fileName()));
+  const QString name = m_doc.path().isEmpty() ? tr("default scene") : QFileInfo(m_doc.path()).fileName();
+  m_window.setWindowTitle(m_template ? tr("%1 (template)[*] - bsdeform viewer").arg(name) : tr("%1[*] - bsdeform viewer").arg(name));
+}
+
+QStringList DocumentActions::shippedSceneFolders() {
+  QStringList out;
+  for (const QString& dir : {QCoreApplication::applicationDirPath() + QStringLiteral("/../share/bsdeform/scenes"),
+                             QStringLiteral(BSDEFORM_SOURCE_SCENES_DIR)}) {
+    const QString canonical = QFileInfo(dir).canonicalFilePath();
+    if (!canonical.isEmpty() && !out.contains(canonical)) out << canonical;
+  }
+  return out;
 }
 
 void DocumentActions::open() {
@@ -146,11 +163,19 @@ void DocumentActions::reload() {
 bool DocumentActions::maybeSave() {
   if ((m_undo.isClean() && !m_restoredUnsaved) || !m_feedback.isInteractive()) return true;
   const QString name = m_doc.path().isEmpty() ? tr("the default scene") : QFileInfo(m_doc.path()).fileName();
-  const auto answer = QMessageBox::warning(&m_window, tr("Unsaved changes"), tr("Save the changes to %1?").arg(name),
-                                           QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, QMessageBox::Save);
+  std::unique_ptr<QMessageBox> box(unsavedChangesBox(&m_window, name));
+  const int answer = box->exec();
   if (answer == QMessageBox::Cancel) return false;
   if (answer == QMessageBox::Save) return saveScene();
   return true;
+}
+
+QMessageBox* DocumentActions::unsavedChangesBox(QWidget* parent, const QString& name) {
+  auto* box = new QMessageBox(QMessageBox::Warning, tr("Unsaved changes"), tr("Save the changes to %1?").arg(name),
+                              QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, parent);
+  box->setDefaultButton(QMessageBox::Cancel);
+  box->setEscapeButton(QMessageBox::Cancel);
+  return box;
 }
 
 bool DocumentActions::saveSceneAs(const QString& path) {
@@ -161,10 +186,9 @@ bool DocumentActions::saveSceneAs(const QString& path) {
   }
   addRecent(QFileInfo(path).absoluteFilePath());
   rememberFolder(path);
-  if (m_doc.path() != path) {
-    m_doc.setPath(path);
-    setTitle();
-  }
+  m_template = shippedSceneFolders().contains(QFileInfo(path).canonicalPath());
+  m_doc.setPath(path);
+  setTitle();
   m_undo.setClean();
   m_restoredUnsaved = false;
   m_window.setWindowModified(false);
@@ -174,7 +198,13 @@ bool DocumentActions::saveSceneAs(const QString& path) {
 }
 
 bool DocumentActions::saveScene() {
-  if (m_doc.path().isEmpty()) {
+  if (m_template && !m_feedback.isInteractive()) {
+    m_feedback.error(tr("Cannot save scene"), tr("%1 is a scene that comes with bsdeform, opened as a template: Save As "
+                                                 "gives your version a name of its own")
+                                                  .arg(m_doc.path()));
+    return false;
+  }
+  if (m_doc.path().isEmpty() || m_template) {
     saveAs();
     return m_undo.isClean() && !m_restoredUnsaved;
   }
@@ -182,9 +212,16 @@ bool DocumentActions::saveScene() {
 }
 
 void DocumentActions::saveAs() {
-  // QFileDialog asks before replacing an existing file; the file is written atomically.
-  QString path = QFileDialog::getSaveFileName(&m_window, tr("Save scene as"), m_doc.path().isEmpty() ? openFolder() : m_doc.path(),
-                                              tr("Inventor scenes (*.iv)"));
+  // QFileDialog asks before replacing an existing file; the file is written atomically. A
+  // template is offered under its name in the user's folder, not where it came from.
+  QString start = m_doc.path().isEmpty() ? openFolder() : m_doc.path();
+  if (m_template) {
+    QString folder = QSettings().value(kFolderKey).toString();
+    if (folder.isEmpty() || !QFileInfo(folder).isDir() || shippedSceneFolders().contains(QFileInfo(folder).canonicalFilePath()))
+      folder = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+    start = QDir(folder).filePath(QFileInfo(m_doc.path()).fileName());
+  }
+  QString path = QFileDialog::getSaveFileName(&m_window, tr("Save scene as"), start, tr("Inventor scenes (*.iv)"));
   if (path.isEmpty()) return;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");
   saveSceneAs(path);
@@ -277,6 +314,7 @@ bool DocumentActions::restoreRecovery(const RecoveryFile& file) {
     return false;
   }
   m_doc.setPath(file.originalPath);
+  m_template = !file.originalPath.isEmpty() && shippedSceneFolders().contains(QFileInfo(file.originalPath).canonicalPath());
   loaded();
   m_restoredUnsaved = true;  // the restored work is not in the scene's file yet
   m_window.setWindowModified(true);

@@ -15,6 +15,8 @@ class QDragEnterEvent;
 class QDropEvent;
 class QMainWindow;
 class QMenu;
+class QMessageBox;
+class QWidget;
 class QUndoStack;
 
 namespace bsdeform {
@@ -48,13 +50,23 @@ class DocumentActions : public QObject {
   void openDefaultScene();
   /// Writes the scene with its state; the file becomes the document's.
   bool saveSceneAs(const QString& path);
-  /// Saves to the scene's own file (Save As for the built-in default scene).
+  /// Saves to the scene's own file (Save As for the built-in default scene and for a
+  /// template: a shipped scene is never overwritten by Save; when not interactive that is an
+  /// error and nothing is written).
   bool saveScene();
   /// With unsaved edits, asks whether to save them (interactive only: otherwise they are
   /// dropped). True when the caller may go on (saved or discarded), false on Cancel.
   bool maybeSave();
+  /// The question maybeSave() asks about `name`: Save, Discard, Cancel, Cancel the default
+  /// (Return neither writes over a file nor throws work away).
+  static QMessageBox* unsavedChangesBox(QWidget* parent, const QString& name);
   /// The folder the Open dialog starts in: the last one used, scenes/ the first time.
   static QString openFolder();
+  /// The folders of the scenes that come with bsdeform (installed, and the source tree's for a
+  /// build run where it was built), canonical.
+  static QStringList shippedSceneFolders();
+  /// The open scene is one of those: a template, which Save does not overwrite.
+  bool isTemplate() const { return m_template; }
 
   /// Offers the recovery files of viewers that died (newest first). Returns true when one was
   /// restored.
@@ -95,6 +107,7 @@ class DocumentActions : public QObject {
   Autosave* m_autosave;
   bool m_autosaveFailing = false;  // report the first failure in a dialog, later ones in the status bar
   bool m_restoredUnsaved = false;  ///< a restored autosave: unsaved although there is nothing to undo
+  bool m_template = false;         ///< the scene came from shippedSceneFolders()
   QMenu* m_recentMenu = nullptr;
 };
 

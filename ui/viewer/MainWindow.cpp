@@ -375,6 +375,7 @@ bool MainWindow::openScene(const QString& path) { return m_files->openScene(path
 void MainWindow::openDefaultScene() { m_files->openDefaultScene(); }
 bool MainWindow::saveSceneAs(const QString& path) { return m_files->saveSceneAs(path); }
 bool MainWindow::saveScene() { return m_files->saveScene(); }
+bool MainWindow::isTemplate() const { return m_files->isTemplate(); }
 bool MainWindow::maybeSave() { return m_files->maybeSave(); }
 QString MainWindow::openFolder() const { return DocumentActions::openFolder(); }
 bool MainWindow::offerRecovery(RecoveryChoice choice) { return m_files->offerRecovery(choice); }

@@ -55,8 +55,10 @@ class MainWindow : public QMainWindow {
   void openDefaultScene();
   /// Writes the scene with its state (used by Save As); the file becomes the document's.
   bool saveSceneAs(const QString& path);
-  /// Saves to the scene's own file (Save As for the built-in default scene).
+  /// Saves to the scene's own file (Save As for the built-in default scene and a template).
   bool saveScene();
+  /// The open scene is one that comes with bsdeform: Save asks for a new name (DocumentActions).
+  bool isTemplate() const;
   /// The edits since the scene was opened or saved: Edit > Undo / Redo, clean after a save.
   QUndoStack& undoStack() { return *m_undo; }
   /// Adds a force field of `type` (SoForceField::Type) to the selected surface, undoably.

@@ -93,6 +93,19 @@ void answerNextMessageBox(QMessageBox::StandardButton button, QString& seen) {
   poll->start(50);
 }
 
+// Presses Return on the next modal message box: its default button answers.
+void pressReturnOnNextMessageBox(QString& seen) {
+  auto* poll = new QTimer;
+  QObject::connect(poll, &QTimer::timeout, poll, [poll, &seen] {
+    auto* box = qobject_cast<QMessageBox*>(QApplication::activeModalWidget());
+    if (!box) return;
+    seen = box->text();
+    QTest::keyClick(box, Qt::Key_Return);
+    poll->deleteLater();
+  });
+  poll->start(50);
+}
+
 }  // namespace
 
 TEST_CASE("Editing: undo and redo restore a field value, an inserted and a deleted force field and surface", "[ui]") {
@@ -339,6 +352,15 @@ TEST_CASE("Editing: the unsaved-changes prompt on quit and reload, Cancel keeps 
   CHECK(seen.contains(QStringLiteral("region_load.iv")));
   CHECK(w->isVisible());
   CHECK(s->w10.getValue() == Approx(0.3));
+  // Return on the question is Cancel, not Save: the file stays as it is, the edit too
+  seen.clear();
+  const QByteArray file = readAll(scenePath("region_load.iv"));
+  pressReturnOnNextMessageBox(seen);
+  CHECK(!w->close());
+  CHECK(!seen.isEmpty());
+  CHECK(w->isVisible());
+  CHECK(readAll(scenePath("region_load.iv")) == file);
+  CHECK(!w->undoStack().isClean());
   // reload: Discard reads the file again
   seen.clear();
   answerNextMessageBox(QMessageBox::Discard, seen);
@@ -794,4 +816,43 @@ TEST_CASE("Editor: at the window's default size the field editor shows its rows 
     if (r.top() >= 0 && r.bottom() < viewport->height()) ++whole;
   }
   CHECK(whole >= 12);
+}
+
+TEST_CASE("Editing: a shipped scene opens as a template, Save never writes over it, Save As makes it the user's",
+          "[ui]") {
+  ensureApp();
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  const QString shipped = scenePath("curtain.iv");
+  const QByteArray original = readAll(shipped);
+  REQUIRE(w.openScene(shipped));
+  CHECK(w.isTemplate());
+  CHECK(w.windowTitle().contains(QStringLiteral("(template)")));
+  for (int i = 0; i < 3; ++i) w.step();
+  REQUIRE(w.selectNode(firstSurface(w)));
+  typeInto(w.fieldEditor().editorOf(QStringLiteral("damping")), QStringLiteral("0.7"));
+  REQUIRE(!w.undoStack().isClean());
+  // Save: refused (interactive, it asks for a name), the shipped file untouched
+  CHECK_FALSE(w.saveScene());
+  CHECK(w.lastError().contains(QStringLiteral("template")));
+  CHECK(readAll(shipped) == original);
+  // Save As: the user's own file, no longer a template; Save writes there from now on
+  QTemporaryDir dir;
+  const QString mine = dir.filePath(QStringLiteral("my_curtain.iv"));
+  REQUIRE(w.saveSceneAs(mine));
+  CHECK_FALSE(w.isTemplate());
+  CHECK_FALSE(w.windowTitle().contains(QStringLiteral("(template)")));
+  CHECK(readAll(mine).startsWith("#Inventor V2.1 ascii"));
+  CHECK(readAll(mine).contains("# "));  // the template's comment block came along
+  typeInto(w.fieldEditor().editorOf(QStringLiteral("damping")), QStringLiteral("0.8"));
+  CHECK(w.saveScene());
+  CHECK(readAll(mine).contains("damping 0.8"));
+  CHECK(readAll(shipped) == original);
+  // a copy of a shipped scene elsewhere is the user's file: not a template
+  const QString copy = dir.filePath(QStringLiteral("copy.iv"));
+  REQUIRE(QFile::copy(shipped, copy));
+  REQUIRE(w.openScene(copy));
+  CHECK_FALSE(w.isTemplate());
 }
