@@ -139,7 +139,7 @@ TEST_CASE("Contact: welding forgives float rounding, so a seam closes the mesh",
   CHECK(weldVertices(near).vertices.size() == 9);
 }
 
-TEST_CASE("Contact: a free cloth resting on a box carries its weight and stays within the thickness", "[core]") {
+TEST_CASE("Contact: a free cloth resting on a box carries its weight and stays within the thickness", "[core][slow]") {
   ModelParameters mp = clothParams();
   Simulation sim(mp);
   const Eigen::Vector3d g(0, 0, -2.0);

@@ -79,7 +79,7 @@ double navierCentre() {
 }  // namespace
 
 TEST_CASE("Edges: edge curve and cross derivative stay at rest after 1000 random-force steps, degrees 1..5",
-          "[core]") {
+          "[core][slow]") {
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> U(0.0, 1.0), F(-20.0, 20.0);
   int cases = 0;

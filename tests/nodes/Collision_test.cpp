@@ -218,7 +218,8 @@ TEST_CASE("Collision: an indexed shape with indices out of range is skipped with
   root->unref();
 }
 
-TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces", "[nodes]") {
+TEST_CASE("Collision: two surfaces that list each other collide both ways with equal and opposite forces",
+          "[nodes][slow]") {
   // A lower cloth B lies on a Cube; an upper cloth A, of another size and resolution, falls on
   // it. Each lists the other as an obstacle: A lists B in `obstacles`, B names A in
   // `obstacleNames` (a file cannot USE a node before its definition). At rest the contact carries A's weight, and what B feels from A is what A feels
