@@ -36,6 +36,13 @@ QString surfaceLabel(int index, const QString& name) {
 
 }  // namespace
 
+std::vector<StateFileSurface> fileSurfacesOf(const std::vector<QString>& defNames, const StateFrame& frame) {
+  std::vector<StateFileSurface> surfaces;
+  for (std::size_t k = 0; k < defNames.size() && k < frame.surfaces.size(); ++k)
+    surfaces.push_back({defNames[k], int(frame.surfaces[k].current.rows())});
+  return surfaces;
+}
+
 bool writeStateFile(const QString& path, const std::vector<StateFileSurface>& surfaces, const StateHistory& history,
                     QString& error) {
   return saveFileAtomically(
@@ -101,11 +108,9 @@ bool readStateFile(const QString& path, StateFileContents& contents, QString& er
     return refuse(QStringLiteral("frame count %1 (the file holds at most %2)").arg(frames).arg(size / frameBytes));
   read.frames.reserve(frames);
   for (quint64 f = 0; f < frames; ++f) {
-    StateFrame frame;
-    in >> frame.time;
-    if (f > 0 && !(frame.time > read.frames.back().time))
-      return refuse(QStringLiteral("frame %1: time %2 is not after the frame before (%3)")
-                        .arg(f + 1).arg(frame.time, 0, 'g', 17).arg(read.frames.back().time, 0, 'g', 17));
+    double time = 0.0;
+    in >> time;
+    std::vector<SimulationState> states;
     for (quint32 k = 0; k < count; ++k) {
       SimulationState s;
       qint64 steps = 0;
@@ -113,8 +118,12 @@ bool readStateFile(const QString& path, StateFileContents& contents, QString& er
       s.steps = long(steps);
       if (!readNet(in, read.surfaces[k].netPoints, s.current) || !readNet(in, read.surfaces[k].netPoints, s.previous))
         return refuse(QStringLiteral("frame %1, %2: the file ends early").arg(f + 1).arg(surfaceLabel(int(k), read.surfaces[k].name)));
-      frame.surfaces.push_back(std::move(s));
+      states.push_back(std::move(s));
     }
+    StateFrame frame = frameOf(std::move(states));
+    if (!(frame.time == time) || (f > 0 && !comesBefore(read.frames.back(), frame)))
+      return refuse(QStringLiteral("frame %1: time %2 is not that of its states or not after the frame before")
+                        .arg(f + 1).arg(time, 0, 'g', 17));
     read.frames.push_back(std::move(frame));
   }
   if (!in.atEnd()) return refuse(QStringLiteral("%1 bytes after the last frame").arg(size - file.pos()));

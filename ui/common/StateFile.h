@@ -30,6 +30,10 @@ struct StateFileContents {
   std::vector<StateFrame> frames;  ///< times increasing
 };
 
+/// The surfaces of `frame` as a state file names them: `defNames` (in order, "" for none) and
+/// the sizes of the frame's nets.
+std::vector<StateFileSurface> fileSurfacesOf(const std::vector<QString>& defNames, const StateFrame& frame);
+
 /// The version written and the only one read.
 constexpr int kStateFileVersion = 1;
 

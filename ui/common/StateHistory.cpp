@@ -7,8 +7,11 @@
 namespace bsdeform {
 
 StateFrame frameOf(std::vector<SimulationState> states) {
-  StateFrame frame{states.empty() ? 0.0 : states.front().time, std::move(states)};
-  for (const SimulationState& s : frame.surfaces) frame.time = std::max(frame.time, s.time);
+  StateFrame frame{states.empty() ? 0.0 : states.front().time, 0, std::move(states)};
+  for (const SimulationState& s : frame.surfaces) {
+    frame.time = std::max(frame.time, s.time);
+    frame.steps += s.steps;
+  }
   return frame;
 }
 
@@ -19,9 +22,8 @@ std::size_t bytesOf(const StateFrame& frame) {
 }
 
 void StateHistory::append(StateFrame frame) {
-  if (!m_frames.empty() && !(frame.time > m_frames.back().time)) {  // the frames from its time on are replaced
-    const auto from = std::lower_bound(m_frames.begin(), m_frames.end(), frame.time,
-                                       [](const StateFrame& f, double t) { return f.time < t; });
+  if (!m_frames.empty() && !comesBefore(m_frames.back(), frame)) {  // the frames from it on are replaced
+    const auto from = std::lower_bound(m_frames.begin(), m_frames.end(), frame, comesBefore);
     takeAfter(int(from - m_frames.begin()) - 1);
   }
   m_bytes += bytesOf(frame);
@@ -56,6 +58,10 @@ int StateHistory::indexAt(double time) const {
   const auto after = std::upper_bound(m_frames.begin(), m_frames.end(), time,
                                       [](double t, const StateFrame& f) { return t < f.time; });
   return int(after - m_frames.begin()) - 1;
+}
+
+int StateHistory::indexOf(const StateFrame& frame) const {
+  return int(std::upper_bound(m_frames.begin(), m_frames.end(), frame, comesBefore) - m_frames.begin()) - 1;
 }
 
 // Every second frame of the older half goes, the first one stays: frames 1, 3, 5, ... below

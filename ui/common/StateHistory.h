@@ -20,10 +20,18 @@ namespace bsdeform {
 /// The surfaces' states at one time (one per surface, in the scene's order).
 struct StateFrame {
   double time = 0.0;  ///< the largest simulated time among the surfaces
+  long steps = 0;     ///< the surfaces' steps, summed: with `time` it orders the frames (a
+                      ///< Step of a scene whose time steps differ can leave the largest time as it was)
   std::vector<SimulationState> surfaces;
 };
 
-/// The frame of `states` (one per surface, in order) at the largest of their times.
+/// Whether `a` comes before `b`: an earlier time, or the same time and fewer steps.
+inline bool comesBefore(const StateFrame& a, const StateFrame& b) {
+  return a.time < b.time || (a.time == b.time && a.steps < b.steps);
+}
+
+/// The frame of `states` (one per surface, in order) at the largest of their times, with the
+/// sum of their step counts.
 StateFrame frameOf(std::vector<SimulationState> states);
 /// Bytes a frame holds (its states and its own size).
 std::size_t bytesOf(const StateFrame& frame);
@@ -35,8 +43,8 @@ class StateHistory {
 
   explicit StateHistory(std::size_t budget = kDefaultBudget) : m_budget(budget) {}
 
-  /// Appends `frame` (its time after the last one's; an equal or earlier time replaces the
-  /// frames from there on), then thins while over the budget.
+  /// Appends `frame` (normally after the last one, comesBefore(); an earlier or equal frame
+  /// replaces the frames from there on), then thins while over the budget.
   void append(StateFrame frame);
   /// Removes and returns the frames after `index` (a branch that is discarded).
   std::vector<StateFrame> takeAfter(int index);
@@ -57,6 +65,8 @@ class StateHistory {
   const StateFrame& back() const { return m_frames.back(); }
   /// The last frame at or before `time` (-1 when every frame is later).
   int indexAt(double time) const;
+  /// The last frame that is `frame` or comes before it (-1 when every frame comes after).
+  int indexOf(const StateFrame& frame) const;
 
  private:
   void thinWhileOver();

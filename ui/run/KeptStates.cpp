@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "KeptStates.h"
 
-#include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform::run {
@@ -17,10 +16,9 @@ void KeptStates::frameReached(long frame, bool last) {
 }
 
 bool KeptStates::write(const QString& path, QString& error) const {
-  std::vector<StateFileSurface> surfaces;
-  for (SoBSplineDeformSurface* s : m_surfaces)
-    surfaces.push_back({QString::fromUtf8(s->getName().getString()), int(s->simulation().current().rows())});
-  return writeStateFile(path, surfaces, m_history, error);
+  std::vector<QString> names;
+  for (SoBSplineDeformSurface* s : m_surfaces) names.push_back(QString::fromUtf8(s->getName().getString()));
+  return writeStateFile(path, fileSurfacesOf(names, m_history.isEmpty() ? StateFrame() : m_history.back()), m_history, error);
 }
 
 }  // namespace bsdeform::run

@@ -6,15 +6,16 @@
 namespace bsdeform {
 
 DiscardBranchCommand::DiscardBranchCommand(Timeline& timeline)
-    : m_timeline(timeline),
-      m_generation(timeline.m_generation),
-      m_branchTime(timeline.history()[timeline.position()].time) {
-  setText(QObject::tr("Discard Later States (from t = %1)").arg(m_branchTime));
+    : m_timeline(timeline), m_generation(timeline.m_generation) {
+  const StateFrame& at = timeline.history()[timeline.position()];
+  m_branchPoint.time = at.time;
+  m_branchPoint.steps = at.steps;
+  setText(QObject::tr("Discard Later States (from t = %1)").arg(at.time));
 }
 
 void DiscardBranchCommand::swapBranch() {
   StateHistory& h = m_timeline.m_history;
-  std::vector<StateFrame> later = h.takeAfter(h.indexAt(m_branchTime));
+  std::vector<StateFrame> later = h.takeAfter(h.indexOf(m_branchPoint));
   h.appendAll(std::move(m_branch));
   m_branch = std::move(later);
 }
@@ -22,7 +23,7 @@ void DiscardBranchCommand::swapBranch() {
 void DiscardBranchCommand::undo() {
   if (m_generation != m_timeline.m_generation) return;
   swapBranch();
-  const int at = std::max(0, m_timeline.history().indexAt(m_branchTime));
+  const int at = std::max(0, m_timeline.history().indexOf(m_branchPoint));
   if (!m_timeline.showFrame(at)) m_timeline.emitChanged();
 }
 

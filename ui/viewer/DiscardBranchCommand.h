@@ -23,11 +23,11 @@ class DiscardBranchCommand : public QUndoCommand {
   void redo() override;
 
  private:
-  /// Exchanges the kept states after m_branchTime with m_branch.
+  /// Exchanges the kept states after m_branchPoint with m_branch.
   void swapBranch();
   Timeline& m_timeline;
   int m_generation;
-  double m_branchTime;
+  StateFrame m_branchPoint;  ///< the frame branched from (its time and steps, no states)
   std::vector<StateFrame> m_branch;
   bool m_done = false;
 };

@@ -96,10 +96,9 @@ void Timeline::setBudget(std::size_t bytes) {
 }
 
 std::vector<StateFileSurface> Timeline::fileSurfaces() {
-  std::vector<StateFileSurface> surfaces;
-  for (SoBSplineDeformSurface* s : m_surfaces)
-    surfaces.push_back({QString::fromUtf8(s->getName().getString()), int(s->simulation().current().rows())});
-  return surfaces;
+  std::vector<QString> names;
+  for (SoBSplineDeformSurface* s : m_surfaces) names.push_back(QString::fromUtf8(s->getName().getString()));
+  return fileSurfacesOf(names, frameNow());
 }
 
 bool Timeline::load(const QString& path, const StateFileContents& contents) {
