@@ -43,16 +43,17 @@ TimelinePanel::TimelinePanel(Timeline& timeline, std::function<double()> speed, 
 QString TimelinePanel::label() const {
   const StateHistory& h = m_timeline.history();
   if (h.isEmpty()) return tr("no states kept");
-  return tr("t = %1 s of %2 s · %n state(s)", nullptr, h.size())
+  return (h.size() == 1 ? tr("t = %1 s of %2 s · 1 state") : tr("t = %1 s of %2 s · %3 states").arg(h.size()))
       .arg(QLocale().toString(h[m_timeline.position()].time, 'g', 6), QLocale().toString(h.back().time, 'g', 6));
 }
 
 QString TimelinePanel::memoryText() const {
   const StateHistory& h = m_timeline.history();
   const QLocale locale;
-  QString text = tr("%n state(s) kept, %1 of the %2 budget", nullptr, h.size())
+  QString text = tr("States kept: %1, %2 of the %3 budget")
+                     .arg(h.size())
                      .arg(locale.formattedDataSize(qint64(h.bytes())), locale.formattedDataSize(qint64(h.budget())));
-  text += h.thinnings() ? tr("; thinned %n time(s): older states are sparser", nullptr, h.thinnings())
+  text += h.thinnings() ? tr("; thinned %1 times so far: older states are sparser").arg(h.thinnings())
                         : tr("; when full, every second state of the older half is dropped");
   return text;
 }
