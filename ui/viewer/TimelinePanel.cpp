@@ -43,8 +43,10 @@ TimelinePanel::TimelinePanel(Timeline& timeline, std::function<double()> speed, 
 QString TimelinePanel::label() const {
   const StateHistory& h = m_timeline.history();
   if (h.isEmpty()) return tr("no states kept");
-  return (h.size() == 1 ? tr("t = %1 s of %2 s · 1 state") : tr("t = %1 s of %2 s · %3 states").arg(h.size()))
-      .arg(QLocale().toString(h[m_timeline.position()].time, 'g', 6), QLocale().toString(h.back().time, 'g', 6));
+  const QString times = tr("t = %1 s of %2 s")
+                            .arg(QLocale().toString(h[m_timeline.position()].time, 'g', 6),
+                                 QLocale().toString(h.back().time, 'g', 6));
+  return times + (h.size() == 1 ? tr(" · 1 state") : tr(" · %1 states").arg(h.size()));
 }
 
 QString TimelinePanel::memoryText() const {
