@@ -26,6 +26,7 @@
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
+#include "bsdeform/SimulationState.h"
 #include "bsdeform/Tessellation.h"
 #include "bsdeform/SoForceField.h"
 #include "bsdeform/SurfaceBuffers.h"
@@ -319,6 +320,24 @@ void SoBSplineDeformSurface::resetSimulation() {
   ensureSimulation();
   m_sim->reset();
   stateReplaced();
+}
+
+bsdeform::SimulationState SoBSplineDeformSurface::state() {
+  ensureSimulation();
+  return bsdeform::stateOf(*m_sim);
+}
+
+bool SoBSplineDeformSurface::restoreState(const bsdeform::SimulationState& state, std::string* error) {
+  ensureSimulation();
+  updateForces(*m_sim);  // the forces set the sub-step the state is put back at
+  try {
+    bsdeform::restoreState(*m_sim, state);
+  } catch (const std::exception& e) {
+    if (error) *error = e.what();
+    return false;
+  }
+  stateReplaced();
+  return true;
 }
 
 void SoBSplineDeformSurface::stateReplaced() {

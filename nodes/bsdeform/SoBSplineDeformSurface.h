@@ -94,6 +94,7 @@ class SceneObstacles;
 class SurfaceBuffers;
 struct StaticResult;
 struct Diagnostics;
+struct SimulationState;
 }  // namespace bsdeform
 
 class SoFieldSensor;
@@ -241,6 +242,14 @@ class SoBSplineDeformSurface : public SoShape {
   /// viewer's mouse spring.
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);
   void removeTransientForce(const bsdeform::Force* force);
+  /// The simulation's state now (bsdeform/SimulationState.h): what restoreState() takes back.
+  bsdeform::SimulationState state();
+  /// Puts back a state taken with state() from this surface or one built alike (the viewer's
+  /// timeline, a bsdeform-run --keep-states file) into the current model, which stays (no
+  /// rebuild): the state is then the same bits and the next steps are those taken from it
+  /// before. The listeners are told STATE_CHANGED. A state that does not fit this model (another
+  /// net size, moved held points) changes nothing: false, and `error` says why.
+  bool restoreState(const bsdeform::SimulationState& state, std::string* error);
   /// Writes the simulation state into controlNet, previousNet, simulationTime, stepCount.
   /// simulationTime and stepCount are kept current after every step and reset anyway (a
   /// field editor or a script reads them); the nets are written here, on write().

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "History.h"
 
+#include <algorithm>
+
 #include <QStringList>
 
 #include "bsdeform/Diagnostics.h"
@@ -25,6 +27,11 @@ void History::thin() {
     v->resize(k);
     v->squeeze();
   }
+}
+
+void History::dropFrom(double time) {
+  const int keep = int(std::lower_bound(m_time.begin(), m_time.end(), time) - m_time.begin());
+  for (QVector<double>* v : {&m_time, &m_norm, &m_kinetic, &m_strain}) v->resize(keep);
 }
 
 QVector<PlotSeries> History::plotSeries() const {

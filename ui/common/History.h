@@ -22,6 +22,8 @@ class History {
   void clear();
   /// Drops every second sample (the first one is kept): the span stays, the spacing doubles.
   void thin();
+  /// Drops the samples at `time` and after (a branch of the run that is replaced).
+  void dropFrom(double time);
 
   int size() const { return m_time.size(); }
   bool isEmpty() const { return m_time.isEmpty(); }

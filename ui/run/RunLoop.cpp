@@ -305,8 +305,10 @@ Failure RunLoop::run() {
     m_surfaces[i].callback = m_surfaces[i].node->addCallback([this, i](SoBSplineDeformSurface*, SoBSplineDeformSurface::Event e) {
       if (e == SoBSplineDeformSurface::STEPPED) stepped(m_surfaces[i]);
     });
+  if (!o.keepStates.isEmpty()) m_kept = std::make_unique<KeptStates>(m_runner->surfaces(), o.recordEvery);
   for (long frame = 0; frame <= m_frames; ++frame) {
     if (frame > 0) m_runner->advanceTo(m_t0 + frame * m_dtMin);
+    if (m_kept) m_kept->frameReached(frame, frame == m_frames || m_blewUp);
     if (!o.resultOnly && ((o.pngEvery > 0 && frame % o.pngEvery == 0) || m_imageFrames.contains(frame))) {
       f = writeImage(frame);
       if (!f.ok()) return f;
@@ -362,6 +364,10 @@ Failure RunLoop::writeOutputs() {
     std::string err;
     if (!syncFileSystem(QFile::encodeName(o.outDir).toStdString(), err))
       return writeFailure(QString::fromStdString(err), m_written);
+  }
+  if (m_kept) {
+    if (!m_kept->write(o.keepStates, error)) return writeFailure(error, m_written);
+    m_written << o.keepStates;
   }
   const QString ivPath = m_out.filePath(QStringLiteral("final.iv"));
   if (!writeScene(m_root.get(), ivPath, error)) return writeFailure(error, m_written);

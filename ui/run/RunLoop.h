@@ -13,6 +13,7 @@
 
 #include "FrameClock.h"
 #include "History.h"
+#include "KeptStates.h"
 #include "RunFailure.h"
 #include "RunOptions.h"
 #include "RunSetup.h"
@@ -102,6 +103,7 @@ class RunLoop {
   long m_imagesWritten = 0;
   QVector<long> m_imageFrames;  ///< --png-at as frames
   std::unique_ptr<VideoWriter> m_video;
+  std::unique_ptr<KeptStates> m_kept;  ///< --keep-states
   FrameClock m_videoClock;
 };
 

@@ -64,6 +64,11 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                        QStringLiteral("history rows (CSV, plot): the first state, every state whose step "
                                                       "count is a multiple of K, and the last state (default 1: every step)"),
                                        QStringLiteral("K"));
+  const QCommandLineOption keepStates(
+      QStringLiteral("keep-states"),
+      QStringLiteral("also write the states of every surface at the first time, every K-th time step (--record-every) "
+                     "and the last, for bsdeform-viewer --states (older states thinned beyond 256 MiB)"),
+      QStringLiteral("FILE"));
   const QCommandLineOption video(QStringLiteral("video"),
                                   QStringLiteral("also write a video of the run: .mp4 (H.264) or .webm (VP9), at --size"),
                                   QStringLiteral("FILE"));
@@ -100,7 +105,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                QStringLiteral("CSV"));
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, quiet,
+      {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, keepStates, quiet,
        staticSolve, loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
@@ -150,6 +155,9 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
     if (!ok || o.recordEvery < 1)
       return {kBadInput, QStringLiteral("--record-every '%1' is not a count >= 1").arg(parser.value(recordEvery))};
   }
+  o.keepStates = parser.value(keepStates);
+  if (parser.isSet(keepStates) && !o.sweep.isEmpty())
+    return {kBadInput, QStringLiteral("--keep-states and --sweep: a sweep runs many simulations, keep one's with --set")};
   o.video = parser.value(video);
   if (parser.isSet(videoFps)) {
     o.videoFps = parser.value(videoFps).toDouble(&ok);
@@ -172,7 +180,8 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
     // the equilibrium is one state: nothing to step, sweep or film
     for (const auto& [isSet, name] : {std::make_pair(parser.isSet(steps), "--steps"), std::make_pair(parser.isSet(until), "--until"),
                                       std::make_pair(!o.sweep.isEmpty(), "--sweep"), std::make_pair(!o.video.isEmpty(), "--video"),
-                                      std::make_pair(parser.isSet(recordEvery), "--record-every")})
+                                      std::make_pair(parser.isSet(recordEvery), "--record-every"),
+                                      std::make_pair(parser.isSet(keepStates), "--keep-states")})
       if (isSet)
         return {kBadInput, QStringLiteral("--static and %1: --static solves for one state, the equilibrium at t = 0")
                                .arg(QLatin1String(name))};

@@ -25,6 +25,7 @@ struct RunOptions {
   QString sweep;           ///< --sweep NAME.field=v1,v2,...
   bool plot = false;
   long recordEvery = 1;
+  QString keepStates;      ///< --keep-states FILE: the states for bsdeform-viewer --states (StateFile.h)
   QString video;           ///< --video FILE (.mp4, .webm)
   double videoFps = 25.0;  ///< --video-fps: frames per simulated second
   QString exportMesh;      ///< --export-mesh FILE (.obj, .stl): the surfaces' triangles at the end

@@ -9,6 +9,7 @@
 #include <QCloseEvent>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QFileDialog>
 #include <QLabel>
 #include <QMenuBar>
 #include <QScrollArea>
@@ -34,6 +35,8 @@
 #include "SimulationControls.h"
 #include "StatusPanel.h"
 #include "SurfaceListener.h"
+#include "Timeline.h"
+#include "TimelinePanel.h"
 #include "ViewFraming.h"
 #include "ViewerClock.h"
 #include "bsdeform/SoForceField.h"
@@ -59,6 +62,13 @@ MainWindow::MainWindow(QWidget* parent)
   m_listener = new SurfaceListener(this);
   connect(m_listener, &SurfaceListener::surfaceEvent, this, &MainWindow::surfaceEvent);
   connect(m_listener, &SurfaceListener::changed, this, &MainWindow::refreshViews);
+  m_timeline = new Timeline(*m_undo, this);
+  connect(m_listener, &SurfaceListener::surfaceEvent, m_timeline, &Timeline::surfaceEvent);
+  connect(m_listener, &SurfaceListener::changed, m_timeline, &Timeline::capture);
+  connect(m_timeline, &Timeline::aboutToRestore, this, [this] {
+    setPlaying(false);
+    m_drag->release();
+  });
   m_wrapper = new SoSeparator;
   m_wrapper->ref();
 
@@ -109,6 +119,8 @@ void MainWindow::createActions() {
   a->setShortcut(QKeySequence::Save);
   a = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
   a->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));  // QKeySequence::SaveAs is empty without a desktop theme
+  file->addAction(tr("Open S&tates..."), this, &MainWindow::openStatesDialog)
+      ->setToolTip(tr("Scrub through the states a bsdeform-run --keep-states run of this scene wrote"));
   file->addSeparator();
   file->addAction(tr("&Export Mesh (OBJ, STL)..."), this, &MainWindow::exportMeshDialog);
   file->addAction(tr("Export &Control Net (XYZ, OBJ)..."), this, &MainWindow::exportControlNetDialog);
@@ -227,6 +239,14 @@ void MainWindow::createDocks() {
   connect(m_plots, &PlotPanel::failed, this, [this](const QString& m) { m_feedback->error(tr("Export failed"), m); });
   plotDock->setWidget(m_plots);
   addDockWidget(Qt::BottomDockWidgetArea, plotDock);
+  connect(m_timeline, &Timeline::changed, m_plots, [this](double t) { m_plots->showUntil(m_timeline->isAtEnd() ? INFINITY : t); });
+
+  auto* timelineDock = new QDockWidget(tr("Timeline"), this);
+  timelineDock->setObjectName(QStringLiteral("timelineDock"));
+  m_timelinePanel = new TimelinePanel(*m_timeline, [this] { return clock().speed(); });
+  timelineDock->setWidget(m_timelinePanel);
+  addDockWidget(Qt::BottomDockWidgetArea, timelineDock);
+  splitDockWidget(timelineDock, plotDock, Qt::Vertical);  // the strip right under the view
 }
 
 void MainWindow::saveLayout() {
@@ -285,6 +305,7 @@ void MainWindow::showScene() {
   m_drag->setCamera(m_viewer->getCamera());
   m_framing->sceneShown(m_doc->root());
   m_listener->listen(m_doc->surfaces());
+  m_timeline->setSurfaces(m_doc->surfaces());
   m_status->restart();
   m_selectedSurface = -1;
   m_plotted = nullptr;
@@ -313,6 +334,7 @@ void MainWindow::fieldChanged(SoFieldContainer* owner, SoField* field) {
 void MainWindow::structureChanged(SoBase* focus) {
   m_drag->release();
   m_listener->listen(m_doc->surfaces());  // surfaces that came in (they follow the same realTime as the others)
+  m_timeline->setSurfaces(m_doc->surfaces());
   m_scenePanel->populate();  // selects the first surface, if any
   if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
     m_editor->setContainer(nullptr, QString());
@@ -344,7 +366,7 @@ void MainWindow::forceFieldSelected(int index) {
 void MainWindow::surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSurface::Event e) {
   if (surface != m_plotted) return;
   if (e == SoBSplineDeformSurface::STEPPED) m_plots->sample();
-  if (e == SoBSplineDeformSurface::STATE_CHANGED) m_plots->restart();
+  if (e == SoBSplineDeformSurface::STATE_CHANGED && !m_timeline->isRestoring()) m_plots->restart();
 }
 
 void MainWindow::refreshViews() {
@@ -385,6 +407,22 @@ void MainWindow::open() { m_files->open(); }
 void MainWindow::reload() { m_files->reload(); }
 void MainWindow::save() { m_files->saveScene(); }
 void MainWindow::saveAs() { m_files->saveAs(); }
+
+bool MainWindow::openStates(const QString& path) {
+  StateFileContents contents;
+  QString error;
+  if (readStateFile(path, contents, error) && m_timeline->load(path, contents)) {
+    m_plots->restart();  // the plots start at the state opened
+    return true;
+  }
+  m_feedback->error(tr("Open States"), error.isEmpty() ? m_timeline->error() : error);
+  return false;
+}
+
+void MainWindow::openStatesDialog() {
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open States"), QString(), tr("State files (*.states);;All files (*)"));
+  if (!path.isEmpty()) openStates(path);
+}
 
 QImage MainWindow::screenshot(const QSize& size) { return m_exports->screenshot(size); }
 bool MainWindow::saveScreenshot(const QString& path, const QSize& size) { return m_exports->saveScreenshot(path, size); }

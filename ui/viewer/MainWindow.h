@@ -35,6 +35,8 @@ class ScenePanel;
 class SimulationControls;
 class StatusPanel;
 class SurfaceListener;
+class Timeline;
+class TimelinePanel;
 class ViewFraming;
 class ViewerClock;
 struct EditContext;
@@ -108,6 +110,12 @@ class MainWindow : public QMainWindow {
   PlotPanel& plotPanel() { return *m_plots; }
   ViewFraming& framing() { return *m_framing; }
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
+  /// The kept states and their strip under the view (Timeline.h, TimelinePanel.h).
+  Timeline& timeline() { return *m_timeline; }
+  TimelinePanel& timelinePanel() { return *m_timelinePanel; }
+  /// Opens a bsdeform-run --keep-states file for the scene shown (Timeline::load); a file that
+  /// does not fit is reported and changes nothing.
+  bool openStates(const QString& path);
   FieldEditor& fieldEditor() { return *m_editor; }
   Autosave& autosave();
   /// The clock that drives realTime (tests: setWallClock(false), then advance()).
@@ -125,6 +133,7 @@ class MainWindow : public QMainWindow {
   void reload();
   void save();
   void saveAs();
+  void openStatesDialog();
   void exportMeshDialog();
   void exportControlNetDialog();
   void screenshotDialog();
@@ -190,6 +199,8 @@ class MainWindow : public QMainWindow {
   ViewFraming* m_framing = nullptr;
   ControlNetDisplay* m_netDisplay = nullptr;
   SurfaceListener* m_listener = nullptr;
+  Timeline* m_timeline = nullptr;
+  TimelinePanel* m_timelinePanel = nullptr;
   QAction* m_dragAction = nullptr;
   QMenu* m_simulationMenu = nullptr;
   SoBSplineDeformSurface* m_plotted = nullptr;  ///< the surface the plots follow

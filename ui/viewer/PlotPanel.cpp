@@ -80,6 +80,7 @@ PlotPanel::PlotPanel(QWidget* parent) : QWidget(parent) {
 
 void PlotPanel::clearHistory() {
   m_history.clear();
+  m_until = INFINITY;
   m_stride = 1;
   m_skipped = 0;
   for (auto* s : m_series) s->clear();
@@ -114,7 +115,9 @@ void PlotPanel::sample() {
   if (!m_surface) return;
   const Simulation& sim = m_surface->simulation();
   const double t = sim.time();
-  if (!m_history.isEmpty() && t == m_history.time().back()) return;
+  if (!m_history.isEmpty() && t == m_history.time().back() && t <= m_until) return;
+  if (!m_history.isEmpty() && t <= m_history.time().back()) m_history.dropFrom(t);  // stepping on from an earlier state
+  if (t > m_until) showUntil(INFINITY);
   const bsdeform::Diagnostics d = sim.diagnostics();  // one pass over the nets
   const double values[3] = {d.norm, d.kinetic, d.strain.total};
   if (m_history.isEmpty() || ++m_skipped >= m_stride) {
@@ -126,6 +129,29 @@ void PlotPanel::sample() {
     if (m_series[i]->count() >= kMaxSamples) m_series[i]->removePoints(0, m_series[i]->count() - kMaxSamples + 1);
     m_series[i]->append(t, values[i]);
   }
+}
+
+void PlotPanel::showUntil(double time) {
+  if (time == m_until) return;
+  m_until = time;
+  rebuildSeries();
+}
+
+double PlotPanel::lastShownTime() const {
+  const int n = m_series[0]->count();
+  return n ? m_series[0]->at(n - 1).x() : NAN;
+}
+
+void PlotPanel::rebuildSeries() {
+  const QVector<double>& t = m_history.time();
+  const int end = int(std::upper_bound(t.begin(), t.end(), m_until) - t.begin());
+  const QVector<double>* values[3] = {&m_history.norm(), &m_history.kinetic(), &m_history.strain()};
+  for (int i = 0; i < 3; ++i) {
+    QVector<QPointF> points;
+    for (int k = std::max(0, end - kMaxSamples); k < end; ++k) points << QPointF(t[k], (*values[i])[k]);
+    m_series[i]->replace(points);
+  }
+  updateAxes();
 }
 
 // Round ticks over what the series show (the latest kMaxSamples samples); y >= 0: norms and

@@ -5,6 +5,7 @@
 /// energies in another (their scales differ by orders of magnitude), with round ticks, y >= 0.
 
 #include <QWidget>
+#include <cmath>
 
 #include "History.h"
 
@@ -28,6 +29,12 @@ class PlotPanel : public QWidget {
   void sample();
   /// The state was replaced (a reset, a static solve): the history starts again from it.
   void restart();
+  /// Shows the history up to simulated time `time` only (the timeline's position, Timeline.h);
+  /// INFINITY: all of it. A sample earlier than the newest kept (stepping on from a scrubbed
+  /// state) drops the later ones and shows all again.
+  void showUntil(double time);
+  /// The time of the last sample the charts show (NaN: none).
+  double lastShownTime() const;
   /// Fits the axes to what the series show (once per batch of samples).
   void updateAxes();
   /// Samples kept in the history (for export).
@@ -51,6 +58,8 @@ class PlotPanel : public QWidget {
  private:
   void clearHistory();
   void thinHistory();
+  /// The series from the history, up to m_until.
+  void rebuildSeries();
   SoBSplineDeformSurface* m_surface = nullptr;
   QWidget* m_charts = nullptr;                     // both chart views (exported as one picture)
   QtCharts::QChartView* m_views[2] = {};           // norm, energies
@@ -61,6 +70,7 @@ class PlotPanel : public QWidget {
   int m_historyLimit = 100000;
   int m_stride = 1;      // keep one sample in m_stride
   long m_skipped = 0;    // samples seen since the last one kept
+  double m_until = INFINITY;  // the series show the history up to this time
 };
 
 }  // namespace bsdeform

@@ -54,7 +54,11 @@ int main(int argc, char** argv) {
                                    QStringLiteral("restore the newest autosave left by a viewer that did not quit cleanly"));
   const QCommandLineOption discard(QStringLiteral("discard-recovery"),
                                    QStringLiteral("delete the autosaves left by viewers that did not quit cleanly"));
-  parser.addOptions({measure, grid, speed, autosave, restore, discard});
+  const QCommandLineOption states(QStringLiteral("states"),
+                                  QStringLiteral("open the states a bsdeform-run --keep-states run of the scene wrote, "
+                                                 "to scrub through (paused at the last)"),
+                                  QStringLiteral("FILE"));
+  parser.addOptions({measure, grid, speed, autosave, restore, discard, states});
   parser.process(app);
   bool ok = true;
   const double autosaveSeconds = parser.isSet(autosave) ? parser.value(autosave).toDouble(&ok) : 60.0;
@@ -81,6 +85,7 @@ int main(int argc, char** argv) {
   } else {
     window.openDefaultScene();
   }
+  if (parser.isSet(states)) window.openStates(parser.value(states));  // a refusal is reported, the scene stays
   window.autosave().setInterval(int(std::lround(autosaveSeconds * 1000.0)));
   // A viewer that died left its autosave: restore it, delete it, or ask (never in CI, where no
   // one answers: the file is kept and a line on stderr says how to choose).

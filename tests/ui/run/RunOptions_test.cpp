@@ -102,3 +102,19 @@ TEST_CASE("RunOptions: a bad value names the option and the value", "[ui]") {
   RunOptions o;
   CHECK(parse({}, o).code == bsdeform::run::kBadInput);  // no scene at all
 }
+
+TEST_CASE("RunOptions: --keep-states names the state file, and is refused with --sweep and --static", "[ui]") {
+  RunOptions o;
+  REQUIRE(parse({QStringLiteral("drum.iv")}, o).ok());
+  CHECK(o.keepStates.isEmpty());
+  REQUIRE(parse(QStringLiteral("--keep-states run/drum.states --record-every 10 drum.iv").split(QLatin1Char(' ')), o).ok());
+  CHECK(o.keepStates == QStringLiteral("run/drum.states"));
+  CHECK(o.recordEvery == 10);
+  CHECK_FALSE(o.sweepChildArguments.contains(QStringLiteral("--keep-states")));
+  Failure f = parse(QStringLiteral("--keep-states s.states --sweep A.w10=1,2 drum.iv").split(QLatin1Char(' ')), o);
+  CHECK(f.code == bsdeform::run::kBadInput);
+  CHECK(f.message.contains(QStringLiteral("--keep-states and --sweep")));
+  f = parse(QStringLiteral("--keep-states s.states --static drum.iv").split(QLatin1Char(' ')), o);
+  CHECK(f.code == bsdeform::run::kBadInput);
+  CHECK(f.message.contains(QStringLiteral("--static and --keep-states")));
+}
