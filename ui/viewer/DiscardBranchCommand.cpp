@@ -23,6 +23,7 @@ void DiscardBranchCommand::swapBranch() {
 void DiscardBranchCommand::undo() {
   if (m_generation != m_timeline.m_generation) return;
   swapBranch();
+  emit m_timeline.branchSwapped(m_branchPoint.time);
   const int at = std::max(0, m_timeline.history().indexOf(m_branchPoint));
   if (!m_timeline.showFrame(at)) m_timeline.emitChanged();
 }
@@ -30,10 +31,11 @@ void DiscardBranchCommand::undo() {
 void DiscardBranchCommand::redo() {
   if (m_generation != m_timeline.m_generation) return;
   swapBranch();
-  if (!m_done) {  // the first time: the surfaces are at the branch point and about to step on
+  if (!m_done) {  // the first time: the surfaces stepped on from the branch point (the plots too)
     m_done = true;
     return;
   }
+  emit m_timeline.branchSwapped(m_branchPoint.time);
   if (!m_timeline.showFrame(m_timeline.history().size() - 1)) m_timeline.emitChanged();
 }
 

@@ -239,6 +239,9 @@ void MainWindow::createDocks() {
   connect(m_plots, &PlotPanel::failed, this, [this](const QString& m) { m_feedback->error(tr("Export failed"), m); });
   plotDock->setWidget(m_plots);
   addDockWidget(Qt::BottomDockWidgetArea, plotDock);
+  connect(m_timeline, &Timeline::branchSwapped, m_plots, [this](double t) {
+    m_plots->replaceAfter(t, m_timeline->diagnosticsAfter(m_doc->surfaces().indexOf(m_plotted), t));
+  });
   connect(m_timeline, &Timeline::changed, m_plots, [this](double t) { m_plots->showUntil(m_timeline->isAtEnd() ? INFINITY : t); });
 
   auto* timelineDock = new QDockWidget(tr("Timeline"), this);

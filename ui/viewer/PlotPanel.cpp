@@ -131,6 +131,19 @@ void PlotPanel::sample() {
   }
 }
 
+void PlotPanel::replaceAfter(double time, const std::vector<std::pair<double, Diagnostics>>& samples) {
+  // dropFrom(t) drops the samples at t and after; the one at the branch point stays
+  const QVector<double>& times = m_history.time();
+  auto after = std::upper_bound(times.begin(), times.end(), time);
+  if (after != times.end()) m_history.dropFrom(*after);
+  for (const auto& [t, d] : samples) {
+    if (m_history.size() >= m_historyLimit) thinHistory();
+    m_history.append(t, d);
+  }
+  m_skipped = 0;
+  rebuildSeries();
+}
+
 void PlotPanel::showUntil(double time) {
   if (time == m_until) return;
   m_until = time;

@@ -5,6 +5,8 @@
 /// energies in another (their scales differ by orders of magnitude), with round ticks, y >= 0.
 
 #include <QWidget>
+#include <utility>
+#include <vector>
 #include <cmath>
 
 #include "History.h"
@@ -33,12 +35,17 @@ class PlotPanel : public QWidget {
   /// INFINITY: all of it. A sample earlier than the newest kept (stepping on from a scrubbed
   /// state) drops the later ones and shows all again.
   void showUntil(double time);
+  /// The samples after `time` replaced by `samples` (time, diagnostics), in order: another
+  /// branch of the timeline.
+  void replaceAfter(double time, const std::vector<std::pair<double, Diagnostics>>& samples);
   /// The time of the last sample the charts show (NaN: none).
   double lastShownTime() const;
   /// Fits the axes to what the series show (once per batch of samples).
   void updateAxes();
   /// Samples kept in the history (for export).
   int sampleCount() const { return m_history.size(); }
+  /// The samples kept (also those after the timeline's position).
+  const History& history() const { return m_history; }
   /// At most `limit` samples are kept (default 100000, about 3 MB): when the history is full,
   /// every second sample is dropped and from then on only every second new one is kept, so a
   /// long run keeps its whole time span at a uniform, coarser spacing and memory stays flat.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "DiscardBranchCommand.h"
+#include "bsdeform/Simulation.h"
 
 namespace bsdeform {
 
@@ -79,6 +80,22 @@ bool Timeline::restore(const StateFrame& frame, const QString& source) {
   m_restoring = false;
   m_stepped = false;
   return ok;
+}
+
+std::vector<std::pair<double, Diagnostics>> Timeline::diagnosticsAfter(int index, double time) {
+  std::vector<std::pair<double, Diagnostics>> out;
+  if (index < 0 || index >= m_surfaces.size()) return out;
+  SoBSplineDeformSurface* s = m_surfaces[index];
+  m_restoring = true;
+  const SimulationState shown = s->state();
+  for (int k = 0; k < m_history.size(); ++k) {
+    const StateFrame& f = m_history[k];
+    if (!(f.time > time) || !s->restoreState(f.surfaces[std::size_t(index)], nullptr)) continue;
+    out.emplace_back(s->simulation().time(), s->simulation().diagnostics());
+  }
+  s->restoreState(shown, nullptr);
+  m_restoring = false;
+  return out;
 }
 
 bool Timeline::advanceReplay(double seconds) {

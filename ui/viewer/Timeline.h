@@ -16,10 +16,12 @@
 
 #include <QObject>
 #include <QVector>
+#include <utility>
 #include <vector>
 
 #include "StateFile.h"
 #include "StateHistory.h"
+#include "bsdeform/Diagnostics.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 class QUndoStack;
@@ -54,6 +56,11 @@ class Timeline : public QObject {
   /// further on (the last state at or before that time). False once the last state is shown.
   bool advanceReplay(double seconds);
 
+  /// The diagnostics of surface `index` (m_surfaces' order) in every kept state after `time`,
+  /// with their times: what its plots show of the kept branch. Computed by putting each state
+  /// back (as a scrub does, without telling a reset) and the shown state back at the end.
+  std::vector<std::pair<double, Diagnostics>> diagnosticsAfter(int index, double time);
+
   /// Memory budget of the kept states, in bytes (StateHistory::kDefaultBudget unless set).
   void setBudget(std::size_t bytes);
 
@@ -70,6 +77,9 @@ class Timeline : public QObject {
   void aboutToRestore();
   /// The kept states or the position changed; `time` is the position's.
   void changed(double time);
+  /// Undo or Redo swapped the states after `time` for another branch (before the new
+  /// position is shown): the plots take that branch's values (diagnosticsAfter()).
+  void branchSwapped(double time);
 
  private:
   friend class DiscardBranchCommand;

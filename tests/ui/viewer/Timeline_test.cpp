@@ -192,11 +192,24 @@ TEST_CASE("Timeline: the plots show the history up to the position, replay plays
   CHECK(w->plotPanel().lastShownTime() == newest);
 
   // stepping on from an earlier state: the plots go on from there
+  const QVector<double> timesBefore = w->plotPanel().history().time(), normsBefore = w->plotPanel().history().norm();
   scrubTo(*w, 5);
   w->step();
   processEvents();
   CHECK(w->plotPanel().lastShownTime() == tl.history().back().time);
   CHECK(tl.history().back().time < newest);
+  // a few more steps on the new branch, then Undo: the plots are the first branch's again
+  for (int k = 0; k < 3; ++k) w->step();
+  processEvents();
+  w->undoStack().undo();
+  processEvents();
+  scrubTo(*w, tl.history().size() - 1);
+  CHECK(w->plotPanel().history().time() == timesBefore);
+  CHECK(w->plotPanel().history().norm() == normsBefore);
+  w->undoStack().redo();  // and the new branch's after Redo
+  processEvents();
+  CHECK(w->plotPanel().history().time().back() == tl.history().back().time);
+  CHECK(w->plotPanel().history().time().back() < newest);
 
   // a screenshot of the timeline, scrubbed back to its middle after a longer run
   w->play();
