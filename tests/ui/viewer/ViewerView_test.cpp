@@ -449,3 +449,25 @@ TEST_CASE("Viewer view: control net and ghost on every scene: moving points are 
     }
   }
 }
+
+TEST_CASE("Viewer view: drawing a collision scene gathers no obstacle, refits none and makes no force", "[ui]") {
+  auto w = makeWindow("cloth_on_cube.iv");
+  processEvents();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  for (int k = 0; k < 3; ++k) w->step();
+  processEvents();
+  const int builds = s->obstacleBuilds(), refits = s->obstacleRefits(), forces = s->forcesMade();
+  const long steps = s->simulation().stepCount();
+  CHECK(builds == 1);
+  // frames without steps (a paused view redrawn, the camera moved)
+  SoCamera* cam = w->viewer()->getCamera();
+  for (int k = 0; k < 10; ++k) {
+    cam->position = cam->position.getValue() + SbVec3f(0.01f, 0.0f, 0.0f);
+    w->viewer()->render();
+    processEvents();
+  }
+  CHECK(s->obstacleBuilds() == builds);
+  CHECK(s->obstacleRefits() == refits);
+  CHECK(s->forcesMade() == forces);
+  CHECK(s->simulation().stepCount() == steps);
+}
