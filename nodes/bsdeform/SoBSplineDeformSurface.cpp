@@ -342,7 +342,9 @@ bool SoBSplineDeformSurface::restoreState(const bsdeform::SimulationState& state
 
 void SoBSplineDeformSurface::stateReplaced() {
   m_timeBudget = 0.0;
-  clearProblem();
+  // a new state ends a stop; a refused value or a missing obstacle belongs to the fields and
+  // stays until they change
+  if (m_problem.kind == Problem::STOPPED || m_problem.kind == Problem::STATE) clearProblem();
   m_tessValid = false;
   syncClockFields();
   touch();

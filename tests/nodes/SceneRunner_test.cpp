@@ -268,6 +268,10 @@ TEST_CASE("Problems: each refused field is named by the field, from the core's t
     CHECK(s->problem().field == c.field);
     CHECK(s->problem().node == "Bad");
     CHECK_THAT(s->problem().message, Catch::Contains(std::string("field '") + c.field + "'"));
+    // a new state (Reset, a kept state put back) does not make the refusal go: the field is as it was
+    s->resetSimulation();
+    CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::FIELD);
+    CHECK(s->problem().field == c.field);
     root->unref();
   }
 }
