@@ -37,8 +37,11 @@ class StatusPanel;
 class SurfaceListener;
 class Timeline;
 class TimelinePanel;
+class ViewDecorations;
 class ViewFraming;
 class ViewerClock;
+class WheelZoom;
+class ClickSelect;
 struct EditContext;
 
 /// The window: the 3D view, the menus, tool bar and docks, and the wiring between the parts
@@ -109,6 +112,9 @@ class MainWindow : public QMainWindow {
   DragTool& dragTool() { return *m_drag; }
   PlotPanel& plotPanel() { return *m_plots; }
   ViewFraming& framing() { return *m_framing; }
+  ViewDecorations& decorations() { return *m_decorations; }
+  WheelZoom& wheelZoom() { return *m_wheel; }
+  ClickSelect& clickSelect() { return *m_clicks; }
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   /// The kept states and their strip under the view (Timeline.h, TimelinePanel.h).
   Timeline& timeline() { return *m_timeline; }
@@ -197,6 +203,9 @@ class MainWindow : public QMainWindow {
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
   ViewFraming* m_framing = nullptr;
+  ViewDecorations* m_decorations = nullptr;
+  WheelZoom* m_wheel = nullptr;
+  ClickSelect* m_clicks = nullptr;
   ControlNetDisplay* m_netDisplay = nullptr;
   SurfaceListener* m_listener = nullptr;
   Timeline* m_timeline = nullptr;
