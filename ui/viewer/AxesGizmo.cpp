@@ -50,7 +50,7 @@ AxesGizmo::AxesGizmo(ExaminerViewer* viewer) : m_viewer(viewer) {
   corner->setCallback(&AxesGizmo::beforeDrawing, this);
   auto* camera = new SoOrthographicCamera;  // looks along -z at the triad from +z
   camera->position.setValue(0, 0, 5);
-  camera->height = 3.0f;  // unit axes and their letters, turned any way
+  camera->height = 2.6f;  // unit axes and their letters, turned any way
   camera->nearDistance = 1.0f;
   camera->farDistance = 9.0f;
   auto* light = new SoLightModel;
