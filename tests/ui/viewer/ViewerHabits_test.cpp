@@ -247,6 +247,16 @@ TEST_CASE("Viewer habits: the grid is not in the framing, the axes turn with the
   float x0, y0, x1, y1;
   w->framing().projectedSceneBox().getBounds(x0, y0, x1, y1);
   CHECK(std::max(x1 - x0, y1 - y0) == Approx(bsdeform::kFramedFraction).epsilon(0.05));
+  // and SoQt's own View All (its eye button, its menu) frames it as without the grid too
+  w->viewer()->viewAll();
+  const SbBox2f withGrid = w->framing().projectedSceneBox();
+  CHECK(w->decorations().isGridVisible());  // back on after SoQt measured the scene
+  w->decorations().setGridVisible(false);
+  w->viewer()->viewAll();
+  const SbBox2f withoutGrid = w->framing().projectedSceneBox();
+  w->decorations().setGridVisible(true);
+  CHECK((withGrid.getMin() - withoutGrid.getMin()).length() < 1e-4f);
+  CHECK((withGrid.getMax() - withoutGrid.getMax()).length() < 1e-4f);
   // from the top (y up on the screen) X points right; from the front (z up) Z points up
   const QRect corner(0, 0, bsdeform::AxesGizmo::kSidePixels + 8, bsdeform::AxesGizmo::kSidePixels + 8);
   auto centreOf = [&](bool (*test)(const QColor&)) {
@@ -412,4 +422,3 @@ TEST_CASE("Viewer habits: a click on a collision obstacle selects its force fiel
   processEvents();
   CHECK(w->selectedNode() == collision);
 }
-
