@@ -280,7 +280,7 @@ TEST_CASE("Viewer habits: the grid is not in the framing, the axes turn with the
   CHECK(std::abs(zFront.x()) < 8);
 }
 
-TEST_CASE("Viewer habits: a scene with shapes of its own has no grid unless asked; the user's choice is kept", "[ui]") {
+TEST_CASE("Viewer habits: a scene with shapes of its own has no grid unless asked, and the user's choice is kept", "[ui]") {
   auto w = makeWindow("cloth_on_cube.iv");
   CHECK(ViewDecorations::hasOwnEnvironment(w->document().root()));
   CHECK_FALSE(w->decorations().isGridVisible());
