@@ -5,6 +5,7 @@
 #include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoSwitch.h>
+#include <Inventor/nodes/SoTransformSeparator.h>
 
 #include <QAction>
 #include <QCloseEvent>
@@ -22,6 +23,7 @@
 #include <QVBoxLayout>
 #include <algorithm>
 
+#include "Backlight.h"
 #include "ClickSelect.h"
 #include "ControlNetDisplay.h"
 #include "DragTool.h"
@@ -42,6 +44,7 @@
 #include "TimelinePanel.h"
 #include "ViewDecorations.h"
 #include "ViewFraming.h"
+#include "ViewOverlays.h"
 #include "ViewerClock.h"
 #include "WheelZoom.h"
 #include "bsdeform/SoForceField.h"
@@ -54,7 +57,7 @@ const char* kLayoutKey = "window/layout";      // docks and tool bar (QMainWindo
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent)
-    : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool), m_feedback(new Feedback(*this)) {
+    : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool), m_backlight(new Backlight), m_feedback(new Feedback(*this)) {
   setWindowTitle(tr("bsdeform viewer"));
   setAcceptDrops(true);
   m_undo = new QUndoStack(this);
@@ -93,6 +96,9 @@ MainWindow::MainWindow(QWidget* parent)
   m_clicks = new ClickSelect(m_viewer, *m_doc, this);
   connect(m_clicks, &ClickSelect::clicked, this, [this](SoBase* node) { selectNode(node); });
   m_netDisplay = new ControlNetDisplay(this);
+  m_overlays = std::make_unique<ViewOverlays>(m_viewer);
+  m_overlays->add(m_netDisplay->node());
+  m_overlays->add(m_decorations->gridNode());
   m_exports = new ExportActions(*m_doc, m_viewer, [this] { return selectedSurface(); }, *m_feedback, *this);
   m_recording = new RecordingControls(*m_doc, m_viewer, [this] { return screenshot(); }, *m_feedback, this);
 
@@ -309,9 +315,9 @@ void MainWindow::showScene() {
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_status->frameCounter());
   m_wrapper->addChild(m_drag->node());
+  m_wrapper->addChild(m_backlight->node());
   m_wrapper->addChild(m_doc->root());
-  m_wrapper->addChild(m_netDisplay->node());
-  m_wrapper->addChild(m_decorations->gridNode());
+  m_wrapper->addChild(m_overlays->node());  // the net display and the grid
   m_netDisplay->setScene(m_doc->root());
   // SoQt looks for a camera only when it gets a new graph: with the same root it kept its own
   // camera, which the scene's camera overrode in rendering while the mouse moved SoQt's

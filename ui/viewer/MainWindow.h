@@ -23,6 +23,7 @@ class SoQtExaminerViewer;
 class SoSeparator;
 
 namespace bsdeform {
+class Backlight;
 class ControlNetDisplay;
 class DragTool;
 class EditActions;
@@ -39,6 +40,7 @@ class Timeline;
 class TimelinePanel;
 class ViewDecorations;
 class ViewFraming;
+class ViewOverlays;
 class ViewerClock;
 class WheelZoom;
 class ClickSelect;
@@ -115,6 +117,7 @@ class MainWindow : public QMainWindow {
   ViewDecorations& decorations() { return *m_decorations; }
   WheelZoom& wheelZoom() { return *m_wheel; }
   ClickSelect& clickSelect() { return *m_clicks; }
+  Backlight& backlight() { return *m_backlight; }
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   /// The kept states and their strip under the view (Timeline.h, TimelinePanel.h).
   Timeline& timeline() { return *m_timeline; }
@@ -188,6 +191,8 @@ class MainWindow : public QMainWindow {
 
   std::unique_ptr<SceneDocument> m_doc;
   std::unique_ptr<DragTool> m_drag;
+  std::unique_ptr<Backlight> m_backlight;  ///< beside the scene: lights what the headlight misses
+  std::unique_ptr<ViewOverlays> m_overlays;  ///< after the scene, under the view's camera
   std::unique_ptr<Feedback> m_feedback;
   std::unique_ptr<EditContext> m_edit;
   std::unique_ptr<StatusPanel> m_status;

@@ -39,7 +39,8 @@ class ViewDecorations : public QObject {
   explicit ViewDecorations(ExaminerViewer* viewer, QObject* parent = nullptr);
   ~ViewDecorations() override;
 
-  /// The grid's node: put it in the viewer's graph beside the scene, after it.
+  /// The grid's node: put it in the viewer's graph beside the scene, after it, under the view's
+  /// camera (ViewOverlays).
   SoSwitch* gridNode() const { return m_gridSwitch; }
   /// Adds "Ground Grid" and "Axes" to `menu`.
   void addActions(QMenu* menu);

@@ -8,6 +8,7 @@
 #include <Inventor/actions/SoRayPickAction.h>
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/nodes/SoCamera.h>
+#include <Inventor/nodes/SoDirectionalLight.h>
 #include <Inventor/nodes/SoOrthographicCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoSwitch.h>
@@ -24,7 +25,9 @@
 #include <functional>
 
 #include "AxesGizmo.h"
+#include "Backlight.h"
 #include "ClickSelect.h"
+#include "ControlNetDisplay.h"
 #include "DragTool.h"
 #include "FieldEditor.h"
 #include "GroundGrid.h"
@@ -172,6 +175,9 @@ bool gridGrey(const QColor& c) {  // GroundGrid's line colour over the backgroun
   return std::abs(c.red() - 87) < 10 && std::abs(c.green() - 92) < 10 && std::abs(c.blue() - 105) < 10;
 }
 bool gizmoRed(const QColor& c) { return c.red() > 200 && c.green() < 110 && c.blue() < 110; }
+bool netPoint(const QColor& c) {  // ControlNetDisplay's moving (yellow) and held (red) points
+  return c.red() > 200 && c.blue() < 90 && (c.green() > 200 || c.green() < 80);
+}
 bool gizmoBlue(const QColor& c) { return c.blue() > 200 && c.red() < 140 && c.green() < 170; }
 // Pixels passing `test` in the rectangle `r` of `img`, and their mean position.
 long count(const QImage& img, const QRect& r, bool (*test)(const QColor&), QPointF* mean = nullptr) {
@@ -280,6 +286,58 @@ TEST_CASE("Viewer habits: the grid is not in the framing, the axes turn with the
   CHECK(std::abs(zFront.x()) < 8);
 }
 
+TEST_CASE("Viewer habits: the grid of a scene with a camera of its own is drawn through that camera", "[ui]") {
+  // the scene's camera sits under the scene's root, and the grid comes after that root
+  auto w = makeWindow("pressure_bulge.iv");
+  REQUIRE(bsdeform::findSceneCamera(w->document().root()) == w->viewer()->getCamera());
+  REQUIRE(w->decorations().isGridVisible());
+  w->setPlaying(false);
+  processEvents();
+  const QImage img = w->screenshot();
+  img.save(QStringLiteral("viewer_grid_scene_camera.png"));
+  // the grid's X axis line (y = 0, red) where the camera puts it
+  const SbBox3f& grid = w->decorations().grid().extent();
+  int inView = 0, onLine = 0;
+  for (int k = 1; k < 20; ++k) {
+    const float x = grid.getMin()[0] + (grid.getMax()[0] - grid.getMin()[0]) * k / 20.0f;
+    const QPointF at = pixelOf(*w, SbVec3f(x, 0.0f, grid.getMin()[2]));
+    const QPoint p(int(at.x()), int(at.y()));
+    if (!QRect(2, 2, img.width() - 4, img.height() - 4).contains(p)) continue;
+    ++inView;
+    bool red = false;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const QColor c = img.pixelColor(p + QPoint(dx, dy));
+        red |= c.red() > c.green() + 40 && c.red() > c.blue() + 40;
+      }
+    onLine += red;
+  }
+  INFO(onLine << " of " << inView << " points of the line in view are red");
+  CHECK(inView >= 5);
+  CHECK(onLine >= inView / 2);
+}
+
+TEST_CASE("Viewer view: the control net of a scene with a camera of its own is drawn over its surface", "[ui]") {
+  // like the grid, the net comes after the scene's root, where the scene's camera is over
+  auto w = makeWindow("pressure_bulge.iv");
+  REQUIRE(bsdeform::findSceneCamera(w->document().root()) == w->viewer()->getCamera());
+  w->setPlaying(false);
+  w->decorations().setGridVisible(false);
+  w->decorations().setAxesVisible(false);  // its red X is not a net point
+  w->netDisplay().setNetVisible(true);
+  processEvents();
+  const QImage img = w->screenshot();
+  img.save(QStringLiteral("viewer_net_scene_camera.png"));
+  float x0, y0, x1, y1;
+  w->framing().projectedSceneBox().getBounds(x0, y0, x1, y1);  // (0, 0) bottom left
+  const QRect surface(QPoint(int(x0 * img.width()) - 10, int((1 - y1) * img.height()) - 10),
+                      QPoint(int(x1 * img.width()) + 10, int((1 - y0) * img.height()) + 10));
+  const long all = count(img, img.rect(), netPoint);
+  INFO(all << " net points' pixels, " << count(img, surface, netPoint) << " over the surface");
+  CHECK(all > 200);
+  CHECK(count(img, surface, netPoint) > 0.95 * all);
+}
+
 TEST_CASE("Viewer habits: a scene with shapes of its own has no grid unless asked, and the user's choice is kept", "[ui]") {
   auto w = makeWindow("cloth_on_cube.iv");
   CHECK(ViewDecorations::hasOwnEnvironment(w->document().root()));
@@ -345,6 +403,44 @@ TEST_CASE("Viewer habits: an open surface seen from below is lit, not black", "[
   INFO("mean grey of the surface from above " << above << ", from below " << below);
   CHECK(above > 100.0);
   CHECK(below > 0.7 * above);  // lit from one side only, the underside is at the ambient level
+}
+
+TEST_CASE("Viewer habits: a sheet seen from just below while the camera looks down is shaded, not black", "[ui]") {
+  // curtain.iv at rest: the camera is 0.15 below the cloth and looks 8.6 degrees down, so the
+  // side it sees faces away from SoQt's headlight direction; the backlight lights it
+  auto w = makeWindow("curtain.iv");
+  w->decorations().setGridVisible(false);
+  w->setPlaying(false);
+  auto surfaceGrey = [&](const char* file, long& dark) {
+    processEvents();
+    const QImage img = w->screenshot();
+    img.save(QLatin1String(file));
+    double sum = 0;
+    long n = 0;
+    dark = 0;
+    for (int y = 0; y < img.height(); y += 4)
+      for (int x = 0; x < img.width(); x += 4) {
+        SoRayPickAction pick(w->viewer()->getViewportRegion());
+        const SoPickedPoint* pp = pickAt(*w, pick, QPoint(x, y));
+        if (!pp || !pp->getPath()->getTail()->isOfType(SoBSplineDeformSurface::getClassTypeId())) continue;
+        const int grey = qGray(img.pixel(x, y));
+        sum += grey;
+        dark += grey < 25;
+        ++n;
+      }
+    REQUIRE(n > 100);
+    return sum / n;
+  };
+  long dark = 0;
+  const double lit = surfaceGrey("viewer_curtain_from_below.png", dark);
+  INFO("mean grey of the cloth " << lit << ", " << dark << " near-black samples");
+  CHECK(lit > 30.0);  // a sheet seen at 4 degrees: shaded dimly, as the same angle from above
+  CHECK(dark == 0);
+  w->backlight().light()->on = FALSE;  // the headlight alone: black
+  long darkWithout = 0;
+  const double unlit = surfaceGrey("viewer_curtain_headlight_only.png", darkWithout);
+  INFO("with the headlight alone " << unlit << ", " << darkWithout << " near-black samples");
+  CHECK(unlit < 15.0);
 }
 
 // ---------------------------------------------------------------------------------------------
