@@ -97,6 +97,7 @@ MainWindow::MainWindow(QWidget* parent)
   connect(m_clicks, &ClickSelect::clicked, this, [this](SoBase* node) { selectNode(node); });
   m_netDisplay = new ControlNetDisplay(this);
   m_overlays = std::make_unique<ViewOverlays>(m_viewer);
+  m_overlays->add(m_drag->node());  // its spring line
   m_overlays->add(m_netDisplay->node());
   m_overlays->add(m_decorations->gridNode());
   m_exports = new ExportActions(*m_doc, m_viewer, [this] { return selectedSurface(); }, *m_feedback, *this);
@@ -314,10 +315,9 @@ void MainWindow::showScene() {
   if (isRecording()) stopRecording();  // its surfaces leave the view
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_status->frameCounter());
-  m_wrapper->addChild(m_drag->node());
   m_wrapper->addChild(m_backlight->node());
   m_wrapper->addChild(m_doc->root());
-  m_wrapper->addChild(m_overlays->node());  // the net display and the grid
+  m_wrapper->addChild(m_overlays->node());  // the drag tool, the net display and the grid
   m_netDisplay->setScene(m_doc->root());
   // SoQt looks for a camera only when it gets a new graph: with the same root it kept its own
   // camera, which the scene's camera overrode in rendering while the mouse moved SoQt's

@@ -518,3 +518,31 @@ TEST_CASE("Viewer habits: a click on a collision obstacle selects its force fiel
   processEvents();
   CHECK(w->selectedNode() == collision);
 }
+TEST_CASE("Viewer habits: the drag line of a scene with a camera of its own ends at the cursor", "[ui]") {
+  auto w = makeWindow("pressure_bulge.iv");
+  REQUIRE(bsdeform::findSceneCamera(w->document().root()) == w->viewer()->getCamera());
+  w->setPlaying(false);
+  w->decorations().setGridVisible(false);
+  w->decorations().setAxesVisible(false);
+  processEvents();
+  SoBSplineDeformSurface* s = firstSurface(*w);
+  const QPoint on = findPixel(*w, [s](const SoPickedPoint& pp) { return isTail(pp, s); });
+  w->setDragMode(true);
+  QWidget* gl = glWidget(*w);
+  const QPoint to = on + QPoint(0, -60);
+  QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, on);
+  for (int k = 1; k <= 6; ++k) QTest::mouseMove(gl, on + QPoint(0, -10 * k));
+  processEvents();
+  REQUIRE(w->dragTool().isDragging());
+  const QImage img = w->screenshot();
+  img.save(QStringLiteral("viewer_drag_line_scene_camera.png"));
+  QTest::mouseRelease(gl, Qt::LeftButton, Qt::NoModifier, to);
+  // the line's yellow marker at the anchor, under the cursor
+  bool yellowAtCursor = false;
+  for (int dy = -4; dy <= 4; ++dy)
+    for (int dx = -4; dx <= 4; ++dx) {
+      const QColor c = img.pixelColor(to + QPoint(dx, dy));
+      yellowAtCursor |= c.red() > 220 && c.green() > 200 && c.blue() < 90;
+    }
+  CHECK(yellowAtCursor);
+}
