@@ -4,6 +4,8 @@
 #include <Inventor/Qt/SoQt.h>
 #include <Inventor/Qt/viewers/SoQtExaminerViewer.h>
 #include <Inventor/nodes/SoSeparator.h>
+#include <Inventor/nodes/SoSwitch.h>
+#include <Inventor/nodes/SoTransformSeparator.h>
 
 #include <QAction>
 #include <QCloseEvent>
@@ -21,10 +23,13 @@
 #include <QVBoxLayout>
 #include <algorithm>
 
+#include "Backlight.h"
+#include "ClickSelect.h"
 #include "ControlNetDisplay.h"
 #include "DragTool.h"
 #include "EditActions.h"
 #include "EditCommands.h"
+#include "ExaminerViewer.h"
 #include "ExportActions.h"
 #include "Feedback.h"
 #include "FieldEditor.h"
@@ -37,8 +42,11 @@
 #include "SurfaceListener.h"
 #include "Timeline.h"
 #include "TimelinePanel.h"
+#include "ViewDecorations.h"
 #include "ViewFraming.h"
+#include "ViewOverlays.h"
 #include "ViewerClock.h"
+#include "WheelZoom.h"
 #include "bsdeform/SoForceField.h"
 
 namespace bsdeform {
@@ -49,7 +57,7 @@ const char* kLayoutKey = "window/layout";      // docks and tool bar (QMainWindo
 }  // namespace
 
 MainWindow::MainWindow(QWidget* parent)
-    : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool), m_feedback(new Feedback(*this)) {
+    : QMainWindow(parent), m_doc(new SceneDocument), m_drag(new DragTool), m_backlight(new Backlight), m_feedback(new Feedback(*this)) {
   setWindowTitle(tr("bsdeform viewer"));
   setAcceptDrops(true);
   m_undo = new QUndoStack(this);
@@ -76,13 +84,22 @@ MainWindow::MainWindow(QWidget* parent)
   auto* layout = new QVBoxLayout(central);
   layout->setContentsMargins(0, 0, 0, 0);
   setCentralWidget(central);
-  m_viewer = new SoQtExaminerViewer(central);
+  auto* examiner = new ExaminerViewer(central);  // SoQt's, with the view decorations' needs
+  m_viewer = examiner;
   layout->addWidget(m_viewer->getWidget());
   m_viewer->setBackgroundColor(SbColor(0.18f, 0.2f, 0.24f));
   m_viewer->setSceneGraph(m_wrapper);
   m_framing = new ViewFraming(m_viewer, this);
   m_viewer->getGLWidget()->installEventFilter(this);
+  m_wheel = new WheelZoom(m_viewer, this);
+  m_decorations = new ViewDecorations(examiner, this);
+  m_clicks = new ClickSelect(m_viewer, *m_doc, this);
+  connect(m_clicks, &ClickSelect::clicked, this, [this](SoBase* node) { selectNode(node); });
   m_netDisplay = new ControlNetDisplay(this);
+  m_overlays = std::make_unique<ViewOverlays>(m_viewer);
+  m_overlays->add(m_drag->node());  // its spring line
+  m_overlays->add(m_netDisplay->node());
+  m_overlays->add(m_decorations->gridNode());
   m_exports = new ExportActions(*m_doc, m_viewer, [this] { return selectedSurface(); }, *m_feedback, *this);
   m_recording = new RecordingControls(*m_doc, m_viewer, [this] { return screenshot(); }, *m_feedback, this);
 
@@ -100,6 +117,7 @@ MainWindow::~MainWindow() {
   m_listener->stop();
   m_undo->clear();  // the commands hold nodes of the scene
   m_drag->release();
+  delete m_decorations;  // it leaves the viewer's superimpositions
   m_viewer->setSceneGraph(nullptr);
   delete m_viewer;
   m_wrapper->unref();
@@ -154,6 +172,9 @@ void MainWindow::createActions() {
   m_framing->addActions(view);
   view->addSeparator();
   m_netDisplay->addActions(view);
+  view->addSeparator();
+  m_decorations->addActions(view);
+  m_wheel->addActions(view);
 }
 
 void MainWindow::createHelpMenu() {
@@ -297,9 +318,9 @@ void MainWindow::showScene() {
   if (isRecording()) stopRecording();  // its surfaces leave the view
   m_wrapper->removeAllChildren();
   m_wrapper->addChild(m_status->frameCounter());
-  m_wrapper->addChild(m_drag->node());
+  m_wrapper->addChild(m_backlight->node());
   m_wrapper->addChild(m_doc->root());
-  m_wrapper->addChild(m_netDisplay->node());
+  m_wrapper->addChild(m_overlays->node());  // the drag tool, the net display and the grid
   m_netDisplay->setScene(m_doc->root());
   // SoQt looks for a camera only when it gets a new graph: with the same root it kept its own
   // camera, which the scene's camera overrode in rendering while the mouse moved SoQt's
@@ -307,6 +328,7 @@ void MainWindow::showScene() {
   m_viewer->setSceneGraph(m_wrapper);
   m_drag->setCamera(m_viewer->getCamera());
   m_framing->sceneShown(m_doc->root());
+  m_decorations->sceneShown(m_doc->root());
   m_listener->listen(m_doc->surfaces());
   m_timeline->setSurfaces(m_doc->surfaces());
   m_status->restart();
@@ -339,6 +361,7 @@ void MainWindow::structureChanged(SoBase* focus) {
   m_listener->listen(m_doc->surfaces());  // surfaces that came in (they follow the same realTime as the others)
   m_timeline->setSurfaces(m_doc->surfaces());
   m_scenePanel->populate();  // selects the first surface, if any
+  m_decorations->refit();
   if ((!focus || !selectNode(focus)) && m_doc->surfaces().isEmpty()) {
     m_editor->setContainer(nullptr, QString());
     m_plots->setSurface(nullptr, QString());

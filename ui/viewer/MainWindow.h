@@ -23,6 +23,7 @@ class SoQtExaminerViewer;
 class SoSeparator;
 
 namespace bsdeform {
+class Backlight;
 class ControlNetDisplay;
 class DragTool;
 class EditActions;
@@ -37,8 +38,12 @@ class StatusPanel;
 class SurfaceListener;
 class Timeline;
 class TimelinePanel;
+class ViewDecorations;
 class ViewFraming;
+class ViewOverlays;
 class ViewerClock;
+class WheelZoom;
+class ClickSelect;
 struct EditContext;
 
 /// The window: the 3D view, the menus, tool bar and docks, and the wiring between the parts
@@ -109,6 +114,10 @@ class MainWindow : public QMainWindow {
   DragTool& dragTool() { return *m_drag; }
   PlotPanel& plotPanel() { return *m_plots; }
   ViewFraming& framing() { return *m_framing; }
+  ViewDecorations& decorations() { return *m_decorations; }
+  WheelZoom& wheelZoom() { return *m_wheel; }
+  ClickSelect& clickSelect() { return *m_clicks; }
+  Backlight& backlight() { return *m_backlight; }
   ControlNetDisplay& netDisplay() { return *m_netDisplay; }
   /// The kept states and their strip under the view (Timeline.h, TimelinePanel.h).
   Timeline& timeline() { return *m_timeline; }
@@ -182,6 +191,8 @@ class MainWindow : public QMainWindow {
 
   std::unique_ptr<SceneDocument> m_doc;
   std::unique_ptr<DragTool> m_drag;
+  std::unique_ptr<Backlight> m_backlight;  ///< beside the scene: lights what the headlight misses
+  std::unique_ptr<ViewOverlays> m_overlays;  ///< after the scene, under the view's camera
   std::unique_ptr<Feedback> m_feedback;
   std::unique_ptr<EditContext> m_edit;
   std::unique_ptr<StatusPanel> m_status;
@@ -197,6 +208,9 @@ class MainWindow : public QMainWindow {
   FieldEditor* m_editor = nullptr;
   PlotPanel* m_plots = nullptr;
   ViewFraming* m_framing = nullptr;
+  ViewDecorations* m_decorations = nullptr;
+  WheelZoom* m_wheel = nullptr;
+  ClickSelect* m_clicks = nullptr;
   ControlNetDisplay* m_netDisplay = nullptr;
   SurfaceListener* m_listener = nullptr;
   Timeline* m_timeline = nullptr;
