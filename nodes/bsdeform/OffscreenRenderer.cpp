@@ -156,16 +156,23 @@ bool renderOffscreen(SoNode* scene, int width, int height, Image& out, std::stri
   SoSeparator* root = new SoSeparator;
   root->ref();
   auto* headlight = new SoDirectionalLight;  // as every viewer has, along the view direction
+  // and a backlight opposite it, as the viewer has (ui/viewer/Backlight.h): it lights only what
+  // the headlight does not reach, a sheet's side that faces away from the view direction
+  auto* backlight = new SoDirectionalLight;
   if (findSceneCamera(scene)) {
-    // traversed before the scene's camera, the light is placed in eye space: -z is the view
+    // traversed before the scene's camera, the lights are placed in eye space: -z is the view
     headlight->direction.setValue(0, 0, -1);
+    backlight->direction.setValue(0, 0, 1);
     root->addChild(headlight);
+    root->addChild(backlight);
     root->addChild(scene);
   } else {
     auto* camera = new SoPerspectiveCamera;
     headlight->direction = viewDirection(StandardView::Default);  // after the camera: world space
+    backlight->direction = -viewDirection(StandardView::Default);
     root->addChild(camera);
     root->addChild(headlight);
+    root->addChild(backlight);
     root->addChild(scene);
     frameView(camera, scene, viewport);  // the viewer's and the README's default view
   }
