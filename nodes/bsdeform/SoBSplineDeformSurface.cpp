@@ -420,19 +420,32 @@ void SoBSplineDeformSurface::clockCallback(void* data, SoSensor*) {
     const double dt = self->m_sim->parameters().timeStep;
     // Steps that cannot keep up with realTime: one per tick, the rest of the time dropped, so
     // that a frame follows every step instead of a quarter second of steps (setRealTimeCatchUp).
-    const bool behind = !catchUpWithRealTime && self->m_stepWallSeconds * self->speed.getValue() > dt;
+    // (with a quarter of margin for the frame drawn after the steps: a step that takes about its
+    // own time leaves none for the drawing)
+    const bool behind = !catchUpWithRealTime && self->m_stepWallSeconds * self->speed.getValue() > 0.75 * dt;
     const auto start = std::chrono::steady_clock::now();
+    // Behind, a step waits for the frame of the one before (two clock ticks can come between
+    // two frames), unless no frame comes (a surface nobody draws: a tenth of a second at most).
+    const bool waitForFrame = behind && !self->m_drawnSinceStep &&
+                              std::chrono::duration<double>(start - self->m_lastStepAt).count() < 0.1;
     int steps = 0;
     if (!behind) {
       steps = self->advanceRealTime(now - self->m_lastTick);
     } else if (self->m_sim->status() == bsdeform::Status::Ok &&
                bsdeform::stepsDue(now - self->m_lastTick, self->speed.getValue(), dt, self->m_timeBudget) > 0) {
-      self->m_timeBudget = 0.0;
-      self->stepSimulation(1);
-      steps = 1;
+      self->m_timeBudget = 0.0;  // the time due is dropped, not owed
+      if (!waitForFrame) {
+        self->stepSimulation(1);
+        steps = 1;
+      }
     }
-    if (steps > 0)
-      self->m_stepWallSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / steps;
+    if (steps > 0) {
+      self->m_lastStepAt = std::chrono::steady_clock::now();
+      // averaged over the last steps, so that a step near the limit does not flip the mode
+      const double cost = std::chrono::duration<double>(self->m_lastStepAt - start).count() / steps;
+      self->m_stepWallSeconds = self->m_stepWallSeconds > 0.0 ? 0.7 * self->m_stepWallSeconds + 0.3 * cost : cost;
+      self->m_drawnSinceStep = false;
+    }
   }
   self->m_lastTick = now;
 }
@@ -540,6 +553,7 @@ void SoBSplineDeformSurface::GLRender(SoGLRenderAction* action) {
     }
   }
   if (!shouldGLRender(action)) return;
+  m_drawnSinceStep = true;
   SoState* state = action->getState();
   tessellate(state);
   // An open surface shows both sides: light the back faces too. A closed one has none to show.

@@ -78,6 +78,7 @@
 #include <Inventor/nodes/SoSubNode.h>
 
 #include <cstdint>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <string>
@@ -216,12 +217,15 @@ class SoBSplineDeformSurface : public SoShape {
   /// up). This is what the surface's realTime sensor calls. Returns the steps taken.
   int advanceRealTime(double seconds);
   /// How the realTime sensor treats a surface whose steps cost more wall time than they
-  /// simulate (the last steps' cost times `speed` above timeStep): `false` (the default, for
+  /// simulate (the recent steps' mean cost times `speed` above 3/4 of timeStep, the rest left
+  /// for drawing): `false` (the default, for
   /// interaction) takes one step per change of realTime and drops the rest of the time due, so
   /// the picture is redrawn after every step (frames never fewer than steps) and simulated time
   /// falls behind realTime; `true` takes every step due, as advanceRealTime() does (a driver
   /// that sets realTime to simulated times, such as a test, wants the exact count). Steps that
-  /// keep up are taken the same either way. Process-wide.
+  /// keep up are taken the same either way. Falling behind, a tick before the last step was
+  /// drawn takes none (two ticks can come between two frames), unless no frame came for a tenth
+  /// of a second (a surface nobody draws). Process-wide.
   static void setRealTimeCatchUp(bool catchUp);
   static bool realTimeCatchUp();
   /// Back to the rest state (same as touching `reset`).
@@ -328,5 +332,7 @@ class SoBSplineDeformSurface : public SoShape {
   int m_drivers = 0;                    ///< SceneRunners driving this surface (its sensor is off)
   double m_lastTick = -1.0;             ///< realTime at the last tick, -1 before the first
   double m_timeBudget = 0.0;
-  double m_stepWallSeconds = 0.0;       ///< wall time per step of the realTime sensor's last steps
+  double m_stepWallSeconds = 0.0;       ///< wall time per step of the realTime sensor's recent steps (moving mean)
+  std::chrono::steady_clock::time_point m_lastStepAt;  ///< when the realTime sensor last stepped
+  bool m_drawnSinceStep = true;         ///< rendered since the realTime sensor's last step
 };

@@ -9,9 +9,11 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "NodesTestUtil.h"
+#include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneRunner.h"
 
 using testutil::Coin;
@@ -69,14 +71,21 @@ TEST_CASE("Clock: steps that cannot keep up with realTime are taken one per tick
   const double tick = 1.0 / 1048576.0;  // one simulated second, exactly
   fine->simulation();
   setRealTime(300.0);
+  bsdeform::Image image;
+  std::string error;
+  auto frame = [&] { REQUIRE(bsdeform::renderOffscreen(root, 16, 16, image, error)); };
   setRealTime(300.0 + tick);  // one simulated second: 20 steps, before their cost is known
   CHECK(fine->simulation().stepCount() == 20);
+  frame();
   setRealTime(300.0 + 2 * tick);  // now known to be slower than realTime: one step, a frame after it
   CHECK(fine->simulation().stepCount() == 21);
-  setRealTime(300.0 + 3 * tick);
+  setRealTime(300.0 + 3 * tick);  // no frame yet since that step: this tick waits for it
+  CHECK(fine->simulation().stepCount() == 21);
+  frame();
+  setRealTime(300.0 + 4 * tick);
   CHECK(fine->simulation().stepCount() == 22);  // the time dropped is not owed
   SoBSplineDeformSurface::setRealTimeCatchUp(true);
-  setRealTime(300.0 + 4 * tick);
+  setRealTime(300.0 + 5 * tick);
   CHECK(fine->simulation().stepCount() == 42);  // every step due
   SoBSplineDeformSurface::setRealTimeCatchUp(false);
   root->unref();
