@@ -120,6 +120,7 @@ MainWindow::~MainWindow() {
   delete m_decorations;  // it leaves the viewer's superimpositions
   m_viewer->setSceneGraph(nullptr);
   delete m_viewer;
+  m_viewer = nullptr;  // eventFilter() may still see the GL widget's last events
   m_wrapper->unref();
 }
 
