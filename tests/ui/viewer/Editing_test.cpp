@@ -760,12 +760,7 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   processEvents();
   w.windowScreenshot().save(QStringLiteral("viewer_refused_value.png"));  // looked at
   // another field of the same surface can still be edited: the refusal is the file's, not its
-  auto* numU = qobject_cast<QAbstractSpinBox*>(ed.editorOf(QStringLiteral("numUControlPoints")));
-  REQUIRE(numU);
-  numU->setFocus();
-  numU->selectAll();
-  QTest::keyClicks(numU, QStringLiteral("8"));
-  QTest::keyClick(numU, Qt::Key_Return);
+  typeInto(ed.editorOf(QStringLiteral("numUControlPoints")), QStringLiteral("8"));
   CHECK(sheet->numUControlPoints.getValue() == 8);
   processEvents();
   // the status bar names the refusal, in red, also while the other surface is selected
@@ -778,12 +773,8 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   // fixed from the editor: the mark and the red go
   REQUIRE(w.selectNode(sheet));
   degree = ed.editorOf(QStringLiteral("uDegree"));
-  auto* spin = qobject_cast<QAbstractSpinBox*>(degree);
-  REQUIRE(spin);
-  spin->setFocus();
-  spin->selectAll();
-  QTest::keyClicks(spin, QStringLiteral("3"));
-  QTest::keyClick(spin, Qt::Key_Return);
+  REQUIRE(qobject_cast<QAbstractSpinBox*>(degree));
+  typeInto(degree, QStringLiteral("3"));
   CHECK(sheet->uDegree.getValue() == 3);
   processEvents();
   ed.refresh();
