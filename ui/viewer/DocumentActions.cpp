@@ -116,7 +116,7 @@ void DocumentActions::setTitle() {
 }
 
 QStringList DocumentActions::shippedSceneFolders() {
-  QStringList out;
+  QStringList out;  // in this order: the installed scenes, then the source tree's
   for (const QString& dir : {QCoreApplication::applicationDirPath() + QStringLiteral("/../share/bsdeform/scenes"),
                              QStringLiteral(BSDEFORM_SOURCE_SCENES_DIR)}) {
     const QString canonical = QFileInfo(dir).canonicalFilePath();
@@ -139,10 +139,8 @@ QString DocumentActions::openFolder() {
   const QString last = QSettings().value(kFolderKey).toString();
   if (!last.isEmpty() && QFileInfo(last).isDir()) return last;
   // the installed scenes, then the source tree's (a build that is run where it was built)
-  for (const QString& dir : {QCoreApplication::applicationDirPath() + QStringLiteral("/../share/bsdeform/scenes"),
-                             QStringLiteral(BSDEFORM_SOURCE_SCENES_DIR)})
-    if (QFileInfo(dir).isDir()) return QFileInfo(dir).canonicalFilePath();
-  return QString();
+  const QStringList shipped = shippedSceneFolders();
+  return shipped.isEmpty() ? QString() : shipped.front();
 }
 
 void DocumentActions::rememberFolder(const QString& path) {
