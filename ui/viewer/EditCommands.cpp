@@ -43,13 +43,8 @@ QString enumName(const SoSFEnum& field) {
 }  // namespace
 
 QString refusalOf(SoFieldContainer* owner) {
-  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) {
-    auto* s = static_cast<SoBSplineDeformSurface*>(owner);
-    s->simulation();  // rebuilt from the fields now
-    // a refused field (other problems, e.g. a force's, do not refuse the model)
-    const SoBSplineDeformSurface::Problem& p = s->problem();
-    return p.kind == SoBSplineDeformSurface::Problem::FIELD ? QString::fromStdString(p.message) : QString();
-  }
+  // a surface: a refused field (other problems, e.g. a force's, do not refuse the model)
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) return refusedFieldOf(owner).second;
   if (owner->isOfType(SoForceField::getClassTypeId())) {
     auto* f = static_cast<SoForceField*>(owner);
     if (f->type.getValue() == SoForceField::COLLISION) return QString();
@@ -63,7 +58,7 @@ QString refusalOf(SoFieldContainer* owner) {
 std::pair<QString, QString> refusedFieldOf(SoFieldContainer* owner) {
   if (!owner || !owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) return {};
   auto* s = static_cast<SoBSplineDeformSurface*>(owner);
-  s->simulation();
+  s->simulation();  // rebuilt from the fields now
   const SoBSplineDeformSurface::Problem& p = s->problem();
   if (p.kind != SoBSplineDeformSurface::Problem::FIELD) return {};
   return {QString::fromStdString(p.field), QString::fromStdString(p.message)};

@@ -10,18 +10,15 @@
 #include <QString>
 #include <QVector>
 
-class SoFieldContainer;
-
 namespace bsdeform {
 
 class SceneDocument;
 
 struct SceneProblem {
-  QString node;    ///< the node's DEF name, or its type and place ("SoForceField #2")
+  QString node;    ///< the node's name in the scene panel (SceneDocument::nameOf)
   QString field;   ///< the refused field ("" when no one field is)
   QString value;   ///< the field's value as it would be written (the file's)
   QString reason;  ///< the node's sentence
-  bool refused = true;  ///< a value the model does not take; false: a warning (an obstacle, a state adjusted)
   /// One line: "Cloth: uDegree = 9: <reason>".
   QString text() const;
 };
@@ -29,8 +26,5 @@ struct SceneProblem {
 /// Every problem of the document's surfaces and force fields, surfaces first, in scene order
 /// (building each surface's model now).
 QVector<SceneProblem> sceneProblems(const SceneDocument& doc);
-
-/// The field's value in the text Coin writes ("9", "0 0 -1", "[ 1, 2 ]").
-QString fieldValueText(SoFieldContainer* owner, const QString& field);
 
 }  // namespace bsdeform
