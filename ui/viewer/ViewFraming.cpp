@@ -89,12 +89,12 @@ SbBox2f ViewFraming::projectedSceneBox() const {
 }
 
 ViewFraming::CameraState ViewFraming::cameraState() const {
+  if (!m_viewer->getCamera()) return CameraState();
+  const Pose p = pose();
   CameraState s;
-  if (SoCamera* camera = m_viewer->getCamera()) {
-    s.position = camera->position.getValue();
-    s.orientation = camera->orientation.getValue();
-    s.focalDistance = camera->focalDistance.getValue();
-  }
+  s.position = p.position;
+  s.orientation = p.orientation;
+  s.focalDistance = p.focalDistance;
   return s;
 }
 
