@@ -68,6 +68,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(maxSubSteps, (10000));
   SO_NODE_ADD_FIELD(newtonTolerance, (1e-8));
   SO_NODE_ADD_FIELD(maxNewtonIterations, (30));
+  SO_NODE_ADD_FIELD(newtonVelocityTolerance, (1e-6));
   SO_NODE_ADD_FIELD(reference, (REST));
   SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
@@ -97,6 +98,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_SET_SF_ENUM_TYPE(massModel, MassModel);
   SO_NODE_DEFINE_ENUM_VALUE(Integrator, EXPLICIT);
   SO_NODE_DEFINE_ENUM_VALUE(Integrator, IMPLICIT);
+  SO_NODE_DEFINE_ENUM_VALUE(Integrator, BACKWARD_EULER);
   SO_NODE_SET_SF_ENUM_TYPE(integrator, Integrator);
   SO_NODE_DEFINE_ENUM_VALUE(Reference, REST);
   SO_NODE_DEFINE_ENUM_VALUE(Reference, ABSOLUTE);

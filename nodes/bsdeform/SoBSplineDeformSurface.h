@@ -30,10 +30,12 @@
 ///   mass 1                # [m] > 0
 ///   damping 0.5           # [c] >= 0, same convention as mass
 ///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
-///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark)
+///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark) |
+///                         # BACKWARD_EULER (SHELL: incremental potential, forces in Newton; for cloth)
 ///   maxSubSteps 10000     # EXPLICIT: a step needing more sub-steps is refused, not run for minutes
 ///   newtonTolerance 1e-8  # SHELL, IMPLICIT and static: Newton's relative residual, in (0, 1)
 ///   maxNewtonIterations 30 # SHELL, IMPLICIT: a step needing more iterations fails (reported)
+///   newtonVelocityTolerance 1e-6 # SHELL, BACKWARD_EULER: converged when max update / dt is below (m/s)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -109,7 +111,7 @@ class SoBSplineDeformSurface : public SoShape {
 
  public:
   enum MassModel { NODAL, LUMPED };
-  enum Integrator { EXPLICIT, IMPLICIT };
+  enum Integrator { EXPLICIT, IMPLICIT, BACKWARD_EULER };
   enum Reference { REST, ABSOLUTE };
   enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN };
   enum Start { PAPER, SECOND_ORDER };
@@ -139,10 +141,11 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble mass;              ///< m: per control point (NODAL) or per unit area (LUMPED); 1
   SoSFDouble damping;           ///< c, same convention; 0.5
   SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
-  SoSFEnum integrator;          ///< EXPLICIT or IMPLICIT; EXPLICIT
+  SoSFEnum integrator;          ///< EXPLICIT, IMPLICIT or BACKWARD_EULER (SHELL); EXPLICIT
   SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
   SoSFDouble newtonTolerance;   ///< SHELL implicit and static: Newton's relative residual; 1e-8
   SoSFInt32 maxNewtonIterations;  ///< SHELL implicit: a step needing more iterations fails; 30
+  SoSFDouble newtonVelocityTolerance;  ///< SHELL BACKWARD_EULER: max update / dt at convergence (m/s); 1e-6
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED

@@ -78,7 +78,9 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
         unknown("massModel", n.massModel.getValue()));
   check(n.energy.getValue() == Surface::PAPER_ENERGY || n.energy.getValue() == Surface::SHELL, "energy",
         unknown("energy", n.energy.getValue()));
-  check(n.integrator.getValue() == Surface::EXPLICIT || n.integrator.getValue() == Surface::IMPLICIT, "integrator",
+  check(n.integrator.getValue() == Surface::EXPLICIT || n.integrator.getValue() == Surface::IMPLICIT ||
+            n.integrator.getValue() == Surface::BACKWARD_EULER,
+        "integrator",
         unknown("integrator", n.integrator.getValue()));
   check(n.reference.getValue() == Surface::REST || n.reference.getValue() == Surface::ABSOLUTE, "reference",
         unknown("reference", n.reference.getValue()));
@@ -117,7 +119,9 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   p.mass = n.mass.getValue();
   p.damping = n.damping.getValue();
   p.timeStep = n.timeStep.getValue();
-  p.integrator = n.integrator.getValue() == Surface::IMPLICIT ? Integrator::Implicit : Integrator::Explicit;
+  p.integrator = n.integrator.getValue() == Surface::IMPLICIT         ? Integrator::Implicit
+                 : n.integrator.getValue() == Surface::BACKWARD_EULER ? Integrator::BackwardEuler
+                                                                      : Integrator::Explicit;
   p.maxSubSteps = n.maxSubSteps.getValue();
   p.energy = n.energy.getValue() == Surface::SHELL ? EnergyModel::Shell : EnergyModel::Paper;
   p.material.youngsModulus = n.youngsModulus.getValue();
@@ -126,6 +130,7 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   p.material.density = n.density.getValue();
   p.newtonTolerance = n.newtonTolerance.getValue();
   p.maxNewtonIterations = n.maxNewtonIterations.getValue();
+  p.newtonVelocityTolerance = n.newtonVelocityTolerance.getValue();
   p.reference = n.reference.getValue() == Surface::ABSOLUTE ? ElasticReference::Absolute : ElasticReference::Rest;
   p.start = n.start.getValue() == Surface::PAPER ? StartRule::Paper : StartRule::SecondOrder;
   p.boundaries = {sideOf(n.boundaryUMin), sideOf(n.boundaryUMax), sideOf(n.boundaryVMin), sideOf(n.boundaryVMax)};

@@ -203,14 +203,16 @@ void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   }
 }
 
-void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& load) const {
+void DistributedForce::forEachGaussPoint(
+    const LoadContext& ctx, unsigned dependence,
+    const std::function<void(const SurfaceSample&, double, const LocalBasis&, const LocalBasis&)>& fn) const {
   const SplineSpace& s = ctx.space;
   // n+1 points integrate f * B exactly for constant f (B is degree n per span).
   const std::vector<Node1D> qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
   const std::vector<Node1D> qv = splitQuadrature(s.basisV(), m_rect.v0, m_rect.v1, s.degreeV() + 1 + m_extraPoints);
   // physical units: the rest area element J0, or the current one for a follower load
   const bool restArea = ctx.rest && !m_perCurrentArea, currentArea = ctx.rest && m_perCurrentArea;
-  const unsigned dependence = m_dependence | (currentArea ? unsigned(kDependsOnNormal) : 0u);
+  dependence |= currentArea ? unsigned(kDependsOnNormal) : 0u;
   const int order = (dependence & kDependsOnNormal) || restArea ? 1 : 0;
   std::vector<LocalBasis> bv(qv.size());
   for (size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, order, bv[j]);
@@ -226,9 +228,78 @@ void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& l
       } else if (currentArea) {
         w *= smp.areaElement;
       }
-      scatter(s, bu, bv[j], w * m_density(smp), load);
+      fn(smp, w, bu, bv[j]);
     }
   }
+}
+
+void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& load) const {
+  forEachGaussPoint(ctx, m_dependence, [&](const SurfaceSample& smp, double w, const LocalBasis& bu, const LocalBasis& bv) {
+    scatter(ctx.space, bu, bv, w * m_density(smp), load);
+  });
+}
+
+static void addBasisBlocks(const SplineSpace& s, const LocalBasis& bu, const LocalBasis& bv, const Eigen::Matrix3d& K,
+                    JacobianSink& sink) {
+  const int cols = s.netCols();
+  for (int a = 0; a < bu.count; ++a)
+    for (int b = 0; b < bv.count; ++b) {
+      const double Bp = bu.d[0][a] * bv.d[0][b];
+      if (Bp == 0.0) continue;
+      const Eigen::Index p = Eigen::Index(bu.first + a + s.degreeU()) * cols + bv.first + b + s.degreeV();
+      for (int c = 0; c < bu.count; ++c)
+        for (int d = 0; d < bv.count; ++d) {
+          const double Bq = bu.d[0][c] * bv.d[0][d];
+          if (Bq == 0.0) continue;
+          const Eigen::Index q = Eigen::Index(bu.first + c + s.degreeU()) * cols + bv.first + d + s.degreeV();
+          sink.add(p, q, (Bp * Bq) * K);
+        }
+    }
+}
+
+void DistributedForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+  if (!m_hasDensityDerivatives || isLine()) return;
+  forEachGaussPoint(ctx, m_dependence, [&](const SurfaceSample& smp, double w, const LocalBasis& bu, const LocalBasis& bv) {
+    Eigen::Matrix3d Kx, Kv;
+    double phi;
+    densityDerivatives(smp, Kx, Kv, phi);
+    const Eigen::Matrix3d K = w * (Kx + velocityScale * Kv);
+    if (!K.isZero(0.0)) addBasisBlocks(ctx.space, bu, bv, K, sink);
+  });
+}
+
+bool DistributedForce::potential(const LoadContext& ctx, double& value) const {
+  value = 0.0;
+  if (!m_hasDensityDerivatives || isLine()) return false;
+  forEachGaussPoint(ctx, m_dependence, [&](const SurfaceSample& smp, double w, const LocalBasis&, const LocalBasis&) {
+    Eigen::Matrix3d Kx, Kv;
+    double phi;
+    densityDerivatives(smp, Kx, Kv, phi);
+    value += w * phi;
+  });
+  return true;
+}
+
+void PointForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+  if (!m_hasPointDerivatives) return;
+  LocalBasis bu, bv;
+  ctx.space.basisU().evaluate(m_u, 1, bu);
+  ctx.space.basisV().evaluate(m_v, 1, bv);
+  Eigen::Matrix3d Kx, Kv;
+  double phi;
+  pointDerivatives(sampleFromBases(ctx, bu, bv, m_u, m_v, m_dependence), Kx, Kv, phi);
+  addBasisBlocks(ctx.space, bu, bv, Kx + velocityScale * Kv, sink);
+}
+
+bool PointForce::potential(const LoadContext& ctx, double& value) const {
+  value = 0.0;
+  if (!m_hasPointDerivatives) return false;
+  LocalBasis bu, bv;
+  ctx.space.basisU().evaluate(m_u, 1, bu);
+  ctx.space.basisV().evaluate(m_v, 1, bv);
+  Eigen::Matrix3d Kx, Kv;
+  pointDerivatives(sampleFromBases(ctx, bu, bv, m_u, m_v, m_dependence), Kx, Kv, value);
+  return true;
 }
 
 void DistributedForce::addLineLoad(const LoadContext& ctx, ControlNet& load) const {

@@ -57,6 +57,15 @@ struct MassContext {
   std::function<double(int, int)> massAt;  ///< mass of net point (i, j) (net layers), moving or derived
 };
 
+/// Where a force adds its Jacobian: 3 x 3 blocks between net points (full-net indices, held
+/// points included; the receiver folds them onto the unknowns and drops held ones).
+class JacobianSink {
+ public:
+  virtual ~JacobianSink() = default;
+  /// Adds B to the block of rows of net point p and columns of net point q.
+  virtual void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) = 0;
+};
+
 /// Base class of all forces. Implementations add their contribution to the load of the moving
 /// control points (numMoving x 3, order of SplineSpace::movingToNet).
 class Force {
@@ -73,6 +82,28 @@ class Force {
   virtual double eigenvalueBound(const MassContext& ctx) const {
     (void)ctx;
     return 0.0;
+  }
+  /// Whether addJacobian() gives this force's derivatives. Forces that depend on the position or
+  /// the velocity and have none are evaluated at every Newton iterate without them (EXPRESSION).
+  virtual bool hasJacobian() const { return false; }
+  /// Adds \f$K = -\partial L/\partial x - s\,\partial L/\partial v\f$ at the state of `ctx`: the
+  /// stiffness of the load with respect to the control points, plus `velocityScale` s times its
+  /// damping (the velocity the force sees is (current - previous) / stepSize, so an implicit
+  /// step whose velocity is (x - previous) / stepSize passes s = 1 / stepSize). Blocks between
+  /// net points. A follower load's non-symmetric K is given whole; the solver symmetrises it.
+  virtual void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+    (void)ctx;
+    (void)velocityScale;
+    (void)sink;
+  }
+  /// The force's potential \f$\Phi\f$ at the state of `ctx`, with \f$L = -\partial\Phi/\partial x\f$ (for a
+  /// velocity-dependent force, the incremental potential of the step: the velocity is
+  /// (x - previous) / stepSize); false when it has none (a follower pressure). Constant loads are
+  /// left to the caller (\f$-L\cdot x\f$). Only differences of it matter (line searches).
+  virtual bool potential(const LoadContext& ctx, double& value) const {
+    (void)ctx;
+    value = 0.0;
+    return false;
   }
 };
 
@@ -95,8 +126,26 @@ class PointForce : public Force {
   double eigenvalueBound(const MassContext& ctx) const override;
   double u() const { return m_u; }
   double v() const { return m_v; }
+  /// A point force F(S, Ṡ) whose derivatives pointDerivatives() gives: \f$K_{pq} = \beta_p \beta_q
+  /// (K_x + s K_v)\f$ with \f$\beta\f$ the B-splines at (u0, v0).
+  bool hasJacobian() const override { return m_hasPointDerivatives; }
+  void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
+  bool potential(const LoadContext& ctx, double& value) const override;
+
+ protected:
+  /// \f$K_x = -\partial F/\partial S\f$, \f$K_v = -\partial F/\partial\dot S\f$ and the potential
+  /// \f$\Phi\f$ (\f$F = -\partial\Phi/\partial S\f$) at the sample; see setHasPointDerivatives().
+  virtual void pointDerivatives(const SurfaceSample& sample, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv,
+                                double& phi) const {
+    (void)sample;
+    Kx.setZero();
+    Kv.setZero();
+    phi = 0.0;
+  }
+  void setHasPointDerivatives() { m_hasPointDerivatives = true; }
 
  private:
+  bool m_hasPointDerivatives = false;
   double m_u, m_v;
   ForceFunction m_force;
   unsigned m_dependence;
@@ -150,7 +199,33 @@ class DistributedForce : public Force {
   /// Whether the rectangle has zero width in u or v (a line load, or a point).
   bool isLine() const { return m_rect.u0 == m_rect.u1 || m_rect.v0 == m_rect.v1; }
 
+  /// The Jacobian of a density given by densityJacobian(): \f$\sum_g w_g B_p B_q (K_x + s K_v)\f$
+  /// over the same Gauss points as the load.
+  bool hasJacobian() const override { return m_hasDensityDerivatives; }
+  void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
+  /// \f$\int \phi\f$ over the same Gauss points, \f$\phi\f$ from densityPotential().
+  bool potential(const LoadContext& ctx, double& value) const override;
+
  protected:
+  /// Subclasses whose density depends on the position and velocity only through S(u, v) and
+  /// its velocity (not the normal) give \f$K_x = -\partial f/\partial S\f$, \f$K_v = -\partial
+  /// f/\partial \dot S\f$ and the potential density \f$\phi\f$ (\f$f = -\partial\phi/\partial S\f$;
+  /// for a velocity dependence, the step's: \f$\dot S = (S - S_{prev})/\delta\f$) through these.
+  virtual void densityDerivatives(const SurfaceSample& sample, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv,
+                                  double& phi) const {
+    (void)sample;
+    Kx.setZero();
+    Kv.setZero();
+    phi = 0.0;
+  }
+  /// Declares that densityDerivatives() is implemented.
+  void setHasDensityDerivatives() { m_hasDensityDerivatives = true; }
+  /// Gauss points of the load's 2-D rule with their weights (area element included) and 1-D
+  /// bases (first derivatives evaluated): fn(sample, weight, bu, bv).
+  void forEachGaussPoint(
+      const LoadContext& ctx, unsigned dependence,
+      const std::function<void(const SurfaceSample&, double, const LocalBasis&, const LocalBasis&)>& fn) const;
+  bool perCurrentArea() const { return m_perCurrentArea; }
   /// With physical units (LoadContext::rest), the density is per unit area of the current
   /// surface (a follower pressure) instead of the rest surface's.
   void setPerCurrentArea() { m_perCurrentArea = true; }
@@ -158,6 +233,7 @@ class DistributedForce : public Force {
  private:
   void addLineLoad(const LoadContext& ctx, ControlNet& load) const;
   bool m_perCurrentArea = false;
+  bool m_hasDensityDerivatives = false;
   bool m_isConstant = false;  ///< the density is the constant m_constantDensity
   Eigen::Vector3d m_constantDensity = Eigen::Vector3d::Zero();
   ForceFunction m_density;

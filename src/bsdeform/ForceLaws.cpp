@@ -51,12 +51,25 @@ double area(const MassContext& ctx) { return ctx.space.basisU().spacing() * ctx.
 // ---------------------------------------------------------------------------------------------
 
 SpringForce::SpringForce(double u0, double v0, const Eigen::Vector3d& anchor, double stiffness)
+    : SpringForce(u0, v0, std::make_shared<const Eigen::Vector3d>(finite(anchor, "spring anchor")), stiffness) {}
+
+SpringForce::SpringForce(double u0, double v0, std::shared_ptr<const Eigen::Vector3d> anchor, double stiffness)
     : PointForce(parameter(u0, "spring point u"), parameter(v0, "spring point v"),
-                 [a = finite(anchor, "spring anchor"), k = nonNegative(stiffness, "spring stiffness")](
-                     const SurfaceSample& s) { return Eigen::Vector3d(k * (a - s.position)); },
+                 [a = anchor, k = nonNegative(stiffness, "spring stiffness")](const SurfaceSample& s) {
+                   return Eigen::Vector3d(k * (*a - s.position));
+                 },
                  kDependsOnPosition, stiffness),
-      m_anchor(anchor),
-      m_stiffness(stiffness) {}
+      m_anchor(std::move(anchor)),
+      m_stiffness(stiffness) {
+  if (!m_anchor || !m_anchor->allFinite()) throw std::invalid_argument("spring anchor must be finite");
+  setHasPointDerivatives();
+}
+
+void SpringForce::pointDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const {
+  Kx = m_stiffness * Eigen::Matrix3d::Identity();
+  Kv.setZero();
+  phi = 0.5 * m_stiffness * (*m_anchor - s.position).squaredNorm();
+}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -64,7 +77,15 @@ DragForce::DragForce(double coefficient)
     : DistributedForce([c = nonNegative(coefficient, "drag coefficient")](
                            const SurfaceSample& s) { return Eigen::Vector3d(-c * s.velocity); },
                        kDependsOnVelocity),
-      m_coefficient(coefficient) {}
+      m_coefficient(coefficient) {
+  setHasDensityDerivatives();
+}
+
+void DragForce::densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const {
+  Kx.setZero();
+  Kv = m_coefficient * Eigen::Matrix3d::Identity();
+  phi = 0.5 * m_coefficient * s.stepSize * s.velocity.squaredNorm();
+}
 
 double DragForce::dampingRateBound(const MassContext& ctx) const {
   return m_coefficient * area(ctx) / ctx.interiorMass;
@@ -78,6 +99,49 @@ PressureForce::PressureForce(double pressure, double minStretch)
       m_pressure(pressure),
       m_minStretch(positive(minStretch, "pressure minStretch")) {
   setPerCurrentArea();
+}
+
+void PressureForce::addJacobian(const LoadContext& ctx, double, JacobianSink& sink) const {
+  const SplineSpace& sp = ctx.space;
+  const int cols = sp.netCols();
+  const bool perRest = ctx.rest != nullptr;
+  forEachGaussPoint(ctx, kDependsOnNormal, [&](const SurfaceSample& smp, double w, const LocalBasis& bu, const LocalBasis& bv) {
+    const SurfacePoint pt = sp.evaluate(ctx.current, bu, bv, 1);
+    const Eigen::Vector3d N = pt.du.cross(pt.dv);
+    const double nn = N.norm();
+    if (!(nn > 0.0)) return;
+    auto cross = [](const Eigen::Vector3d& x) {
+      Eigen::Matrix3d X;
+      X << 0, -x.z(), x.y(), x.z(), 0, -x.x(), -x.y(), x.x(), 0;
+      return X;
+    };
+    const Eigen::Matrix3d Cu = cross(pt.du), Cv = cross(pt.dv);
+    // dN = (B_{m,v} [S_u]x - B_{m,u} [S_v]x) dx_m; per unit rest area the weight w holds |N|
+    // (w = wq |N|), so the load is p N wq; per parameter area it is p N/|N| wq
+    Eigen::Matrix3d post;
+    double wq;
+    if (perRest) {
+      wq = w / nn;
+      post = Eigen::Matrix3d::Identity();
+    } else {
+      wq = w;
+      const Eigen::Vector3d n = N / nn;
+      post = (Eigen::Matrix3d::Identity() - n * n.transpose()) / nn;
+    }
+    (void)smp;
+    for (int a = 0; a < bu.count; ++a)
+      for (int b = 0; b < bv.count; ++b) {
+        const double Bk = bu.d[0][a] * bv.d[0][b];
+        if (Bk == 0.0) continue;
+        const Eigen::Index p = Eigen::Index(bu.first + a + sp.degreeU()) * cols + bv.first + b + sp.degreeV();
+        for (int c = 0; c < bu.count; ++c)
+          for (int d = 0; d < bv.count; ++d) {
+            const double Bmu = bu.d[1][c] * bv.d[0][d], Bmv = bu.d[0][c] * bv.d[1][d];
+            const Eigen::Index q = Eigen::Index(bu.first + c + sp.degreeU()) * cols + bv.first + d + sp.degreeV();
+            sink.add(p, q, (-m_pressure * wq * Bk) * (post * (Bmv * Cu - Bmu * Cv)));
+          }
+      }
+  });
 }
 
 double PressureForce::eigenvalueBound(const MassContext& ctx) const {
@@ -97,7 +161,22 @@ PlaneContactForce::PlaneContactForce(const Eigen::Vector3d& point, const Eigen::
           kDependsOnPosition, ParamRect{}, 2, stiffness),
       m_point(point),
       m_normal(normal.normalized()),
-      m_stiffness(stiffness) {}
+      m_stiffness(stiffness) {
+  setHasDensityDerivatives();
+}
+
+void PlaneContactForce::densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv,
+                                           double& phi) const {
+  Kv.setZero();
+  const double depth = -(s.position - m_point).dot(m_normal);
+  if (depth > 0.0) {
+    Kx = m_stiffness * m_normal * m_normal.transpose();
+    phi = 0.5 * m_stiffness * depth * depth;
+  } else {
+    Kx.setZero();
+    phi = 0.0;
+  }
+}
 
 // ---------------------------------------------------------------------------------------------
 
@@ -113,7 +192,25 @@ SphereContactForce::SphereContactForce(const Eigen::Vector3d& center, double rad
           kDependsOnPosition, ParamRect{}, 2, stiffness),
       m_center(center),
       m_radius(radius),
-      m_stiffness(stiffness) {}
+      m_stiffness(stiffness) {
+  setHasDensityDerivatives();
+}
+
+void SphereContactForce::densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv,
+                                            double& phi) const {
+  Kv.setZero();
+  const Eigen::Vector3d d = s.position - m_center;
+  const double len = d.norm();
+  if (len >= m_radius || len == 0.0) {
+    Kx.setZero();
+    phi = 0.0;
+    return;
+  }
+  const Eigen::Vector3d n = d / len;
+  const Eigen::Matrix3d nn = n * n.transpose();
+  Kx = m_stiffness * nn - m_stiffness * (m_radius / len - 1.0) * (Eigen::Matrix3d::Identity() - nn);
+  phi = 0.5 * m_stiffness * (m_radius - len) * (m_radius - len);
+}
 
 // ---------------------------------------------------------------------------------------------
 

@@ -14,6 +14,7 @@
 ///       LUMPED: \f$m_m = \rho r_m\f$, \f$m_{interior} = \rho h_1 h_2\f$).
 
 #include <Eigen/Core>
+#include <memory>
 
 #include "bsdeform/Force.h"
 
@@ -33,12 +34,19 @@ class SpringForce : public PointForce {
   /// @param stiffness  spring constant k, finite and >= 0
   /// @throws std::invalid_argument naming the parameter and the value
   SpringForce(double u0, double v0, const Eigen::Vector3d& anchor, double stiffness);
+  /// A spring whose anchor the caller moves (the viewer's drag: the anchor follows the mouse;
+  /// the new position acts from the next evaluation). The anchor must stay finite.
+  SpringForce(double u0, double v0, std::shared_ptr<const Eigen::Vector3d> anchor, double stiffness);
 
-  const Eigen::Vector3d& anchor() const { return m_anchor; }
+  const Eigen::Vector3d& anchor() const { return *m_anchor; }
   double stiffness() const { return m_stiffness; }
 
+ protected:
+  /// K = k I, potential ½ k |a - S|².
+  void pointDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const override;
+
  private:
-  Eigen::Vector3d m_anchor;
+  std::shared_ptr<const Eigen::Vector3d> m_anchor;
   double m_stiffness;
 };
 
@@ -64,6 +72,10 @@ class DragForce : public DistributedForce {
   double coefficient() const { return m_coefficient; }
   /// \f$\bar\nu = c\,h_1 h_2 / m_{interior}\f$: Gershgorin bound of \f$\lambda_{max}(M^{-1} c\,G)\f$.
   double dampingRateBound(const MassContext& ctx) const;
+
+ protected:
+  /// K_v = c I; the step's potential ½ c δ |Ṡ|² (Rayleigh's dissipation over the step).
+  void densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const override;
 
  private:
   double m_coefficient;
@@ -98,6 +110,17 @@ class PressureForce : public DistributedForce {
   double minStretch() const { return m_minStretch; }
   /// \f$2|p|(h_1 + h_2) / (\sigma\, m_{interior})\f$, see the class documentation.
   double eigenvalueBound(const MassContext& ctx) const override;
+  /// The exact, non-symmetric Jacobian: per unit rest area (SHELL) the load is
+  /// \f$\int p\,(S_u \times S_v)\,B_k\f$, so \f$K_{km} = -p\int B_k(B_{m,v}[S_u]_\times -
+  /// B_{m,u}[S_v]_\times)\f$; per parameter area \f$\hat n\f$'s derivative
+  /// \f$(I - \hat n\hat n^T)/|N|\f$ enters too. No potential (a follower load): the Newton
+  /// matrix takes the symmetric part (TangentMatrix), the residual the exact load.
+  bool hasJacobian() const override { return true; }
+  void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
+  bool potential(const LoadContext&, double& value) const override {
+    value = 0.0;
+    return false;
+  }
 
  private:
   double m_pressure;
@@ -124,6 +147,10 @@ class PlaneContactForce : public DistributedForce {
   const Eigen::Vector3d& normal() const { return m_normal; }
   double stiffness() const { return m_stiffness; }
 
+ protected:
+  /// K = k n nᵀ where penetrating; potential ½ k max(d, 0)².
+  void densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const override;
+
  private:
   Eigen::Vector3d m_point, m_normal;
   double m_stiffness;
@@ -149,6 +176,10 @@ class SphereContactForce : public DistributedForce {
   const Eigen::Vector3d& center() const { return m_center; }
   double radius() const { return m_radius; }
   double stiffness() const { return m_stiffness; }
+
+ protected:
+  /// Inside: K = k d̂d̂ᵀ - k (r/|d| - 1)(I - d̂d̂ᵀ); potential ½ k (r - |d|)².
+  void densityDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const override;
 
  private:
   Eigen::Vector3d m_center;

@@ -3,6 +3,7 @@
 
 #include "bsdeform/ParameterError.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -215,17 +216,143 @@ void pointCoefficients(const Tables& tb, int q1, int q2, double c[5][kMaxPoints 
       for (int b = 0; b < tb.L2; ++b) c[m][a * tb.L2 + b] = tb.u(q1, kOrderU[m], a) * tb.v(q2, kOrderV[m], b);
 }
 
-/// The 15 x 15 Hessian of the density at y (exact: 15 dual directions).
-Eigen::Matrix<double, 15, 15> densityHessian(const double* y, const ShellEnergy::RestPoint& r, const Constants& k,
-                                             bool bending) {
-  Eigen::Matrix<double, 15, 15> H;
-  Dual yd[15], g[15], em, eb;
-  for (int m = 0; m < 15; ++m) {
-    for (int i = 0; i < 15; ++i) yd[i] = Dual(y[i], i == m ? 1.0 : 0.0);
-    density(yd, r, k, bending, g, em, eb);
-    for (int i = 0; i < 15; ++i) H(i, m) = g[i].b;
+/// [x]× y = x × y as a matrix: out (row-major 3 x 3) = scale [x]×.
+inline void crossMatrix(const double* x, double scale, double* out) {
+  out[0] = 0.0;
+  out[1] = -scale * x[2];
+  out[2] = scale * x[1];
+  out[3] = scale * x[2];
+  out[4] = 0.0;
+  out[5] = -scale * x[0];
+  out[6] = -scale * x[1];
+  out[7] = scale * x[0];
+  out[8] = 0.0;
+}
+
+/// The 15 x 15 Hessian of the density at y, derived by hand (docs/math.md §16, "The tangent"):
+/// the material part (PSD: (dE)ᵀ W C dE and (dκ)ᵀ W C dκ, W = diag(1, 2, 1) for the Voigt
+/// shear) and the geometric part (the stresses times the second variations of E and κ).
+/// `project`: when material + geometric is not positive definite (a compressed membrane, a
+/// bending stress against the curvature), the geometric part is replaced by the membrane's
+/// with its stress resultant projected onto the positive semidefinite 2 x 2 matrices, which
+/// keeps the sum PSD (an approximation of the tangent that Newton on the incremental potential
+/// needs to be a descent direction; the residual stays exact).
+void densityHessianAnalytic(const double* y, const ShellEnergy::RestPoint& r, const Constants& k, bool bending,
+                            bool project, double* Hout) {
+  Eigen::Matrix<double, 15, 15> Hm = Eigen::Matrix<double, 15, 15>::Zero();  // material
+  Eigen::Matrix<double, 15, 15> Hg = Eigen::Matrix<double, 15, 15>::Zero();  // geometric
+  const Eigen::Map<const Eigen::Vector3d> a1(y), a2(y + 3);
+  double E[3];
+  {
+    const double d1[3] = {y[0] - r.T[0], y[1] - r.T[1], y[2] - r.T[2]};
+    const double d2[3] = {y[3] - r.T[3], y[4] - r.T[4], y[5] - r.T[5]};
+    E[0] = r.T[0] * d1[0] + r.T[1] * d1[1] + r.T[2] * d1[2] + 0.5 * dot3(d1, d1);
+    E[1] = 0.5 * ((r.T[0] * d2[0] + r.T[1] * d2[1] + r.T[2] * d2[2]) +
+                  (r.T[3] * d1[0] + r.T[4] * d1[1] + r.T[5] * d1[2]) + dot3(d1, d2));
+    E[2] = r.T[3] * d2[0] + r.T[4] * d2[1] + r.T[5] * d2[2] + 0.5 * dot3(d2, d2);
   }
-  return 0.5 * (H + H.transpose());
+  // W C in Voigt form (column j: the stress of the unit strain j, rows weighted 1, 2, 1)
+  Eigen::Matrix3d WC;
+  for (int j = 0; j < 3; ++j) {
+    const double e[3] = {j == 0 ? 1.0 : 0.0, j == 1 ? 1.0 : 0.0, j == 2 ? 1.0 : 0.0};
+    double s[3];
+    stress(r.Ac, k, e, s);
+    WC(0, j) = s[0];
+    WC(1, j) = 2.0 * s[1];
+    WC(2, j) = s[2];
+  }
+  WC = 0.5 * (WC + WC.transpose()).eval();
+  const double tm = k.membrane * r.wJ;
+  double S[3];
+  stress(r.Ac, k, E, S);
+  const double n11 = tm * S[0], n12 = tm * S[1], n22 = tm * S[2];
+  // membrane: dE_i/dy over (a1, a2)
+  Eigen::Matrix<double, 6, 3> G = Eigen::Matrix<double, 6, 3>::Zero();
+  G.block<3, 1>(0, 0) = a1;
+  G.block<3, 1>(0, 1) = 0.5 * a2;
+  G.block<3, 1>(3, 1) = 0.5 * a1;
+  G.block<3, 1>(3, 2) = a2;
+  Hm.topLeftCorner<6, 6>() = tm * G * WC * G.transpose();
+  const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+  Hg.block<3, 3>(0, 0) = n11 * I;
+  Hg.block<3, 3>(0, 3) = n12 * I;
+  Hg.block<3, 3>(3, 0) = n12 * I;
+  Hg.block<3, 3>(3, 3) = n22 * I;
+  // the membrane's geometric part with the stress resultant made PSD (project's fallback)
+  Eigen::Matrix2d nPsd = Eigen::Matrix2d::Zero();
+  if (project) {
+    Eigen::Matrix2d nn;
+    nn << n11, n12, n12, n22;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(nn);
+    nPsd = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+  }
+  Eigen::Vector3d a3 = a1.cross(a2);
+  const double j = a3.norm();
+  if (bending && j > 0.0) {
+    const Eigen::Vector3d n = a3 / j;
+    const Eigen::Map<const Eigen::Vector3d> s[3] = {Eigen::Map<const Eigen::Vector3d>(y + 6),
+                                                    Eigen::Map<const Eigen::Vector3d>(y + 9),
+                                                    Eigen::Map<const Eigen::Vector3d>(y + 12)};
+    const double kappa[3] = {r.B[0] - s[0].dot(n), r.B[1] - s[1].dot(n), r.B[2] - s[2].dot(n)};
+    double M[3];
+    stress(r.Ac, k, kappa, M);
+    const double tb = k.bending * r.wJ;
+    const double mu[3] = {tb * M[0], 2.0 * tb * M[1], tb * M[2]};  // W m
+    const Eigen::Matrix3d P = I - n * n.transpose();
+    // dκ_i/dy: -n at S_i, (P S_i) × a2 / j at a1, a1 × (P S_i) / j at a2
+    Eigen::Matrix<double, 15, 3> K = Eigen::Matrix<double, 15, 3>::Zero();
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d Ps = P * s[i];
+      K.block<3, 1>(0, i) = Ps.cross(a2) / j;
+      K.block<3, 1>(3, i) = a1.cross(Ps) / j;
+      K.block<3, 1>(6 + 3 * i, i) = -n;
+    }
+    Hm += tb * K * WC * K.transpose();
+    // -2 Σ μ_i dS_i · dn, dn = J1 da1 + J2 da2, J1 = -P [a2]× / j, J2 = P [a1]× / j
+    double c2[9], c1[9];
+    crossMatrix(a2.data(), 1.0, c2);
+    crossMatrix(a1.data(), 1.0, c1);
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> X2(c2), X1(c1);
+    const Eigen::Matrix3d J1 = -P * X2 / j, J2 = P * X1 / j;
+    for (int i = 0; i < 3; ++i) {
+      Hg.block<3, 3>(6 + 3 * i, 0) -= mu[i] * J1;
+      Hg.block<3, 3>(6 + 3 * i, 3) -= mu[i] * J2;
+      Hg.block<3, 3>(0, 6 + 3 * i) -= mu[i] * J1.transpose();
+      Hg.block<3, 3>(3, 6 + 3 * i) -= mu[i] * J2.transpose();
+    }
+    // -v · d²n with v = Σ μ_i S_i: -(dã)ᵀ Hφ dã - 2 w · (da1 × da2), Hφ = -(n wᵀ + w nᵀ +
+    // (v·n)/j P)/j, w = P v / j, dã = Q (da1, da2) with Q = [-[a2]×, [a1]×]
+    const Eigen::Vector3d v = mu[0] * s[0] + mu[1] * s[1] + mu[2] * s[2];
+    const double vn = v.dot(n);
+    const Eigen::Vector3d w = P * v / j;
+    Eigen::Matrix<double, 3, 6> Q;
+    Q.leftCols<3>() = -X2;
+    Q.rightCols<3>() = X1;
+    const Eigen::Matrix3d Hphi = (n * w.transpose() + w * n.transpose() + (vn / j) * P) / j;
+    Hg.topLeftCorner<6, 6>() += Q.transpose() * Hphi * Q;
+    double cw[9];
+    crossMatrix(w.data(), 1.0, cw);
+    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Xw(cw);
+    Hg.block<3, 3>(0, 3) += Xw;
+    Hg.block<3, 3>(3, 0) -= Xw;
+  }
+  Eigen::Map<Eigen::Matrix<double, 15, 15>> H(Hout);
+  H = Hm + Hg;
+  if (project) {
+    // positive definite to a relative margin: keep; else the PSD fallback
+    const double scale = H.diagonal().cwiseAbs().maxCoeff();
+    Eigen::Matrix<double, 15, 15> test = H;
+    test.diagonal().array() += 1e-10 * scale + 1e-300;
+    Eigen::LLT<Eigen::Matrix<double, 15, 15>> llt(test);
+    if (llt.info() != Eigen::Success) {
+      H = Hm;
+      H.block<3, 3>(0, 0) += nPsd(0, 0) * I;
+      H.block<3, 3>(0, 3) += nPsd(0, 1) * I;
+      H.block<3, 3>(3, 0) += nPsd(1, 0) * I;
+      H.block<3, 3>(3, 3) += nPsd(1, 1) * I;
+    }
+  }
+  H = 0.5 * (H + H.transpose()).eval();
 }
 
 }  // namespace
@@ -394,68 +521,86 @@ void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, C
   });
 }
 
-void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const {
+void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool serial,
+                                  const std::function<void(int, int, const double*)>& sink) const {
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
   const Constants k = constantsOf(m_material);
+  const bool project = mode == HessianMode::Projected;
+  auto elements = [&](int s0, int s1) {
+    // K_pq = Σ_d c[d][p] (Σ_e c[e][q] H_de) in 3 x 3 blocks, the upper blocks (q >= p) only,
+    // mirrored at the end
+    std::vector<double> Ke(size_t(L) * L * 9), HC(size_t(5) * L * 9);
+    double c[5][kMaxPoints * kMaxPoints];
+    alignas(32) double H[225];
+    for (int e1 = s0; e1 < s1; ++e1)
+      for (int e2 = 0; e2 < S2; ++e2) {
+        std::fill(Ke.begin(), Ke.end(), 0.0);
+        const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
+        double X[kMaxPoints * kMaxPoints][3];
+        for (int p = 0; p < L; ++p) {
+          const Eigen::Index r = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
+          for (int cc = 0; cc < 3; ++cc) X[p][cc] = net(r, cc);
+        }
+        for (int q1 = 0; q1 < m_qu; ++q1)
+          for (int q2 = 0; q2 < m_qv; ++q2) {
+            pointCoefficients(tb, q1, q2, c);
+            double y[15] = {};
+            for (int p = 0; p < L; ++p)
+              for (int m = 0; m < 5; ++m)
+                for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * X[p][cc];
+            densityHessianAnalytic(y, rest[q1 * m_qv + q2], k, m_bending, project, H);
+            for (int d = 0; d < 5; ++d)
+              for (int q = 0; q < L; ++q) {
+                double* hc = &HC[(size_t(d) * L + q) * 9];
+                for (int i = 0; i < 9; ++i) hc[i] = 0.0;
+                for (int e = 0; e < 5; ++e) {
+                  const double w = c[e][q];
+                  if (w == 0.0) continue;
+                  for (int a = 0; a < 3; ++a)
+                    for (int b = 0; b < 3; ++b) hc[3 * a + b] += w * H[(3 * e + b) * 15 + 3 * d + a];
+                }
+              }
+            for (int p = 0; p < L; ++p)
+              for (int d = 0; d < 5; ++d) {
+                const double w = c[d][p];
+                if (w == 0.0) continue;
+                const double* hcd = &HC[size_t(d) * L * 9];
+                double* ke = &Ke[size_t(p) * L * 9];
+                for (int i = 9 * p; i < 9 * L; ++i) ke[i] += w * hcd[i];
+              }
+          }
+        for (int p = 0; p < L; ++p)
+          for (int q = 0; q < p; ++q)
+            for (int a = 0; a < 3; ++a)
+              for (int b = 0; b < 3; ++b) Ke[(size_t(p) * L + q) * 9 + 3 * a + b] = Ke[(size_t(q) * L + p) * 9 + 3 * b + a];
+        sink(e1, e2, Ke.data());
+      }
+  };
+  if (serial)
+    elements(0, S1);
+  else
+    forEachBlock([&](int, int s0, int s1) { elements(s0, s1); });
+}
+
+void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int L2 = m_space.degreeV() + 1, L = (m_space.degreeU() + 1) * L2, cols = m_space.netCols();
   out.clear();
   out.reserve(size_t(S1) * S2 * size_t(9 * L * L));
-  // Bq = C ⊗ I3 (C: 5 x L coefficients): K_pq = Σ_d C[d][p] (Σ_e C[e][q] H_de), 3 x 3 blocks
-  std::vector<double> Ke(size_t(L) * L * 9), HC(size_t(5) * L * 9);
-  double c[5][kMaxPoints * kMaxPoints];
-  for (int e1 = 0; e1 < S1; ++e1)
-    for (int e2 = 0; e2 < S2; ++e2) {
-      std::fill(Ke.begin(), Ke.end(), 0.0);
-      const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
-      for (int q1 = 0; q1 < m_qu; ++q1)
-        for (int q2 = 0; q2 < m_qv; ++q2) {
-          pointCoefficients(tb, q1, q2, c);
-          double y[15] = {};
-          for (int a = 0; a < L1; ++a)
-            for (int b = 0; b < L2; ++b) {
-              const Eigen::Index r = Eigen::Index(e1 + a) * cols + e2 + b;
-              for (int m = 0; m < 5; ++m)
-                for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][a * L2 + b] * net(r, cc);
-            }
-          Eigen::Matrix<double, 15, 15> H = densityHessian(y, rest[q1 * m_qv + q2], k, m_bending);
-          if (project) {
-            Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es(H);
-            const Eigen::Matrix<double, 15, 1> lam = es.eigenvalues().cwiseMax(0.0);
-            H = es.eigenvectors() * lam.asDiagonal() * es.eigenvectors().transpose();
-          }
-          for (int d = 0; d < 5; ++d)
-            for (int q = 0; q < L; ++q) {
-              double* hc = &HC[(size_t(d) * L + q) * 9];
-              for (int i = 0; i < 9; ++i) hc[i] = 0.0;
-              for (int e = 0; e < 5; ++e) {
-                const double w = c[e][q];
-                if (w == 0.0) continue;
-                for (int a = 0; a < 3; ++a)
-                  for (int b = 0; b < 3; ++b) hc[3 * a + b] += w * H(3 * d + a, 3 * e + b);
-              }
-            }
-          for (int p = 0; p < L; ++p)
-            for (int d = 0; d < 5; ++d) {
-              const double w = c[d][p];
-              if (w == 0.0) continue;
-              for (int q = 0; q < L; ++q) {
-                const double* hc = &HC[(size_t(d) * L + q) * 9];
-                double* ke = &Ke[(size_t(p) * L + q) * 9];
-                for (int i = 0; i < 9; ++i) ke[i] += w * hc[i];
-              }
-            }
-        }
-      for (int p = 0; p < L; ++p) {
-        const Eigen::Index rp = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
-        for (int q = 0; q < L; ++q) {
-          const Eigen::Index rq = Eigen::Index(e1 + q / L2) * cols + e2 + q % L2;
-          const double* ke = &Ke[(size_t(p) * L + q) * 9];
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) out.emplace_back(int(3 * rp + a), int(3 * rq + b), ke[3 * a + b]);
-        }
-      }
-    }
+  elementHessians(net, project ? HessianMode::Projected : HessianMode::Exact, true,
+                  [&](int e1, int e2, const double* Ke) {
+                    for (int p = 0; p < L; ++p) {
+                      const Eigen::Index rp = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
+                      for (int q = 0; q < L; ++q) {
+                        const Eigen::Index rq = Eigen::Index(e1 + q / L2) * cols + e2 + q % L2;
+                        const double* ke = &Ke[(size_t(p) * L + q) * 9];
+                        for (int a = 0; a < 3; ++a)
+                          for (int b = 0; b < 3; ++b) out.emplace_back(int(3 * rp + a), int(3 * rq + b), ke[3 * a + b]);
+                      }
+                    }
+                  });
 }
 
 Eigen::VectorXd ShellEnergy::lumpedMass() const {
@@ -496,7 +641,8 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
               for (int m = 0; m < 5; ++m)
                 for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * net(r, cc);
             }
-            const Eigen::Matrix<double, 15, 15> H = densityHessian(y, rest[q1 * m_qv + q2], k, m_bending);
+            Eigen::Matrix<double, 15, 15> H;
+            densityHessianAnalytic(y, rest[q1 * m_qv + q2], k, m_bending, false, H.data());
             double s[5] = {};
             for (int m = 0; m < 5; ++m)
               for (int p = 0; p < L; ++p) s[m] += std::abs(c[m][p]);

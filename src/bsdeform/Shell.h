@@ -19,6 +19,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <functional>
 #include <vector>
 
 #include "bsdeform/SplineSpace.h"
@@ -38,6 +39,14 @@ struct ShellEnergies {
   double membrane = 0.0;
   double bending = 0.0;
   double total() const { return membrane + bending; }
+};
+
+/// Which element Hessian ShellEnergy::elementHessians() gives.
+enum class HessianMode {
+  Exact,      ///< the exact second derivative of the energy (indefinite under compression)
+  Projected,  ///< at each Gauss point where the exact density Hessian is not positive definite,
+              ///< its material part plus the membrane's geometric part with the stress
+              ///< resultant projected onto the PSD matrices: positive semidefinite everywhere
 };
 
 class ShellEnergy {
@@ -64,6 +73,14 @@ class ShellEnergy {
   /// positive semidefinite matrices first, so the sum is positive semidefinite (what a Newton
   /// step on an indefinite tangent uses). Duplicates are summed by setFromTriplets.
   void hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const;
+  /// The element Hessians of W at `net`: sink(e1, e2, Ke) for every element (knot span e1 in u,
+  /// e2 in v), Ke the ((n1+1)(n2+1) x 3)^2 matrix row-major in 3 x 3 blocks [p][q][a][b], local
+  /// point p = a * (n2 + 1) + b at net point (e1 + a, e2 + b). The density Hessian is derived
+  /// by hand (docs/math.md §16, "The tangent"), not by dual numbers. Unless `serial`, sink is
+  /// called from several threads at once, for elements of u-blocks that touch disjoint net rows
+  /// (each net row's contributions come in the same order for any thread count).
+  void elementHessians(const ControlNet& net, HessianMode mode, bool serial,
+                       const std::function<void(int, int, const double*)>& sink) const;
   /// Lumped mass of every net point: ρ t ∫ B_k J₀ du dv (the row sums of the consistent mass).
   Eigen::VectorXd lumpedMass() const;
   /// A rigorous upper bound of λ_max(W⁻¹ H(net)) for the diagonal `mass` (net points, each

@@ -48,6 +48,10 @@ const ModelParameters& validated(const ModelParameters& p) {
                    "must be >= 1, got " + std::to_string(p.maxSolverIterations));
   requireParameter(std::isfinite(p.newtonTolerance) && p.newtonTolerance > 0.0 && p.newtonTolerance < 1.0,
                    "newtonTolerance", "must be in (0, 1), got " + num(p.newtonTolerance));
+  requireParameter(std::isfinite(p.newtonVelocityTolerance) && p.newtonVelocityTolerance > 0.0,
+                   "newtonVelocityTolerance", "must be a finite number > 0, got " + num(p.newtonVelocityTolerance));
+  requireParameter(p.integrator != Integrator::BackwardEuler || p.energy == EnergyModel::Shell, "integrator",
+                   "BACKWARD_EULER needs energy SHELL (the paper's model steps with EXPLICIT or IMPLICIT)");
   requireParameter(p.maxNewtonIterations >= 1, "maxNewtonIterations",
                    "must be >= 1, got " + std::to_string(p.maxNewtonIterations));
   for (size_t i = 0; i < p.pins.size(); ++i) {
@@ -317,6 +321,7 @@ void Simulation::addForce(std::shared_ptr<const Force> force) {
   } else {
     m_hasVariableForces = true;  // evaluated every sub-step; the constant load stays
   }
+  if (m_stepper) m_stepper->forcesChanged();
   updateSubSteps();
 }
 
@@ -331,6 +336,7 @@ bool Simulation::removeForce(const Force* force) {
     m_hasVariableForces = std::any_of(m_forces.begin(), m_forces.end(),
                                       [](const auto& f) { return f->dependence() != kConstant; });
   }
+  m_stepper->forcesChanged();
   updateSubSteps();
   return true;
 }
@@ -338,6 +344,7 @@ bool Simulation::removeForce(const Force* force) {
 void Simulation::clearForces() {
   m_forces.clear();
   rebuildConstantLoad();
+  m_stepper->forcesChanged();
   updateSubSteps();
 }
 
@@ -365,7 +372,8 @@ void Simulation::fail(Status s, std::string message) {
 
 void Simulation::applyStartRule() {
   m_startPending = false;
-  if (m_params.start != StartRule::SecondOrder) return;
+  // backward Euler starts from the velocity zero itself (P- = P)
+  if (m_params.start != StartRule::SecondOrder || m_params.integrator == Integrator::BackwardEuler) return;
   // P(-delta) = P(0) + delta^2/2 a(0), a(0) = M^-1 (L - (A P(0) - c0)), the velocity being zero:
   // the Taylor expansion of a release from rest, exact to O(delta^3).
   const ControlNet& load = effectiveLoad(m_time);
@@ -415,6 +423,12 @@ std::string Simulation::refusal() const {
     return os.str();
   }
   return std::string();
+}
+
+double Simulation::dragStiffness() const {
+  if (!m_shell) return m_stencilLambda;
+  const double twoPiF = 2.0 * 3.14159265358979323846 * 5.0;
+  return m_shellMass.diagonal().sum() * twoPiF * twoPiF;
 }
 
 Status Simulation::step() {

@@ -24,6 +24,7 @@
 #include "bsdeform/Shell.h"
 #include "bsdeform/SplineSpace.h"
 #include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/TangentMatrix.h"
 
 namespace bsdeform {
 
@@ -32,6 +33,10 @@ class TimeStepper;
 enum class Integrator {
   Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
   Implicit,  ///< Newmark beta = 1/4, gamma = 1/2 in displacement form; see ImplicitSystem.h
+  /// SHELL only: backward Euler as the minimisation of the incremental potential, every force
+  /// inside the Newton system (its Jacobian), a line search on the potential; first order,
+  /// dissipative: the total energy never rises without work done (checked). For cloth.
+  BackwardEuler,
 };
 
 enum class MassModel {
@@ -114,6 +119,10 @@ struct ModelParameters {
   /// SHELL, implicit: a step whose Newton iteration needs more iterations fails (reported,
   /// the last valid state kept); static: per load increment.
   int maxNewtonIterations = 30;
+  /// SHELL, BACKWARD_EULER: Newton has converged when its largest update, divided by the time
+  /// step, is below this velocity (m/s in SI scenes); > 0. The residual criterion above also
+  /// ends it.
+  double newtonVelocityTolerance = 1e-6;
 };
 
 /// Simulation::solveStatic(): the equilibrium found and how.
@@ -198,6 +207,11 @@ class Simulation {
   double eigenvalueBound() const { return m_lambdaMax; }
   /// Upper bound of lambda_max(A_II) alone (stiffness units), computed once at build.
   double stiffnessEigenvalueBound() const { return m_stencilLambda; }
+  /// The stiffness of a spring that drags the surface by one point (the viewer's mouse): the
+  /// paper's model, stiffnessEigenvalueBound() (it dominates the surface's own stiffness at the
+  /// point); SHELL, the whole sheet's mass times (2 pi 5 Hz)^2: the sheet follows the mouse with
+  /// a 5 Hz response whatever its net (N/m in SI scenes).
+  double dragStiffness() const;
   /// Upper bound of lambda_max(M^-1 A_II) alone, computed once at build.
   double elasticEigenvalueBound() const { return m_elasticLambda; }
   /// Largest stable explicit step 2 / sqrt(lambda_max) (a lower bound of the true limit).
@@ -342,10 +356,13 @@ class Simulation {
   void shellSolveMass(ControlNet& a) const;
   /// M a on the unknowns.
   ControlNet shellApplyMass(const ControlNet& a) const;
-  /// Triplets of T^T H T + shift M over the unknowns' coordinates (3 f + c), pinned
-  /// coordinates replaced by identity rows; `scale` multiplies H.
-  void shellTangent(const ControlNet& net, double scale, double shift, bool project,
-                    std::vector<Eigen::Triplet<double>>& out) const;
+  /// scale T^T H T + shift M (+ forceScale times the forces' Jacobians at `forces`, their
+  /// velocity part times velocityScale, symmetrised) over the unknowns' coordinates (3 f + c),
+  /// assembled in place (TangentMatrix: fixed pattern, lower triangle), held coordinates
+  /// replaced by identity rows.
+  const Eigen::SparseMatrix<double>& shellTangent(const ControlNet& net, double scale, double shift, HessianMode mode,
+                                                  const LoadContext* forces = nullptr, double velocityScale = 0.0,
+                                                  double forceScale = 1.0) const;
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   void shellUpdateBound();
@@ -403,13 +420,14 @@ class Simulation {
   Eigen::SparseMatrix<double> m_shellMass;
   struct MassSolver;
   std::shared_ptr<MassSolver> m_shellMassSolver;
-  mutable std::vector<Eigen::Triplet<double>> m_hessianScratch;  ///< scratch: the full-net Hessian
+  mutable std::unique_ptr<TangentMatrix> m_tangent;  ///< the Newton tangent's fixed pattern (first use)
   /// The scheme (TimeStepper.h): created by init() and initShell().
   std::unique_ptr<TimeStepper> m_stepper;
   friend class PaperExplicitStepper;
   friend class PaperImplicitStepper;
   friend class ShellExplicitStepper;
   friend class ShellImplicitStepper;
+  friend class ShellBackwardEulerStepper;
 };
 
 }  // namespace bsdeform

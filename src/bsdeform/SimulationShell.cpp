@@ -75,7 +75,9 @@ void Simulation::initShell() {
   }
   m_uniformMass = false;
   m_massMoving = m_shellMass.diagonal();
-  if (m_params.integrator == Integrator::Implicit)
+  if (m_params.integrator == Integrator::BackwardEuler)
+    m_stepper = std::make_unique<ShellBackwardEulerStepper>(*this);
+  else if (m_params.integrator == Integrator::Implicit)
     m_stepper = std::make_unique<ShellImplicitStepper>(*this);
   else
     m_stepper = std::make_unique<ShellExplicitStepper>(*this);
@@ -122,38 +124,40 @@ ControlNet Simulation::shellApplyMass(const ControlNet& a) const {
   return m_shellMass * a;
 }
 
-void Simulation::shellTangent(const ControlNet& net, double scale, double shift, bool project,
-                              std::vector<Eigen::Triplet<double>>& out) const {
-  std::vector<Eigen::Triplet<double>>& h = m_hessianScratch;  // kept: a net's worth of triplets
-  m_shell->hessian(net, project, h);
-  const std::vector<int>& foldStart = m_shellModel->foldStart();
-  const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
-  out.clear();
-  out.reserve(h.size() + size_t(3 * m_shellMass.nonZeros()));
-  auto held = [&](Eigen::Index coordinate) { return m_heldMask[size_t(coordinate)] != 0; };
-  for (const Eigen::Triplet<double>& e : h) {
-    const Eigen::Index p = e.row() / 3, q = e.col() / 3;
-    const int a = e.row() % 3, b = e.col() % 3;
-    for (int i = foldStart[size_t(p)]; i < foldStart[size_t(p) + 1]; ++i) {
-      const auto& [f, wf] = fold[size_t(i)];
-      if (held(3 * f + a)) continue;
-      for (int j = foldStart[size_t(q)]; j < foldStart[size_t(q) + 1]; ++j) {
-        const auto& [g, wg] = fold[size_t(j)];
-        if (g > f || held(3 * g + b)) continue;  // the lower triangle (CHOLMOD reads Lower)
-        if (g == f && b > a) continue;
-        out.emplace_back(int(3 * f + a), int(3 * g + b), scale * wf * wg * e.value());
-      }
-    }
+namespace {
+/// Forces' Jacobian blocks into the tangent, symmetrised: ½ B at (p, q) and ½ Bᵀ at (q, p).
+class TangentSink final : public JacobianSink {
+ public:
+  TangentSink(TangentMatrix& K, double scale) : m_K(K), m_scale(scale) {}
+  void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override {
+    m_K.addNetBlock(p, q, (0.5 * m_scale) * B);
+    m_K.addNetBlock(q, p, (0.5 * m_scale) * B.transpose());
   }
-  for (int k = 0; k < m_shellMass.outerSize(); ++k)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
-      if (it.col() > it.row()) continue;
-      for (int c = 0; c < 3; ++c)
-        if (!held(3 * it.row() + c) && !held(3 * it.col() + c))
-          out.emplace_back(int(3 * it.row() + c), int(3 * it.col() + c), shift * it.value());
-    }
-  for (Eigen::Index k = 0; k < 3 * m_space.numMoving(); ++k)
-    if (held(k)) out.emplace_back(int(k), int(k), 1.0);
+
+ private:
+  TangentMatrix& m_K;
+  double m_scale;
+};
+}  // namespace
+
+const Eigen::SparseMatrix<double>& Simulation::shellTangent(const ControlNet& net, double scale, double shift,
+                                                            HessianMode mode, const LoadContext* forces,
+                                                            double velocityScale, double forceScale) const {
+  if (!m_tangent)
+    m_tangent = std::make_unique<TangentMatrix>(m_space, m_shellModel->foldStart(), m_shellModel->foldEntries());
+  TangentMatrix& K = *m_tangent;
+  K.setZero();
+  // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
+  m_shell->elementHessians(net, mode, m_space.periodicU(),
+                           [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
+  if (shift != 0.0) K.addScalarMatrix(m_shellMass, shift);
+  if (forces) {
+    TangentSink sink(K, forceScale);
+    for (const auto& f : m_forces)
+      if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
+  }
+  K.applyHeld(m_heldMask);
+  return K.matrix();
 }
 
 void Simulation::shellUpdateBound() {
@@ -195,8 +199,6 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     st.merit = conservative ? m_shell->energy(net).total() - (st.L.array() * xi.array()).sum() : st.R.norm();
   };
   NewtonSolver solver;
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
   const double massMean = m_shellMass.diagonal().mean();
   StaticResult result;
   result.method = "Newton (CHOLMOD)";
@@ -205,8 +207,10 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   auto raise = [&](double mu) {
     if (muMin == 0.0) {
       double diag = 0.0;
-      for (const auto& e : trip)
-        if (e.row() == e.col()) diag = std::max(diag, std::abs(e.value()));
+      const Eigen::SparseMatrix<double>& K = m_tangent->matrix();
+      for (int c = 0; c < K.outerSize(); ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+          if (it.row() == it.col()) diag = std::max(diag, std::abs(it.value()));
       muMin = 1e-8 * diag / massMean;
     }
     return std::max(4.0 * mu, muMin);
@@ -223,9 +227,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
       ++used;
       bool factored = false;
       for (int attempt = 0; attempt < 60 && !factored; ++attempt) {
-        shellTangent(net, 1.0, mu, false, trip);
-        K.setFromTriplets(trip.begin(), trip.end());
-        factored = solver.factor(K);
+        factored = solver.factor(shellTangent(net, 1.0, mu, HessianMode::Exact));
         if (!factored) mu = raise(mu);
       }
       if (!factored) return false;

@@ -263,8 +263,6 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   double r = residual(x, g, R);
   if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
   const Eigen::Index n = s.m_space.numMoving();
-  std::vector<Eigen::Triplet<double>> trip;
-  Eigen::SparseMatrix<double> K(3 * n, 3 * n);
   int it = 0;
   m_newtonIterations = 0;
   while (!(r <= s.m_params.newtonTolerance * scale)) {
@@ -282,9 +280,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     bool factored = false;
     double shift = a;
     for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-      s.shellTangent(net, 0.25, shift, attempt == 11, trip);
-      K.setFromTriplets(trip.begin(), trip.end());
-      factored = m_newton->factor(K);
+      factored = m_newton->factor(s.shellTangent(net, 0.25, shift, attempt == 11 ? HessianMode::Projected : HessianMode::Exact));
       shift *= 4.0;
     }
     if (!factored) {
@@ -323,6 +319,217 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   s.m_current.swap(s.m_previous);
   m_gradPrevious.swap(m_gradCurrent);
   m_gradCurrent = g;
+  return ok;
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+bool ShellBackwardEulerStepper::totalEnergy(const ControlNet& x, const ControlNet& net, const ControlNet& v, double t,
+                                            double& energy, double& scale) const {
+  const Simulation& s = m_sim;
+  const double kinetic = 0.5 * (v.array() * s.shellApplyMass(v).array()).sum();
+  const double elastic = s.m_energy->energy(net);
+  double loads = -(s.m_constantLoad.array() * x.array()).sum();
+  const LoadContext ctx = s.loadContext(net, net, s.m_params.timeStep, t);
+  for (const auto& f : s.m_forces) {
+    const unsigned dep = f->dependence();
+    if (dep == kConstant) continue;
+    if (dep & kDependsOnTime) return false;
+    if (!(dep & kDependsOnPosition) && !(dep & kDependsOnNormal)) continue;  // drag: dissipation only
+    if (dep & kDependsOnVelocity) return false;                               // no mechanical potential
+    double phi = 0.0;
+    if (!f->potential(ctx, phi)) return false;
+    loads += phi;
+  }
+  energy = kinetic + elastic + loads;
+  scale = kinetic + std::abs(elastic) + std::abs(loads);
+  return true;
+}
+
+bool ShellBackwardEulerStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const double dt = s.m_params.timeStep;
+  const ControlNet start = s.m_current, before = s.m_previous;
+  if (stepOf(t, dt)) return true;
+  std::string failure = m_solveFailure;
+  if (failure.rfind("the total energy", 0) == 0) {  // a blow-up is not cured by smaller pieces
+    s.m_previous = start;
+    return false;
+  }
+  for (int pieces = 2; pieces <= 16 && s.m_current.allFinite(); pieces *= 2) {
+    const double h = dt / pieces;
+    s.m_current = start;
+    s.m_previous = start - (start - before) / double(pieces);
+    bool ok = true;
+    int iterations = 0;
+    for (int k = 0; k < pieces && ok; ++k) {
+      ok = stepOf(t + k * h, h);
+      iterations += m_newtonIterations;
+    }
+    if (ok) {
+      // one step before, with the velocity of the last piece
+      s.m_previous = s.m_current - double(pieces) * (s.m_current - s.m_previous);
+      s.m_space.completeNet(s.m_previous, &s.m_rest);
+      m_newtonIterations = iterations;
+      m_solveFailure.clear();
+      return true;
+    }
+    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+  }
+  m_solveFailure = failure;
+  s.m_previous = start;
+  return false;
+}
+
+bool ShellBackwardEulerStepper::stepOf(double t, double h) {
+  Simulation& s = m_sim;
+  const SplineSpace& sp = s.m_space;
+  const double c = s.m_params.damping, tNew = t + h;
+  const ControlNet P = sp.gatherMoving(s.m_current), Pm = sp.gatherMoving(s.m_previous);
+  const ControlNet xhat = 2.0 * P - Pm;  // P + h v
+  const ControlNet startNet = s.m_current;
+  if (!m_hasReference) {
+    m_hasReference = totalEnergy(P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
+  }
+  ControlNet net = s.m_current;
+  auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
+  // E(x) and its gradient; `potential` false when a load has none (the line search then
+  // watches the residual)
+  struct Eval {
+    ControlNet g;
+    double E = 0.0, r = 0.0;
+    bool potential = true;
+  };
+  ControlNet gW, L, Mdx, Mdn;
+  auto evaluate = [&](const ControlNet& x, Eval& ev) {
+    sp.scatterMoving(x, net);
+    sp.completeNet(net, &s.m_rest);
+    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    s.shellGradient(net, gW);
+    L = s.m_constantLoad;
+    ev.potential = true;
+    double phi = -(s.m_constantLoad.array() * x.array()).sum();
+    for (const auto& f : s.m_forces) {
+      const unsigned dep = f->dependence();
+      if (dep == kConstant) continue;
+      const ControlNet before = L;
+      f->addLoad(ctx, L);
+      if (!(dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))) {
+        phi -= ((L - before).array() * x.array()).sum();  // depends on time only: constant in the step
+        continue;
+      }
+      double value = 0.0;
+      if (f->potential(ctx, value))
+        phi += value;
+      else
+        ev.potential = false;
+    }
+    const ControlNet dx = x - xhat, dn = x - P;
+    Mdx = s.shellApplyMass(dx);
+    Mdn = s.shellApplyMass(dn);
+    ev.g = Mdx / (h * h) + (c / h) * Mdn + gW - L;
+    for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (held(f, k)) ev.g(f, k) = 0.0;
+    ev.r = ev.g.norm();
+    ev.E = 0.5 * (dx.array() * Mdx.array()).sum() / (h * h) + 0.5 * (c / h) * (dn.array() * Mdn.array()).sum() +
+           s.m_energy->energy(net) + phi;
+  };
+  ControlNet x = xhat;
+  for (Eigen::Index f = 0; f < x.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (held(f, k)) x(f, k) = P(f, k);
+  Eval cur, trial;
+  evaluate(x, cur);
+  const double forceScale = (s.m_constantLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
+  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
+  const Eigen::Index n = sp.numMoving();
+  const double massShift = 1.0 / (h * h) + c / h;
+  m_newtonIterations = 0;
+  auto reject = [&]() {
+    sp.scatterMoving(x, s.m_previous);
+    sp.completeNet(s.m_previous, &s.m_rest);
+    s.m_current.swap(s.m_previous);
+    m_hasReference = false;
+    return false;
+  };
+  bool converged = false;
+  for (int it = 0; it < s.m_params.maxNewtonIterations && std::isfinite(cur.r); ++it) {
+    if (cur.r <= s.m_params.newtonTolerance * forceScale) {
+      converged = true;
+      break;
+    }
+    ++m_newtonIterations;
+    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    bool factored = false;
+    double shift = massShift;
+    for (int attempt = 0; attempt < 8 && !factored; ++attempt) {
+      factored = m_newton->factor(s.shellTangent(net, 1.0, shift, HessianMode::Projected, &ctx, 1.0 / h));
+      shift *= 4.0;  // a force's Jacobian (a sphere's tangential part) can still be indefinite
+    }
+    if (!factored) {
+      m_solveFailure = "the Newton matrix is not positive definite even with the element Hessians projected";
+      return reject();
+    }
+    const Eigen::VectorXd d = m_newton->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+    const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    const double slope = (step.array() * cur.g.array()).sum();
+    double alpha = 1.0;
+    bool accepted = false;
+    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+      evaluate(x + alpha * step, trial);
+      const bool better = cur.potential && trial.potential
+                              ? trial.E <= cur.E + 1e-4 * alpha * slope
+                              : trial.r <= (1.0 - 1e-4 * alpha) * cur.r;
+      if (std::isfinite(trial.r) && better) {
+        accepted = true;
+        break;
+      }
+    }
+    const double update = alpha * step.cwiseAbs().maxCoeff();
+    if (!accepted) {
+      // no decrease along a descent direction: the potential's rounding floor (converged when
+      // the step itself is below the tolerance)
+      evaluate(x, cur);
+      if (step.cwiseAbs().maxCoeff() <= s.m_params.newtonVelocityTolerance * h) converged = true;
+      break;
+    }
+    x += alpha * step;
+    std::swap(cur, trial);
+    if (update <= s.m_params.newtonVelocityTolerance * h) {
+      converged = true;
+      break;
+    }
+  }
+  if (!converged) {
+    std::ostringstream os;
+    os << "Newton's method did not converge in " << m_newtonIterations << " iterations (residual "
+       << cur.r / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
+       << ", newtonVelocityTolerance " << s.m_params.newtonVelocityTolerance << ", maxNewtonIterations "
+       << s.m_params.maxNewtonIterations << ")";
+    m_solveFailure = os.str();
+    return reject();
+  }
+  bool ok = true;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
+  sp.scatterMoving(x, s.m_previous);
+  s.holdPins(s.m_previous);
+  sp.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  if (ok && m_hasReference) {
+    double energy = 0.0, scale = 0.0;
+    if (totalEnergy(x, s.m_current, (x - P) / h, tNew, energy, scale) &&
+        energy > m_reference + 1e-2 * std::max(m_referenceScale, scale) + 1e-300) {
+      std::ostringstream os;
+      os << "the total energy rose from " << m_reference << " to " << energy
+         << " J with no work done on the system (a blow-up)";
+      m_solveFailure = os.str();
+      m_hasReference = false;
+      return false;
+    }
+  }
   return ok;
 }
 

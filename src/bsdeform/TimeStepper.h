@@ -35,6 +35,8 @@ class TimeStepper {
   virtual bool subStep(double t) = 0;
   /// Forgets what it kept of earlier states (a state was set, reset, or a step failed).
   virtual void invalidate() {}
+  /// The forces changed (work may be done on the system from now on).
+  virtual void forcesChanged() {}
   /// Newton iterations of the last step (0 for the linear schemes).
   virtual int newtonIterations() const { return 0; }
   /// The implicit scheme's constant system (null for the others).
@@ -94,6 +96,40 @@ class ShellImplicitStepper final : public TimeStepper {
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
   int m_newtonIterations = 0;
+};
+
+/// Backward Euler for SHELL as the minimisation of the incremental potential (docs/math.md
+/// §16, "Backward Euler"):
+///   E(x) = ½ (x - x̂)ᵀ M (x - x̂) / h² + c/(2h) (x - P)ᵀ M (x - P) + W(x) + Φ(x),
+/// x̂ = P + h v, v = (P - P-)/h, Φ the loads' potentials (constant loads: -L·x); its gradient is
+/// the residual of M (x - 2P + P-)/h² + c M (x - P)/h + ∇W(x) = L(x, (x - P)/h, t + h), every
+/// force evaluated at the iterate. Newton with the element Hessians projected to PSD, the
+/// forces' Jacobians inside (symmetrised), a backtracking (Armijo) line search on E (on the
+/// residual's norm when a force has no potential); converged when the largest update over h
+/// is below newtonVelocityTolerance or the residual below newtonTolerance. A step that does
+/// not converge is retaken in 2, 4, ... 16 pieces, then reported. When every load has a
+/// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
+/// its value when the run (or the last change of forces) began: a rise is reported as a
+/// blow-up.
+class ShellBackwardEulerStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+  void invalidate() override { m_hasReference = false; }
+  void forcesChanged() override { m_hasReference = false; }
+  int newtonIterations() const override { return m_newtonIterations; }
+
+ private:
+  bool stepOf(double t, double h);
+  /// Total energy (kinetic + elastic + the loads' potentials) of a state x with velocity v;
+  /// false when some load has no potential or depends on time (nothing to check).
+  bool totalEnergy(const ControlNet& x, const ControlNet& net, const ControlNet& v, double t, double& energy,
+                   double& scale) const;
+
+  std::shared_ptr<NewtonSolver> m_newton;
+  int m_newtonIterations = 0;
+  bool m_hasReference = false;
+  double m_reference = 0.0, m_referenceScale = 0.0;
 };
 
 }  // namespace bsdeform

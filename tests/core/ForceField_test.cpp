@@ -250,3 +250,63 @@ TEST_CASE("ForceField: pressure (a follower load) and drag (damping): the Jacobi
     c.run();
   }
 }
+
+TEST_CASE("ForceField: every force's own Jacobian and potential against differences, paper and shell units",
+          "[core]") {
+  // the paper's units (densities per parameter area) and the shell's (per rest area, the rest
+  // net a curved surface so that J0 varies)
+  for (const SplineSpace& s : spaces()) {
+    ControlNet restNet = deformedNet(s, 0.15);
+    for (const ControlNet* rest : {static_cast<const ControlNet*>(nullptr), static_cast<const ControlNet*>(&restNet)}) {
+      const std::string units = rest ? " (per rest area)" : " (per parameter area)";
+      const ControlNet net = deformedNet(s, 0.3);
+      ControlNet previous = net;
+      previous.rowwise() -= 0.05 * Eigen::RowVector3d(0.3, -0.2, 1.5);
+      const double dt = 0.05;
+      struct Case {
+        std::string name;
+        std::shared_ptr<const Force> force;
+        bool conservative;
+      };
+      const std::vector<Case> cases = {
+          {"spring", std::make_shared<SpringForce>(0.37, 0.61, Eigen::Vector3d(0.2, 0.9, 0.5), 30.0), true},
+          {"plane", std::make_shared<PlaneContactForce>(Eigen::Vector3d(0.0, 0.0, 0.12),
+                                                        Eigen::Vector3d(0.1, 0.05, 1.0), 50.0), true},
+          {"sphere", std::make_shared<SphereContactForce>(Eigen::Vector3d(0.45, 0.55, -0.4), 0.75, 80.0), true},
+          {"drag", std::make_shared<DragForce>(4.0), true},  // the step's Rayleigh potential
+          {"pressure", std::make_shared<PressureForce>(6.0), false},
+      };
+      for (const Case& k : cases) {
+        REQUIRE(k.force->hasJacobian());
+        ForceFieldCheck c = forForce(k.name + units + ", " + spaceName(s), *k.force, s, net, &previous, dt, rest);
+        useOwnDerivatives(c, *k.force, s, net, &previous, dt, rest);
+        CHECK(bool(c.energy) == k.conservative);
+        // the energy check needs dL/dP symmetric: the drag's is (c/dt) G; pressure has none
+        c.run();
+      }
+    }
+  }
+}
+
+TEST_CASE("ForceField: a moving anchor's spring follows the anchor, and forces without derivatives say so", "[core]") {
+  const SplineSpace s(3, 3, 4, 4);
+  const ControlNet net = deformedNet(s, 0.2);
+  auto anchor = std::make_shared<Eigen::Vector3d>(0.5, 0.5, 1.0);
+  const SpringForce spring(0.5, 0.5, anchor, 10.0);
+  const Eigen::Vector3d at = s.evaluate(net, 0.5, 0.5, 0).position;
+  ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+  spring.addLoad(LoadContext{s, net, net, 0.1, 0.0}, load);
+  const Eigen::Vector3d before = load.colwise().sum().transpose();
+  *anchor = Eigen::Vector3d(0.5, 0.5, 3.0);
+  load.setZero();
+  spring.addLoad(LoadContext{s, net, net, 0.1, 0.0}, load);
+  const Eigen::Vector3d after = load.colwise().sum().transpose();
+  // interior point: the B-splines sum to one, so the loads sum to k (a - S)
+  CHECK((before - 10.0 * (Eigen::Vector3d(0.5, 0.5, 1.0) - at)).norm() < 1e-12);
+  CHECK((after - 10.0 * (Eigen::Vector3d(0.5, 0.5, 3.0) - at)).norm() < 1e-12);
+  const DistributedForce expression([](const SurfaceSample& x) { return Eigen::Vector3d(x.position.z(), 0, 0); },
+                                    kDependsOnPosition);
+  CHECK_FALSE(expression.hasJacobian());
+  double phi = 1.0;
+  CHECK_FALSE(expression.potential(LoadContext{s, net, net, 0.1, 0.0}, phi));
+}

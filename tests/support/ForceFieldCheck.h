@@ -114,7 +114,7 @@ struct ForceFieldCheck {
 /// velocities; the state itself when null) held fixed while the state moves. The energy and
 /// Jacobian product are the caller's to set.
 inline ForceFieldCheck forForce(std::string name, const Force& force, const SplineSpace& space, const ControlNet& net,
-                                const ControlNet* previous = nullptr, double dt = 0.1) {
+                                const ControlNet* previous = nullptr, double dt = 0.1, const ControlNet* rest = nullptr) {
   ForceFieldCheck c;
   c.name = std::move(name);
   c.P = space.gatherMoving(net);
@@ -124,12 +124,65 @@ inline ForceFieldCheck forForce(std::string name, const Force& force, const Spli
     return out;
   };
   const ControlNet prev = previous ? *previous : net;
-  c.load = [&force, &space, prev, dt](const ControlNet& current) {
+  c.load = [&force, &space, prev, dt, rest](const ControlNet& current) {
     ControlNet load = ControlNet::Zero(space.numMoving(), 3);
-    force.addLoad(LoadContext{space, current, prev, dt, 0.0}, load);
+    LoadContext ctx{space, current, prev, dt, 0.0};
+    ctx.rest = rest;
+    force.addLoad(ctx, load);
     return load;
   };
   return c;
+}
+
+/// The force's own derivatives (Force::addJacobian(), Force::potential()) as the check's
+/// Jacobian product and energy, with `previous` fixed: the velocity (current - previous) / dt
+/// moves with the state, so the Jacobian asked for is -dL/dx - (1/dt) dL/dv. The blocks between
+/// net points are folded onto the moving points (periodic copies, derived layers) here, in a
+/// dense matrix: independent of the solver's TangentMatrix.
+inline void useOwnDerivatives(ForceFieldCheck& c, const Force& force, const SplineSpace& space, const ControlNet& net,
+                              const ControlNet* previous = nullptr, double dt = 0.1, const ControlNet* rest = nullptr) {
+  const ControlNet prev = previous ? *previous : net;
+  const Eigen::Index N = space.numMoving();
+  struct Dense final : JacobianSink {
+    const SplineSpace& s;
+    Eigen::MatrixXd K;
+    explicit Dense(const SplineSpace& sp) : s(sp), K(Eigen::MatrixXd::Zero(3 * sp.numMoving(), 3 * sp.numMoving())) {}
+    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override {
+      const int cols = s.netCols(), w = s.movingV().count;
+      auto fold = [&](Eigen::Index r, auto&& fn) {
+        for (const LayerWeight& wu : s.foldU(int(r / cols)))
+          for (const LayerWeight& wv : s.foldV(int(r % cols)))
+            fn(Eigen::Index(wu.layer - s.movingU().first) * w + (wv.layer - s.movingV().first), wu.weight * wv.weight);
+      };
+      fold(p, [&](Eigen::Index f, double wf) {
+        fold(q, [&](Eigen::Index g, double wg) { K.block<3, 3>(3 * f, 3 * g) += wf * wg * B; });
+      });
+    }
+  } sink(space);
+  LoadContext ctx{space, net, prev, dt, 0.0};
+  ctx.rest = rest;
+  force.addJacobian(ctx, 1.0 / dt, sink);
+  const Eigen::MatrixXd J = -sink.K;  // dL/dP
+  c.jacobianProduct = [J, N](const ControlNet& d) {
+    ControlNet dr = d;  // row-major per point: index 3 m + i
+    Eigen::VectorXd x(3 * N);
+    for (Eigen::Index m = 0; m < N; ++m)
+      for (int i = 0; i < 3; ++i) x[3 * m + i] = dr(m, i);
+    const Eigen::VectorXd y = J * x;
+    ControlNet out(N, 3);
+    for (Eigen::Index m = 0; m < N; ++m)
+      for (int i = 0; i < 3; ++i) out(m, i) = y[3 * m + i];
+    return out;
+  };
+  double probe = 0.0;
+  if (force.potential(ctx, probe))
+    c.energy = [&force, &space, prev, dt, rest](const ControlNet& current) {
+      LoadContext cx{space, current, prev, dt, 0.0};
+      cx.rest = rest;
+      double value = 0.0;
+      force.potential(cx, value);
+      return value;
+    };
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -21,6 +21,7 @@
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoSwitch.h>
 
+#include "bsdeform/ForceLaws.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
@@ -106,11 +107,8 @@ void DragTool::handle(SoEventCallback* cb) {
     m_anchorLocal = std::make_shared<Eigen::Vector3d>(local[0], local[1], local[2]);
     // Stiff enough to dominate the surface's own stiffness at that point (the stability
     // estimate includes it, so the explicit scheme sub-steps accordingly).
-    const double k = m_surface->simulation().stiffnessEigenvalueBound();
-    auto anchor = m_anchorLocal;
-    m_force = std::make_shared<PointForce>(
-        u, v, [anchor, k](const SurfaceSample& s) { return Eigen::Vector3d(k * (*anchor - s.position)); },
-        kDependsOnPosition, k);
+    // SpringForce: with its Jacobian, inside an implicit step's Newton system
+    m_force = std::make_shared<SpringForce>(u, v, m_anchorLocal, m_surface->simulation().dragStiffness());
     m_surface->addTransientForce(m_force);
     m_lineSwitch->whichChild = 0;
     update();
