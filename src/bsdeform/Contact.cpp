@@ -232,6 +232,42 @@ Eigen::Vector3d densityAt(const ContactWorld& world, const ContactParameters& p,
 }
 }  // namespace
 
+namespace {
+// -d f_world / dx - s d f_world / dv at x (world) for the law of densityAt: per obstacle in
+// contact, the normal penalty's k n nᵀ (exact where the closest point lies inside a face, its
+// Gauss–Newton part at an edge or vertex, where n turns with x) and the normal damping's
+// c' n nᵀ times s while the normal force is positive; friction has none here (it is evaluated at
+// every iterate, without derivatives).
+Eigen::Matrix3d jacobianAt(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
+                           const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
+                           double velocityScale) {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Zero();
+  const double rateCap = dt > 0.0 && scale > 0.0 ? kRateCap * p.massDensity / (dt * scale) : 0.0;
+  const double search = kSearch * p.thickness;
+  for (const ContactWorld::Obstacle& o : world.obstacles) {
+    if (!o.tree) continue;
+    ClosestHit hit;
+    if (!o.tree->closest(x, search, hit)) continue;
+    double sd = hit.distance;
+    Eigen::Vector3d n = hit.normal;
+    if (o.closed) sd = hit.signedDistance;
+    if (hit.distance > 1e-12 * (1.0 + x.norm())) {
+      n = (x - hit.point) / hit.distance;
+      if (o.closed && sd < 0.0) n = -n;
+    } else if (!o.closed && v.dot(n) > 0.0) {
+      n = -n;
+    }
+    const double depth = p.thickness - sd;
+    if (!(depth > 0.0)) continue;
+    const Eigen::Vector3d an = frame.transpose() * n;
+    const double damping = std::min(p.damping, rateCap / std::max(an.squaredNorm(), 1e-300));
+    if (!(p.stiffness * depth - damping * v.dot(n) > 0.0)) continue;
+    K += (p.stiffness + velocityScale * damping) * (n * n.transpose());
+  }
+  return K;
+}
+}  // namespace
+
 struct CollisionForce::Cache {
   // The quadrature, which depends on the space only.
   int degreeU = -1, degreeV = -1, spansU = -1, spansV = -1;
@@ -422,6 +458,60 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
           scatter(s, bu, bv, (c.qu[std::size_t(i)].w * c.qv[std::size_t(j)].w) * f, load);
         }
     }
+}
+
+void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+  const ContactWorld& w = *m_world;
+  if (w.obstacles.empty()) return;
+  const SplineSpace& s = ctx.space;
+  const Cache& c = *m_cache;
+  // the quadrature of the load; its clearances (when they belong to this net's neighbourhood)
+  // skip the elements and points no obstacle can reach, as addLoad() does
+  const std::vector<Node1D> qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
+  const std::vector<Node1D> qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
+  bool useClearance = c.valid && c.linear == w.linear && c.offset == w.offset && c.reference.rows() == ctx.current.rows() &&
+                      c.qu.size() == qu.size() && c.qv.size() == qv.size() && c.trees.size() == w.obstacles.size();
+  for (std::size_t k = 0; useClearance && k < w.obstacles.size(); ++k) {
+    const TriangleTree* t = w.obstacles[k].tree.get();
+    useClearance = c.trees[k].first == t && (!t || c.trees[k].second == t->version());
+  }
+  double moved = 0.0;
+  if (useClearance) {
+    moved = c.normA * std::sqrt((ctx.current - c.reference).rowwise().squaredNorm().maxCoeff());
+    useClearance = moved < c.skin;
+  }
+  const Frame frame(w.linear);
+  const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
+  const int cols = s.netCols();
+  LocalBasis bu, bv;
+  for (std::size_t i = 0; i < qu.size(); ++i) {
+    s.basisU().evaluateInSpan(qu[i].span, qu[i].x, 1, bu);
+    for (std::size_t j = 0; j < qv.size(); ++j) {
+      if (useClearance) {
+        const std::size_t e = std::size_t(qu[i].span) * std::size_t(c.spansV) + std::size_t(qv[j].span);
+        if (c.clearance[e] > moved || c.pointClearance[i * qv.size() + j] > moved) continue;
+      }
+      s.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bv);
+      const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[i].x, qv[j].x, needs);
+      const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
+      if (!(gamma > 0.0)) continue;
+      const double scale = m_params.areaScale * gamma;
+      const Eigen::Matrix3d Kw = jacobianAt(w, m_params, w.linear * smp.position + w.offset, w.linear * smp.velocity,
+                                            smp.stepSize, w.linear, scale, velocityScale);
+      if (Kw.isZero(0.0)) continue;
+      const Eigen::Matrix3d K = (qu[i].w * qv[j].w * scale) * (w.linear.transpose() * Kw * w.linear);
+      for (int a = 0; a < bu.count; ++a)
+        for (int b = 0; b < bv.count; ++b) {
+          const double Bp = bu.d[0][a] * bv.d[0][b];
+          const Eigen::Index p = Eigen::Index(bu.first + a + s.degreeU()) * cols + bv.first + b + s.degreeV();
+          for (int a2 = 0; a2 < bu.count; ++a2)
+            for (int b2 = 0; b2 < bv.count; ++b2) {
+              const Eigen::Index q = Eigen::Index(bu.first + a2 + s.degreeU()) * cols + bv.first + b2 + s.degreeV();
+              sink.add(p, q, (Bp * bu.d[0][a2] * bv.d[0][b2]) * K);
+            }
+        }
+    }
+  }
 }
 
 }  // namespace bsdeform

@@ -97,6 +97,14 @@ class CollisionForce : public Force {
   /// PlaneContactForce with k ||A||^2). Damping and friction are capped (0.3 rho / dt) so that
   /// they stay within the margin the sub-step sizing leaves (see DragForce).
   double eigenvalueBound(const MassContext& ctx) const override;
+  /// The normal penalty's stiffness and the normal damping's (times velocityScale) at every
+  /// quadrature point in contact, through the frame: \f$a\gamma A^T (k + s c') n n^T A\f$ (exact
+  /// inside an obstacle's faces; at an edge or vertex the part along n only, positive
+  /// semidefinite; the frame's area factor \f$\gamma\f$ taken as constant, exact for a
+  /// similarity). Friction has none: it is evaluated at every Newton iterate without it. No
+  /// potential (damping and friction are not conservative).
+  bool hasJacobian() const override { return true; }
+  void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
   const ContactParameters& parameters() const { return m_params; }
   const ContactWorld& world() const { return *m_world; }
 

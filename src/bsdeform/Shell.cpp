@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "bsdeform/GaussLegendre.h"
+#include "bsdeform/Multiversion.h"
 #include "bsdeform/NumberText.h"
 #include "bsdeform/Parallel.h"
 
@@ -237,6 +238,36 @@ inline void crossMatrix(const double* x, double scale, double* out) {
 /// with its stress resultant projected onto the positive semidefinite 2 x 2 matrices, which
 /// keeps the sum PSD (an approximation of the tangent that Newton on the incremental potential
 /// needs to be a descent direction; the residual stays exact).
+/// Ke[p][q] += Σ_d c[d][p] Σ_e c[e][q] H_de (3 x 3 blocks, q >= p) for one Gauss point: the
+/// element tangent's inner loops (HC: scratch, 5 L 9). H column-major 15 x 15.
+BSDEFORM_MULTIVERSION
+void accumulateElement(int L, const double (*c)[kMaxPoints * kMaxPoints], const double* H,
+                       double* HC, double* Ke) {
+  // H's 3 x 3 blocks transposed into row-major [d][e][a][b] once
+  double Hb[5][5][9];
+  for (int d = 0; d < 5; ++d)
+    for (int e = 0; e < 5; ++e)
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) Hb[d][e][3 * a + b] = H[(3 * e + b) * 15 + 3 * d + a];
+  for (int d = 0; d < 5; ++d)
+    for (int q = 0; q < L; ++q) {
+      double* hc = &HC[(size_t(d) * L + q) * 9];
+      for (int i = 0; i < 9; ++i) hc[i] = 0.0;
+      for (int e = 0; e < 5; ++e) {
+        const double w = c[e][q];
+        for (int i = 0; i < 9; ++i) hc[i] += w * Hb[d][e][i];
+      }
+    }
+  for (int p = 0; p < L; ++p)
+    for (int d = 0; d < 5; ++d) {
+      const double w = c[d][p];
+      if (w == 0.0) continue;
+      const double* hcd = &HC[size_t(d) * L * 9];
+      double* ke = &Ke[size_t(p) * L * 9];
+      for (int i = 9 * p; i < 9 * L; ++i) ke[i] += w * hcd[i];
+    }
+}
+
 void densityHessianAnalytic(const double* y, const ShellEnergy::RestPoint& r, const Constants& k, bool bending,
                             bool project, double* Hout) {
   Eigen::Matrix<double, 15, 15> Hm = Eigen::Matrix<double, 15, 15>::Zero();  // material
@@ -551,25 +582,7 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
               for (int m = 0; m < 5; ++m)
                 for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * X[p][cc];
             densityHessianAnalytic(y, rest[q1 * m_qv + q2], k, m_bending, project, H);
-            for (int d = 0; d < 5; ++d)
-              for (int q = 0; q < L; ++q) {
-                double* hc = &HC[(size_t(d) * L + q) * 9];
-                for (int i = 0; i < 9; ++i) hc[i] = 0.0;
-                for (int e = 0; e < 5; ++e) {
-                  const double w = c[e][q];
-                  if (w == 0.0) continue;
-                  for (int a = 0; a < 3; ++a)
-                    for (int b = 0; b < 3; ++b) hc[3 * a + b] += w * H[(3 * e + b) * 15 + 3 * d + a];
-                }
-              }
-            for (int p = 0; p < L; ++p)
-              for (int d = 0; d < 5; ++d) {
-                const double w = c[d][p];
-                if (w == 0.0) continue;
-                const double* hcd = &HC[size_t(d) * L * 9];
-                double* ke = &Ke[size_t(p) * L * 9];
-                for (int i = 9 * p; i < 9 * L; ++i) ke[i] += w * hcd[i];
-              }
+            accumulateElement(L, c, H, HC.data(), Ke.data());
           }
         for (int p = 0; p < L; ++p)
           for (int q = 0; q < p; ++q)

@@ -219,6 +219,18 @@ TEST_CASE("ForceField: mesh contact without damping and friction is the penalty 
     };
     REQUIRE(c.loadAt(c.P).norm() > 0.0);  // in contact
     c.run();
+
+    // its own Jacobian (every contact point inside the top face: exact), with normal damping:
+    // the state moving down at 0.3 per unit time, the step's velocity part scaled by 1/dt
+    ContactParameters damped = p;
+    damped.damping = 2.0;
+    const CollisionForce dampedContact(world, damped);
+    ControlNet previous = net;
+    previous.col(2).array() += 0.03;
+    ForceFieldCheck own = forForce("mesh contact's own Jacobian, " + spaceName(s), dampedContact, s, net, &previous, 0.1);
+    useOwnDerivatives(own, dampedContact, s, net, &previous, 0.1);
+    own.energy = nullptr;
+    own.run();
   }
 }
 
