@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <vector>
 
 #include "bsdeform/HugePages.h"
 #include "bsdeform/Simulation.h"
@@ -226,7 +227,22 @@ bool ShellImplicitStepper::subStep(double t) {
 
 bool ShellImplicitStepper::stepOf(double t, double dt) {
   Simulation& s = m_sim;
-  const ControlNet& load = s.effectiveLoad(t, dt);
+  // constant loads and those that depend on time only, at the start; the others (contact,
+  // springs, pressure, drag) at every iterate, at the state V = (x + 2P + P-)/4 moving with
+  // (x - P-)/(2 dt): the average the stiffness term takes (docs/math.md §16)
+  ControlNet load = s.m_constantLoad;
+  std::vector<const Force*> stateForces;
+  {
+    const LoadContext ctx0 = s.loadContext(s.m_current, s.m_previous, dt, t);
+    for (const auto& f : s.m_forces) {
+      const unsigned dep = f->dependence();
+      if (dep == kConstant) continue;
+      if (dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))
+        stateForces.push_back(f.get());
+      else
+        f->addLoad(ctx0, load);
+    }
+  }
   const double c = s.m_params.damping;
   const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
   const ControlNet P = s.m_space.gatherMoving(s.m_current), Pm = s.m_space.gatherMoving(s.m_previous);
@@ -239,11 +255,21 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
   ControlNet net = s.m_current;
   ControlNet x = P + (P - Pm), g, R;
+  ControlNet netV = s.m_current, netVPrev = s.m_current;  // V and V - (x - P-), for the forces
+  auto stateLoad = [&](const ControlNet& xi) {
+    ControlNet Lv = ControlNet::Zero(xi.rows(), 3);
+    if (stateForces.empty()) return Lv;
+    netV = 0.25 * (net + 2.0 * s.m_current + s.m_previous);
+    netVPrev = netV - (net - s.m_previous);
+    const LoadContext ctx = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
+    for (const Force* f : stateForces) f->addLoad(ctx, Lv);
+    return Lv;
+  };
   auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
     s.m_space.scatterMoving(xi, net);
     s.m_space.completeNet(net, &s.m_rest);
     s.shellGradient(net, gi);
-    Ri = a * s.shellApplyMass(xi - P) + 0.25 * gi - fixed;
+    Ri = a * s.shellApplyMass(xi - P) + 0.25 * gi - fixed - stateLoad(xi);
     for (Eigen::Index f = 0; f < Ri.rows(); ++f)
       for (int c = 0; c < 3; ++c)
         if (s.heldCoordinate(f, c)) Ri(f, c) = 0.0;
@@ -280,7 +306,10 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     bool factored = false;
     double shift = a;
     for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
-      factored = m_newton->factor(s.shellTangent(net, 0.25, shift, attempt == 11 ? HessianMode::Projected : HessianMode::Exact));
+      const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
+      factored = m_newton->factor(s.shellTangent(net, 0.25, shift,
+                                                 attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
+                                                 stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25));
       shift *= 4.0;
     }
     if (!factored) {
