@@ -16,7 +16,7 @@ BSDEFORM_SAN_BUILD="${BSDEFORM_SAN_BUILD:-$BSDEFORM_BUILD-san}"
 # libavformat-dev, libavcodec-dev and libswscale-dev (FFmpeg) write videos (MP4/H.264, WebM/VP9).
 BSDEFORM_PACKAGES=(
   cmake g++ gcc make ccache pkg-config
-  libeigen3-dev libembree-dev libtbb-dev libsuitesparse-dev catch2 libbenchmark-dev
+  libeigen3-dev libembree-dev libtbb-dev libsuitesparse-dev libopenblas0-serial catch2 libbenchmark-dev
   libcoin-dev libmuparser-dev libgl-dev libegl-dev libpng-dev
   libavformat-dev libavcodec-dev libswscale-dev
   qtbase5-dev libqt5charts5-dev libqt5opengl5-dev fonts-dejavu-core

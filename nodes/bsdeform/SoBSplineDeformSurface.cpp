@@ -68,7 +68,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(maxSubSteps, (10000));
   SO_NODE_ADD_FIELD(newtonTolerance, (1e-8));
   SO_NODE_ADD_FIELD(maxNewtonIterations, (30));
-  SO_NODE_ADD_FIELD(newtonVelocityTolerance, (1e-6));
+  SO_NODE_ADD_FIELD(newtonVelocityTolerance, (1e-4));
   SO_NODE_ADD_FIELD(reference, (REST));
   SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));

@@ -35,7 +35,7 @@
 ///   maxSubSteps 10000     # EXPLICIT: a step needing more sub-steps is refused, not run for minutes
 ///   newtonTolerance 1e-8  # SHELL, IMPLICIT and static: Newton's relative residual, in (0, 1)
 ///   maxNewtonIterations 30 # SHELL, IMPLICIT: a step needing more iterations fails (reported)
-///   newtonVelocityTolerance 1e-6 # SHELL, BACKWARD_EULER: converged when max update / dt is below (m/s)
+///   newtonVelocityTolerance 1e-4 # SHELL, BACKWARD_EULER: converged when max update / dt is below (m/s)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -145,7 +145,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
   SoSFDouble newtonTolerance;   ///< SHELL implicit and static: Newton's relative residual; 1e-8
   SoSFInt32 maxNewtonIterations;  ///< SHELL implicit: a step needing more iterations fails; 30
-  SoSFDouble newtonVelocityTolerance;  ///< SHELL BACKWARD_EULER: max update / dt at convergence (m/s); 1e-6
+  SoSFDouble newtonVelocityTolerance;  ///< SHELL BACKWARD_EULER: max update / dt at convergence (m/s); 1e-4
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED

@@ -236,8 +236,8 @@ namespace {
 // -d f_world / dx - s d f_world / dv at x (world) for the law of densityAt: per obstacle in
 // contact, the normal penalty's k n nᵀ (exact where the closest point lies inside a face, its
 // Gauss–Newton part at an edge or vertex, where n turns with x) and the normal damping's
-// c' n nᵀ times s while the normal force is positive; friction has none here (it is evaluated at
-// every iterate, without derivatives).
+// c' n nᵀ times s while the normal force is positive, and friction's derivative with respect to
+// the tangential velocity times s.
 Eigen::Matrix3d jacobianAt(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
                            const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
                            double velocityScale) {
@@ -261,8 +261,30 @@ Eigen::Matrix3d jacobianAt(const ContactWorld& world, const ContactParameters& p
     if (!(depth > 0.0)) continue;
     const Eigen::Vector3d an = frame.transpose() * n;
     const double damping = std::min(p.damping, rateCap / std::max(an.squaredNorm(), 1e-300));
-    if (!(p.stiffness * depth - damping * v.dot(n) > 0.0)) continue;
-    K += (p.stiffness + velocityScale * damping) * (n * n.transpose());
+    const double vn = v.dot(n);
+    const double fn = p.stiffness * depth - damping * vn;
+    if (!(fn > 0.0)) continue;
+    const Eigen::Matrix3d nn = n * n.transpose();
+    K += (p.stiffness + velocityScale * damping) * nn;
+    // friction's dependence on the tangential velocity (its dependence on fn, through the
+    // depth, is left out: it is not symmetric): viscous at the rate cap, else Coulomb's
+    // mu fn (I - n nᵀ - t tᵀ) / |v_t|; both positive semidefinite
+    const Eigen::Vector3d vt = v - vn * n;
+    const double speed = vt.norm();
+    if (p.friction > 0.0 && speed > 0.0) {
+      const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+      const Eigen::Vector3d b1 = frame.transpose() * t1, b2 = frame.transpose() * t2;
+      const double g11 = b1.squaredNorm(), g22 = b2.squaredNorm(), g12 = b1.dot(b2);
+      const double tangentGain = 0.5 * (g11 + g22) + std::sqrt(0.25 * (g11 - g22) * (g11 - g22) + g12 * g12);
+      const double viscous = rateCap / std::max(tangentGain, 1e-300);
+      const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - nn;
+      if (p.friction * fn >= viscous * speed) {
+        K += velocityScale * viscous * tangential;
+      } else {
+        const Eigen::Vector3d t = vt / speed;
+        K += velocityScale * (p.friction * fn / speed) * (tangential - t * t.transpose());
+      }
+    }
   }
   return K;
 }
@@ -483,34 +505,65 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
   const Frame frame(w.linear);
   const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
   const int cols = s.netCols();
-  LocalBasis bu, bv;
-  for (std::size_t i = 0; i < qu.size(); ++i) {
-    s.basisU().evaluateInSpan(qu[i].span, qu[i].x, 1, bu);
-    for (std::size_t j = 0; j < qv.size(); ++j) {
-      if (useClearance) {
-        const std::size_t e = std::size_t(qu[i].span) * std::size_t(c.spansV) + std::size_t(qv[j].span);
-        if (c.clearance[e] > moved || c.pointClearance[i * qv.size() + j] > moved) continue;
-      }
-      s.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bv);
-      const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[i].x, qv[j].x, needs);
-      const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
-      if (!(gamma > 0.0)) continue;
-      const double scale = m_params.areaScale * gamma;
-      const Eigen::Matrix3d Kw = jacobianAt(w, m_params, w.linear * smp.position + w.offset, w.linear * smp.velocity,
-                                            smp.stepSize, w.linear, scale, velocityScale);
-      if (Kw.isZero(0.0)) continue;
-      const Eigen::Matrix3d K = (qu[i].w * qv[j].w * scale) * (w.linear.transpose() * Kw * w.linear);
-      for (int a = 0; a < bu.count; ++a)
-        for (int b = 0; b < bv.count; ++b) {
-          const double Bp = bu.d[0][a] * bv.d[0][b];
-          const Eigen::Index p = Eigen::Index(bu.first + a + s.degreeU()) * cols + bv.first + b + s.degreeV();
-          for (int a2 = 0; a2 < bu.count; ++a2)
-            for (int b2 = 0; b2 < bv.count; ++b2) {
-              const Eigen::Index q = Eigen::Index(bu.first + a2 + s.degreeU()) * cols + bv.first + b2 + s.degreeV();
-              sink.add(p, q, (Bp * bu.d[0][a2] * bv.d[0][b2]) * K);
-            }
+  const int Lu = s.degreeU() + 1, Lv = s.degreeV() + 1, L = Lu * Lv;
+  // per element: Σ over its points of w B_p B_q K, then one block per pair of its points
+  std::vector<Eigen::Matrix3d> local(std::size_t(L) * L);
+  std::vector<LocalBasis> bvs(qv.size());
+  for (std::size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bvs[j]);
+  LocalBasis bu;
+  std::size_t i0 = 0;
+  while (i0 < qu.size()) {
+    std::size_t i1 = i0;
+    while (i1 < qu.size() && qu[i1].span == qu[i0].span) ++i1;
+    std::size_t j0 = 0;
+    while (j0 < qv.size()) {
+      std::size_t j1 = j0;
+      while (j1 < qv.size() && qv[j1].span == qv[j0].span) ++j1;
+      bool any = false;
+      int firstU = 0, firstV = 0;
+      for (std::size_t i = i0; i < i1; ++i) {
+        s.basisU().evaluateInSpan(qu[i].span, qu[i].x, 1, bu);
+        for (std::size_t j = j0; j < j1; ++j) {
+          if (useClearance) {
+            const std::size_t e = std::size_t(qu[i].span) * std::size_t(c.spansV) + std::size_t(qv[j].span);
+            if (c.clearance[e] > moved || c.pointClearance[i * qv.size() + j] > moved) continue;
+          }
+          const LocalBasis& bv = bvs[j];
+          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[i].x, qv[j].x, needs);
+          const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
+          if (!(gamma > 0.0)) continue;
+          const double scale = m_params.areaScale * gamma;
+          const Eigen::Matrix3d Kw = jacobianAt(w, m_params, w.linear * smp.position + w.offset,
+                                                w.linear * smp.velocity, smp.stepSize, w.linear, scale, velocityScale);
+          if (Kw.isZero(0.0)) continue;
+          if (!any) {
+            for (Eigen::Matrix3d& m : local) m.setZero();
+            any = true;
+            firstU = bu.first;
+            firstV = bv.first;
+          }
+          const Eigen::Matrix3d K = (qu[i].w * qv[j].w * scale) * (w.linear.transpose() * Kw * w.linear);
+          double B[kMaxDegree + 1][kMaxDegree + 1];
+          for (int a = 0; a < bu.count; ++a)
+            for (int b = 0; b < bv.count; ++b) B[a][b] = bu.d[0][a] * bv.d[0][b];
+          for (int p = 0; p < L; ++p) {
+            const double Bp = B[p / Lv][p % Lv];
+            if (Bp == 0.0) continue;
+            for (int q = 0; q < L; ++q) local[std::size_t(p) * L + q] += (Bp * B[q / Lv][q % Lv]) * K;
+          }
         }
+      }
+      if (any)
+        for (int p = 0; p < L; ++p) {
+          const Eigen::Index rp = Eigen::Index(firstU + p / Lv + s.degreeU()) * cols + firstV + p % Lv + s.degreeV();
+          for (int q = 0; q < L; ++q) {
+            const Eigen::Index rq = Eigen::Index(firstU + q / Lv + s.degreeU()) * cols + firstV + q % Lv + s.degreeV();
+            sink.add(rp, rq, local[std::size_t(p) * L + q]);
+          }
+        }
+      j0 = j1;
     }
+    i0 = i1;
   }
 }
 

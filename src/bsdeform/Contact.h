@@ -101,8 +101,9 @@ class CollisionForce : public Force {
   /// quadrature point in contact, through the frame: \f$a\gamma A^T (k + s c') n n^T A\f$ (exact
   /// inside an obstacle's faces; at an edge or vertex the part along n only, positive
   /// semidefinite; the frame's area factor \f$\gamma\f$ taken as constant, exact for a
-  /// similarity). Friction has none: it is evaluated at every Newton iterate without it. No
-  /// potential (damping and friction are not conservative).
+  /// similarity), and friction's derivative with respect to the tangential velocity (viscous at
+  /// the rate cap, Coulomb's \f$\mu f_n (I - nn^T - tt^T)/|v_t|\f$ else; its dependence on
+  /// \f$f_n\f$ left out). No potential (damping and friction are not conservative).
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
   const ContactParameters& parameters() const { return m_params; }

@@ -234,10 +234,10 @@ inline void crossMatrix(const double* x, double scale, double* out) {
 /// the material part (PSD: (dE)ᵀ W C dE and (dκ)ᵀ W C dκ, W = diag(1, 2, 1) for the Voigt
 /// shear) and the geometric part (the stresses times the second variations of E and κ).
 /// `project`: when material + geometric is not positive definite (a compressed membrane, a
-/// bending stress against the curvature), the geometric part is replaced by the membrane's
-/// with its stress resultant projected onto the positive semidefinite 2 x 2 matrices, which
-/// keeps the sum PSD (an approximation of the tangent that Newton on the incremental potential
-/// needs to be a descent direction; the residual stays exact).
+/// bending stress against the curvature), its negative eigenvalues are set to zero (the
+/// nearest PSD matrix; should the eigensolver fail, the material part plus the membrane's
+/// geometric part with its stress resultant made PSD). Newton on the incremental potential
+/// needs a PSD tangent for a descent direction; the residual stays exact.
 /// Ke[p][q] += Σ_d c[d][p] Σ_e c[e][q] H_de (3 x 3 blocks, q >= p) for one Gauss point: the
 /// element tangent's inner loops (HC: scratch, 5 L 9). H column-major 15 x 15.
 BSDEFORM_MULTIVERSION
@@ -376,11 +376,17 @@ void densityHessianAnalytic(const double* y, const ShellEnergy::RestPoint& r, co
     test.diagonal().array() += 1e-10 * scale + 1e-300;
     Eigen::LLT<Eigen::Matrix<double, 15, 15>> llt(test);
     if (llt.info() != Eigen::Success) {
-      H = Hm;
-      H.block<3, 3>(0, 0) += nPsd(0, 0) * I;
-      H.block<3, 3>(0, 3) += nPsd(0, 1) * I;
-      H.block<3, 3>(3, 0) += nPsd(1, 0) * I;
-      H.block<3, 3>(3, 3) += nPsd(1, 1) * I;
+      // the nearest positive semidefinite matrix: negative eigenvalues to zero
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 15, 15>> es(0.5 * (H + H.transpose()));
+      if (es.info() == Eigen::Success) {
+        H = es.eigenvectors() * es.eigenvalues().cwiseMax(0.0).asDiagonal() * es.eigenvectors().transpose();
+      } else {  // material part and the membrane's, its stress made PSD: PSD by construction
+        H = Hm;
+        H.block<3, 3>(0, 0) += nPsd(0, 0) * I;
+        H.block<3, 3>(0, 3) += nPsd(0, 1) * I;
+        H.block<3, 3>(3, 0) += nPsd(1, 0) * I;
+        H.block<3, 3>(3, 3) += nPsd(1, 1) * I;
+      }
     }
   }
   H = 0.5 * (H + H.transpose()).eval();

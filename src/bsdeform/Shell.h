@@ -45,8 +45,7 @@ struct ShellEnergies {
 enum class HessianMode {
   Exact,      ///< the exact second derivative of the energy (indefinite under compression)
   Projected,  ///< at each Gauss point where the exact density Hessian is not positive definite,
-              ///< its material part plus the membrane's geometric part with the stress
-              ///< resultant projected onto the PSD matrices: positive semidefinite everywhere
+              ///< its nearest PSD matrix (negative eigenvalues set to zero): PSD everywhere
 };
 
 class ShellEnergy {

@@ -122,7 +122,7 @@ struct ModelParameters {
   /// SHELL, BACKWARD_EULER: Newton has converged when its largest update, divided by the time
   /// step, is below this velocity (m/s in SI scenes); > 0. The residual criterion above also
   /// ends it.
-  double newtonVelocityTolerance = 1e-6;
+  double newtonVelocityTolerance = 1e-4;
 };
 
 /// Simulation::solveStatic(): the equilibrium found and how.

@@ -482,9 +482,11 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     sp.completeNet(s.m_previous, &s.m_rest);
     s.m_current.swap(s.m_previous);
     m_hasReference = false;
+    m_refactor = true;
     return false;
   };
   bool converged = false;
+  double lastUpdate = 0.0;
   for (int it = 0; it < s.m_params.maxNewtonIterations && std::isfinite(cur.r); ++it) {
     if (cur.r <= s.m_params.newtonTolerance * forceScale) {
       converged = true;
@@ -492,15 +494,28 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     }
     ++m_newtonIterations;
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    bool factored = false;
-    double shift = massShift;
-    for (int attempt = 0; attempt < 8 && !factored; ++attempt) {
-      factored = m_newton->factor(s.shellTangent(net, 1.0, shift, HessianMode::Projected, &ctx, 1.0 / h));
-      shift *= 4.0;  // a force's Jacobian (a sphere's tangential part) can still be indefinite
-    }
-    if (!factored) {
-      m_solveFailure = "the Newton matrix is not positive definite even with the element Hessians projected";
-      return reject();
+    // The factorisation of an earlier iterate (or step) is kept while the iterates contract
+    // fast with it (a chord step costs a gradient and a solve, not an assembly and a
+    // factorisation); a new one is made when the last update shrank by less than half, or
+    // the line search refused a kept one's step. The exact tangent while it is positive
+    // definite (Newton converges quadratically; the mass term M/h² usually makes it so), else
+    // the element Hessians projected (a descent direction whatever the state), then more of
+    // the mass (a force's Jacobian, a sphere's tangential part, can still be indefinite).
+    const bool fresh = m_refactor || m_factoredStep != h;
+    if (fresh) {
+      bool factored = m_newton->factor(s.shellTangent(net, 1.0, massShift, HessianMode::Exact, &ctx, 1.0 / h));
+      double shift = massShift;
+      for (int attempt = 0; attempt < 8 && !factored; ++attempt) {
+        factored = m_newton->factor(s.shellTangent(net, 1.0, shift, HessianMode::Projected, &ctx, 1.0 / h));
+        shift *= 4.0;
+      }
+      if (!factored) {
+        m_solveFailure = "the Newton matrix is not positive definite even with the element Hessians projected";
+        return reject();
+      }
+      m_refactor = false;
+      m_factoredStep = h;
+      ++m_factorisations;
     }
     const Eigen::VectorXd d = m_newton->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
     const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
@@ -518,6 +533,11 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
       }
     }
     const double update = alpha * step.cwiseAbs().maxCoeff();
+    if (!accepted && !fresh) {  // the kept factorisation's step: try again with a new one
+      m_refactor = true;
+      evaluate(x, cur);
+      continue;
+    }
     if (!accepted) {
       // no decrease along a descent direction: the potential's rounding floor (converged when
       // the step itself is below the tolerance)
@@ -531,6 +551,8 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
       converged = true;
       break;
     }
+    if (!fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) m_refactor = true;
+    lastUpdate = update;
   }
   if (!converged) {
     std::ostringstream os;

@@ -110,14 +110,24 @@ class ShellImplicitStepper final : public TimeStepper {
 /// not converge is retaken in 2, 4, ... 16 pieces, then reported. When every load has a
 /// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
 /// its value when the run (or the last change of forces) began: a rise is reported as a
-/// blow-up.
+/// blow-up. A factorisation is kept across iterations and steps while the iterates contract
+/// fast with it (chord steps), and made anew when they do not.
 class ShellBackwardEulerStepper final : public TimeStepper {
  public:
   using TimeStepper::TimeStepper;
   bool subStep(double t) override;
-  void invalidate() override { m_hasReference = false; }
-  void forcesChanged() override { m_hasReference = false; }
+  void invalidate() override {
+    m_hasReference = false;
+    m_refactor = true;
+  }
+  void forcesChanged() override {
+    m_hasReference = false;
+    m_refactor = true;
+  }
   int newtonIterations() const override { return m_newtonIterations; }
+  /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
+  /// a factorisation is kept while the iterates contract fast with it).
+  long factorisations() const { return m_factorisations; }
 
  private:
   bool stepOf(double t, double h);
@@ -128,6 +138,9 @@ class ShellBackwardEulerStepper final : public TimeStepper {
 
   std::shared_ptr<NewtonSolver> m_newton;
   int m_newtonIterations = 0;
+  bool m_refactor = true;      ///< the next iteration factorises anew
+  double m_factoredStep = 0.0; ///< the step size of the kept factorisation
+  long m_factorisations = 0;
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;
 };
