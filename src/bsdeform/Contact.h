@@ -106,6 +106,10 @@ class CollisionForce : public Force {
   /// \f$f_n\f$ left out). No potential (damping and friction are not conservative).
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
+  /// The normal penalty's energy, \f$\sum_g w_g\, a\gamma\, \tfrac12 k\, \mathrm{depth}^2\f$ (the
+  /// deepest obstacle at each point; damping and friction only dissipate); false once an
+  /// obstacle or the frame has changed since the first call (a moving obstacle does work).
+  bool storedEnergy(const LoadContext& ctx, double& value) const override;
   const ContactParameters& parameters() const { return m_params; }
   const ContactWorld& world() const { return *m_world; }
 
@@ -146,6 +150,9 @@ class CollisionForce : public Force {
   std::shared_ptr<const ContactWorld> m_world;
   ContactParameters m_params;
   std::shared_ptr<Cache> m_cache;  // mutable state of addLoad (the force is const in a step)
+  /// The obstacles' versions and the frame when storedEnergy() was first asked.
+  struct Seen;
+  std::shared_ptr<Seen> m_seen;
 };
 
 }  // namespace bsdeform

@@ -105,6 +105,19 @@ class Force {
     value = 0.0;
     return false;
   }
+  /// For the implicit steppers' energy check: the energy the force stores at the state, when the
+  /// rest of its load can only dissipate (damping, friction); false when it can do work on the
+  /// surface (a follower pressure, a callable, a load that depends on time). The default: the
+  /// potential of a load that depends on the position alone, 0 for one that depends on the
+  /// velocity alone (drag dissipates).
+  virtual bool storedEnergy(const LoadContext& ctx, double& value) const {
+    value = 0.0;
+    const unsigned dep = dependence();
+    if (dep & kDependsOnTime) return false;
+    if (!(dep & (kDependsOnPosition | kDependsOnNormal))) return (dep & kDependsOnVelocity) != 0;
+    if (dep & kDependsOnVelocity) return false;
+    return potential(ctx, value);
+  }
 };
 
 /// Fills a SurfaceSample at (u, v) with what `dependence` asks for.

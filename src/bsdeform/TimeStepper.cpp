@@ -198,6 +198,11 @@ bool ShellImplicitStepper::subStep(double t) {
   const ControlNet start = s.m_current, before = s.m_previous;
   if (stepOf(t, dt)) return true;
   std::string failure = m_solveFailure;
+  if (failure.rfind("the total energy", 0) == 0) {  // a blow-up is not cured by smaller pieces
+    s.m_previous = start;
+    m_cached = false;
+    return false;
+  }
   for (int pieces = 2; pieces <= 16 && s.m_current.allFinite(); pieces *= 2) {
     const double h = dt / pieces;
     // the same velocity, over a piece: an affine combination keeps held and derived points
@@ -348,6 +353,27 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   s.m_current.swap(s.m_previous);
   m_gradPrevious.swap(m_gradCurrent);
   m_gradCurrent = g;
+  // the energy check: Newmark conserves energy to O(dt²) without damping, so only a rise
+  // beyond the reference's own scale (kinetic + elastic + the loads' reach) is a blow-up
+  if (ok) {
+    double energy = 0.0, scaleNow = 0.0;
+    if (ShellBackwardEulerStepper::totalEnergy(s, x, s.m_current, (x - P) / dt, t + dt, energy, scaleNow)) {
+      if (!m_hasReference) {
+        m_hasReference = true;
+        m_reference = energy;
+        m_referenceScale = scaleNow;
+      } else if (energy > m_reference + m_referenceScale + 1e-300) {
+        std::ostringstream os;
+        os << "the total energy rose from " << m_reference << " to " << energy
+           << " J with no work done on the system (a blow-up)";
+        m_solveFailure = os.str();
+        m_hasReference = false;
+        return false;
+      }
+    } else {
+      m_hasReference = false;
+    }
+  }
   return ok;
 }
 
@@ -355,25 +381,23 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
 
 namespace bsdeform {
 
-bool ShellBackwardEulerStepper::totalEnergy(const ControlNet& x, const ControlNet& net, const ControlNet& v, double t,
-                                            double& energy, double& scale) const {
-  const Simulation& s = m_sim;
+bool ShellBackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
+                                            const ControlNet& v, double t, double& energy, double& scale) {
   const double kinetic = 0.5 * (v.array() * s.shellApplyMass(v).array()).sum();
   const double elastic = s.m_energy->energy(net);
   double loads = -(s.m_constantLoad.array() * x.array()).sum();
   const LoadContext ctx = s.loadContext(net, net, s.m_params.timeStep, t);
   for (const auto& f : s.m_forces) {
-    const unsigned dep = f->dependence();
-    if (dep == kConstant) continue;
-    if (dep & kDependsOnTime) return false;
-    if (!(dep & kDependsOnPosition) && !(dep & kDependsOnNormal)) continue;  // drag: dissipation only
-    if (dep & kDependsOnVelocity) return false;                               // no mechanical potential
-    double phi = 0.0;
-    if (!f->potential(ctx, phi)) return false;
-    loads += phi;
+    if (f->dependence() == kConstant) continue;
+    double stored = 0.0;
+    if (!f->storedEnergy(ctx, stored)) return false;
+    loads += stored;
   }
   energy = kinetic + elastic + loads;
-  scale = kinetic + std::abs(elastic) + std::abs(loads);
+  // plus the work the constant loads can do over the surface's own size (a sheet at z = 0
+  // under gravity stores nothing, yet falls)
+  const double extent = (net.colwise().maxCoeff() - net.colwise().minCoeff()).norm();
+  scale = kinetic + std::abs(elastic) + std::abs(loads) + s.m_constantLoad.cwiseAbs().sum() * extent;
   return true;
 }
 
@@ -420,7 +444,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   const ControlNet xhat = 2.0 * P - Pm;  // P + h v
   const ControlNet startNet = s.m_current;
   if (!m_hasReference) {
-    m_hasReference = totalEnergy(P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
+    m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
   }
   ControlNet net = s.m_current;
   auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
@@ -571,7 +595,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   s.m_current.swap(s.m_previous);
   if (ok && m_hasReference) {
     double energy = 0.0, scale = 0.0;
-    if (totalEnergy(x, s.m_current, (x - P) / h, tNew, energy, scale) &&
+    if (totalEnergy(s, x, s.m_current, (x - P) / h, tNew, energy, scale) &&
         energy > m_reference + 1e-2 * std::max(m_referenceScale, scale) + 1e-300) {
       std::ostringstream os;
       os << "the total energy rose from " << m_reference << " to " << energy

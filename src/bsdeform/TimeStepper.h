@@ -10,7 +10,8 @@
 ///                         fused kernel (design.md §2);
 ///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
 ///   ShellExplicitStepper  central differences with the lumped mass T^T W T;
-///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure.
+///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure;
+///   ShellBackwardEulerStepper  backward Euler as the minimisation of the incremental potential.
 
 #include <memory>
 #include <string>
@@ -84,7 +85,11 @@ class ShellImplicitStepper final : public TimeStepper {
   /// in 2, 4, ... 16 equal pieces (the velocity kept), so a fast change (a load ramped by the
   /// wall clock, a snap) costs time instead of stopping the run.
   bool subStep(double t) override;
-  void invalidate() override { m_cached = false; }
+  void invalidate() override {
+    m_cached = false;
+    m_hasReference = false;
+  }
+  void forcesChanged() override { m_hasReference = false; }
   int newtonIterations() const override { return m_newtonIterations; }
 
  private:
@@ -96,6 +101,10 @@ class ShellImplicitStepper final : public TimeStepper {
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
   int m_newtonIterations = 0;
+  /// The energy check's reference: the total energy after the first step since the last
+  /// change (ShellBackwardEulerStepper::totalEnergy()), and its scale.
+  bool m_hasReference = false;
+  double m_reference = 0.0, m_referenceScale = 0.0;
 };
 
 /// Backward Euler for SHELL as the minimisation of the incremental potential (docs/math.md
@@ -128,13 +137,14 @@ class ShellBackwardEulerStepper final : public TimeStepper {
   /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
   /// a factorisation is kept while the iterates contract fast with it).
   long factorisations() const { return m_factorisations; }
+  /// Total energy (kinetic + elastic + what the loads store, Force::storedEnergy()) of a state
+  /// x (its net `net`) with velocity v, and its scale (the sum of the parts' magnitudes); false
+  /// when some load can do work (nothing to check). Also the Newmark stepper's check.
+  static bool totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& v,
+                          double t, double& energy, double& scale);
 
  private:
   bool stepOf(double t, double h);
-  /// Total energy (kinetic + elastic + the loads' potentials) of a state x with velocity v;
-  /// false when some load has no potential or depends on time (nothing to check).
-  bool totalEnergy(const ControlNet& x, const ControlNet& net, const ControlNet& v, double t, double& energy,
-                   double& scale) const;
 
   std::shared_ptr<NewtonSolver> m_newton;
   int m_newtonIterations = 0;
