@@ -354,7 +354,18 @@ class SceneTextOutput : public SoOutput {
     }
     // Coin writes its header before the first bytes (through this function): let it.
     if (!wroteHeader) SoOutput::writeBinaryArray(c, 0);
-    append(reinterpret_cast<const char*>(c), std::size_t(length));
+    const char* text = reinterpret_cast<const char*>(c);
+    const std::size_t size = std::size_t(length);
+    // Coin lays out a list of references as `USE A,` newline `USE B ]`, and its own reader then
+    // looks for a node called "A,": the comma after a USE name gets a space before it, so that
+    // every reader (Coin's included) reads what is written. Coin writes "USE", " ", the name and
+    // ",\n" as separate pieces.
+    if (m_use == Use::Name && size > 0 && text[0] == ',') append(" ", 1);
+    if (size == 3 && std::memcmp(text, "USE", 3) == 0) m_use = Use::Keyword;
+    else if (m_use == Use::Keyword && size == 1 && text[0] == ' ') m_use = Use::Space;
+    else if (m_use == Use::Space && size > 0) m_use = Use::Name;
+    else m_use = Use::None;
+    append(text, size);
   }
   using SoOutput::writeBinaryArray;
 
@@ -379,6 +390,7 @@ class SceneTextOutput : public SoOutput {
 
   const SinkCookie& m_cookie;
   std::vector<char> m_buf;
+  enum class Use { None, Keyword, Space, Name } m_use = Use::None;  ///< where in `USE name` the text is
 };
 
 }  // namespace

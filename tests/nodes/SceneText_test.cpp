@@ -372,3 +372,36 @@ TEST_CASE("SceneText: text and snaps do not depend on the process locale (decima
   root->unref();
   surface->unref();
 }
+
+TEST_CASE("SceneText: a list of references written reads back, by our reader and by Coin's own", "[nodes]") {
+  // Issue 37, item 0: Coin lays out `obstacles` as `USE A,` newline `USE B ]`, which its own
+  // reader refuses ("Unknown reference "A,""): the saved scene could not be opened again.
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF A Cube { } DEF B Sphere { }\n"
+                                     "SoBSplineDeformSurface { on FALSE forces [ SoForceField { type COLLISION "
+                                     "obstacles [ USE A , USE B ] } ] } }\n");
+  REQUIRE(root);
+  const std::string text = testutil::write(root);
+  root->unref();
+  INFO(text);
+  CHECK(text.find("USE A,") == std::string::npos);
+  auto obstaclesOf = [](SoSeparator* r) {
+    auto* field = testutil::find<SoBSplineDeformSurface>(r);
+    REQUIRE(field);
+    auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(field->forces[0]));
+    return std::vector<std::string>{ff->obstacles.getNum() > 0 ? ff->obstacles[0]->getName().getString() : "",
+                                    ff->obstacles.getNum() > 1 ? ff->obstacles[1]->getName().getString() : "",
+                                    std::to_string(ff->obstacles.getNum())};
+  };
+  SoSeparator* ours = testutil::read(text);
+  REQUIRE(ours);
+  CHECK(obstaclesOf(ours) == std::vector<std::string>{"A", "B", "2"});
+  ours->unref();
+  // Coin's reader without our guard, as any Coin program reads the file
+  SoInput in;
+  in.setBuffer(text.data(), text.size());
+  SoSeparator* coins = SoDB::readAll(&in);
+  REQUIRE(coins);
+  coins->ref();
+  CHECK(obstaclesOf(coins) == std::vector<std::string>{"A", "B", "2"});
+  coins->unref();
+}

@@ -986,3 +986,37 @@ TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, 
   CHECK(r.code == 2);
   CHECK(r.err.find("--load-steps needs --static") != std::string::npos);
 }
+
+TEST_CASE("bsdeform-run: a scene with two COLLISION obstacles is written to a final.iv that reopens", "[scenes]") {
+  // Issue 37, item 0: Coin lays out the list as `USE A,` newline `USE B ]` and its reader then
+  // looks for "A,": the run ended in a final.iv that nothing could read (exit 2 on reopening).
+  TempDir dir;
+  writeFile(dir.path + "/two.iv", "#Inventor V2.1 ascii\nSeparator {\n"
+                                  "  Separator { Transform { translation 0.3 0.5 -0.6 } DEF A Sphere { radius 0.5 } }\n"
+                                  "  Separator { Transform { translation 0.7 0.5 -0.6 } DEF B Cube { } }\n"
+                                  "  SoBSplineDeformSurface { numUControlPoints 6 numVControlPoints 6 timeStep 0.01\n"
+                                  "    forces [ SoForceField { type GRAVITY },\n"
+                                  "             SoForceField { type COLLISION obstacles [ USE A, USE B ] } ] } }\n");
+  const Run first = run("two.iv --steps 3 -o one", dir.path);
+  INFO(first.err);
+  REQUIRE(first.code == 0);
+  const std::string saved = slurp(dir.path + "/one/final.iv");
+  INFO(saved);
+  const Run again = run("one/final.iv --steps 3 -o two", dir.path);
+  INFO(again.err);
+  CHECK(again.code == 0);
+  SoSeparator* root = testutil::read(saved);
+  REQUIRE(root);
+  int collisions = 0;
+  for (SoBSplineDeformSurface* s : bsdeform::sceneSurfaces(root))
+    for (int i = 0; i < s->forces.getNum(); ++i) {
+      auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
+      if (ff->type.getValue() != SoForceField::COLLISION) continue;
+      ++collisions;
+      REQUIRE(ff->obstacles.getNum() == 2);
+      CHECK(std::string(ff->obstacles[0]->getName().getString()) == "A");
+      CHECK(std::string(ff->obstacles[1]->getName().getString()) == "B");
+    }
+  CHECK(collisions == 1);
+  root->unref();
+}
