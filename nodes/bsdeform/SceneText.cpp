@@ -3,6 +3,15 @@
 
 #include <Inventor/SoOutput.h>
 #include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/fields/SoMFDouble.h>
+#include <Inventor/fields/SoMFVec2d.h>
+#include <Inventor/fields/SoMFVec3d.h>
+#include <Inventor/fields/SoSFDouble.h>
+#include <Inventor/fields/SoSFVec2d.h>
+#include <Inventor/fields/SoSFVec3d.h>
+#include <Inventor/lists/SoFieldList.h>
+#include <Inventor/misc/SoBase.h>
+#include <Inventor/fields/SoFieldContainer.h>
 
 #include <cerrno>
 #include <charconv>
@@ -295,6 +304,50 @@ bool coinReadReal(const char* s, double& value) {
   }
   value = number;
   return *s == '\0';
+}
+
+void snapReadDoubles(SoFieldContainer& container) {
+  SoFieldList fields;
+  const int count = container.getFields(fields);
+  for (int i = 0; i < count; ++i) {
+    SoField* f = fields[i];
+    if (f->isDefault() || f->isConnected()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    if (f->isOfType(SoSFDouble::getClassTypeId())) {
+      auto* d = static_cast<SoSFDouble*>(f);
+      d->setValue(snap15(d->getValue()));
+    } else if (f->isOfType(SoSFVec2d::getClassTypeId())) {
+      auto* d = static_cast<SoSFVec2d*>(f);
+      const SbVec2d v = d->getValue();
+      d->setValue(snap15(v[0]), snap15(v[1]));
+    } else if (f->isOfType(SoSFVec3d::getClassTypeId())) {
+      auto* d = static_cast<SoSFVec3d*>(f);
+      const SbVec3d v = d->getValue();
+      d->setValue(snap15(v[0]), snap15(v[1]), snap15(v[2]));
+    } else if (f->isOfType(SoMFDouble::getClassTypeId())) {
+      auto* d = static_cast<SoMFDouble*>(f);
+      if (d->getNum()) {
+        double* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k] = snap15(v[k]);
+        d->finishEditing();
+      }
+    } else if (f->isOfType(SoMFVec2d::getClassTypeId())) {
+      auto* d = static_cast<SoMFVec2d*>(f);
+      if (d->getNum()) {
+        SbVec2d* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k].setValue(snap15(v[k][0]), snap15(v[k][1]));
+        d->finishEditing();
+      }
+    } else if (f->isOfType(SoMFVec3d::getClassTypeId())) {
+      auto* d = static_cast<SoMFVec3d*>(f);
+      if (d->getNum()) {
+        SbVec3d* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k].setValue(snap15(v[k][0]), snap15(v[k][1]), snap15(v[k][2]));
+        d->finishEditing();
+      }
+    }
+    f->enableNotify(notify);
+  }
 }
 
 std::string coinDoubleText(double x) {

@@ -12,6 +12,7 @@
 #include <Inventor/fields/SoSFShort.h>
 #include <Inventor/fields/SoSFTime.h>
 #include <Inventor/fields/SoSFVec2f.h>
+#include <Inventor/lists/SoFieldList.h>
 #include <muParser.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "bsdeform/Force.h"
 #include "bsdeform/Contact.h"
 #include "bsdeform/ForceLaws.h"
+#include "bsdeform/FieldInfo.h"
 #include "bsdeform/SceneText.h"
 
 /// Field converter into SoSFDouble and SoSFVec2d. Coin 4.0's built-in converter (SoConvertAll)
@@ -221,22 +223,7 @@ SbBool SoForceField::readInstance(SoInput* in, unsigned short flags) {
   // Coin's reader is off by up to a few ulps (SceneText.h); snapping what was read to its
   // 15-digit value makes `point 0.97 0.5` act at 0.97 and write -> read -> write a fixed point.
   // Connected fields get their values from the connection.
-  using bsdeform::snap15;
-  auto quiet = [](SoField& f, auto&& set) {
-    if (f.isDefault() || f.isConnected()) return;
-    const SbBool notify = f.enableNotify(FALSE);
-    set();
-    f.enableNotify(notify);
-  };
-  for (SoSFDouble* f : {&magnitude, &radius, &stiffness, &coefficient, &thickness, &damping, &friction})
-    quiet(*f, [f] { f->setValue(snap15(f->getValue())); });
-  for (SoSFVec2d* f : {&point, &regionMin, &regionMax})
-    quiet(*f, [f] { f->setValue(snap15(f->getValue()[0]), snap15(f->getValue()[1])); });
-  for (SoSFVec3d* f : {&force, &anchor, &center, &normal})
-    quiet(*f, [f] {
-      const SbVec3d v = f->getValue();
-      f->setValue(snap15(v[0]), snap15(v[1]), snap15(v[2]));
-    });
+  bsdeform::snapReadDoubles(*this);
   return ok;
 }
 
@@ -356,3 +343,40 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
   }
   return nullptr;
 }
+
+std::vector<SoForceField::Refusal> SoForceField::refusedFields(const SurfaceInfo& info) {
+  std::string whole;
+  makeForce(info, whole);
+  if (whole.empty()) return {};
+  auto* scratch = new SoForceField;
+  scratch->ref();
+  scratch->enableNotify(FALSE);  // it only holds values
+  auto* defaults = new SoForceField;
+  defaults->ref();
+  scratch->type.setValue(type.getValue());
+  std::string error;
+  scratch->makeForce(info, error);
+  std::vector<Refusal> out;
+  if (error.empty()) {  // this type's defaults make a force: try each field alone
+    SoFieldList fields;
+    const int count = getFields(fields);
+    for (int i = 0; i < count; ++i) {
+      SbName name;
+      getFieldName(fields[i], name);
+      if (name == "type" || name == "on" || fields[i]->isOfType(SoSFTime::getClassTypeId())) continue;
+      if (!bsdeform::forceFieldUses(type.getValue(), name.getString())) continue;
+      SoField* f = scratch->getField(name);
+      if (!f || f->isSame(*fields[i])) continue;
+      f->copyFrom(*fields[i]);
+      scratch->makeForce(info, error);
+      if (!error.empty()) out.push_back({name.getString(), error});
+      f->copyFrom(*defaults->getField(name));
+    }
+  }
+  if (out.empty()) out.push_back({"", whole});
+  scratch->unref();
+  defaults->unref();
+  return out;
+}
+
+std::vector<SoForceField::Refusal> SoForceField::refusedFields() { return refusedFields(SurfaceInfo()); }

@@ -78,6 +78,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace bsdeform {
 class Force;
@@ -144,6 +145,18 @@ class SoForceField : public SoEngine {
   /// @param[out] error set to a message naming the field and value when the values are bad
   ///             (the caller warns and keeps its previous force)
   std::shared_ptr<const bsdeform::Force> makeForce(const SurfaceInfo& info, std::string& error);
+
+  /// A field whose value makes no force, and why.
+  struct Refusal {
+    std::string field;    ///< "" when no one field is at fault (the values together are refused)
+    std::string message;  ///< makeForce's sentence for that value
+  };
+  /// Every field whose value makeForce refuses, each once: each field the current type reads is
+  /// tried alone, the others at their defaults, on a scratch force field (this one is not
+  /// touched). When no single field is refused but the values together are, one Refusal without
+  /// a field. Empty when makeForce takes the values.
+  std::vector<Refusal> refusedFields(const SurfaceInfo& info);
+  std::vector<Refusal> refusedFields();  ///< with a SurfaceInfo() (COLLISION is then refused whole)
 
   /// Current revision without going through an engine connection.
   int getRevision() const { return m_revision; }

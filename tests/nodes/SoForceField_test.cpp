@@ -10,6 +10,8 @@
 #include <cmath>
 #include <memory>
 
+#include <algorithm>
+
 #include "NodesTestUtil.h"
 #include "bsdeform/ForceLaws.h"
 #include "bsdeform/Simulation.h"
@@ -255,4 +257,26 @@ TEST_CASE("SoForceField: each type builds its core class, bad values give the co
   CHECK(f->makeForce(info, error) == nullptr);
   CHECK_THAT(error, Catch::Contains("magnitude"));
   root->unref();
+}
+
+TEST_CASE("SoForceField: refusedFields names every field whose value makes no force", "[nodes]") {
+  // Issue 37, item 3
+  testutil::Coin::get();
+  auto* f = new SoForceField;
+  f->ref();
+  f->type = SoForceField::SPRING;
+  CHECK(f->refusedFields().empty());
+  f->point.setValue(2, 0.5);
+  f->stiffness = -5;
+  std::vector<std::string> fields;
+  for (const auto& r : f->refusedFields()) {
+    fields.push_back(r.field);
+    CHECK(!r.message.empty());
+  }
+  std::sort(fields.begin(), fields.end());
+  CHECK(fields == std::vector<std::string>{"point", "stiffness"});
+  // the field values are its own still
+  CHECK(f->stiffness.getValue() == -5);
+  CHECK(f->point.getValue()[0] == 2);
+  f->unref();
 }

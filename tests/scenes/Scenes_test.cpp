@@ -1020,3 +1020,19 @@ TEST_CASE("bsdeform-run: a scene with two COLLISION obstacles is written to a fi
   CHECK(collisions == 1);
   root->unref();
 }
+
+TEST_CASE("bsdeform-run: every refused value of every node is named, and nothing is written", "[scenes]") {
+  // Issue 37, item 3: only the first bad value was named.
+  TempDir dir;
+  writeFile(dir.path + "/three.iv", "#Inventor V2.1 ascii\nSeparator {\n"
+                                    "  DEF Cloth SoBSplineDeformSurface { energy SHELL uDegree 9 poissonRatio 0.7 thickness -0.001\n"
+                                    "    forces [ SoForceField { type GRAVITY },\n"
+                                    "             DEF Tether SoForceField { type SPRING point 2 0.5 stiffness -5 } ] } }\n");
+  const Run r = run("three.iv --steps 3 -o out", dir.path);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  for (const char* what : {"uDegree", "poissonRatio", "thickness", "Tether: point = 2 0.5", "Tether: stiffness = -5"})
+    CHECK(r.err.find(what) != std::string::npos);
+  CHECK(r.err.find("5 refused value") != std::string::npos);
+  CHECK(listDir(dir.path + "/out").empty());
+}

@@ -8,6 +8,7 @@
 
 #include <QElapsedTimer>
 #include <QFile>
+#include <QStringList>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
 
 namespace bsdeform::run {
 
@@ -82,11 +84,45 @@ Failure RunLoop::prepare() {
   m_t0 = m_runner->startTime();  // a resumed scene continues from its time
   // What a surface refuses (a field's value, a force field's, an obstacle) is bad input: the
   // run would not be the scene's. Other nodes' warnings (Coin's) likewise.
+  // Every refused value of every node is named, not only the first: a user fixes them all at once.
+  QStringList refused;
+  std::vector<SoForceField*> forceFields;
   for (const Surface& s : m_surfaces) {
+    for (const SoBSplineDeformSurface::Problem& r : s.node->refusals())
+      refused << QStringLiteral("surface %1: %2").arg(s.name, QString::fromStdString(r.message));
+    for (int i = 0; i < s.node->forces.getNum(); ++i) {
+      SoEngine* e = s.node->forces[i];
+      if (e && e->isOfType(SoForceField::getClassTypeId())) {
+        auto* f = static_cast<SoForceField*>(e);
+        if (std::find(forceFields.begin(), forceFields.end(), f) == forceFields.end()) forceFields.push_back(f);
+      }
+    }
     const SoBSplineDeformSurface::Problem& p = s.node->problem();
-    if (p.kind != SoBSplineDeformSurface::Problem::NONE)
-      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(p.message))};
+    // a problem other than a refused field (an obstacle, a COLLISION force's values, a seam)
+    if (p.kind != SoBSplineDeformSurface::Problem::NONE && p.kind != SoBSplineDeformSurface::Problem::FIELD &&
+        !(p.kind == SoBSplineDeformSurface::Problem::FORCE_FIELD && p.field.empty() &&
+          p.message.find("type COLLISION") == std::string::npos))
+      refused << QStringLiteral("surface %1: %2").arg(s.name, QString::fromStdString(p.message));
   }
+  for (SoForceField* f : forceFields) {
+    if (f->type.getValue() == SoForceField::COLLISION) continue;  // its surface reports it, with its obstacles
+    const SbName n = f->getName();
+    const QString name = n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("<unnamed>");
+    for (const SoForceField::Refusal& r : f->refusedFields()) {
+      SbString value;
+      if (SoField* field = r.field.empty() ? nullptr : f->getField(SbName(r.field.c_str()))) field->get(value);
+      refused << (r.field.empty() ? QStringLiteral("force field %1: %2").arg(name, QString::fromStdString(r.message))
+                                  : QStringLiteral("force field %1: %2 = %3: %4")
+                                        .arg(name, QString::fromStdString(r.field),
+                                             QString::fromUtf8(value.getString()).simplified(),
+                                             QString::fromStdString(r.message)));
+    }
+  }
+  if (!refused.isEmpty())
+    return {kBadInput, QStringLiteral("scene '%1' has %2 refused value(s):\n  %3")
+                           .arg(o.scene)
+                           .arg(refused.size())
+                           .arg(refused.join(QStringLiteral("\n  ")))};
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
   // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad

@@ -75,17 +75,16 @@ bool DocumentActions::openScene(const QString& path) {
   return true;
 }
 
-// Values the nodes refuse are listed when the scene opens, all of them in one box: the model
-// runs on other values meanwhile, which a word in the status bar alone did not make plain.
+// Values the nodes refuse are listed when the scene opens, all of them in one box; the scene
+// stays paused until they are fixed (SimulationControls::setPlaying).
 void DocumentActions::reportProblems() {
   const QVector<SceneProblem> problems = sceneProblems(m_doc);
   if (problems.isEmpty()) return;
   QStringList lines;
   for (const SceneProblem& p : problems) lines << QStringLiteral("- ") + p.text();
   m_feedback.error(tr("Values refused in %1").arg(QFileInfo(m_doc.path()).fileName()),
-                   tr("%1 has %n value(s) the simulation does not take. Until they are changed, each surface runs on "
-                      "the last values it takes (the defaults when there are none), and the Field Editor shows the "
-                      "refused value in red with its reason.\n\n%2",
+                   tr("%1 has %n value(s) the simulation does not take. Nothing runs until they are changed; the "
+                      "Field Editor shows each refused value as the file has it, in red with its reason.\n\n%2",
                       "", problems.size())
                        .arg(m_doc.path(), lines.join(QLatin1Char('\n'))));
 }

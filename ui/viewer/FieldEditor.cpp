@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "FieldEditor.h"
 
+#include <algorithm>
+
 #include <Inventor/SbString.h>
 #include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/fields/SoMFEngine.h>
@@ -235,7 +237,11 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       row.editor = spin;
       row.read = [spin, get] {
         const QSignalBlocker block(spin);
-        spin->setValue(get());
+        // a value beyond the box's range is shown as it is, never clamped (the box says why
+        // it cannot be taken as it stands)
+        const double v = get();
+        if (v < spin->minimum() || v > spin->maximum()) spin->showUnclamped(v);
+        else spin->setValue(v);
       };
       row.problem = [spin] { return spin->problem(); };
       row.readUnclamped = [spin, get] {
@@ -275,7 +281,9 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       row.read = [spins, get] {
         for (int k = 0; k < spins.size(); ++k) {
           const QSignalBlocker block(spins[k]);
-          spins[k]->setValue(get(k));
+          const double v = get(k);
+          if (v < spins[k]->minimum() || v > spins[k]->maximum()) spins[k]->showUnclamped(v);
+          else spins[k]->setValue(v);
         }
       };
       row.problem = [spins] {
@@ -303,7 +311,7 @@ void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
   SoField* field = row.field;
   // what the node refused before the change (a file's value of another field)
   const QString alreadyRefused = m_check ? m_check(m_container) : QString();
-  const QString refusedField = m_refused ? m_refused(m_container).first : QString();
+  const Refusals refusedBefore = m_refused ? m_refused(m_container) : Refusals();
   std::unique_ptr<SoField> before(copyOf(*field));
   const bool beforeIsDefault = field->isDefault();
   const QString name = row.name;
@@ -315,10 +323,23 @@ void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
     return;
   }
   if (before->isSame(*field)) return;
-  const QString reason = m_check ? m_check(m_container) : QString();
-  // still refused for another field's value, as before this change: this one is taken
-  const bool sameAsBefore = !reason.isEmpty() && alreadyRefused == reason && refusedField != row.name;
-  if (!reason.isEmpty() && !sameAsBefore) {
+  QString reason = m_check ? m_check(m_container) : QString();
+  // Taken unless this field is now refused, or the change makes another field refused that was
+  // not (a degree that no longer fits the rest net): other fields refused as before (a file's
+  // values) do not refuse this change.
+  const Refusals refusedAfter = m_refused ? m_refused(m_container) : Refusals();
+  auto listed = [](const Refusals& list, const QString& field) {
+    return std::any_of(list.begin(), list.end(), [&field](const auto& r) { return r.first == field; });
+  };
+  bool refused = false;
+  for (const auto& r : refusedAfter)
+    if (r.first == row.name || !listed(refusedBefore, r.first)) {
+      reason = r.second;
+      refused = true;
+      if (r.first == row.name) break;
+    }
+  if (refusedAfter.empty() && !reason.isEmpty() && reason != alreadyRefused) refused = true;
+  if (refused) {
     field->copyFrom(*before);  // the node keeps its last valid values
     field->setDefault(beforeIsDefault);
     showInvalid(row, reason);
@@ -359,10 +380,11 @@ void FieldEditor::revert(Row& row) {
 }
 
 void FieldEditor::markRefused() {
-  const std::pair<QString, QString> refused = m_refused && m_container ? m_refused(m_container) : std::pair<QString, QString>();
+  const Refusals refused = m_refused && m_container ? m_refused(m_container) : Refusals();
   QWidget* focus = QApplication::focusWidget();
   for (const auto& r : m_rows) {
-    const bool now = !refused.first.isEmpty() && r->name == refused.first;
+    auto it = std::find_if(refused.begin(), refused.end(), [&r](const auto& x) { return !x.first.isEmpty() && x.first == r->name; });
+    const bool now = it != refused.end();
     if (focus && (focus == r->editor || r->editor->isAncestorOf(focus))) continue;  // being edited
     if (now) {
       if (r->readUnclamped)
@@ -370,7 +392,7 @@ void FieldEditor::markRefused() {
       else if (r->read)
         r->read();
       r->refusedByNode = true;
-      showInvalid(*r, refused.second);
+      showInvalid(*r, it->second);
     } else if (r->refusedByNode) {
       r->refusedByNode = false;
       r->invalid = false;

@@ -36,7 +36,9 @@
 #include "HelpDialogs.h"
 #include "PlotPanel.h"
 #include "RecordingControls.h"
+#include "SceneDocument.h"
 #include "ScenePanel.h"
+#include "SceneProblems.h"
 #include "SimulationControls.h"
 #include "StatusPanel.h"
 #include "SurfaceListener.h"
@@ -229,7 +231,11 @@ void MainWindow::createDocks() {
   connect(m_scenePanel, &ScenePanel::forceFieldSelected, this, &MainWindow::forceFieldSelected);
   m_editor = new FieldEditor;
   m_editor->setChecker(refusalOf);
-  m_editor->setRefusedField(refusedFieldOf);
+  m_editor->setRefusedFields([](SoFieldContainer* owner) {
+    FieldEditor::Refusals out;
+    for (const RefusedField& r : refusedFieldsOf(owner)) out.emplace_back(r.field, r.reason);
+    return out;
+  });
   connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { m_feedback->show(m, 8000); });
   // after an edit the keyboard goes back to the 3D view, where Space, S, R, D act
   connect(m_editor, &FieldEditor::done, this, [this] { m_viewer->getGLWidget()->setFocus(Qt::OtherFocusReason); });
@@ -397,6 +403,9 @@ void MainWindow::surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSu
 }
 
 void MainWindow::refreshViews() {
+  // a live edit the scene refuses (or a refused force field) stops the clock: nothing runs on
+  // values the scene refuses
+  if (isPlaying() && sceneRefused(*m_doc)) setPlaying(false);
   m_drag->update();
   // the camera stays put under a drag and through a recording (one camera for the whole video)
   if (m_drag->isDragging() || isRecording())
@@ -414,7 +423,16 @@ void MainWindow::updateStatus() {
   SoBSplineDeformSurface* troubled = nullptr;
   for (SoBSplineDeformSurface* s : m_doc->surfaces())
     if (!troubled && s->problem().kind != SoBSplineDeformSurface::Problem::NONE) troubled = s;
-  m_status->update(selectedSurface(), isPlaying(), troubled);
+  QStringList refused;
+  QStringList details;
+  if (sceneRefused(*m_doc)) {
+    for (const SceneProblem& p : sceneProblems(*m_doc)) {
+      const QString what = p.field.isEmpty() ? p.node : p.node + QLatin1Char('.') + p.field;
+      if (!refused.contains(what)) refused << what;
+      details << p.text();
+    }
+  }
+  m_status->update(selectedSurface(), isPlaying(), troubled, refused, details.join(QLatin1Char('\n')));
 }
 
 // ---------------------------------------------------------------------------------------------

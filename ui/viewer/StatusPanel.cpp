@@ -36,7 +36,8 @@ void StatusPanel::restart() {
 
 void StatusPanel::follow(SoBSplineDeformSurface* surface) { m_lastSteps = surface->simulation().stepCount(); }
 
-void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDeformSurface* troubled) {
+void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDeformSurface* troubled,
+                         const QStringList& refused, const QString& refusedDetails) {
   const double dt = m_rateClock.elapsed() / 1000.0;
   const long steps = s ? s->simulation().stepCount() : 0;
   if (dt >= 1.0) {
@@ -72,7 +73,10 @@ void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDefor
   const QString who = shown == s ? QString()
                                  : (shownName.getLength() ? QString::fromUtf8(shownName.getString()) : tr("another surface")) +
                                        QLatin1Char('.');
-  if (sim.status() != Status::Ok) {
+  if (!refused.isEmpty()) {
+    m_stateLabel->setText(tr("<b style='color:#c00'>refused: %1</b>").arg(refused.join(QStringLiteral(", ")).toHtmlEscaped()));
+    m_stateLabel->setToolTip(refusedDetails);
+  } else if (sim.status() != Status::Ok) {
     m_stateLabel->setText(tr("<b style='color:#c00'>STOPPED: blew up</b>"));
     m_stateLabel->setToolTip(QString::fromStdString(sim.statusMessage()));
   } else if (problem.kind == Problem::FIELD) {

@@ -8,6 +8,7 @@
 
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QStringList>
 
 class QLabel;
 class QStatusBar;
@@ -39,7 +40,10 @@ class StatusPanel {
   /// The labels for `surface` (nullptr: only the rates) and the clock's `playing`.
   /// `troubled`: a surface of the scene with a problem when `surface` (the selected one) has
   /// none: the state shows it, red while a value is refused, until it is fixed.
-  void update(SoBSplineDeformSurface* surface, bool playing, SoBSplineDeformSurface* troubled = nullptr);
+  /// `refused`: every refused value of the scene as "node.field" (or "node" when no one field
+  /// is at fault), all named, red, before anything else; `refusedDetails` their reasons.
+  void update(SoBSplineDeformSurface* surface, bool playing, SoBSplineDeformSurface* troubled = nullptr,
+              const QStringList& refused = QStringList(), const QString& refusedDetails = QString());
 
  private:
   static void countFrame(void* data, SoAction* action);

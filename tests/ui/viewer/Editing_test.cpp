@@ -764,7 +764,7 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   CHECK(sheet->numUControlPoints.getValue() == 8);
   processEvents();
   // the status bar names the refusal, in red, also while the other surface is selected
-  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: Sheet.uDegree")));
   REQUIRE(w.selectNode(fine));
   processEvents();
   INFO(stateOfStatusBar(w).toStdString());
@@ -781,7 +781,80 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   CHECK(ed.messageOf(QStringLiteral("uDegree")).isEmpty());
   CHECK_FALSE(degree->styleSheet().contains(QStringLiteral("#ffd0d0")));
   CHECK(sheet->problem().kind != SoBSplineDeformSurface::Problem::FIELD);
-  CHECK_FALSE(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+  CHECK_FALSE(stateOfStatusBar(w).contains(QStringLiteral("Sheet.uDegree")));
+}
+
+TEST_CASE("Refusals: three bad values of a surface and two of a force field are all listed, shown as read, and nothing runs",
+          "[ui]") {
+  // Issue 37, item 3: the dialog listed only the first refused value of each surface, the editor
+  // clamped the others silently (poissonRatio 0.7 as 0.4999999, thickness -0.001 as 1e-300), and
+  // the default model ran under gravity behind the dialog.
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("three.iv"));
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator {\n"
+                  "  DEF Cloth SoBSplineDeformSurface { energy SHELL uDegree 9 poissonRatio 0.7 thickness -0.001\n"
+                  "    boundaryVMin FREE boundaryVMax FREE\n"
+                  "    forces [ SoForceField { type GRAVITY },\n"
+                  "             DEF Tether SoForceField { type SPRING point 2 0.5 stiffness -5 } ] }\n"
+                  "}\n");
+  ensureApp();
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  REQUIRE(w.openScene(path));
+  const QString box = w.lastError();
+  INFO(box.toStdString());
+  for (const char* row : {"Cloth: uDegree = 9: ", "Cloth: poissonRatio = 0.7: ", "Cloth: thickness = -0.001: ",
+                          "Tether: point = 2 0.5: ", "Tether: stiffness = -5: "})
+    CHECK(box.contains(QLatin1String(row)));
+  auto* cloth = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Cloth"));
+  REQUIRE(cloth);
+  CHECK(cloth->refusals().size() == 3);
+  // a scene opened with refusals starts paused, and Play and Step do not run it
+  CHECK_FALSE(w.isPlaying());
+  w.play();
+  CHECK_FALSE(w.isPlaying());
+  w.step();
+  passTime(w, 1.0);
+  CHECK(cloth->simulation().time() == 0.0);
+  CHECK(cloth->stepCount.getValue() == 0);
+  // every value as the file has it, red, with its reason
+  REQUIRE(w.selectNode(cloth));
+  bsdeform::FieldEditor& ed = w.fieldEditor();
+  const std::pair<const char*, const char*> shown[] = {{"uDegree", "9"}, {"poissonRatio", "0.7"}, {"thickness", "-0.001"}};
+  for (const auto& f : shown) {
+    INFO(f.first);
+    QWidget* editor = ed.editorOf(QLatin1String(f.first));
+    CHECK(textOf(editor) == QLatin1String(f.second));
+    CHECK(editor->styleSheet().contains(QStringLiteral("#ffd0d0")));
+    CHECK(ed.messageOf(QLatin1String(f.first)).contains(QLatin1String(f.first)));
+  }
+  auto* tether = static_cast<SoForceField*>(SoBase::getNamedBase("Tether", SoForceField::getClassTypeId()));
+  REQUIRE(tether);
+  REQUIRE(w.selectNode(tether));
+  CHECK(ed.editorOf(QStringLiteral("stiffness"))->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  CHECK(ed.editorOf(QStringLiteral("point"))->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  // the status bar names every refused value of every node
+  processEvents();
+  const QString status = stateOfStatusBar(w);
+  INFO(status.toStdString());
+  for (const char* what : {"Cloth.uDegree", "Cloth.poissonRatio", "Cloth.thickness", "Tether.point", "Tether.stiffness"})
+    CHECK(status.contains(QLatin1String(what)));
+  // fixed one by one: still nothing runs until the last is fixed
+  cloth->uDegree = 3;
+  cloth->poissonRatio = 0.3;
+  cloth->thickness = 0.001;
+  tether->point.setValue(0.5, 0.5);
+  processEvents();
+  w.play();
+  CHECK_FALSE(w.isPlaying());  // the tether's stiffness is still refused
+  tether->stiffness = 5;
+  processEvents();
+  w.play();
+  CHECK(w.isPlaying());
+  passTime(w, 0.2);
+  CHECK(cloth->simulation().time() > 0.0);
 }
 
 TEST_CASE("Editor: at the window's default size the field editor shows its rows whole, with no sideways scrolling",
