@@ -182,6 +182,7 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(thickness, (0.02));
   SO_ENGINE_ADD_INPUT(damping, (0.0));
   SO_ENGINE_ADD_INPUT(friction, (0.0));
+  SO_ENGINE_ADD_INPUT(frame, (WORLD));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, UNIFORM);
@@ -196,6 +197,9 @@ SoForceField::SoForceField() {
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, SPHERE_COLLISION);
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, COLLISION);
   SO_ENGINE_SET_SF_ENUM_TYPE(type, Type);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Frame, WORLD);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Frame, LOCAL);
+  SO_ENGINE_SET_SF_ENUM_TYPE(frame, Frame);
 
   // three components by default, so that the written form is a complete expression
   expression.setNum(3);
@@ -244,8 +248,23 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
   if (!on.getValue()) return nullptr;
   // Field values -> core classes; the core validates them and names the bad parameter.
   const double mag = magnitude.getValue();
-  const Eigen::Vector3d f = toEigen(force.getValue());
   const Eigen::Vector2d p = toEigen(point.getValue());
+  // WORLD: vectors and points come into the surface's own coordinates, in which it moves:
+  // x_local = A^-1 (x_world - offset); a direction (force, acceleration) by A^-1, a plane's
+  // normal by A^T (normals go with the inverse transpose), a length by A's mean scale.
+  const bool world = frame.getValue() == WORLD && type.getValue() != COLLISION;
+  const Eigen::Matrix3d& A = info.linear;
+  const double det = A.determinant();
+  if (world && !(std::isfinite(det) && std::abs(det) > 1e-300 && A.allFinite() && info.offset.allFinite())) {
+    error = "frame WORLD: the transform above the surface is singular or not finite";
+    return nullptr;
+  }
+  const Eigen::Matrix3d Ainv = world ? Eigen::Matrix3d(A.inverse()) : Eigen::Matrix3d::Identity();
+  auto direction = [&](const Eigen::Vector3d& v) { return world ? Eigen::Vector3d(Ainv * v) : v; };
+  auto position = [&](const Eigen::Vector3d& x) { return world ? Eigen::Vector3d(Ainv * (x - info.offset)) : x; };
+  auto planeNormal = [&](const Eigen::Vector3d& n) { return world ? Eigen::Vector3d(A.transpose() * n) : n; };
+  const double lengthScale = world ? std::cbrt(std::abs(det)) : 1.0;
+  const Eigen::Vector3d f = direction(toEigen(force.getValue()));
   try {
     switch (type.getValue()) {
       case UNIFORM:
@@ -259,16 +278,17 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
       case GRAVITY:
         return std::make_shared<GravityForce>(info.massDensity, mag * f);
       case SPRING:
-        return std::make_shared<SpringForce>(p.x(), p.y(), toEigen(anchor.getValue()), stiffness.getValue());
+        return std::make_shared<SpringForce>(p.x(), p.y(), position(toEigen(anchor.getValue())), stiffness.getValue());
       case DRAG:
         return std::make_shared<DragForce>(coefficient.getValue());
       case PRESSURE:
         return std::make_shared<PressureForce>(mag);
       case PLANE_COLLISION:
-        return std::make_shared<PlaneContactForce>(toEigen(center.getValue()), toEigen(normal.getValue()),
+        return std::make_shared<PlaneContactForce>(position(toEigen(center.getValue())), planeNormal(toEigen(normal.getValue())),
                                                    stiffness.getValue());
       case SPHERE_COLLISION:
-        return std::make_shared<SphereContactForce>(toEigen(center.getValue()), radius.getValue(), stiffness.getValue());
+        return std::make_shared<SphereContactForce>(position(toEigen(center.getValue())), radius.getValue() / lengthScale,
+                                                    stiffness.getValue());
       case COLLISION: {
         if (!info.contact) {
           error = "COLLISION needs the surface's obstacles";
@@ -322,15 +342,20 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
           }
         }
         // The user's formula, evaluated by muParser: the one density that stays a callable.
+        // WORLD: the formulas see world x y z and give a world vector
+        const Eigen::Matrix3d toWorld = world ? A : Eigen::Matrix3d::Identity();
+        const Eigen::Vector3d offset = world ? info.offset : Eigen::Vector3d::Zero();
         return std::make_shared<DistributedForce>(
-            [ex, mag](const SurfaceSample& s) {
+            [ex, mag, toWorld, offset, Ainv](const SurfaceSample& s) {
+              const Eigen::Vector3d x = toWorld * s.position + offset;
               ex->u = s.u;
               ex->v = s.v;
-              ex->x = s.position.x();
-              ex->y = s.position.y();
-              ex->z = s.position.z();
+              ex->x = x.x();
+              ex->y = x.y();
+              ex->z = x.z();
               ex->t = s.t;
-              return Eigen::Vector3d(mag * ex->parser[0].Eval(), mag * ex->parser[1].Eval(), mag * ex->parser[2].Eval());
+              const Eigen::Vector3d w(mag * ex->parser[0].Eval(), mag * ex->parser[1].Eval(), mag * ex->parser[2].Eval());
+              return Eigen::Vector3d(Ainv * w);
             },
             ex->dependence);
       }

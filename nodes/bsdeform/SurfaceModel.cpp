@@ -285,6 +285,23 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
   int made = 0;
   bool changed = int(m_slots.size()) != forces.getNum();
   stale |= changed;
+  // The surface's world frame, for the force fields whose vectors are in the world (frame
+  // WORLD): looked up before every step, and a changed frame (a Transform above the surface
+  // moved) remakes their forces.
+  bool worldFields = false;
+  for (int i = 0; i < forces.getNum(); ++i)
+    if (SoEngine* e = forces[i]; e && e->isOfType(SoForceField::getClassTypeId())) {
+      auto* ff = static_cast<SoForceField*>(e);
+      worldFields |= ff->frame.getValue() == SoForceField::WORLD && ff->type.getValue() != SoForceField::COLLISION;
+    }
+  bool frameChanged = false;
+  if (worldFields) {
+    surfaceFrame(scene, self, info.linear, info.offset);
+    frameChanged = info.linear != m_linear || info.offset != m_offset;
+    m_linear = info.linear;
+    m_offset = info.offset;
+    stale |= frameChanged;
+  }
   m_slots.resize(forces.getNum());
   for (int i = 0; i < forces.getNum(); ++i) {
     SoEngine* e = forces[i];
@@ -319,7 +336,8 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
       slot.obstacles.reset();
       info.contact.reset();
     }
-    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision())) continue;
+    const bool frameMatters = ff->frame.getValue() == SoForceField::WORLD && ff->type.getValue() != SoForceField::COLLISION;
+    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision() && !(frameChanged && frameMatters))) continue;
     std::string error;
     auto force = ff->makeForce(info, error);
     ++made;

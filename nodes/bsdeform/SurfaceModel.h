@@ -106,6 +106,8 @@ class ForceSlots {
     int geometryRevision = -1;
   };
   std::vector<Slot> m_slots;
+  Eigen::Matrix3d m_linear = Eigen::Matrix3d::Identity();  ///< the surface's world frame the forces were made in
+  Eigen::Vector3d m_offset = Eigen::Vector3d::Zero();
 };
 
 }  // namespace bsdeform
