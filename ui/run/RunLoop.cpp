@@ -119,10 +119,11 @@ Failure RunLoop::prepare() {
     }
   }
   if (!refused.isEmpty())
-    return {kBadInput, QStringLiteral("scene '%1' has %2 refused value(s):\n  %3")
+    // one line (a sweep's row keeps the first line of a run's message)
+    return {kBadInput, QStringLiteral("scene '%1' has %2 refused value(s): %3")
                            .arg(o.scene)
                            .arg(refused.size())
-                           .arg(refused.join(QStringLiteral("\n  ")))};
+                           .arg(refused.join(QStringLiteral("; ")))};
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
   // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad
