@@ -10,6 +10,7 @@
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "../../support/VideoReadBack.h"
 #include "ViewerTestSupport.h"
@@ -133,6 +134,11 @@ TEST_CASE("Recording: a recorded frame is the picture the view shows, at two win
             different += d > 12.0;
           }
       const double mean = total / (3.0 * bw * bh);
+      if (std::getenv("BSDEFORM_TEST_KEEP_FRAMES")) {  // to look at
+        const QString stem = QStringLiteral("recorded_%1_%2x%3").arg(QLatin1String(scene)).arg(back.width).arg(back.height);
+        QImage(frame.data(), back.width, back.height, 3 * back.width, QImage::Format_RGB888).save(stem + QStringLiteral("_video.png"));
+        after.save(stem + QStringLiteral("_view.png"));
+      }
       INFO("mean block difference " << mean << ", worst " << worst << ", blocks off by > 12: " << different);
       CHECK(mean < 2.0);
       CHECK(different <= bw * bh / 50);
