@@ -43,7 +43,7 @@ QVector<PlotSeries> History::plotSeries() const {
 QByteArray History::csv() const {
   QByteArray text = "time,norm,kinetic,strain\n";
   for (int i = 0; i < m_time.size(); ++i)
-    text += QStringList{historyNumber(m_time[i]), historyNumber(m_norm[i]), historyNumber(m_kinetic[i]),
+    text += QStringList{decimalNumber(m_time[i]), historyNumber(m_norm[i]), historyNumber(m_kinetic[i]),
                         historyNumber(m_strain[i])}
                 .join(QLatin1Char(','))
                 .toUtf8() +
@@ -59,7 +59,7 @@ QString History::detailedCsvHeader() {
 
 QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d) {
   const StrainEnergy& e = d.strain;
-  return QStringList{historyNumber(time), QString::number(steps), historyNumber(d.norm),
+  return QStringList{decimalNumber(time), QString::number(steps), historyNumber(d.norm),
                      historyNumber(d.kinetic), historyNumber(e.total), historyNumber(e.w10), historyNumber(e.w01),
                      historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(subSteps),
                      historyNumber(d.membrane), historyNumber(d.bending)}

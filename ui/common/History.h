@@ -6,8 +6,10 @@
 /// CSV export. Numbers are written with 17 significant digits (they read back exactly).
 
 #include <QByteArray>
+#include <QLocale>
 #include <QString>
 #include <QVector>
+#include <cmath>
 
 #include "Plot.h"
 
@@ -47,7 +49,15 @@ class History {
   QVector<double> m_time, m_norm, m_kinetic, m_strain;
 };
 
-/// A number as the history files write it: 17 significant digits.
-inline QString historyNumber(double x) { return QString::number(x, 'g', 17); }
+/// A number as the history files write it: the shortest text that reads back to the same
+/// double (17 digits only where they are needed).
+inline QString historyNumber(double x) { return QString::number(x, 'g', QLocale::FloatingPointShortest); }
+
+/// A simulated time or a load factor, a sum of steps (0.1 + 0.1 + 0.1 = 0.30000000000000004):
+/// its 15-significant-digit value (the step as a person wrote it, as the scene files snap their
+/// doubles), in the shortest text: "0.3". Non-finite values as historyNumber.
+inline QString decimalNumber(double x) {
+  return std::isfinite(x) ? historyNumber(QString::number(x, 'g', 15).toDouble()) : historyNumber(x);
+}
 
 }  // namespace bsdeform

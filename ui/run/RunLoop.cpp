@@ -298,7 +298,7 @@ Failure RunLoop::runStatic() {
     // one row per load increment: the load factor, then the usual columns
     s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader();
     const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s](const StaticResult& all, size_t k, const Diagnostics& d) {
-      s.csv += historyNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d);
+      s.csv += decimalNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d);
       s.history.append(0.0, d);
     });
     if (!solved)

@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "FieldEditor.h"
 
-#include <algorithm>
-
 #include <Inventor/SbString.h>
 #include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/fields/SoMFEngine.h>
+#include <Inventor/fields/SoMFNode.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
@@ -27,8 +26,11 @@
 #include <QLineEdit>
 #include <QPointer>
 #include <QPushButton>
+#include <QRegularExpression>
+#include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -64,6 +66,49 @@ QString coinText(SoField* f) {
   SbString s;
   f->get(s);
   return QString::fromUtf8(s.getString());
+}
+
+// A list of nodes (COLLISION's obstacles) as a person names them: "Box, Ball"; a node without a
+// DEF name as its type in angle brackets, "<Cube>" (kept at its place when the text is edited).
+QString nodeListText(const SoMFNode& f) {
+  QStringList names;
+  for (int i = 0; i < f.getNum(); ++i) {
+    SoNode* n = f[i];
+    if (!n)
+      names << QStringLiteral("NULL");
+    else if (n->getName().getLength())
+      names << QString::fromUtf8(n->getName().getString());
+    else
+      names << QStringLiteral("<%1>").arg(QString::fromLatin1(n->getTypeId().getName().getString()));
+  }
+  return names.join(QStringLiteral(", "));
+}
+
+// Sets the list from names separated by commas or spaces: each a DEF name (the node last given
+// it), NULL, or the "<Type>" of the unnamed node already at that place. False (the field left
+// alone) when a name names nothing.
+bool setNodeList(SoMFNode& f, const QString& text) {
+  const QStringList words = text.split(QRegularExpression(QStringLiteral("[,\\s]+")), Qt::SkipEmptyParts);
+  std::vector<SoNode*> nodes;
+  for (int i = 0; i < words.size(); ++i) {
+    const QString& w = words[i];
+    if (w == QLatin1String("NULL")) {
+      nodes.push_back(nullptr);
+    } else if (w.startsWith(QLatin1Char('<')) && w.endsWith(QLatin1Char('>'))) {
+      SoNode* here = i < f.getNum() ? f[i] : nullptr;
+      if (!here || here->getName().getLength() ||
+          QString::fromLatin1(here->getTypeId().getName().getString()) != w.mid(1, w.size() - 2))
+        return false;
+      nodes.push_back(here);
+    } else {
+      SoNode* n = SoNode::getByName(SbName(w.toUtf8().constData()));
+      if (!n) return false;
+      nodes.push_back(n);
+    }
+  }
+  f.setNum(int(nodes.size()));
+  for (int i = 0; i < int(nodes.size()); ++i) f.set1Value(i, nodes[size_t(i)]);
+  return true;
 }
 }  // namespace
 
@@ -291,8 +336,20 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
           if (!s->problem().isEmpty()) return s->problem();
         return QString();
       };
+    } else if (t.isDerivedFrom(SoMFNode::getClassTypeId())) {
+      // nodes by their names, not as Inventor text (which writes each node out whole)
+      auto* nodes = static_cast<SoMFNode*>(f);
+      auto* edit = new QLineEdit;
+      edit->setToolTip(tr("DEF names, separated by commas"));
+      connect(edit, &QLineEdit::editingFinished, this, [this, nodes, edit] {
+        const QString text = edit->text().trimmed();
+        if (text == nodeListText(*nodes)) return;
+        if (Row* r = rowOf(edit)) commit(*r, [nodes, text] { return setNodeList(*nodes, text); });
+      });
+      row.editor = edit;
+      row.read = [nodes, edit] { edit->setText(nodeListText(*nodes)); };
     } else {
-      // every other field in its own text form: lists of points, strings, nodes
+      // every other field in its own text form: lists of points, strings
       auto* edit = new QLineEdit;
       connect(edit, &QLineEdit::editingFinished, this, [this, f, edit] {
         const QString text = edit->text().trimmed();

@@ -857,6 +857,48 @@ TEST_CASE("Refusals: three bad values of a surface and two of a force field are 
   CHECK(cloth->simulation().time() > 0.0);
 }
 
+TEST_CASE("Field editor: a SHELL scene's numbers as written, and the obstacles by their names", "[ui]") {
+  // Issue 37, item 4: youngsModulus 821000.0000000001 and poissonRatio 0.24300000000000002 in
+  // every SHELL scene; the obstacles as raw Inventor text ("height 0.60000002").
+  ensureApp();
+  {
+    auto w = makeWindow("curtain.iv");
+    auto* curtain = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Curtain"));
+    REQUIRE(curtain);
+    REQUIRE(w->selectNode(curtain));
+    bsdeform::FieldEditor& ed = w->fieldEditor();
+    CHECK(textOf(ed.editorOf(QStringLiteral("youngsModulus"))) == QStringLiteral("821000"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("poissonRatio"))) == QStringLiteral("0.243"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("thickness"))) == QStringLiteral("0.000318"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("density"))) == QStringLiteral("472.6"));
+  }
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("two.iv"));
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator {\n"
+                  "  Separator { Transform { translation 0.3 0.5 -0.6 } DEF Ball Sphere { radius 0.5 } }\n"
+                  "  Separator { Transform { translation 0.7 0.5 -0.6 } DEF Box Cube { height 0.6 } }\n"
+                  "  SoBSplineDeformSurface { on FALSE numUControlPoints 6 numVControlPoints 6\n"
+                  "    forces [ DEF Contact SoForceField { type COLLISION obstacles [ USE Ball, USE Box ] } ] } }\n");
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  REQUIRE(w.openScene(path));
+  auto* contact = static_cast<SoForceField*>(SoBase::getNamedBase("Contact", SoForceField::getClassTypeId()));
+  REQUIRE(contact);
+  REQUIRE(w.selectNode(contact));
+  bsdeform::FieldEditor& ed = w.fieldEditor();
+  QWidget* obstacles = ed.editorOf(QStringLiteral("obstacles"));
+  CHECK(textOf(obstacles) == QStringLiteral("Ball, Box"));
+  typeInto(obstacles, QStringLiteral("Box"));
+  REQUIRE(contact->obstacles.getNum() == 1);
+  CHECK(contact->obstacles[0] == SoNode::getByName("Box"));
+  // a name that names nothing is refused, the list kept
+  typeInto(ed.editorOf(QStringLiteral("obstacles")), QStringLiteral("Box, Nowhere"));
+  CHECK(contact->obstacles.getNum() == 1);
+  CHECK(ed.messageOf(QStringLiteral("obstacles")).contains(QStringLiteral("not a valid value")));
+}
+
 TEST_CASE("Editor: at the window's default size the field editor shows its rows whole, with no sideways scrolling",
           "[ui]") {
   auto w = makeWindow("region_load.iv");
