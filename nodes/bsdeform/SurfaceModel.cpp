@@ -2,6 +2,7 @@
 #include "bsdeform/SurfaceModel.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -22,11 +23,10 @@ namespace {
 
 using Surface = SoBSplineDeformSurface;
 
+// The shortest text that reads back to x (a pin read as 0.97 is said as 0.97, not 0.96999999999999997)
 std::string num(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
 }
 
 Boundary sideOf(const SoSFEnum& f) {
