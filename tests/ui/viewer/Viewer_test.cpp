@@ -483,3 +483,29 @@ TEST_CASE("Viewer: Save and the autosave of a scene with two COLLISION obstacles
   CHECK(w->openScene(saved));
   CHECK(w->lastError().isEmpty());
 }
+
+TEST_CASE("Viewer: --help and a missing display are answered without a window", "[ui]") {
+  // Issue 37, item 7: `bsdeform-viewer --help` without a display failed with Qt's "could not
+  // connect to display".
+  ensureApp();
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"}) env.remove(QLatin1String(name));
+  auto runViewer = [&env](const QStringList& args, QByteArray& out, QByteArray& err) {
+    QProcess p;
+    p.setProcessEnvironment(env);
+    p.start(QStringLiteral(BSDEFORM_VIEWER), args);
+    REQUIRE(p.waitForFinished(20000));
+    out = p.readAllStandardOutput();
+    err = p.readAllStandardError();
+    return p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+  };
+  QByteArray out, err;
+  CHECK(runViewer({QStringLiteral("--help")}, out, err) == 0);
+  CHECK(out.contains("--measure-fps"));
+  CHECK(out.contains("--states"));
+  CHECK(runViewer({}, out, err) == 1);
+  CHECK(err.contains("no display"));
+  CHECK(err.contains("bsdeform-run"));
+  CHECK(runViewer({QStringLiteral("--no-such-option")}, out, err) == 2);
+  CHECK(err.contains("no-such-option"));
+}
