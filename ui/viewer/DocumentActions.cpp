@@ -142,6 +142,18 @@ QString DocumentActions::openFolder() {
   return shipped.isEmpty() ? QString() : shipped.front();
 }
 
+QString DocumentActions::userFolder() {
+  const QString remembered = QSettings().value(kFolderKey).toString();
+  if (!remembered.isEmpty() && QFileInfo(remembered).isDir() &&
+      !shippedSceneFolders().contains(QFileInfo(remembered).canonicalFilePath()))
+    return remembered;
+  // writableLocation names ~/Documents whether or not it exists; a dialog given a folder that
+  // does not exist opens in the working directory (a source tree, say)
+  const QString documents = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+  if (!documents.isEmpty() && QFileInfo(documents).isDir()) return documents;
+  return QDir::homePath();
+}
+
 void DocumentActions::rememberFolder(const QString& path) {
   QSettings().setValue(kFolderKey, QFileInfo(path).absolutePath());
 }
@@ -212,12 +224,7 @@ void DocumentActions::saveAs() {
   // QFileDialog asks before replacing an existing file; the file is written atomically. A
   // template is offered under its name in the user's folder, not where it came from.
   QString start = m_doc.path().isEmpty() ? openFolder() : m_doc.path();
-  if (m_template) {
-    QString folder = QSettings().value(kFolderKey).toString();
-    if (folder.isEmpty() || !QFileInfo(folder).isDir() || shippedSceneFolders().contains(QFileInfo(folder).canonicalFilePath()))
-      folder = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
-    start = QDir(folder).filePath(QFileInfo(m_doc.path()).fileName());
-  }
+  if (m_template) start = QDir(userFolder()).filePath(QFileInfo(m_doc.path()).fileName());
   QString path = QFileDialog::getSaveFileName(&m_window, tr("Save scene as"), start, tr("Inventor scenes (*.iv)"));
   if (path.isEmpty()) return;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");

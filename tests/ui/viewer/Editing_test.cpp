@@ -28,6 +28,7 @@
 #include <map>
 #include <utility>
 
+#include "DocumentActions.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
 #include "SceneDocument.h"
@@ -384,6 +385,28 @@ TEST_CASE("Editing: the Open dialog starts in scenes/ the first time, then in th
   REQUIRE(QFile::copy(scenePath("region_load.iv"), copy));
   REQUIRE(w.openScene(copy));
   CHECK(QDir(w.openFolder()) == QDir(dir.path()));
+}
+
+TEST_CASE("Editing: Save As of a template, Record and Save Screenshot start in the user's folder, never the working one",
+          "[ui]") {
+  // Issue 37, item 7: without ~/Documents the Save dialog of a template proposed the folder the
+  // viewer was started in (the repository), and Record's dialog opened there even with one.
+  ensureApp();
+  QTemporaryDir home;
+  const QByteArray oldHome = qgetenv("HOME");
+  qputenv("HOME", QFile::encodeName(home.path()));
+  QSettings().remove(QStringLiteral("lastFolder"));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.path()));  // no ~/Documents
+  REQUIRE(QDir(home.path()).mkdir(QStringLiteral("Documents")));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.filePath(QStringLiteral("Documents"))));
+  // a shipped scene's folder is never proposed; a folder of the user's is, once used
+  QSettings().setValue(QStringLiteral("lastFolder"), QStringLiteral(BSDEFORM_SCENES_DIR));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.filePath(QStringLiteral("Documents"))));
+  QTemporaryDir mine;
+  QSettings().setValue(QStringLiteral("lastFolder"), mine.path());
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(mine.path()));
+  QSettings().remove(QStringLiteral("lastFolder"));
+  qputenv("HOME", oldHome);
 }
 
 // ---------------------------------------------------------------------------------------------
