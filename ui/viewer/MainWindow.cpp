@@ -22,6 +22,7 @@
 #include <QUndoStack>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <cmath>
 
 #include "Backlight.h"
 #include "ClickSelect.h"
@@ -457,7 +458,9 @@ bool MainWindow::openStates(const QString& path) {
   StateFileContents contents;
   QString error;
   if (readStateFile(path, contents, error) && m_timeline->load(path, contents)) {
-    m_plots->restart();  // the plots start at the state opened
+    // the plots show the whole kept run, not only the state opened (one point draws no line)
+    m_plots->restart();
+    m_plots->replaceAfter(-INFINITY, m_timeline->diagnosticsAfter(m_doc->surfaces().indexOf(m_plotted), -INFINITY));
     return true;
   }
   m_feedback->error(tr("Open States"), error.isEmpty() ? m_timeline->error() : error);

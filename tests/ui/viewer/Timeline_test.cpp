@@ -291,6 +291,11 @@ TEST_CASE("Timeline: bsdeform-run --keep-states opens in the viewer and scrubs t
   CHECK(tl.isAtEnd());
   SoBSplineDeformSurface* s = firstSurface(*w);
   CHECK(s->simulation().stepCount() == 20);
+  // the plots show every kept state, not an empty plot at the last one (issue 37, item 7)
+  const bsdeform::History& plotted = w->plotPanel().history();
+  REQUIRE(plotted.size() == 5);
+  CHECK(plotted.time().front() == 0.0);
+  CHECK(plotted.norm().back() > plotted.norm().front());
 
   // the last state is final.iv's: saved from the viewer, the same state fields to the last bit
   // (final.iv's numbers are the 15-digit values a save writes, bsdeform::snap15)
