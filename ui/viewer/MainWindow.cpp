@@ -414,6 +414,7 @@ void MainWindow::refreshViews() {
   else
     m_framing->follow();
   m_netDisplay->update();
+  m_decorations->follow();  // a cloth that falls below the grid does not hang through it
   m_plots->updateAxes();
   m_editor->refresh();  // live values (time, steps) included
   updateStatus();
