@@ -1036,3 +1036,17 @@ TEST_CASE("bsdeform-run: every refused value of every node is named, and nothing
   CHECK(r.err.find("5 refused value") != std::string::npos);
   CHECK(listDir(dir.path + "/out").empty());
 }
+
+TEST_CASE("bsdeform-run: the summary counts the framing pass of a scene without a camera", "[scenes]") {
+  // Issue 37, item 7: "in 77 s wall" left out the pass that frames the motion (159 s in all).
+  TempDir dir;
+  const Run r = run(scene("region_load.iv") + " --steps 4 --png-every 2 -o pics", dir.path);
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("to frame the pictures") != std::string::npos);
+  CHECK(r.out.find("in all") != std::string::npos);
+  // a scene with its own camera has no such pass
+  const Run own = run(scene("flag.iv") + " --steps 4 --png-every 2 -o own", dir.path);
+  REQUIRE(own.code == 0);
+  CHECK(own.out.find("to frame the pictures") == std::string::npos);
+}

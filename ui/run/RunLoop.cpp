@@ -177,6 +177,8 @@ Failure RunLoop::frameMotion() {
   const Failure f = loadSceneWithSets(m_options, copy);
   if (!f.ok()) return f;
   const SbViewportRegion viewport(short(m_options.width), short(m_options.height));
+  QElapsedTimer timer;
+  timer.start();
   SbBox3f motion;
   {
     SceneRunner runner(copy.get());
@@ -195,6 +197,7 @@ Failure RunLoop::frameMotion() {
   view->addChild(camera);
   view->addChild(m_root.get());
   m_view.reset(view);
+  m_framingSeconds = timer.nsecsElapsed() * 1e-9;
   return {kOk, {}};
 }
 
@@ -427,6 +430,9 @@ void RunLoop::printSummary(double seconds) const {
   else
     std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", utf8(m_options.scene).constData(), m_frames,
                 m_dtMin, seconds);
+  if (m_framingSeconds > 0.0)  // the scene has no camera: its motion was run once more, first
+    std::printf("  plus %.2f s before it, running the motion once more to frame the pictures (the scene has no camera): %.2f s in all\n",
+                m_framingSeconds, m_framingSeconds + seconds);
   for (const Surface& s : m_surfaces) {
     const Simulation& sim = s.node->simulation();
     const ModelParameters& p = sim.parameters();

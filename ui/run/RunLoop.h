@@ -91,6 +91,7 @@ class RunLoop {
   QVector<Surface> m_surfaces;
   std::unique_ptr<SceneRunner> m_runner;  ///< drives the surfaces and realTime
   double m_dtMin = 0.0, m_t0 = 0.0;
+  double m_framingSeconds = 0.0;  ///< wall time of frameMotion()'s pass (0: none was needed)
   long m_frames = 0;
   bool m_blewUp = false;
   QDir m_out;
