@@ -71,6 +71,11 @@ class Examples(unittest.TestCase):
         png = os.path.join(self.dir, "cloth.png")
         out = example("build_and_render.py", "-o", png, "--until", "1")
         self.assertIn("Cloth: 50 steps", out)
+        # the cloth is the SHELL cotton (issue 37, item 5), and its middle rests on the box's top (z = -0.1)
+        self.assertIn("energy SHELL", out)
+        lowest = float(out.split("lowest point over the box z = ")[1].split()[0])
+        self.assertGreater(lowest, -0.12)
+        self.assertLess(lowest, -0.05)
         assert_picture(self, png)
 
     @unittest.skipUnless(shutil.which("xvfb-run"), "xvfb-run is not installed")
