@@ -963,6 +963,7 @@ TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, 
   std::getline(lines, header);
   CHECK(header.rfind("load_factor,time,step,norm,", 0) == 0);
   CHECK(header.find("strain_membrane,strain_bending") != std::string::npos);
+  CHECK(header.find("strain_w10") == std::string::npos);  // a SHELL's CSV has no PAPER weight terms
   std::vector<double> factors, norms;
   while (std::getline(lines, line)) {
     factors.push_back(std::stod(line));
@@ -1049,4 +1050,23 @@ TEST_CASE("bsdeform-run: the summary counts the framing pass of a scene without 
   const Run own = run(scene("flag.iv") + " --steps 4 --png-every 2 -o own", dir.path);
   REQUIRE(own.code == 0);
   CHECK(own.out.find("to frame the pictures") == std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: a SHELL surface's CSV has its own energy columns, not the paper's five zeros", "[scenes]") {
+  // Issue 37, item 7: SHELL CSVs carried strain_w10 ... strain_w02, always 0.
+  TempDir dir;
+  const Run r = run(scene("flag.iv") + " --steps 3 -o shell -q", dir.path);
+  REQUIRE(r.code == 0);
+  std::istringstream lines(slurp(dir.path + "/shell/Flag.csv"));
+  std::string header, line;
+  std::getline(lines, header);
+  CHECK(header == "time,step,norm,kinetic,strain,substeps,strain_membrane,strain_bending");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    CHECK(std::count(line.begin(), line.end(), ',') == 7);
+  }
+  CHECK(rows == 4);
+  const std::vector<double> membrane = csvColumn(slurp(dir.path + "/shell/Flag.csv"), "strain_membrane");
+  CHECK(membrane.back() > 0.0);
 }

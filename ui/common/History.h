@@ -41,9 +41,11 @@ class History {
 
   /// bsdeform-run's history CSV: the header line (with its newline) and the line of a state at
   /// `time` after `steps` steps of `subSteps` sub-steps, with its diagnostics `d` (time, step,
-  /// norm, kinetic, strain and its terms w10 w01 w11 w20 w02, sub-steps).
-  static QString detailedCsvHeader();
-  static QString detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d);
+  /// norm, kinetic, strain and its terms w10 w01 w11 w20 w02, sub-steps, the membrane and
+  /// bending energies). `shell`: a SHELL surface's, without the paper's five weight terms
+  /// (always 0 for it).
+  static QString detailedCsvHeader(bool shell = false);
+  static QString detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d, bool shell = false);
 
  private:
   QVector<double> m_time, m_norm, m_kinetic, m_strain;

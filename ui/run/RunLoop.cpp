@@ -237,8 +237,9 @@ void RunLoop::flushRow(Surface& s) {
   if (!row.values.valid()) return;
   const Diagnostics d = row.values.get();
   row.values = PendingDiagnostics();
-  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader();
-  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d);
+  const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
+  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader(shell);
+  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d, shell);
   s.history.append(row.time, d);
 }
 
@@ -299,9 +300,10 @@ Failure RunLoop::runStatic() {
     StaticResult r;
     std::string error;
     // one row per load increment: the load factor, then the usual columns
-    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader();
-    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s](const StaticResult& all, size_t k, const Diagnostics& d) {
-      s.csv += decimalNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d);
+    const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
+    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader(shell);
+    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s, shell](const StaticResult& all, size_t k, const Diagnostics& d) {
+      s.csv += decimalNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d, shell);
       s.history.append(0.0, d);
     });
     if (!solved)
