@@ -434,6 +434,7 @@ void MainWindow::updateStatus() {
       details << p.text();
     }
   }
+  m_status->setReplaySpeed(m_timelinePanel && m_timelinePanel->isReplaying() ? clock().speed() : 0.0);
   m_status->update(selectedSurface(), isPlaying(), troubled, refused, details.join(QLatin1Char('\n')));
 }
 

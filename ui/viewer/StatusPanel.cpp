@@ -47,7 +47,10 @@ void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDefor
     m_lastSteps = steps;
     m_rateClock.restart();
   }
-  m_rateLabel->setText(tr("%1 steps/s  %2 frames/s").arg(m_stepsPerSecond, 0, 'f', 1).arg(m_fps, 0, 'f', 1));
+  if (m_replaySpeed > 0.0)
+    m_rateLabel->setText(tr("replay %1 x  %2 frames/s").arg(m_replaySpeed, 0, 'g', 3).arg(m_fps, 0, 'f', 1));
+  else
+    m_rateLabel->setText(tr("%1 steps/s  %2 frames/s").arg(m_stepsPerSecond, 0, 'f', 1).arg(m_fps, 0, 'f', 1));
   if (!s) {
     m_timeLabel->clear();
     m_modelLabel->clear();

@@ -35,6 +35,9 @@ class StatusPanel {
   long framesDrawn() const { return m_frames; }
   /// A new scene: frames and steps count from 0.
   void restart();
+  /// While the timeline replays kept states (speed > 0, simulated seconds per second) the rate
+  /// reads "replay N x": no step is taken then, and "0.0 steps/s" said nothing; 0: not replaying.
+  void setReplaySpeed(double speed) { m_replaySpeed = speed; }
   /// The steps per second count `surface`'s steps from now (another surface is shown).
   void follow(SoBSplineDeformSurface* surface);
   /// The labels for `surface` (nullptr: only the rates) and the clock's `playing`.
@@ -52,6 +55,7 @@ class StatusPanel {
   QLabel* m_rateLabel;
   QLabel* m_modelLabel;
   QLabel* m_stateLabel;
+  double m_replaySpeed = 0.0;
   SoCallback* m_frameCounter;  ///< ref'ed: it outlives every scene shown
   long m_frames = 0;
   long m_lastFrames = 0, m_lastSteps = 0;

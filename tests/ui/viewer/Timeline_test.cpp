@@ -4,10 +4,13 @@
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QFile>
+#include <QLabel>
 #include <QLocale>
 #include <QProcess>
 #include <QSlider>
+#include <QStatusBar>
 #include <QTemporaryDir>
+#include <QTest>
 #include <QUndoStack>
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -190,6 +193,19 @@ TEST_CASE("Timeline: the plots show the history up to the position, replay plays
   CHECK_FALSE(w->timeline().advanceReplay(newest));
   CHECK(tl.isAtEnd());
   CHECK(w->plotPanel().lastShownTime() == newest);
+
+  // the Replay button: the status bar says it replays, not "0.0 steps/s" (issue 37, item 7)
+  scrubTo(*w, 1);
+  w->timelinePanel().setReplaying(true);
+  REQUIRE(QTest::qWaitFor([&] { return tl.position() > 1; }, 5000));
+  processEvents();
+  QString rates;
+  for (QLabel* l : w->statusBar()->findChildren<QLabel*>()) rates += l->text() + QLatin1Char('\n');
+  INFO(rates.toStdString());
+  CHECK(rates.contains(QStringLiteral("replay 1 x")));
+  CHECK_FALSE(rates.contains(QStringLiteral("steps/s")));
+  w->timelinePanel().setReplaying(false);
+  scrubTo(*w, n - 1);
 
   // stepping on from an earlier state: the plots go on from there
   const QVector<double> timesBefore = w->plotPanel().history().time(), normsBefore = w->plotPanel().history().norm();
