@@ -31,6 +31,7 @@
 #include "DocumentActions.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "PlotPanel.h"
 #include "SceneDocument.h"
 #include "ViewerClock.h"
 #include "ViewerTestSupport.h"
@@ -713,6 +714,10 @@ TEST_CASE("Editing: Simulation > Solve Static puts the surface at its equilibriu
   const double t = s->simulation().time();
   REQUIRE(w->solveStatic());
   CHECK(!w->isPlaying());
+  // the plots show the equilibrium, one sample, as a mark (a line of one point is not drawn)
+  processEvents();
+  CHECK(w->plotPanel().sampleCount() == 1);
+  CHECK(w->plotPanel().marksPoints());
   CHECK(s->simulation().evaluate(1.0, 0.5).position.z() == Approx(-0.25).epsilon(1e-9));
   CHECK(s->simulation().current() == s->simulation().previous());
   CHECK(s->simulation().time() == 0.0);
