@@ -1070,3 +1070,52 @@ TEST_CASE("bsdeform-run: a SHELL surface's CSV has its own energy columns, not t
   const std::vector<double> membrane = csvColumn(slurp(dir.path + "/shell/Flag.csv"), "strain_membrane");
   CHECK(membrane.back() > 0.0);
 }
+
+TEST_CASE("bsdeform-run --sweep --metric: a column per metric, the first plotted, a single run says the same", "[scenes]") {
+  // Issue 37, item 6: a sweep reported only the end-time norm (a swinging curtain's phase).
+  TempDir dir;
+  const std::string metrics = " --metric y@0.5:0.5 --metric max-y@0.5:0.5 --metric stretch --metric max-stretch"
+                              " --metric rest-time";
+  const Run r = run(scene("paper_sec7_central_square.iv") + " --until 1 --sweep Surface.w10=0,1,10" + metrics + " -o sw -q",
+                    dir.path);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string csv = slurp(dir.path + "/sw/sweep.csv");
+  INFO(csv);
+  CHECK(csv.rfind("value,surface,norm,kinetic,strain,status,y@0.5:0.5,max-y@0.5:0.5,stretch,max-stretch,rest-time\n", 0) == 0);
+  const std::vector<double> y = csvColumn(csv, "y@0.5:0.5"), maxY = csvColumn(csv, "max-y@0.5:0.5"),
+                            stretch = csvColumn(csv, "stretch"), maxStretch = csvColumn(csv, "max-stretch"),
+                            rest = csvColumn(csv, "rest-time");
+  REQUIRE(y.size() == 3);
+  // the square is pushed along +y: the centre moves less on a stiffer surface
+  CHECK(y[0] > y[1]);
+  CHECK(y[1] > y[2]);
+  CHECK(y[2] > 0.0);
+  for (size_t i = 0; i < 3; ++i) {
+    CHECK(maxY[i] >= y[i]);
+    CHECK(maxStretch[i] >= stretch[i]);
+    CHECK(stretch[i] > 1.0);  // stretched by the push
+    CHECK(std::isnan(rest[i]));  // still moving at t = 1
+  }
+  CHECK(!slurp(dir.path + "/sw/sweep.png").empty());
+  // one run with the middle value measures the same number
+  const Run one = run(scene("paper_sec7_central_square.iv") + " --until 1 --set Surface.w10=1 --metric y@0.5:0.5 -o one",
+                      dir.path);
+  REQUIRE(one.code == 0);
+  const size_t at = one.out.find("y@0.5:0.5 = ");
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(one.out.substr(at + 12)) == y[1]);
+  // a damped scene comes to rest: its rest time is within the run
+  const Run damped = run(scene("region_load.iv") + " --until 8 --metric rest-time --metric kinetic -o rest", dir.path);
+  INFO(damped.out);
+  REQUIRE(damped.code == 0);
+  const size_t restAt = damped.out.find("rest-time = ");
+  REQUIRE(restAt != std::string::npos);
+  const double restTime = std::stod(damped.out.substr(restAt + 12));
+  CHECK(restTime > 0.0);
+  CHECK(restTime < 8.0);
+  // a metric that is not one is refused, naming it
+  const Run bad = run(scene("region_load.iv") + " --metric w@2:0 -o bad", dir.path);
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("w@2:0") != std::string::npos);
+}

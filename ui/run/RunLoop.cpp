@@ -250,6 +250,7 @@ void RunLoop::stepped(Surface& s) {
   const bool failed = sim.status() != Status::Ok;
   m_blewUp |= failed;
   const long step = sim.stepCount();  // a failed step does not count
+  if (s.metrics) s.metrics->update(sim);
   if (!m_options.resultOnly && (failed || step % m_options.recordEvery == 0) && s.lastRecorded != step) record(s);
 }
 
@@ -340,6 +341,11 @@ Failure RunLoop::run() {
   QElapsedTimer timer;
   timer.start();
   m_runner->advanceTo(m_t0);
+  if (!o.metrics.isEmpty())
+    for (Surface& s : m_surfaces) {
+      s.metrics = std::make_shared<MetricTracker>(o.metrics);
+      s.metrics->update(s.node->simulation());  // the start counts (a maximum that is the start)
+    }
   const bool recording = !o.resultOnly;
   if (recording)
     for (Surface& s : m_surfaces) record(s);
@@ -444,6 +450,12 @@ void RunLoop::printSummary(double seconds) const {
                 utf8(s.name).constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
                 d.norm, d.kinetic, d.strain.total, sim.stabilityLimit(), sim.subSteps(),
                 sim.status() == Status::Ok ? "ok" : sim.statusMessage().c_str());
+    if (s.metrics) {
+      const QStringList values = s.metrics->values(sim);
+      QStringList pairs;
+      for (int i = 0; i < values.size(); ++i) pairs << m_options.metrics[i].name + QStringLiteral(" = ") + values[i];
+      std::printf("  %-14s %s\n", "", utf8(pairs.join(QStringLiteral(", "))).constData());
+    }
   }
   for (const QString& w : m_written) std::printf("  wrote %s\n", utf8(w).constData());
 }
@@ -453,9 +465,11 @@ void RunLoop::printResults() const {
   for (const Surface& s : m_surfaces) {
     const Simulation& sim = s.node->simulation();
     const Diagnostics d = sim.diagnostics();
-    std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", utf8(s.name).constData(), utf8(historyNumber(d.norm)).constData(),
+    // the metrics (--metric), if any, after the status: SweepPool's columns beyond the six
+    const QString metrics = s.metrics ? QLatin1Char('\t') + s.metrics->values(sim).join(QLatin1Char('\t')) : QString();
+    std::printf("RESULT\t%s\t%s\t%s\t%s\t%s%s\n", utf8(s.name).constData(), utf8(historyNumber(d.norm)).constData(),
                 utf8(historyNumber(d.kinetic)).constData(), utf8(historyNumber(d.strain.total)).constData(),
-                sim.status() == Status::Ok ? "ok" : "blew-up");
+                sim.status() == Status::Ok ? "ok" : "blew-up", utf8(metrics).constData());
   }
 }
 

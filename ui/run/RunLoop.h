@@ -14,6 +14,7 @@
 #include "FrameClock.h"
 #include "History.h"
 #include "KeptStates.h"
+#include "Metrics.h"
 #include "RunFailure.h"
 #include "RunOptions.h"
 #include "RunSetup.h"
@@ -48,6 +49,7 @@ class RunLoop {
     History history;
     long lastRecorded = -1;  ///< step count of the last history row
     int callback = -1;       ///< the surface's step callback (records the rows)
+    std::shared_ptr<MetricTracker> metrics;  ///< --metric: measured after every step (null without)
     /// Computes the rows beside the steps (shared: Surface lives in a QVector). Its destructor
     /// finishes the row being computed, whose values `pending` keeps.
     std::shared_ptr<DiagnosticsBeside> beside = std::make_shared<DiagnosticsBeside>();

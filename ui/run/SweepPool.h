@@ -23,6 +23,7 @@ class SweepPool {
   /// One surface's final state in one child run.
   struct Row {
     QString value, surface, norm, kinetic, strain, status;
+    QStringList metrics;  ///< one per --metric, in order
   };
 
   Failure parseSweep();
