@@ -78,7 +78,7 @@ bool sceneRefused(const SceneDocument& doc) {
   // the force fields' values as they stand now (a surface remakes its forces only at its next
   // step, so its FORCE_FIELD problem may be older than a fix)
   for (SoForceField* f : doc.forceFields())
-    if (!refusalOf(f).isEmpty()) return true;
+    if (doc.forceFieldRefused(f)) return true;
   return false;
 }
 
