@@ -37,6 +37,8 @@ std::size_t separateUseCommas(const char* data, std::size_t size, std::string& o
   // give a node never holds a comma (SoBase::setName replaces it), so unless the text DEFs a
   // name with the comma itself, the comma ends the reference: a space is put before it. Line
   // numbers do not move. The lexer is the guard's, so strings and comments are skipped alike.
+  // most scenes (and the largest: saved nets) hold no reference at all: no second lexing pass
+  if (!size || !::memmem(data, size, "USE", 3)) return 0;
   guard::SceneLexer lexer(data, size, limits);
   std::set<std::string> defined;
   std::vector<std::size_t> commas;  // offsets of the commas to separate
