@@ -212,8 +212,6 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   o.sweepProgram = parser.value(sweepProgram);
   o.sweepRows = parser.value(sweepRows);
   if (!o.sweepRows.isEmpty() && o.sweep.isEmpty()) return {kBadInput, QStringLiteral("--sweep-rows needs --sweep")};
-  if (!o.sweepRows.isEmpty() && !o.metrics.isEmpty())
-    return {kBadInput, QStringLiteral("--metric and --sweep-rows: the rows carry no metrics (bsdeform.sweep does not measure them yet)")};
 
   o.sweepChildArguments = QStringList{o.scene};
   if (parser.isSet(steps)) o.sweepChildArguments << QStringLiteral("--steps") << QString::number(o.steps);

@@ -109,20 +109,28 @@ Failure SweepPool::runChildren() {
   return {kOk, {}};
 }
 
+QString SweepPool::csvHeader() const {
+  QStringList header{QStringLiteral("value,surface,norm,kinetic,strain,status")};
+  for (const Metric& m : m_options.metrics) header << m.name;
+  return header.join(QLatin1Char(','));
+}
+
 Failure SweepPool::readRows() {
   const QString& path = m_options.sweepRows;
   QFile file(path);
   if (!file.open(QIODevice::ReadOnly))
     return {kBadInput, QStringLiteral("cannot open sweep rows '%1': %2").arg(path, file.errorString())};
   const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
-  if (lines.isEmpty() || lines.first() != QLatin1String("value,surface,norm,kinetic,strain,status"))
+  if (lines.isEmpty() || lines.first() != csvHeader())
     return {kBadInput, QStringLiteral("sweep rows '%1': the first line is not sweep.csv's header").arg(path)};
+  const int columns = 6 + int(m_options.metrics.size());
   QVector<Row> rows;
   for (int i = 1; i < lines.size(); ++i) {
     const QStringList c = lines[i].split(QLatin1Char(','));
-    if (c.size() != 6)
-      return {kBadInput, QStringLiteral("sweep rows '%1', line %2: expected 6 columns, got %3").arg(path).arg(i + 1).arg(c.size())};
-    rows.push_back({c[0], c[1], c[2], c[3], c[4], c[5], QStringList()});
+    if (c.size() != columns)
+      return {kBadInput,
+              QStringLiteral("sweep rows '%1', line %2: expected %3 columns, got %4").arg(path).arg(i + 1).arg(columns).arg(c.size())};
+    rows.push_back({c[0], c[1], c[2], c[3], c[4], c[5], c.mid(6)});
   }
   m_rows = {rows};
   return {kOk, {}};
@@ -131,9 +139,7 @@ Failure SweepPool::readRows() {
 // sweep.csv (every row, a column per --metric after the six), sweep.png (the final norm, or the
 // first metric, against the value, when every value is a number) and the summary.
 Failure SweepPool::writeResults() {
-  QStringList header{QStringLiteral("value,surface,norm,kinetic,strain,status")};
-  for (const Metric& m : m_options.metrics) header << m.name;
-  QString csv = header.join(QLatin1Char(',')) + QLatin1Char('\n');
+  QString csv = csvHeader() + QLatin1Char('\n');
   const bool plotMetric = !m_options.metrics.isEmpty();
   std::map<QString, PlotSeries> bySurface;
   bool numeric = true;
