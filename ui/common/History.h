@@ -3,7 +3,8 @@
 /// @file History.h
 /// The time series of one surface's diagnostics (norm eq. 15, kinetic and strain energy) that
 /// both front ends keep: bsdeform-run's history CSV and plot, the viewer's live plots and their
-/// CSV export. Numbers are written with 17 significant digits (they read back exactly).
+/// CSV export. Numbers are written in the shortest text that reads back exactly (historyNumber),
+/// times at their 15-digit value (decimalNumber).
 
 #include <QByteArray>
 #include <QLocale>
