@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""A pivy SoQt examiner viewer on a scene, with a slider bound to a weight of the surface.
+"""A pivy SoQt examiner viewer on a scene, with a slider bound to the surface's stiffness.
 
 The surface animates itself with Coin's timer (its field `on`), as in any Coin viewer; moving
-the slider sets the weight (w10 and w01 together: the membrane stiffness) and the next step
-uses it. Needs a display (or xvfb-run).
+the slider sets the stiffness and the next step uses it: for a SHELL surface (cloth, plates) the
+sheet's thickness, 0.05 mm to 5 mm (membrane stiffness grows with t, bending with t^3); for the
+paper's energy the weights w10 and w01 together. Needs a display (or xvfb-run).
 
-    python3 soqt_slider.py scenes/region_load.iv
-    python3 soqt_slider.py scenes/region_load.iv --quit-after 3   # closes itself (tests)
+    python3 soqt_slider.py scenes/flag.iv
+    python3 soqt_slider.py scenes/flag.iv --quit-after 3   # closes itself (tests)
 """
 import argparse
 import math
@@ -36,7 +37,19 @@ view_area.setMinimumSize(640, 480)
 layout.addWidget(view_area, 1)
 label = QtWidgets.QLabel(panel)
 slider = QtWidgets.QSlider(QtCore.Qt.Horizontal, panel)
-slider.setRange(0, 100)  # w = 10^(slider/25 - 2): 0.01 .. 100
+slider.setRange(0, 100)
+shell = node.energy.getValue() == 1  # SHELL
+
+
+# slider position <-> value, logarithmic: thickness 5e-5 .. 5e-3 m (SHELL), weight 0.01 .. 100
+def value_at(position):
+    return 5e-5 * 10 ** (position / 50.0) if shell else 10 ** (position / 25.0 - 2)
+
+
+def position_of(value):
+    if shell:
+        return int(round(50 * math.log10(min(max(value, 5e-5), 5e-3) / 5e-5)))
+    return int(round(25 * (2 + math.log10(min(max(value, 0.01), 100)))))
 layout.addWidget(label)
 layout.addWidget(slider)
 window_layout = QtWidgets.QVBoxLayout(window)
@@ -44,20 +57,29 @@ window_layout.setContentsMargins(0, 0, 0, 0)
 window_layout.addWidget(panel)
 
 
+def setting():
+    if shell:
+        return "thickness %.4g mm" % (1000 * node.thickness.getValue())
+    return "w10 = w01 = %.4g" % node.w10.getValue()
+
+
 def show_state():
     # simulationTime and stepCount are live fields: current after every step
-    label.setText("w10 = w01 = %.4g   (t = %.2f, steps %d)" % (
-        node.w10.getValue(), node.simulationTime.getValue(), node.stepCount.getValue()))
+    label.setText("%s   (t = %.2f, steps %d)" % (setting(), node.simulationTime.getValue(), node.stepCount.getValue()))
 
 
-def set_weight(position):
-    w = 10 ** (position / 25.0 - 2)
-    surface.set(w10=w, w01=w)  # a refused value would raise bsdeform.FieldError here
+def set_stiffness(position):
+    v = value_at(position)
+    # a refused value would raise bsdeform.FieldError here
+    if shell:
+        surface.set(thickness=v)
+    else:
+        surface.set(w10=v, w01=v)
     show_state()
 
 
-slider.setValue(int(round(25 * (2 + math.log10(min(max(node.w10.getValue(), 0.01), 100))))))
-slider.valueChanged.connect(set_weight)
+slider.setValue(position_of(node.thickness.getValue() if shell else node.w10.getValue()))
+slider.valueChanged.connect(set_stiffness)
 show_state()
 
 viewer = soqt.SoQtExaminerViewer(view_area)
@@ -71,8 +93,9 @@ timer.start(200)
 
 if args.quit_after > 0:
     def quit_now():
-        print("steps %d, t = %.3g, w10 %.4g" % (node.stepCount.getValue(), node.simulationTime.getValue(),
-                                                node.w10.getValue()))
+        print("steps %d, t = %.3g, w10 %.4g, thickness %.4g, energy %s" % (
+            node.stepCount.getValue(), node.simulationTime.getValue(), node.w10.getValue(),
+            node.thickness.getValue(), "SHELL" if shell else "PAPER"))
         soqt.SoQt.exitMainLoop()
     QtCore.QTimer.singleShot(int(args.quit_after * 1000), quit_now)
     # and move the slider once, as a user would

@@ -93,6 +93,7 @@ std::vector<FieldInfo> makeTable() {
       {F, "thickness", "COLLISION: contact offset from the obstacles.", "length", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "damping", "COLLISION: normal damping per unit world area (pressure per approach speed).", "pressure per speed", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "friction", "COLLISION: Coulomb friction coefficient.", "", "μ", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
+      {F, "frame", "WORLD: force, anchor, center, normal, radius and the expression's x y z and result are in world coordinates, through the Transforms above the surface. LOCAL: in the surface's own coordinates (its control net's).", "", "", "WORLD, LOCAL", 0, 0, kScaled | bit(SoForceField::POINT) | bit(SoForceField::EXPRESSION) | bit(SoForceField::SPRING) | kPenalty, false, false},
   };
 }
 

@@ -211,23 +211,35 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
   m_world->obstacles = std::move(world);
 }
 
+bool surfaceFrame(SoNode* sceneRoot, SoNode* surface, Eigen::Matrix3d& linear, Eigen::Vector3d& offset) {
+  linear.setIdentity();
+  offset.setZero();
+  SoPath* path = firstPath(sceneRoot, surface);
+  if (!path) return false;
+  SoGetMatrixAction ma(SbViewportRegion(1, 1));
+  ma.apply(path);
+  path->unref();
+  const SbMatrix& m = ma.getMatrix();
+  SbVec3f o, e;
+  m.multVecMatrix(SbVec3f(0, 0, 0), o);
+  offset = Eigen::Vector3d(o[0], o[1], o[2]);
+  for (int j = 0; j < 3; ++j) {
+    SbVec3f unit(0, 0, 0);
+    unit[j] = 1.0f;
+    m.multVecMatrix(unit, e);
+    linear.col(j) = Eigen::Vector3d(e[0] - o[0], e[1] - o[1], e[2] - o[2]);
+  }
+  return true;
+}
+
 void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
                             bool obstaclesChanged, std::vector<std::string>& warnings) {
   // the surface's own frame
-  if (SoPath* path = firstPath(sceneRoot, self)) {
-    SoGetMatrixAction ma(SbViewportRegion(1, 1));
-    ma.apply(path);
-    path->unref();
-    const SbMatrix& m = ma.getMatrix();
-    SbVec3f o, e;
-    m.multVecMatrix(SbVec3f(0, 0, 0), o);
-    m_world->offset = Eigen::Vector3d(o[0], o[1], o[2]);
-    for (int j = 0; j < 3; ++j) {
-      SbVec3f unit(0, 0, 0);
-      unit[j] = 1.0f;
-      m.multVecMatrix(unit, e);
-      m_world->linear.col(j) = Eigen::Vector3d(e[0] - o[0], e[1] - o[1], e[2] - o[2]);
-    }
+  Eigen::Matrix3d linear;
+  Eigen::Vector3d offset;
+  if (surfaceFrame(sceneRoot, self, linear, offset)) {
+    m_world->linear = linear;
+    m_world->offset = offset;
   }
   if (sceneRoot != m_root) {
     m_root = sceneRoot;

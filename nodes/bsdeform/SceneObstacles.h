@@ -29,6 +29,11 @@ class SoMFString;
 
 namespace bsdeform {
 
+/// The world transform of `surface` (x_world = linear x_local + offset): the one above its first
+/// occurrence (depth first) under `sceneRoot`. False, with the identity, when it is not found
+/// there (no scene given, or the node is not in it).
+bool surfaceFrame(SoNode* sceneRoot, SoNode* surface, Eigen::Matrix3d& linear, Eigen::Vector3d& offset);
+
 class SceneObstacles {
  public:
   SceneObstacles();

@@ -16,9 +16,11 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <set>
 
 #include "bsdeform/CoinMessageCapture.h"
 #include "bsdeform/SceneGuard.h"
+#include "bsdeform/SceneLexer.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {
@@ -28,8 +30,56 @@ std::string SceneCheck::message() const {
   return file + ":" + std::to_string(line) + ": " + reason;
 }
 
+std::size_t separateUseCommas(const char* data, std::size_t size, std::string& out, const SceneLimits& limits) {
+  // Coin 4.0 reads the name after USE as every byte above 0x20 up to white space, so in
+  // `obstacles [ USE A, USE B ]` (as people write lists, and as Coin's own writer lays out an
+  // MFNode of references: `USE A,` newline) it looks for a node called "A,". A name Coin would
+  // give a node never holds a comma (SoBase::setName replaces it), so unless the text DEFs a
+  // name with the comma itself, the comma ends the reference: a space is put before it. Line
+  // numbers do not move. The lexer is the guard's, so strings and comments are skipped alike.
+  // most scenes (and the largest: saved nets) hold no reference at all: no second lexing pass
+  if (!size || !::memmem(data, size, "USE", 3)) return 0;
+  guard::SceneLexer lexer(data, size, limits);
+  std::set<std::string> defined;
+  std::vector<std::size_t> commas;  // offsets of the commas to separate
+  guard::Token t;
+  while (lexer.next(t) && t.kind != guard::Token::End) {
+    if (t.kind != guard::Token::Word || (t.text != "DEF" && t.text != "USE")) continue;
+    const bool reference = t.text == "USE";
+    std::string base;
+    int line = 0;
+    if (!lexer.readBaseName(base, line, reference)) break;  // the guard refuses it, with its line
+    if (!reference) {
+      defined.insert(base);
+      continue;
+    }
+    const std::size_t comma = base.find(',');
+    if (comma == std::string::npos || comma == 0 || defined.count(base)) continue;
+    const std::size_t start = std::size_t(lexer.mark().p - data) - base.size();
+    commas.push_back(start + comma);
+    // what follows the comma (`USE A,USE B`) is read again as tokens
+    lexer.reset({data + start + comma + 1, line});
+  }
+  if (commas.empty()) return 0;
+  out.clear();
+  out.reserve(size + commas.size());
+  std::size_t from = 0;
+  for (const std::size_t at : commas) {
+    out.append(data + from, at - from);
+    out += ' ';
+    from = at;
+  }
+  out.append(data + from, size - from);
+  return commas.size();
+}
+
 SoSeparator* readSceneText(const char* data, std::size_t size, const std::string& name, std::string& error,
                            const std::string& directory, const SceneLimits& limits) {
+  std::string separated;
+  if (separateUseCommas(data, size, separated, limits) > 0) {
+    data = separated.data();
+    size = separated.size();
+  }
   const SceneCheck check = checkSceneText(data, size, name, directory, limits);
   if (!check.ok) {
     error = check.message();

@@ -41,7 +41,15 @@ struct SceneCheck {
 SceneCheck checkSceneText(const char* data, std::size_t size, const std::string& name,
                           const std::string& directory = std::string(), const SceneLimits& limits = SceneLimits());
 
-/// Guard + Coin's reader on a text in memory. Returns the root (refcount 0) or nullptr with
+/// Where `text` says `USE NAME,` (a reference followed by a list's comma with no space between,
+/// as people write `obstacles [ USE A, USE B ]` and as Coin 4.0's writer lays out a list of
+/// references), Coin's reader takes "NAME," as the name and fails. Unless the text DEFs a name
+/// with that comma, this puts a space before the comma: `out` gets the separated text and the
+/// number of commas separated is returned (0: nothing to do, `out` untouched). Lines do not move.
+std::size_t separateUseCommas(const char* text, std::size_t size, std::string& out,
+                              const SceneLimits& limits = SceneLimits());
+
+/// Guard + Coin's reader on a text in memory (after separateUseCommas). Returns the root (refcount 0) or nullptr with
 /// `error` set to "NAME:LINE: reason" or "NAME: Coin's read errors".
 SoSeparator* readSceneText(const char* data, std::size_t size, const std::string& name, std::string& error,
                            const std::string& directory = std::string(), const SceneLimits& limits = SceneLimits());

@@ -3,6 +3,15 @@
 
 #include <Inventor/SoOutput.h>
 #include <Inventor/actions/SoWriteAction.h>
+#include <Inventor/fields/SoMFDouble.h>
+#include <Inventor/fields/SoMFVec2d.h>
+#include <Inventor/fields/SoMFVec3d.h>
+#include <Inventor/fields/SoSFDouble.h>
+#include <Inventor/fields/SoSFVec2d.h>
+#include <Inventor/fields/SoSFVec3d.h>
+#include <Inventor/lists/SoFieldList.h>
+#include <Inventor/misc/SoBase.h>
+#include <Inventor/fields/SoFieldContainer.h>
 
 #include <cerrno>
 #include <charconv>
@@ -297,6 +306,50 @@ bool coinReadReal(const char* s, double& value) {
   return *s == '\0';
 }
 
+void snapReadDoubles(SoFieldContainer& container) {
+  SoFieldList fields;
+  const int count = container.getFields(fields);
+  for (int i = 0; i < count; ++i) {
+    SoField* f = fields[i];
+    if (f->isDefault() || f->isConnected()) continue;
+    const SbBool notify = f->enableNotify(FALSE);
+    if (f->isOfType(SoSFDouble::getClassTypeId())) {
+      auto* d = static_cast<SoSFDouble*>(f);
+      d->setValue(snap15(d->getValue()));
+    } else if (f->isOfType(SoSFVec2d::getClassTypeId())) {
+      auto* d = static_cast<SoSFVec2d*>(f);
+      const SbVec2d v = d->getValue();
+      d->setValue(snap15(v[0]), snap15(v[1]));
+    } else if (f->isOfType(SoSFVec3d::getClassTypeId())) {
+      auto* d = static_cast<SoSFVec3d*>(f);
+      const SbVec3d v = d->getValue();
+      d->setValue(snap15(v[0]), snap15(v[1]), snap15(v[2]));
+    } else if (f->isOfType(SoMFDouble::getClassTypeId())) {
+      auto* d = static_cast<SoMFDouble*>(f);
+      if (d->getNum()) {
+        double* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k] = snap15(v[k]);
+        d->finishEditing();
+      }
+    } else if (f->isOfType(SoMFVec2d::getClassTypeId())) {
+      auto* d = static_cast<SoMFVec2d*>(f);
+      if (d->getNum()) {
+        SbVec2d* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k].setValue(snap15(v[k][0]), snap15(v[k][1]));
+        d->finishEditing();
+      }
+    } else if (f->isOfType(SoMFVec3d::getClassTypeId())) {
+      auto* d = static_cast<SoMFVec3d*>(f);
+      if (d->getNum()) {
+        SbVec3d* v = d->startEditing();
+        for (int k = 0; k < d->getNum(); ++k) v[k].setValue(snap15(v[k][0]), snap15(v[k][1]), snap15(v[k][2]));
+        d->finishEditing();
+      }
+    }
+    f->enableNotify(notify);
+  }
+}
+
 std::string coinDoubleText(double x) {
   char buf[kMaxNumberText + 1];
   return std::string(buf, writeCoinDouble(x, buf));
@@ -354,7 +407,18 @@ class SceneTextOutput : public SoOutput {
     }
     // Coin writes its header before the first bytes (through this function): let it.
     if (!wroteHeader) SoOutput::writeBinaryArray(c, 0);
-    append(reinterpret_cast<const char*>(c), std::size_t(length));
+    const char* text = reinterpret_cast<const char*>(c);
+    const std::size_t size = std::size_t(length);
+    // Coin lays out a list of references as `USE A,` newline `USE B ]`, and its own reader then
+    // looks for a node called "A,": the comma after a USE name gets a space before it, so that
+    // every reader (Coin's included) reads what is written. Coin writes "USE", " ", the name and
+    // ",\n" as separate pieces.
+    if (m_use == Use::Name && size > 0 && text[0] == ',') append(" ", 1);
+    if (size == 3 && std::memcmp(text, "USE", 3) == 0) m_use = Use::Keyword;
+    else if (m_use == Use::Keyword && size == 1 && text[0] == ' ') m_use = Use::Space;
+    else if (m_use == Use::Space && size > 0) m_use = Use::Name;
+    else m_use = Use::None;
+    append(text, size);
   }
   using SoOutput::writeBinaryArray;
 
@@ -379,6 +443,7 @@ class SceneTextOutput : public SoOutput {
 
   const SinkCookie& m_cookie;
   std::vector<char> m_buf;
+  enum class Use { None, Keyword, Space, Name } m_use = Use::None;  ///< where in `USE name` the text is
 };
 
 }  // namespace

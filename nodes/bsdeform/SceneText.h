@@ -8,6 +8,7 @@
 #include <functional>
 #include <string>
 
+class SoFieldContainer;
 class SoNode;
 
 namespace bsdeform {
@@ -30,6 +31,13 @@ std::string sceneToText(SoNode* root);
 /// every double they read and every state value they write to it, so that
 /// write -> read -> write is a fixed point.
 double snap15(double x);
+
+/// After Coin read `container` (a node's or an engine's readInstance): every double it read
+/// snapped to snap15(), without notifying: the SoSFDouble, SoSFVec2d, SoSFVec3d, SoMFDouble,
+/// SoMFVec2d and SoMFVec3d fields that are neither default nor connected, found from the
+/// container's own field data (no list of fields to keep up to date). The one routine of the
+/// surface and the force field.
+void snapReadDoubles(SoFieldContainer& container);
 
 /// What Coin 4.0's ASCII reader (SoInput_FileInfo::readReal) computes for `text`: it adds
 /// the fraction digit by digit with a running factor 0.1 and scales by pow(10, exponent), so

@@ -211,6 +211,11 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   bsdeform::ControlNet rest;
   bsdeform::FieldRefusal refusal;
   auto refuse = [this](const bsdeform::FieldRefusal& r) {
+    m_refusals.clear();
+    for (const bsdeform::FieldRefusal& each : bsdeform::fieldRefusals(*this))
+      m_refusals.push_back({Problem::FIELD, bsdeform::nameOf(this), each.field, each.message});
+    if (m_refusals.empty() || m_refusals.front().field != r.field)
+      m_refusals.insert(m_refusals.begin(), Problem{Problem::FIELD, bsdeform::nameOf(this), r.field, r.message});
     report(Problem::FIELD, r.field, r.message + "; keeping the last valid state");
     return false;
   };
@@ -242,6 +247,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     if (!oldSlots.empty()) m_forces->swap(oldSlots);
     return refuse({"", e.what()});
   }
+  m_refusals.clear();
   if (m_reports == reportedBefore) clearProblem();
   const double seam = m_sim->seamMismatch();
   if (seam > 1e-9 * (1.0 + m_sim->rest().cwiseAbs().maxCoeff())) {

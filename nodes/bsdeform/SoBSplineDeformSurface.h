@@ -187,6 +187,11 @@ class SoBSplineDeformSurface : public SoShape {
   };
   /// The current problem (kind NONE when there is none).
   const Problem& problem() const { return m_problem; }
+  /// Every field refused as the values stand (kind FIELD, each once, the first being the one
+  /// problem() named when it was reported): one refused value does not hide another. Empty
+  /// when the model takes the fields. Kept apart from problem(), which a force field's or an
+  /// obstacle's problem may replace.
+  const std::vector<Problem>& refusals() const { return m_refusals; }
   /// The current problem's message ("" when there is none).
   const std::string& lastWarning() const { return m_problem.message; }
 
@@ -321,6 +326,7 @@ class SoBSplineDeformSurface : public SoShape {
   bool m_forcesStale = true;  ///< a force field told of a change: its force is remade before the next step
   int m_forcesMade = 0;
   Problem m_problem;
+  std::vector<Problem> m_refusals;
   long m_reports = 0;  ///< problems reported so far
   std::vector<std::pair<int, Callback>> m_callbacks;
   int m_nextCallback = 0;

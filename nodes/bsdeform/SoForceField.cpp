@@ -12,6 +12,7 @@
 #include <Inventor/fields/SoSFShort.h>
 #include <Inventor/fields/SoSFTime.h>
 #include <Inventor/fields/SoSFVec2f.h>
+#include <Inventor/lists/SoFieldList.h>
 #include <muParser.h>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "bsdeform/Force.h"
 #include "bsdeform/Contact.h"
 #include "bsdeform/ForceLaws.h"
+#include "bsdeform/FieldInfo.h"
 #include "bsdeform/SceneText.h"
 
 /// Field converter into SoSFDouble and SoSFVec2d. Coin 4.0's built-in converter (SoConvertAll)
@@ -180,6 +182,7 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(thickness, (0.02));
   SO_ENGINE_ADD_INPUT(damping, (0.0));
   SO_ENGINE_ADD_INPUT(friction, (0.0));
+  SO_ENGINE_ADD_INPUT(frame, (WORLD));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, UNIFORM);
@@ -194,6 +197,9 @@ SoForceField::SoForceField() {
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, SPHERE_COLLISION);
   SO_ENGINE_DEFINE_ENUM_VALUE(Type, COLLISION);
   SO_ENGINE_SET_SF_ENUM_TYPE(type, Type);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Frame, WORLD);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Frame, LOCAL);
+  SO_ENGINE_SET_SF_ENUM_TYPE(frame, Frame);
 
   // three components by default, so that the written form is a complete expression
   expression.setNum(3);
@@ -221,22 +227,7 @@ SbBool SoForceField::readInstance(SoInput* in, unsigned short flags) {
   // Coin's reader is off by up to a few ulps (SceneText.h); snapping what was read to its
   // 15-digit value makes `point 0.97 0.5` act at 0.97 and write -> read -> write a fixed point.
   // Connected fields get their values from the connection.
-  using bsdeform::snap15;
-  auto quiet = [](SoField& f, auto&& set) {
-    if (f.isDefault() || f.isConnected()) return;
-    const SbBool notify = f.enableNotify(FALSE);
-    set();
-    f.enableNotify(notify);
-  };
-  for (SoSFDouble* f : {&magnitude, &radius, &stiffness, &coefficient, &thickness, &damping, &friction})
-    quiet(*f, [f] { f->setValue(snap15(f->getValue())); });
-  for (SoSFVec2d* f : {&point, &regionMin, &regionMax})
-    quiet(*f, [f] { f->setValue(snap15(f->getValue()[0]), snap15(f->getValue()[1])); });
-  for (SoSFVec3d* f : {&force, &anchor, &center, &normal})
-    quiet(*f, [f] {
-      const SbVec3d v = f->getValue();
-      f->setValue(snap15(v[0]), snap15(v[1]), snap15(v[2]));
-    });
+  bsdeform::snapReadDoubles(*this);
   return ok;
 }
 
@@ -257,8 +248,23 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
   if (!on.getValue()) return nullptr;
   // Field values -> core classes; the core validates them and names the bad parameter.
   const double mag = magnitude.getValue();
-  const Eigen::Vector3d f = toEigen(force.getValue());
   const Eigen::Vector2d p = toEigen(point.getValue());
+  // WORLD: vectors and points come into the surface's own coordinates, in which it moves:
+  // x_local = A^-1 (x_world - offset); a direction (force, acceleration) by A^-1, a plane's
+  // normal by A^T (normals go with the inverse transpose), a length by A's mean scale.
+  const bool world = frame.getValue() == WORLD && type.getValue() != COLLISION;
+  const Eigen::Matrix3d& A = info.linear;
+  const double det = A.determinant();
+  if (world && !(std::isfinite(det) && std::abs(det) > 1e-300 && A.allFinite() && info.offset.allFinite())) {
+    error = "frame WORLD: the transform above the surface is singular or not finite";
+    return nullptr;
+  }
+  const Eigen::Matrix3d Ainv = world ? Eigen::Matrix3d(A.inverse()) : Eigen::Matrix3d::Identity();
+  auto direction = [&](const Eigen::Vector3d& v) { return world ? Eigen::Vector3d(Ainv * v) : v; };
+  auto position = [&](const Eigen::Vector3d& x) { return world ? Eigen::Vector3d(Ainv * (x - info.offset)) : x; };
+  auto planeNormal = [&](const Eigen::Vector3d& n) { return world ? Eigen::Vector3d(A.transpose() * n) : n; };
+  const double lengthScale = world ? std::cbrt(std::abs(det)) : 1.0;
+  const Eigen::Vector3d f = direction(toEigen(force.getValue()));
   try {
     switch (type.getValue()) {
       case UNIFORM:
@@ -272,16 +278,17 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
       case GRAVITY:
         return std::make_shared<GravityForce>(info.massDensity, mag * f);
       case SPRING:
-        return std::make_shared<SpringForce>(p.x(), p.y(), toEigen(anchor.getValue()), stiffness.getValue());
+        return std::make_shared<SpringForce>(p.x(), p.y(), position(toEigen(anchor.getValue())), stiffness.getValue());
       case DRAG:
         return std::make_shared<DragForce>(coefficient.getValue());
       case PRESSURE:
         return std::make_shared<PressureForce>(mag);
       case PLANE_COLLISION:
-        return std::make_shared<PlaneContactForce>(toEigen(center.getValue()), toEigen(normal.getValue()),
+        return std::make_shared<PlaneContactForce>(position(toEigen(center.getValue())), planeNormal(toEigen(normal.getValue())),
                                                    stiffness.getValue());
       case SPHERE_COLLISION:
-        return std::make_shared<SphereContactForce>(toEigen(center.getValue()), radius.getValue(), stiffness.getValue());
+        return std::make_shared<SphereContactForce>(position(toEigen(center.getValue())), radius.getValue() / lengthScale,
+                                                    stiffness.getValue());
       case COLLISION: {
         if (!info.contact) {
           error = "COLLISION needs the surface's obstacles";
@@ -335,15 +342,20 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
           }
         }
         // The user's formula, evaluated by muParser: the one density that stays a callable.
+        // WORLD: the formulas see world x y z and give a world vector
+        const Eigen::Matrix3d toWorld = world ? A : Eigen::Matrix3d::Identity();
+        const Eigen::Vector3d offset = world ? info.offset : Eigen::Vector3d::Zero();
         return std::make_shared<DistributedForce>(
-            [ex, mag](const SurfaceSample& s) {
+            [ex, mag, toWorld, offset, Ainv](const SurfaceSample& s) {
+              const Eigen::Vector3d x = toWorld * s.position + offset;
               ex->u = s.u;
               ex->v = s.v;
-              ex->x = s.position.x();
-              ex->y = s.position.y();
-              ex->z = s.position.z();
+              ex->x = x.x();
+              ex->y = x.y();
+              ex->z = x.z();
               ex->t = s.t;
-              return Eigen::Vector3d(mag * ex->parser[0].Eval(), mag * ex->parser[1].Eval(), mag * ex->parser[2].Eval());
+              const Eigen::Vector3d w(mag * ex->parser[0].Eval(), mag * ex->parser[1].Eval(), mag * ex->parser[2].Eval());
+              return Eigen::Vector3d(Ainv * w);
             },
             ex->dependence);
       }
@@ -356,3 +368,40 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
   }
   return nullptr;
 }
+
+std::vector<SoForceField::Refusal> SoForceField::refusedFields(const SurfaceInfo& info) {
+  std::string whole;
+  makeForce(info, whole);
+  if (whole.empty()) return {};
+  auto* scratch = new SoForceField;
+  scratch->ref();
+  scratch->enableNotify(FALSE);  // it only holds values
+  auto* defaults = new SoForceField;
+  defaults->ref();
+  scratch->type.setValue(type.getValue());
+  std::string error;
+  scratch->makeForce(info, error);
+  std::vector<Refusal> out;
+  if (error.empty()) {  // this type's defaults make a force: try each field alone
+    SoFieldList fields;
+    const int count = getFields(fields);
+    for (int i = 0; i < count; ++i) {
+      SbName name;
+      getFieldName(fields[i], name);
+      if (name == "type" || name == "on" || fields[i]->isOfType(SoSFTime::getClassTypeId())) continue;
+      if (!bsdeform::forceFieldUses(type.getValue(), name.getString())) continue;
+      SoField* f = scratch->getField(name);
+      if (!f || f->isSame(*fields[i])) continue;
+      f->copyFrom(*fields[i]);
+      scratch->makeForce(info, error);
+      if (!error.empty()) out.push_back({name.getString(), error});
+      f->copyFrom(*defaults->getField(name));
+    }
+  }
+  if (out.empty()) out.push_back({"", whole});
+  scratch->unref();
+  defaults->unref();
+  return out;
+}
+
+std::vector<SoForceField::Refusal> SoForceField::refusedFields() { return refusedFields(SurfaceInfo()); }

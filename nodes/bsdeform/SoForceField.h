@@ -40,6 +40,7 @@
 ///   radius 0.25           # SFDouble: SPHERE_COLLISION radius
 ///   stiffness 10          # SFDouble: SPRING constant, collision penalty per unit area and depth
 ///   coefficient 1         # SFDouble: DRAG: force density = -coefficient * velocity
+///   frame WORLD           # WORLD LOCAL: the frame of force, anchor, center, normal, radius, expression
 /// }
 /// \endcode
 ///
@@ -65,6 +66,7 @@
 /// definition, so two surfaces that collide both ways name each other (or the first is listed
 /// in `obstacles` of the second and the second named by the first).
 
+#include <Eigen/Core>
 #include <Inventor/engines/SoEngine.h>
 #include <Inventor/engines/SoSubEngine.h>
 #include <Inventor/fields/SoMFNode.h>
@@ -78,6 +80,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace bsdeform {
 class Force;
@@ -101,6 +104,11 @@ class SoForceField : public SoEngine {
     PLANE_COLLISION,   ///< penalty `stiffness * depth * normal` below the plane (PlaneContactForce)
     SPHERE_COLLISION,  ///< penalty pushing out of the sphere (center, radius) (SphereContactForce)
     COLLISION,         ///< penalty, damping and friction against the `obstacles` (CollisionForce)
+  };
+  /// In which frame the vectors and points of the fields are given.
+  enum Frame {
+    WORLD,  ///< the world's, whatever Transforms are above the surface (default)
+    LOCAL   ///< the surface's own coordinates (its control net's), as before issue 37
   };
 
   static void initClass();
@@ -128,6 +136,10 @@ class SoForceField : public SoEngine {
   SoSFDouble thickness;     ///< COLLISION: contact offset (world units); 0.02
   SoSFDouble damping;       ///< COLLISION: normal damping, per unit world area (pressure per approach speed); 0
   SoSFDouble friction;      ///< COLLISION: Coulomb coefficient mu; 0
+  /// WORLD: force, anchor, center, normal, radius and the EXPRESSION's x y z and result are in
+  /// world coordinates, converted through the Transforms above the surface; LOCAL: in the
+  /// surface's own coordinates. WORLD by default. (COLLISION is always in the world.)
+  SoSFEnum frame;
 
   /// Revision of the input values: changes whenever an input changes (a surface rebuilds its
   /// core force when it sees a new revision).
@@ -139,11 +151,26 @@ class SoForceField : public SoEngine {
     double areaScale = 1.0;    ///< COLLISION: rest area per unit parameter area (surfaceArea of the rest net)
     /// COLLISION: the obstacles as the surface keeps them (SceneObstacles)
     std::shared_ptr<const bsdeform::ContactWorld> contact;
+    /// The surface's world transform, x_world = linear x_local + offset (frame WORLD)
+    Eigen::Matrix3d linear = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   };
   /// Builds the core force for the current field values. Returns null when the force is off.
   /// @param[out] error set to a message naming the field and value when the values are bad
   ///             (the caller warns and keeps its previous force)
   std::shared_ptr<const bsdeform::Force> makeForce(const SurfaceInfo& info, std::string& error);
+
+  /// A field whose value makes no force, and why.
+  struct Refusal {
+    std::string field;    ///< "" when no one field is at fault (the values together are refused)
+    std::string message;  ///< makeForce's sentence for that value
+  };
+  /// Every field whose value makeForce refuses, each once: each field the current type reads is
+  /// tried alone, the others at their defaults, on a scratch force field (this one is not
+  /// touched). When no single field is refused but the values together are, one Refusal without
+  /// a field. Empty when makeForce takes the values.
+  std::vector<Refusal> refusedFields(const SurfaceInfo& info);
+  std::vector<Refusal> refusedFields();  ///< with a SurfaceInfo() (COLLISION is then refused whole)
 
   /// Current revision without going through an engine connection.
   int getRevision() const { return m_revision; }

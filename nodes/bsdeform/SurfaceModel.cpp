@@ -2,8 +2,12 @@
 #include "bsdeform/SurfaceModel.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <sstream>
+
+#include <Inventor/fields/SoSFTrigger.h>
+#include <Inventor/lists/SoFieldList.h>
 
 #include "bsdeform/FieldInfo.h"
 #include "bsdeform/HugePages.h"
@@ -19,11 +23,10 @@ namespace {
 
 using Surface = SoBSplineDeformSurface;
 
+// The shortest text that reads back to x (a pin read as 0.97 is said as 0.97, not 0.96999999999999997)
 std::string num(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
+  char buf[32];
+  return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
 }
 
 Boundary sideOf(const SoSFEnum& f) {
@@ -165,6 +168,54 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   return true;
 }
 
+std::vector<FieldRefusal> fieldRefusals(const Surface& node) {
+  std::vector<FieldRefusal> out;
+  // Two field holders outside any scene: `scratch` gets the node's fields (not its forces, which
+  // the model's parameters do not need), `defaults` supplies the value a refused field goes back to.
+  auto* scratch = new Surface;
+  scratch->ref();
+  auto* defaults = new Surface;
+  defaults->ref();
+  // The scratch node only holds values: it is never notified (a copied trigger would reset it).
+  scratch->enableNotify(FALSE);
+  SoFieldList fields;
+  const int count = node.getFields(fields);
+  for (int i = 0; i < count; ++i) {
+    SbName name;
+    node.getFieldName(fields[i], name);
+    if (name == "forces" || fields[i]->isOfType(SoSFTrigger::getClassTypeId())) continue;
+    if (SoField* f = scratch->getField(name)) f->copyFrom(*fields[i]);
+  }
+  bool sizeReset = false;  // a field that sets the nets' size went back to its default
+  for (int tries = 0; tries < count; ++tries) {
+    ModelParameters p;
+    ControlNet rest;
+    FieldRefusal r;
+    if (modelFromFields(*scratch, p, rest, r)) {
+      try {
+        const auto sim = rest.rows() ? std::make_unique<Simulation>(p, rest) : std::make_unique<Simulation>(p);
+        break;  // taken
+      } catch (const ParameterError& e) {
+        r = refusalOf(e);
+      } catch (const std::exception& e) {
+        r = {"", e.what()};
+      }
+    }
+    const bool netSize = r.field == "restNet" || r.field == "controlNet" || r.field == "previousNet";
+    if (netSize && sizeReset) break;
+    if (std::any_of(out.begin(), out.end(), [&r](const FieldRefusal& o) { return o.field == r.field; })) break;
+    out.push_back(r);
+    SoField* f = r.field.empty() ? nullptr : scratch->getField(SbName(r.field.c_str()));
+    if (!f) break;  // nothing to reset: what follows cannot be found
+    f->copyFrom(*defaults->getField(SbName(r.field.c_str())));
+    sizeReset |= r.field == "numUControlPoints" || r.field == "numVControlPoints" || r.field == "uDegree" ||
+                 r.field == "vDegree" || r.field.rfind("boundary", 0) == 0 || r.field == "restShape";
+  }
+  scratch->unref();
+  defaults->unref();
+  return out;
+}
+
 bool startState(Simulation& sim, const Surface& n, bool stateFromFields, const Simulation* old) {
   if (stateFromFields) {
     if (n.controlNet.getNum()) {
@@ -215,21 +266,7 @@ int stepsDue(double seconds, double speed, double dt, double& owed) {
   return steps;
 }
 
-void snapReadValues(Surface& n) {
-  for (SoSFDouble* f : {&n.w10, &n.w01, &n.w11, &n.w20, &n.w02, &n.mass, &n.damping, &n.timeStep, &n.simulationTime,
-                        &n.radius, &n.height, &n.minorRadius}) {
-    if (f->isDefault()) continue;
-    const SbBool notify = f->enableNotify(FALSE);
-    f->setValue(snap15(f->getValue()));
-    f->enableNotify(notify);
-  }
-  for (SoMFVec3d* f : {&n.restNet, &n.controlNet, &n.previousNet}) {
-    if (!f->getNum()) continue;
-    const SbBool notify = f->enableNotify(FALSE);
-    netToField(netFromField(*f), *f);  // snapped
-    f->enableNotify(notify);
-  }
-}
+void snapReadValues(Surface& n) { snapReadDoubles(n); }
 
 int ForceSlots::obstacleBuilds() const {
   int n = 0;
@@ -253,6 +290,23 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
   int made = 0;
   bool changed = int(m_slots.size()) != forces.getNum();
   stale |= changed;
+  // The surface's world frame, for the force fields whose vectors are in the world (frame
+  // WORLD): looked up before every step, and a changed frame (a Transform above the surface
+  // moved) remakes their forces.
+  bool worldFields = false;
+  for (int i = 0; i < forces.getNum(); ++i)
+    if (SoEngine* e = forces[i]; e && e->isOfType(SoForceField::getClassTypeId())) {
+      auto* ff = static_cast<SoForceField*>(e);
+      worldFields |= ff->frame.getValue() == SoForceField::WORLD && ff->type.getValue() != SoForceField::COLLISION;
+    }
+  bool frameChanged = false;
+  if (worldFields) {
+    surfaceFrame(scene, self, info.linear, info.offset);
+    frameChanged = info.linear != m_linear || info.offset != m_offset;
+    m_linear = info.linear;
+    m_offset = info.offset;
+    stale |= frameChanged;
+  }
   m_slots.resize(forces.getNum());
   for (int i = 0; i < forces.getNum(); ++i) {
     SoEngine* e = forces[i];
@@ -287,7 +341,8 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
       slot.obstacles.reset();
       info.contact.reset();
     }
-    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision())) continue;
+    const bool frameMatters = ff->frame.getValue() == SoForceField::WORLD && ff->type.getValue() != SoForceField::COLLISION;
+    if (!stale || (slot.engine == ff && slot.revision == ff->getRevision() && !(frameChanged && frameMatters))) continue;
     std::string error;
     auto force = ff->makeForce(info, error);
     ++made;

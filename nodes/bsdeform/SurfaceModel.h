@@ -41,6 +41,13 @@ struct FieldRefusal {
 /// set when a field is refused.
 bool modelFromFields(const SoBSplineDeformSurface& node, ModelParameters& p, ControlNet& rest, FieldRefusal& refusal);
 
+/// Every field of `node` refused as its values stand, each once, first the one modelFromFields or
+/// the Simulation constructor names first. Found on a scratch copy of the fields (the node and
+/// its model are not touched): each refused field in turn goes back to its default until the
+/// model is taken, so one refusal does not hide the next. A net whose size a reset field changed
+/// is not listed (the reset made it wrong, not the file). Empty when the model is taken.
+std::vector<FieldRefusal> fieldRefusals(const SoBSplineDeformSurface& node);
+
 /// The core's refusal named by the node's field that sets the parameter (FieldInfo).
 FieldRefusal refusalOf(const ParameterError& e);
 
@@ -99,6 +106,8 @@ class ForceSlots {
     int geometryRevision = -1;
   };
   std::vector<Slot> m_slots;
+  Eigen::Matrix3d m_linear = Eigen::Matrix3d::Identity();  ///< the surface's world frame the forces were made in
+  Eigen::Vector3d m_offset = Eigen::Vector3d::Zero();
 };
 
 }  // namespace bsdeform

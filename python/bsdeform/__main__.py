@@ -37,6 +37,10 @@ def _parser():
     s.add_argument("--sweep", action="append", required=True, metavar="NAME.field=v1,v2,...",
                    help="the values of a field (repeatable: every combination, or --zip)")
     s.add_argument("--zip", action="store_true", help="the i-th values of every --sweep together, not their product")
+    s.add_argument("--metric", action="append", default=[], metavar="METRIC",
+                   help="measure over each run, as bsdeform-run --metric (repeatable): z@U:V, max-z@U:V, min-z@U:V "
+                        "(or x, y), stretch, max-stretch, kinetic, rest-time; a column of sweep.csv each, the first "
+                        "plotted")
     s.add_argument("--set", action="append", default=[], metavar="NAME.field=value",
                    help="override a field in every run: NAME is a DEF name (repeatable)")
     s.add_argument("-n", "--steps", metavar="N", help="number of steps (default 100)")
@@ -139,7 +143,8 @@ def sweep_main(a):
         try:
             result = bsdeform.sweep(a.scene, fields, steps=steps, until=until, client=client, zip=a.zip, sets=a.set,
                                     out=out, overwrite=a.overwrite, keep_outputs=a.keep_outputs, workers=workers,
-                                    retries=retries, timeout=timeout, progress=None if not a.quiet else False)
+                                    retries=retries, timeout=timeout, progress=None if not a.quiet else False,
+                                    metrics=a.metric)
         except _sweep.WriteError as e:
             return _fail(EXIT_WRITE_FAILED, str(e))
         except (bsdeform.FieldError, bsdeform.SceneError, ValueError) as e:

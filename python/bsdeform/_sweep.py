@@ -15,6 +15,7 @@ does not need it.
 import itertools
 import math
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -25,6 +26,8 @@ import time
 from ._errors import Error, FieldError, SceneError
 
 CSV_HEADER = "value,surface,norm,kinetic,strain,status"
+# bsdeform-run --metric's names (ui/run/Metrics.h); bsdeform-run checks the numbers too
+_METRIC = re.compile(r"^(stretch|max-stretch|kinetic|rest-time|(max-|min-)?[xyz]@[^:,]+:[^:,]+)$")
 STATUS_OK, STATUS_BLEW_UP, STATUS_FAILED = "ok", "blew-up", "failed"
 
 # bsdeform-run's exit codes (README.md, `bsdeform-run --help`).
@@ -40,26 +43,31 @@ class Row:
 
     ``values`` maps each swept NAME.field to its value text; ``value`` is the value of the first
     (the only one in a one-field sweep). ``norm``, ``kinetic`` and ``strain`` are floats (None
-    in a failed run), exactly the numbers bsdeform-run printed (17 significant digits);
+    in a failed run), exactly the numbers bsdeform-run printed (the shortest text that reads back);
     ``status`` is "ok", "blew-up" (the last finite state is reported) or "failed" (the run did
     not finish: a value the model refused, a crash, a timeout); ``message`` says why."""
 
-    __slots__ = ("values", "surface", "norm", "kinetic", "strain", "status", "message", "_text")
+    __slots__ = ("values", "surface", "norm", "kinetic", "strain", "status", "message", "metrics", "_text",
+                 "_metric_text")
 
-    def __init__(self, values, surface, texts, status, message=""):
+    def __init__(self, values, surface, texts, status, message="", metrics=()):
         self.values = dict(values)
         self.surface = surface
         self._text = tuple(texts)  # as bsdeform-run printed them: sweep.csv keeps these bytes
         self.norm, self.kinetic, self.strain = (float(t) if t else None for t in texts)
         self.status = status
         self.message = message
+        # ``metrics``: (name, text) pairs as bsdeform-run --metric printed them; the attribute
+        # maps each name to its float (None in a failed run; nan: not at rest by the end)
+        self._metric_text = tuple(t for _, t in metrics)
+        self.metrics = {name: float(t) if t else None for name, t in metrics}
 
     @property
     def value(self):
         return next(iter(self.values.values()))
 
     def csv_fields(self):
-        return [self.surface, *self._text, self.status]
+        return [self.surface, *self._text, self.status, *self._metric_text]
 
     def __repr__(self):
         return "Row(%s, %s, norm=%r, kinetic=%r, strain=%r, status=%r%s)" % (
@@ -98,9 +106,10 @@ class SweepResult(list):
     row, in that order), ``csv`` (sweep.csv's text), ``fields`` (the swept NAME.field names) and
     ``written`` (the files written, when ``out`` was given)."""
 
-    def __init__(self, runs, fields):
+    def __init__(self, runs, fields, metrics=()):
         super().__init__(runs)
         self.fields = list(fields)
+        self.metrics = list(metrics)
         self.written = []
 
     @property
@@ -113,12 +122,14 @@ class SweepResult(list):
 
     @property
     def csv(self):
-        return _csv_text(self.fields, self.rows)
+        return _csv_text(self.fields, self.rows, self.metrics)
 
 
-def _csv_text(fields, rows):
+def _csv_text(fields, rows, metrics=()):
     # One field: bsdeform-run's sweep.csv, byte for byte. More: one column per field first.
+    # Then one column per metric (bsdeform-run --metric).
     header = CSV_HEADER if len(fields) == 1 else ",".join(fields) + CSV_HEADER[len("value"):]
+    header = ",".join([header, *metrics])
     lines = [header]
     for r in rows:
         lines.append(",".join([r.values[f] for f in fields] + r.csv_fields()))
@@ -156,11 +167,11 @@ def _scratch_root():
         return None
 
 
-def _run_lines(stdout):
+def _run_lines(stdout, metrics=0):
     found = []
     for line in stdout.splitlines():
         c = line.split("\t")
-        if len(c) == 6 and c[0] == "RESULT":
+        if len(c) == 6 + metrics and c[0] == "RESULT":
             found.append(c[1:])
     return found
 
@@ -188,6 +199,8 @@ def run_task(scene_text, task):
             args += ["--steps", str(int(task["steps"]))]
         for s in task["sets"]:
             args += ["--set", s]
+        for m in task.get("metrics", ()):
+            args += ["--metric", m]
         out = os.path.join(work, "out")
         args += ["-o", out, "--quiet", "--result-lines"] if task.get("keep_outputs") else ["--result-only"]
         started = time.monotonic()
@@ -214,7 +227,8 @@ def _message(stderr, scene_path, scene_name):
 
 def _make_run(task, code, stdout, stderr, out):
     values = task["values"]
-    lines = _run_lines(stdout)
+    metrics = list(task.get("metrics", ()))
+    lines = _run_lines(stdout, len(metrics))
     if code is not None and code < 0:
         sig = -code
         try:
@@ -227,8 +241,10 @@ def _make_run(task, code, stdout, stderr, out):
     if not lines or code not in (EXIT_OK, EXIT_BLOW_UP, EXIT_BAD_INPUT):
         # Did not finish (or finished in a way bsdeform-run's sweep counts as a failure): one
         # row per surface of the scene, without numbers.
-        return Run(values, [Row(values, s, ("", "", ""), STATUS_FAILED, stderr) for s in task["surfaces"]], stderr)
-    rows = [Row(values, c[0], c[1:4], c[4], stderr if c[4] != STATUS_OK else "") for c in lines]
+        return Run(values, [Row(values, s, ("", "", ""), STATUS_FAILED, stderr, [(m, "") for m in metrics])
+                            for s in task["surfaces"]], stderr)
+    rows = [Row(values, c[0], c[1:4], c[4], stderr if c[4] != STATUS_OK else "", list(zip(metrics, c[5:])))
+            for c in lines]
     run = Run(values, rows, stderr if code != EXIT_OK else "")
     if task.get("keep_outputs") and os.path.isdir(out):
         histories = {}
@@ -366,7 +382,7 @@ def write_outputs(result, scene, out, program=None):
         # the plot: the norm against the first field, one line per surface and value of the others
         plot_rows = [Row({first: r.values[first]},
                          "%s %s" % (r.surface, " ".join("%s=%s" % (f, r.values[f]) for f in fields[1:])),
-                         r._text, r.status) for r in rows]
+                         r._text, r.status, "", list(zip(result.metrics, r._metric_text))) for r in rows]
     plot_values = []
     for r in plot_rows:
         if r.value not in plot_values:
@@ -376,9 +392,11 @@ def write_outputs(result, scene, out, program=None):
     try:
         rows_path = os.path.join(work, "rows.csv")
         with open(rows_path, "w", encoding="utf-8") as f:
-            f.write(_csv_text([first], plot_rows))
+            f.write(_csv_text([first], plot_rows, result.metrics))
         args = [program, scene, "--sweep", "%s=%s" % (first, ",".join(plot_values)), "--sweep-rows", rows_path,
                 "-o", os.path.join(work, "w"), "--quiet"]
+        for m in result.metrics:
+            args += ["--metric", m]
         p = subprocess.run(args, stdin=subprocess.DEVNULL, capture_output=True)
         if p.returncode != 0:
             message = p.stderr.decode("utf-8", "replace").strip()
@@ -420,7 +438,7 @@ def _save(tmp, text, path):
 
 def sweep(scene, fields, steps=None, until=None, client=None, zip=False, sets=(), out=None, overwrite=False,
           keep_outputs=False, workers=None, retries=2, timeout=None, program=None, worker_program=None,
-          progress=None):
+          progress=None, metrics=()):
     """Runs `scene` once per combination of `fields` on Dask and returns a SweepResult (a list
     of Run, in the order of the values).
 
@@ -441,6 +459,9 @@ def sweep(scene, fields, steps=None, until=None, client=None, zip=False, sets=()
                the workers (default: $BSDEFORM_RUN or PATH there).
     progress:  None (a bar on stderr when it is a terminal), True, False, or a callable
                progress(done, total, run) called as each run arrives.
+    metrics:   what each run measures besides the final norm, as bsdeform-run --metric
+               ("z@0.5:0.5", "max-z@0.5:0.5", "min-z@U:V", "stretch", "max-stretch", "kinetic",
+               "rest-time"): a column of sweep.csv each, the first plotted, and Row.metrics.
 
     A field or value the scene refuses raises FieldError before anything is submitted; a run
     that fails is a Run with status "failed" and its message, not an exception."""
@@ -454,6 +475,11 @@ def sweep(scene, fields, steps=None, until=None, client=None, zip=False, sets=()
         steps = 100
     if not fields:
         raise FieldError("sweep: no field to sweep")
+    metrics = list(metrics)
+    for m in metrics:
+        if not _METRIC.match(m):
+            raise ValueError("metric %r is not one of z@U:V (or x, y; U, V in [0, 1]), max-z@U:V, min-z@U:V, "
+                             "stretch, max-stretch, kinetic, rest-time" % (m,))
     scene = os.fspath(scene)
     sets = list(sets)
     for s in sets:
@@ -471,7 +497,8 @@ def sweep(scene, fields, steps=None, until=None, client=None, zip=False, sets=()
 
     tasks = [{"scene_name": os.path.basename(scene), "sets": sets + ["%s=%s" % kv for kv in combo.items()],
               "values": combo, "surfaces": surfaces, "steps": steps, "until": until,
-              "keep_outputs": bool(keep_outputs), "timeout": timeout, "program": worker_program}
+              "keep_outputs": bool(keep_outputs), "timeout": timeout, "program": worker_program,
+              "metrics": metrics}
              for combo in combos]
     if progress is None:
         progress = _Progress() if sys.stderr.isatty() else None
@@ -490,7 +517,7 @@ def sweep(scene, fields, steps=None, until=None, client=None, zip=False, sets=()
         if own is not None:
             own[1].close()
             own[0].close()
-    result = SweepResult(runs, names)
+    result = SweepResult(runs, names, metrics)
     if out is not None:
         result.written = write_outputs(result, scene, out, program)
     return result

@@ -369,3 +369,47 @@ TEST_CASE("SceneReader: each guard function refuses its hazard with the file, th
   CHECK(largeFile(101, small));
   CHECK(includesItself("a.iv", "/x/a.iv", {"/x/b.iv"}).empty());
 }
+
+// Issue 37, item 0: `USE A,` is how people write a list of references and how Coin's writer
+// lays one out; Coin's reader alone takes "A," as the name ("Unknown reference").
+namespace {
+const std::string kTwoObstacles = kHeader + R"(Separator {
+  DEF A Cube { }
+  DEF B Sphere { }
+  SoBSplineDeformSurface {
+    on FALSE
+    forces [ DEF Contact SoForceField { type COLLISION obstacles [ USE A, USE B ] } ]
+  }
+}
+)";
+}  // namespace
+
+TEST_CASE("SceneReader: obstacles [ USE A, USE B ] as a person writes it reads as two obstacles", "[nodes]") {
+  SoSeparator* root = testutil::read(kTwoObstacles);
+  INFO((testutil::Coin::get().messages.empty() ? std::string() : testutil::Coin::get().messages.back()));
+  REQUIRE(root);
+  auto* contact = testutil::named<SoForceField>("Contact");
+  REQUIRE(contact);
+  REQUIRE(contact->obstacles.getNum() == 2);
+  CHECK(contact->obstacles[0] == testutil::named<SoNode>("A"));
+  CHECK(contact->obstacles[1] == testutil::named<SoNode>("B"));
+  root->unref();
+}
+
+TEST_CASE("SceneReader: a comma after a USE name is separated only where it ends a reference", "[nodes]") {
+  testutil::Coin::get();
+  std::string out;
+  // no reference with a comma: nothing to do
+  const std::string plain = "Separator { DEF A Cube { } Group { } }";
+  CHECK(separateUseCommas(plain.data(), plain.size(), out) == 0);
+  // a list without spaces, across lines; the lines stay where they were
+  const std::string list = "DEF A Cube { } DEF B Cube { }\nG { f [ USE A,\n USE B,USE A ] }";
+  REQUIRE(separateUseCommas(list.data(), list.size(), out) == 2);
+  CHECK(out == "DEF A Cube { } DEF B Cube { }\nG { f [ USE A ,\n USE B ,USE A ] }");
+  // in a comment or a string it is not a reference
+  const std::string quoted = "# USE A,\nInfo { string \"USE A, USE B\" }";
+  CHECK(separateUseCommas(quoted.data(), quoted.size(), out) == 0);
+  // a name DEF'ed with the comma is that name
+  const std::string odd = "DEF A, Cube { } Group { children [ USE A, ] }";
+  CHECK(separateUseCommas(odd.data(), odd.size(), out) == 0);
+}

@@ -17,6 +17,8 @@
 #include <memory>
 #include <vector>
 
+#include <algorithm>
+
 #include "NodesTestUtil.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/Simulation.h"
@@ -713,5 +715,39 @@ TEST_CASE("SoBSplineDeformSurface: SIMPLY_SUPPORTED and BUILT_IN sides from a fi
   CHECK(s->problem().field == "boundaryUMax");
   CHECK(s->problem().node == "Edge");
   CHECK(s->simulation().parameters().boundaries.uMax == bsdeform::Boundary::Clamped);
+  root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: every refused field is listed, not only the first", "[nodes]") {
+  // Issue 37, item 3: the first refused value hid the others.
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { DEF Cloth SoBSplineDeformSurface {\n"
+                                     "  energy SHELL uDegree 9 poissonRatio 0.7 thickness -0.001 numVControlPoints 4 } }\n");
+  REQUIRE(root);
+  auto* s = testutil::named<SoBSplineDeformSurface>("Cloth");
+  REQUIRE(s);
+  s->simulation();
+  std::vector<std::string> fields;
+  for (const auto& r : s->refusals()) {
+    fields.push_back(r.field);
+    CHECK(r.kind == SoBSplineDeformSurface::Problem::FIELD);
+    CHECK(r.node == "Cloth");
+    CHECK(r.message.find(r.field) != std::string::npos);  // the sentence names its field
+  }
+  std::sort(fields.begin(), fields.end());
+  CHECK(fields == std::vector<std::string>{"poissonRatio", "thickness", "uDegree"});
+  CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::FIELD);
+  // the fields themselves are left as the file has them
+  CHECK(s->uDegree.getValue() == 9);
+  CHECK(s->poissonRatio.getValue() == 0.7);  // snapped on read (item 4)
+  CHECK(s->thickness.getValue() == -0.001);
+  // one fixed: two left; all fixed: none
+  s->uDegree = 3;
+  s->simulation();
+  CHECK(s->refusals().size() == 2);
+  s->poissonRatio = 0.3;
+  s->thickness = 0.001;
+  s->simulation();
+  CHECK(s->refusals().empty());
+  CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::NONE);
   root->unref();
 }

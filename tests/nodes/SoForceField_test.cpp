@@ -6,9 +6,12 @@
 #include <Inventor/engines/SoCompose.h>
 #include <Inventor/engines/SoElapsedTime.h>
 #include <Inventor/fields/SoSFTime.h>
+#include <Inventor/nodes/SoTransform.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
+
+#include <algorithm>
 
 #include "NodesTestUtil.h"
 #include "bsdeform/ForceLaws.h"
@@ -255,4 +258,84 @@ TEST_CASE("SoForceField: each type builds its core class, bad values give the co
   CHECK(f->makeForce(info, error) == nullptr);
   CHECK_THAT(error, Catch::Contains("magnitude"));
   root->unref();
+}
+
+TEST_CASE("SoForceField: refusedFields names every field whose value makes no force", "[nodes]") {
+  // Issue 37, item 3
+  testutil::Coin::get();
+  auto* f = new SoForceField;
+  f->ref();
+  f->type = SoForceField::SPRING;
+  CHECK(f->refusedFields().empty());
+  f->point.setValue(2, 0.5);
+  f->stiffness = -5;
+  std::vector<std::string> fields;
+  for (const auto& r : f->refusedFields()) {
+    fields.push_back(r.field);
+    CHECK(!r.message.empty());
+  }
+  std::sort(fields.begin(), fields.end());
+  CHECK(fields == std::vector<std::string>{"point", "stiffness"});
+  // the field values are its own still
+  CHECK(f->stiffness.getValue() == -5);
+  CHECK(f->point.getValue()[0] == 2);
+  f->unref();
+}
+
+namespace {
+// A flag on a pole: clamped at u = 0, stood up by a quarter turn about x (local v -> world z,
+// local z -> world -y), under GRAVITY 0 0 -9.81 in the frame given.
+SoSeparator* uprightFlag(const char* frame, const char* rotation = "1 0 0 1.5707963267948966") {
+  return testutil::read(std::string("#Inventor V2.1 ascii\nSeparator { DEF Pole Transform { rotation ") + rotation +
+                        " }\n DEF Flag SoBSplineDeformSurface { on FALSE boundaryUMax FREE boundaryVMin FREE "
+                        "boundaryVMax FREE timeStep 0.01\n forces [ SoForceField { type GRAVITY force 0 0 -9.81 frame " +
+                        frame + " } ] } }\n");
+}
+
+// The mean displacement of the flag's control points from rest, in world coordinates.
+Eigen::Vector3d meanWorldDisplacement(SoBSplineDeformSurface* s, const Eigen::Matrix3d& toWorld) {
+  const bsdeform::ControlNet d = s->simulation().current() - s->simulation().rest();
+  return toWorld * Eigen::Vector3d(d.colwise().mean().transpose());
+}
+}  // namespace
+
+TEST_CASE("SoForceField: GRAVITY acts in the world frame: a flag stood up by a Transform droops along -z", "[nodes]") {
+  // Issue 37, item 2: the force acted in the surface's own frame, pushing the standing flag
+  // sideways along world +y.
+  Eigen::Matrix3d quarterTurn;
+  quarterTurn << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  SECTION("WORLD (the default)") {
+    SoSeparator* root = uprightFlag("WORLD");
+    REQUIRE(root);
+    auto* s = testutil::named<SoBSplineDeformSurface>("Flag");
+    s->setScene(root);
+    s->stepSimulation(30);
+    const Eigen::Vector3d d = meanWorldDisplacement(s, quarterTurn);
+    INFO(d.transpose());
+    CHECK(d.z() < -1e-3);
+    // in the flag's plane: no sideways push (Coin's matrices are floats: cos 90° is 4e-8)
+    CHECK(std::abs(d.y()) <= 1e-6 * std::abs(d.z()));
+    CHECK(std::abs(d.x()) < std::abs(d.z()));
+    // the Transform above turned back: the force is remade in the new frame (now across the flag)
+    testutil::named<SoTransform>("Pole")->rotation.setValue(SbVec3f(1, 0, 0), 0.0f);
+    s->resetSimulation();
+    s->stepSimulation(30);
+    const Eigen::Vector3d flat = meanWorldDisplacement(s, Eigen::Matrix3d::Identity());
+    INFO(flat.transpose());
+    CHECK(flat.z() < -1e-3);
+    CHECK(std::abs(flat.y()) <= 1e-12 * std::abs(flat.z()));
+    root->unref();
+  }
+  SECTION("LOCAL keeps the surface's own frame") {
+    SoSeparator* root = uprightFlag("LOCAL");
+    REQUIRE(root);
+    auto* s = testutil::named<SoBSplineDeformSurface>("Flag");
+    s->setScene(root);
+    s->stepSimulation(30);
+    const Eigen::Vector3d d = meanWorldDisplacement(s, quarterTurn);
+    INFO(d.transpose());
+    CHECK(d.y() > 1e-3);  // local -z is world +y
+    CHECK(std::abs(d.z()) <= 1e-6 * d.y());
+    root->unref();
+  }
 }

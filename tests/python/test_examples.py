@@ -71,15 +71,31 @@ class Examples(unittest.TestCase):
         png = os.path.join(self.dir, "cloth.png")
         out = example("build_and_render.py", "-o", png, "--until", "1")
         self.assertIn("Cloth: 50 steps", out)
+        # the cloth is the SHELL cotton (issue 37, item 5), and its middle rests on the box's top (z = -0.1)
+        self.assertIn("energy SHELL", out)
+        lowest = float(out.split("lowest point over the box z = ")[1].split()[0])
+        self.assertGreater(lowest, -0.12)
+        self.assertLess(lowest, -0.05)
         assert_picture(self, png)
 
     @unittest.skipUnless(shutil.which("xvfb-run"), "xvfb-run is not installed")
     def test_soqt_viewer_with_a_slider(self):
         out = example("soqt_slider.py", scene("region_load.iv"), "--quit-after", "4",
                       wrapper=("xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"))
-        steps, t, w = out.split("steps ")[1].split(",")[0], None, out.split("w10 ")[1].split()[0]
+        steps, t, w = out.split("steps ")[1].split(",")[0], None, out.split("w10 ")[1].split(",")[0]
         self.assertGreater(int(steps), 5)   # Coin's timer animated the surface in the viewer
         self.assertEqual(float(w), 100.0)  # the slider moved to its end set the weight
+
+    @unittest.skipUnless(shutil.which("xvfb-run"), "xvfb-run is not installed")
+    def test_soqt_slider_on_a_shell_sets_the_thickness(self):
+        # issue 37, item 5: on a SHELL scene the slider bound to w10/w01 did nothing
+        out = example("soqt_slider.py", scene("flag.iv"), "--quit-after", "4",
+                      wrapper=("xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"))
+        self.assertIn("energy SHELL", out)
+        steps = int(out.split("steps ")[1].split(",")[0])
+        thickness = float(out.split("thickness ")[1].split(",")[0])
+        self.assertGreater(steps, 5)
+        self.assertAlmostEqual(thickness, 5e-3, places=12)  # the slider at its end: 5 mm
 
 
 if __name__ == "__main__":

@@ -26,12 +26,14 @@ W10 = ["0", "0.0001", "0.001", "0.01", "0.1", "1"]
 TIMEOUT = 120  # s, for any one step of a test (a cluster starting, a sweep, a reference run)
 
 
-def reference(tmp, values, target="Surface.w10", until="1", sets=()):
+def reference(tmp, values, target="Surface.w10", until="1", sets=(), metrics=()):
     """bsdeform-run --sweep's sweep.csv and sweep.png (bytes)."""
     out = os.path.join(tmp, "reference")
     args = [RUN, SEC7, "--until", until, "--sweep", "%s=%s" % (target, ",".join(values)), "-o", out, "--quiet"]
     for s in sets:
         args += ["--set", s]
+    for m in metrics:
+        args += ["--metric", m]
     r = subprocess.run(args, capture_output=True, text=True, timeout=TIMEOUT)
     if r.returncode != 0:
         raise AssertionError("bsdeform-run --sweep failed (%d): %s" % (r.returncode, r.stderr))
@@ -140,6 +142,25 @@ class OnACluster(unittest.TestCase):
             self.assertEqual(row.status, "ok")
         self.assertEqual(len({row.norm for row in result.rows}), 6)  # the values made a difference
         self.assertEqual(sorted(os.listdir(out)), ["sweep.csv", "sweep.png"])  # no scratch left
+
+    def test_metrics_give_bsdeform_runs_columns_and_plot(self):
+        # issue 37, item 6: --metric through Dask, the same bytes as bsdeform-run --sweep --metric
+        metrics = ["y@0.5:0.5", "max-stretch", "rest-time"]
+        ref_csv, ref_png = reference(self.tmp, W10[:3], metrics=metrics)
+        out = os.path.join(self.tmp, "dask")
+        result = bsdeform.sweep(SEC7, {"Surface.w10": W10[:3]}, until=1, client=self.cluster.client, out=out,
+                                metrics=metrics, progress=False)
+        with open(os.path.join(out, "sweep.csv"), "rb") as f:
+            self.assertEqual(f.read(), ref_csv)
+        with open(os.path.join(out, "sweep.png"), "rb") as f:
+            self.assertEqual(f.read(), ref_png)
+        self.assertTrue(ref_csv.decode().startswith(
+            "value,surface,norm,kinetic,strain,status,y@0.5:0.5,max-stretch,rest-time\n"))
+        for row, ref in zip(result.rows, csv_rows(ref_csv), strict=True):
+            self.assertEqual(row.metrics["y@0.5:0.5"], float(ref["y@0.5:0.5"]))
+            self.assertGreater(row.metrics["max-stretch"], 1.0)
+        with self.assertRaises(ValueError):
+            bsdeform.sweep(SEC7, {"Surface.w10": ["1"]}, until=1, client=self.cluster.client, metrics=["w@2"])
 
     def test_the_command_line_on_the_scheduler(self):
         ref_csv, ref_png = reference(self.tmp, W10[:3])

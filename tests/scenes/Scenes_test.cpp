@@ -963,6 +963,7 @@ TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, 
   std::getline(lines, header);
   CHECK(header.rfind("load_factor,time,step,norm,", 0) == 0);
   CHECK(header.find("strain_membrane,strain_bending") != std::string::npos);
+  CHECK(header.find("strain_w10") == std::string::npos);  // a SHELL's CSV has no PAPER weight terms
   std::vector<double> factors, norms;
   while (std::getline(lines, line)) {
     factors.push_back(std::stod(line));
@@ -985,4 +986,136 @@ TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, 
   r = run(scene("cantilever_roll.iv") + " --load-steps 4 -o x", dir.path);
   CHECK(r.code == 2);
   CHECK(r.err.find("--load-steps needs --static") != std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: a scene with two COLLISION obstacles is written to a final.iv that reopens", "[scenes]") {
+  // Issue 37, item 0: Coin lays out the list as `USE A,` newline `USE B ]` and its reader then
+  // looks for "A,": the run ended in a final.iv that nothing could read (exit 2 on reopening).
+  TempDir dir;
+  writeFile(dir.path + "/two.iv", "#Inventor V2.1 ascii\nSeparator {\n"
+                                  "  Separator { Transform { translation 0.3 0.5 -0.6 } DEF A Sphere { radius 0.5 } }\n"
+                                  "  Separator { Transform { translation 0.7 0.5 -0.6 } DEF B Cube { } }\n"
+                                  "  SoBSplineDeformSurface { numUControlPoints 6 numVControlPoints 6 timeStep 0.01\n"
+                                  "    forces [ SoForceField { type GRAVITY },\n"
+                                  "             SoForceField { type COLLISION obstacles [ USE A, USE B ] } ] } }\n");
+  const Run first = run("two.iv --steps 3 -o one", dir.path);
+  INFO(first.err);
+  REQUIRE(first.code == 0);
+  const std::string saved = slurp(dir.path + "/one/final.iv");
+  INFO(saved);
+  const Run again = run("one/final.iv --steps 3 -o two", dir.path);
+  INFO(again.err);
+  CHECK(again.code == 0);
+  SoSeparator* root = testutil::read(saved);
+  REQUIRE(root);
+  int collisions = 0;
+  for (SoBSplineDeformSurface* s : bsdeform::sceneSurfaces(root))
+    for (int i = 0; i < s->forces.getNum(); ++i) {
+      auto* ff = static_cast<SoForceField*>(static_cast<SoEngine*>(s->forces[i]));
+      if (ff->type.getValue() != SoForceField::COLLISION) continue;
+      ++collisions;
+      REQUIRE(ff->obstacles.getNum() == 2);
+      CHECK(std::string(ff->obstacles[0]->getName().getString()) == "A");
+      CHECK(std::string(ff->obstacles[1]->getName().getString()) == "B");
+    }
+  CHECK(collisions == 1);
+  root->unref();
+}
+
+TEST_CASE("bsdeform-run: every refused value of every node is named, and nothing is written", "[scenes]") {
+  // Issue 37, item 3: only the first bad value was named.
+  TempDir dir;
+  writeFile(dir.path + "/three.iv", "#Inventor V2.1 ascii\nSeparator {\n"
+                                    "  DEF Cloth SoBSplineDeformSurface { energy SHELL uDegree 9 poissonRatio 0.7 thickness -0.001\n"
+                                    "    forces [ SoForceField { type GRAVITY },\n"
+                                    "             DEF Tether SoForceField { type SPRING point 2 0.5 stiffness -5 } ] } }\n");
+  const Run r = run("three.iv --steps 3 -o out", dir.path);
+  INFO(r.err);
+  CHECK(r.code == 2);
+  for (const char* what : {"uDegree", "poissonRatio", "thickness", "Tether: point = 2 0.5", "Tether: stiffness = -5"})
+    CHECK(r.err.find(what) != std::string::npos);
+  CHECK(r.err.find("5 refused value") != std::string::npos);
+  CHECK(listDir(dir.path + "/out").empty());
+}
+
+TEST_CASE("bsdeform-run: the summary counts the framing pass of a scene without a camera", "[scenes]") {
+  // Issue 37, item 7: "in 77 s wall" left out the pass that frames the motion (159 s in all).
+  TempDir dir;
+  const Run r = run(scene("region_load.iv") + " --steps 4 --png-every 2 -o pics", dir.path);
+  INFO(r.out << r.err);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("to frame the pictures") != std::string::npos);
+  CHECK(r.out.find("in all") != std::string::npos);
+  // a scene with its own camera has no such pass
+  const Run own = run(scene("flag.iv") + " --steps 4 --png-every 2 -o own", dir.path);
+  REQUIRE(own.code == 0);
+  CHECK(own.out.find("to frame the pictures") == std::string::npos);
+}
+
+TEST_CASE("bsdeform-run: a SHELL surface's CSV has its own energy columns, not the paper's five zeros", "[scenes]") {
+  // Issue 37, item 7: SHELL CSVs carried strain_w10 ... strain_w02, always 0.
+  TempDir dir;
+  const Run r = run(scene("flag.iv") + " --steps 3 -o shell -q", dir.path);
+  REQUIRE(r.code == 0);
+  std::istringstream lines(slurp(dir.path + "/shell/Flag.csv"));
+  std::string header, line;
+  std::getline(lines, header);
+  CHECK(header == "time,step,norm,kinetic,strain,substeps,strain_membrane,strain_bending");
+  int rows = 0;
+  while (std::getline(lines, line)) {
+    ++rows;
+    CHECK(std::count(line.begin(), line.end(), ',') == 7);
+  }
+  CHECK(rows == 4);
+  const std::vector<double> membrane = csvColumn(slurp(dir.path + "/shell/Flag.csv"), "strain_membrane");
+  CHECK(membrane.back() > 0.0);
+}
+
+TEST_CASE("bsdeform-run --sweep --metric: a column per metric, the first plotted, a single run says the same", "[scenes]") {
+  // Issue 37, item 6: a sweep reported only the end-time norm (a swinging curtain's phase).
+  TempDir dir;
+  const std::string metrics = " --metric y@0.5:0.5 --metric max-y@0.5:0.5 --metric stretch --metric max-stretch"
+                              " --metric rest-time";
+  const Run r = run(scene("paper_sec7_central_square.iv") + " --until 1 --sweep Surface.w10=0,1,10" + metrics + " -o sw -q",
+                    dir.path);
+  INFO(r.err);
+  REQUIRE(r.code == 0);
+  const std::string csv = slurp(dir.path + "/sw/sweep.csv");
+  INFO(csv);
+  CHECK(csv.rfind("value,surface,norm,kinetic,strain,status,y@0.5:0.5,max-y@0.5:0.5,stretch,max-stretch,rest-time\n", 0) == 0);
+  const std::vector<double> y = csvColumn(csv, "y@0.5:0.5"), maxY = csvColumn(csv, "max-y@0.5:0.5"),
+                            stretch = csvColumn(csv, "stretch"), maxStretch = csvColumn(csv, "max-stretch"),
+                            rest = csvColumn(csv, "rest-time");
+  REQUIRE(y.size() == 3);
+  // the square is pushed along +y: the centre moves less on a stiffer surface
+  CHECK(y[0] > y[1]);
+  CHECK(y[1] > y[2]);
+  CHECK(y[2] > 0.0);
+  for (size_t i = 0; i < 3; ++i) {
+    CHECK(maxY[i] >= y[i]);
+    CHECK(maxStretch[i] >= stretch[i]);
+    CHECK(stretch[i] > 1.0);  // stretched by the push
+    CHECK(std::isnan(rest[i]));  // still moving at t = 1
+  }
+  CHECK(!slurp(dir.path + "/sw/sweep.png").empty());
+  // one run with the middle value measures the same number
+  const Run one = run(scene("paper_sec7_central_square.iv") + " --until 1 --set Surface.w10=1 --metric y@0.5:0.5 -o one",
+                      dir.path);
+  REQUIRE(one.code == 0);
+  const size_t at = one.out.find("y@0.5:0.5 = ");
+  REQUIRE(at != std::string::npos);
+  CHECK(std::stod(one.out.substr(at + 12)) == y[1]);
+  // a damped scene comes to rest: its rest time is within the run
+  const Run damped = run(scene("region_load.iv") + " --until 8 --metric rest-time --metric kinetic -o rest", dir.path);
+  INFO(damped.out);
+  REQUIRE(damped.code == 0);
+  const size_t restAt = damped.out.find("rest-time = ");
+  REQUIRE(restAt != std::string::npos);
+  const double restTime = std::stod(damped.out.substr(restAt + 12));
+  CHECK(restTime > 0.0);
+  CHECK(restTime < 8.0);
+  // a metric that is not one is refused, naming it
+  const Run bad = run(scene("region_load.iv") + " --metric w@2:0 -o bad", dir.path);
+  CHECK(bad.code == 2);
+  CHECK(bad.err.find("w@2:0") != std::string::npos);
 }

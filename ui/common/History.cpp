@@ -43,7 +43,7 @@ QVector<PlotSeries> History::plotSeries() const {
 QByteArray History::csv() const {
   QByteArray text = "time,norm,kinetic,strain\n";
   for (int i = 0; i < m_time.size(); ++i)
-    text += QStringList{historyNumber(m_time[i]), historyNumber(m_norm[i]), historyNumber(m_kinetic[i]),
+    text += QStringList{decimalNumber(m_time[i]), historyNumber(m_norm[i]), historyNumber(m_kinetic[i]),
                         historyNumber(m_strain[i])}
                 .join(QLatin1Char(','))
                 .toUtf8() +
@@ -51,20 +51,23 @@ QByteArray History::csv() const {
   return text;
 }
 
-QString History::detailedCsvHeader() {
-  return QStringLiteral(
-      "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps,strain_membrane,"
-      "strain_bending\n");
+QString History::detailedCsvHeader(bool shell) {
+  // the paper's five weight terms are always 0 for a SHELL surface: not written for one
+  return shell ? QStringLiteral("time,step,norm,kinetic,strain,substeps,strain_membrane,strain_bending\n")
+               : QStringLiteral(
+                     "time,step,norm,kinetic,strain,strain_w10,strain_w01,strain_w11,strain_w20,strain_w02,substeps,"
+                     "strain_membrane,strain_bending\n");
 }
 
-QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d) {
+QString History::detailedCsvRow(double time, long steps, int subSteps, const Diagnostics& d, bool shell) {
   const StrainEnergy& e = d.strain;
-  return QStringList{historyNumber(time), QString::number(steps), historyNumber(d.norm),
-                     historyNumber(d.kinetic), historyNumber(e.total), historyNumber(e.w10), historyNumber(e.w01),
-                     historyNumber(e.w11), historyNumber(e.w20), historyNumber(e.w02), QString::number(subSteps),
-                     historyNumber(d.membrane), historyNumber(d.bending)}
-             .join(QLatin1Char(',')) +
-         QLatin1Char('\n');
+  QStringList cells{decimalNumber(time), QString::number(steps), historyNumber(d.norm), historyNumber(d.kinetic),
+                    historyNumber(e.total)};
+  if (!shell)
+    cells << historyNumber(e.w10) << historyNumber(e.w01) << historyNumber(e.w11) << historyNumber(e.w20)
+          << historyNumber(e.w02);
+  cells << QString::number(subSteps) << historyNumber(d.membrane) << historyNumber(d.bending);
+  return cells.join(QLatin1Char(',')) + QLatin1Char('\n');
 }
 
 }  // namespace bsdeform

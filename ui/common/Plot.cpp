@@ -22,7 +22,7 @@ void applyTicks(QtCharts::QValueAxis* axis, const AxisTicks& ticks) {
   axis->setRange(ticks.min, ticks.max);
   axis->setTickCount(ticks.count);
   axis->setMinorTickCount(0);
-  axis->setLabelFormat(QStringLiteral("%.") + QString::number(std::min(ticks.decimals, 12)) + QStringLiteral("f"));
+  axis->setLabelFormat(QString::fromStdString(tickLabelFormat(ticks)));
 }
 
 QString fitEquation(double intercept, double slope, double r, const QString& x, const QString& y) {

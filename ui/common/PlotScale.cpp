@@ -57,6 +57,14 @@ AxisTicks niceTicks(double lo, double hi, int maxTicks, bool nonNegative) {
   return t;
 }
 
+std::string tickLabelFormat(const AxisTicks& t) {
+  const double biggest = std::max(std::abs(t.min), std::abs(t.max));
+  if (t.decimals <= 6 && biggest < 1e7) return "%." + std::to_string(t.decimals) + "f";
+  if (!(t.step > 0.0) || !std::isfinite(biggest)) return "%g";
+  const int digits = int(std::floor(std::log10(std::max(biggest, t.step)) + 1e-9)) - int(std::floor(std::log10(t.step) + 1e-9)) + 1;
+  return "%." + std::to_string(std::clamp(digits, 1, 15)) + "g";
+}
+
 bool spansDecades(const std::vector<double>& values, double decades) {
   double lo = INFINITY, hi = 0.0;
   for (double v : values)

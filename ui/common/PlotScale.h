@@ -5,6 +5,7 @@
 /// ranges with round ticks, the choice of a logarithmic axis, and the least-squares line of a
 /// parameter sweep (the paper's Figs. 8 and 11 print n = a + b omega with its coefficient r).
 
+#include <string>
 #include <vector>
 
 namespace bsdeform {
@@ -23,6 +24,12 @@ struct AxisTicks {
 /// at 0 when lo is closer to 0 than the data's spread. An empty range (one sample, all samples
 /// equal) gets a range around the value; NaN or infinite bounds give [0, 1].
 AxisTicks niceTicks(double lo, double hi, int maxTicks = 6, bool nonNegative = false);
+
+/// The printf format of the axis' tick labels: fixed with `decimals` digits for ordinary axes
+/// ("%.2f"), and "%.Ng" with the N significant digits that tell the ticks apart when a fixed
+/// format would need more than six decimals or the numbers are large (an energy of 1e-16 after a
+/// reset: "5e-17", "1e-16", not five times "0.000000000000").
+std::string tickLabelFormat(const AxisTicks& ticks);
 
 /// Whether a plot of `values` should use a logarithmic axis: the positive values span at least
 /// `decades` powers of ten (the sweep 0, 0.0001, ..., 200 spans six).

@@ -8,6 +8,7 @@
 
 #include <QElapsedTimer>
 #include <QFile>
+#include <QStringList>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,7 @@
 #include "bsdeform/SceneText.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
 
 namespace bsdeform::run {
 
@@ -82,11 +84,46 @@ Failure RunLoop::prepare() {
   m_t0 = m_runner->startTime();  // a resumed scene continues from its time
   // What a surface refuses (a field's value, a force field's, an obstacle) is bad input: the
   // run would not be the scene's. Other nodes' warnings (Coin's) likewise.
+  // Every refused value of every node is named, not only the first: a user fixes them all at once.
+  QStringList refused;
+  std::vector<SoForceField*> forceFields;
   for (const Surface& s : m_surfaces) {
+    for (const SoBSplineDeformSurface::Problem& r : s.node->refusals())
+      refused << QStringLiteral("surface %1: %2").arg(s.name, QString::fromStdString(r.message));
+    for (int i = 0; i < s.node->forces.getNum(); ++i) {
+      SoEngine* e = s.node->forces[i];
+      if (e && e->isOfType(SoForceField::getClassTypeId())) {
+        auto* f = static_cast<SoForceField*>(e);
+        if (std::find(forceFields.begin(), forceFields.end(), f) == forceFields.end()) forceFields.push_back(f);
+      }
+    }
     const SoBSplineDeformSurface::Problem& p = s.node->problem();
-    if (p.kind != SoBSplineDeformSurface::Problem::NONE)
-      return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(p.message))};
+    // a problem other than a refused field (an obstacle, a COLLISION force's values, a seam)
+    if (p.kind != SoBSplineDeformSurface::Problem::NONE && p.kind != SoBSplineDeformSurface::Problem::FIELD &&
+        !(p.kind == SoBSplineDeformSurface::Problem::FORCE_FIELD && p.field.empty() &&
+          p.message.find("type COLLISION") == std::string::npos))
+      refused << QStringLiteral("surface %1: %2").arg(s.name, QString::fromStdString(p.message));
   }
+  for (SoForceField* f : forceFields) {
+    if (f->type.getValue() == SoForceField::COLLISION) continue;  // its surface reports it, with its obstacles
+    const SbName n = f->getName();
+    const QString name = n.getLength() ? QString::fromUtf8(n.getString()) : QStringLiteral("<unnamed>");
+    for (const SoForceField::Refusal& r : f->refusedFields()) {
+      SbString value;
+      if (SoField* field = r.field.empty() ? nullptr : f->getField(SbName(r.field.c_str()))) field->get(value);
+      refused << (r.field.empty() ? QStringLiteral("force field %1: %2").arg(name, QString::fromStdString(r.message))
+                                  : QStringLiteral("force field %1: %2 = %3: %4")
+                                        .arg(name, QString::fromStdString(r.field),
+                                             QString::fromUtf8(value.getString()).simplified(),
+                                             QString::fromStdString(r.message)));
+    }
+  }
+  if (!refused.isEmpty())
+    // one line (a sweep's row keeps the first line of a run's message)
+    return {kBadInput, QStringLiteral("scene '%1' has %2 refused value(s): %3")
+                           .arg(o.scene)
+                           .arg(refused.size())
+                           .arg(refused.join(QStringLiteral("; ")))};
   if (!warnings.messages.empty())
     return {kBadInput, QStringLiteral("scene '%1': %2").arg(o.scene, QString::fromStdString(warnings.joined("; ")))};
   // A step that cannot be taken (too many sub-steps, a clock that no longer advances) is bad
@@ -140,6 +177,8 @@ Failure RunLoop::frameMotion() {
   const Failure f = loadSceneWithSets(m_options, copy);
   if (!f.ok()) return f;
   const SbViewportRegion viewport(short(m_options.width), short(m_options.height));
+  QElapsedTimer timer;
+  timer.start();
   SbBox3f motion;
   {
     SceneRunner runner(copy.get());
@@ -158,6 +197,7 @@ Failure RunLoop::frameMotion() {
   view->addChild(camera);
   view->addChild(m_root.get());
   m_view.reset(view);
+  m_framingSeconds = timer.nsecsElapsed() * 1e-9;
   return {kOk, {}};
 }
 
@@ -197,8 +237,9 @@ void RunLoop::flushRow(Surface& s) {
   if (!row.values.valid()) return;
   const Diagnostics d = row.values.get();
   row.values = PendingDiagnostics();
-  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader();
-  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d);
+  const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
+  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader(shell);
+  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d, shell);
   s.history.append(row.time, d);
 }
 
@@ -209,6 +250,7 @@ void RunLoop::stepped(Surface& s) {
   const bool failed = sim.status() != Status::Ok;
   m_blewUp |= failed;
   const long step = sim.stepCount();  // a failed step does not count
+  if (s.metrics) s.metrics->update(sim);
   if (!m_options.resultOnly && (failed || step % m_options.recordEvery == 0) && s.lastRecorded != step) record(s);
 }
 
@@ -259,9 +301,10 @@ Failure RunLoop::runStatic() {
     StaticResult r;
     std::string error;
     // one row per load increment: the load factor, then the usual columns
-    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader();
-    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s](const StaticResult& all, size_t k, const Diagnostics& d) {
-      s.csv += historyNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d);
+    const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
+    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader(shell);
+    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s, shell](const StaticResult& all, size_t k, const Diagnostics& d) {
+      s.csv += decimalNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d, shell);
       s.history.append(0.0, d);
     });
     if (!solved)
@@ -298,6 +341,11 @@ Failure RunLoop::run() {
   QElapsedTimer timer;
   timer.start();
   m_runner->advanceTo(m_t0);
+  if (!o.metrics.isEmpty())
+    for (Surface& s : m_surfaces) {
+      s.metrics = std::make_shared<MetricTracker>(o.metrics);
+      s.metrics->update(s.node->simulation());  // the start counts (a maximum that is the start)
+    }
   const bool recording = !o.resultOnly;
   if (recording)
     for (Surface& s : m_surfaces) record(s);
@@ -390,6 +438,9 @@ void RunLoop::printSummary(double seconds) const {
   else
     std::printf("bsdeform-run: %s, %ld frame(s) of %.4g s in %.2f s wall\n", utf8(m_options.scene).constData(), m_frames,
                 m_dtMin, seconds);
+  if (m_framingSeconds > 0.0)  // the scene has no camera: its motion was run once more, first
+    std::printf("  plus %.2f s before it, running the motion once more to frame the pictures (the scene has no camera): %.2f s in all\n",
+                m_framingSeconds, m_framingSeconds + seconds);
   for (const Surface& s : m_surfaces) {
     const Simulation& sim = s.node->simulation();
     const ModelParameters& p = sim.parameters();
@@ -399,6 +450,12 @@ void RunLoop::printSummary(double seconds) const {
                 utf8(s.name).constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
                 d.norm, d.kinetic, d.strain.total, sim.stabilityLimit(), sim.subSteps(),
                 sim.status() == Status::Ok ? "ok" : sim.statusMessage().c_str());
+    if (s.metrics) {
+      const QStringList values = s.metrics->values(sim);
+      QStringList pairs;
+      for (int i = 0; i < values.size(); ++i) pairs << m_options.metrics[i].name + QStringLiteral(" = ") + values[i];
+      std::printf("  %-14s %s\n", "", utf8(pairs.join(QStringLiteral(", "))).constData());
+    }
   }
   for (const QString& w : m_written) std::printf("  wrote %s\n", utf8(w).constData());
 }
@@ -408,9 +465,11 @@ void RunLoop::printResults() const {
   for (const Surface& s : m_surfaces) {
     const Simulation& sim = s.node->simulation();
     const Diagnostics d = sim.diagnostics();
-    std::printf("RESULT\t%s\t%s\t%s\t%s\t%s\n", utf8(s.name).constData(), utf8(historyNumber(d.norm)).constData(),
+    // the metrics (--metric), if any, after the status: SweepPool's columns beyond the six
+    const QString metrics = s.metrics ? QLatin1Char('\t') + s.metrics->values(sim).join(QLatin1Char('\t')) : QString();
+    std::printf("RESULT\t%s\t%s\t%s\t%s\t%s%s\n", utf8(s.name).constData(), utf8(historyNumber(d.norm)).constData(),
                 utf8(historyNumber(d.kinetic)).constData(), utf8(historyNumber(d.strain.total)).constData(),
-                sim.status() == Status::Ok ? "ok" : "blew-up");
+                sim.status() == Status::Ok ? "ok" : "blew-up", utf8(metrics).constData());
   }
 }
 

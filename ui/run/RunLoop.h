@@ -14,6 +14,7 @@
 #include "FrameClock.h"
 #include "History.h"
 #include "KeptStates.h"
+#include "Metrics.h"
 #include "RunFailure.h"
 #include "RunOptions.h"
 #include "RunSetup.h"
@@ -48,6 +49,7 @@ class RunLoop {
     History history;
     long lastRecorded = -1;  ///< step count of the last history row
     int callback = -1;       ///< the surface's step callback (records the rows)
+    std::shared_ptr<MetricTracker> metrics;  ///< --metric: measured after every step (null without)
     /// Computes the rows beside the steps (shared: Surface lives in a QVector). Its destructor
     /// finishes the row being computed, whose values `pending` keeps.
     std::shared_ptr<DiagnosticsBeside> beside = std::make_shared<DiagnosticsBeside>();
@@ -91,6 +93,7 @@ class RunLoop {
   QVector<Surface> m_surfaces;
   std::unique_ptr<SceneRunner> m_runner;  ///< drives the surfaces and realTime
   double m_dtMin = 0.0, m_t0 = 0.0;
+  double m_framingSeconds = 0.0;  ///< wall time of frameMotion()'s pass (0: none was needed)
   long m_frames = 0;
   bool m_blewUp = false;
   QDir m_out;

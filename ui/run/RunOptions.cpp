@@ -59,6 +59,12 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   const QCommandLineOption sweep(QStringLiteral("sweep"),
                                  QStringLiteral("run once per value (in parallel) and write sweep.csv and sweep.png"),
                                  QStringLiteral("NAME.field=v1,v2,..."));
+  const QCommandLineOption metric(
+      QStringLiteral("metric"),
+      QStringLiteral("measure over the run (repeatable; a column of sweep.csv each, the first plotted in sweep.png): "
+                     "z@U:V (or x, y: the point S(U,V) at the end), max-z@U:V, min-z@U:V (over the run), stretch, "
+                     "max-stretch (area / rest area), kinetic (at the end), rest-time"),
+      QStringLiteral("METRIC"));
   const QCommandLineOption plot(QStringLiteral("plot"), QStringLiteral("also write a history plot PNG per surface"));
   const QCommandLineOption recordEvery(QStringLiteral("record-every"),
                                        QStringLiteral("history rows (CSV, plot): the first state, every state whose step "
@@ -105,7 +111,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
                                QStringLiteral("CSV"));
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
-      {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, plot, recordEvery, keepStates, quiet,
+      {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, metric, plot, recordEvery, keepStates, quiet,
        staticSolve, loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
@@ -149,6 +155,12 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   }
   o.sets = parser.values(set);
   o.sweep = parser.value(sweep);
+  for (const QString& text : parser.values(metric)) {
+    Metric m;
+    QString why;
+    if (!Metric::parse(text, m, why)) return {kBadInput, why};
+    o.metrics << m;
+  }
   o.plot = parser.isSet(plot);
   if (parser.isSet(recordEvery)) {
     o.recordEvery = parser.value(recordEvery).toLong(&ok);
@@ -181,7 +193,8 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
     for (const auto& [isSet, name] : {std::make_pair(parser.isSet(steps), "--steps"), std::make_pair(parser.isSet(until), "--until"),
                                       std::make_pair(!o.sweep.isEmpty(), "--sweep"), std::make_pair(!o.video.isEmpty(), "--video"),
                                       std::make_pair(parser.isSet(recordEvery), "--record-every"),
-                                      std::make_pair(parser.isSet(keepStates), "--keep-states")})
+                                      std::make_pair(parser.isSet(keepStates), "--keep-states"),
+                                      std::make_pair(!o.metrics.isEmpty(), "--metric")})
       if (isSet)
         return {kBadInput, QStringLiteral("--static and %1: --static solves for one state, the equilibrium at t = 0")
                                .arg(QLatin1String(name))};
@@ -204,6 +217,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   if (parser.isSet(steps)) o.sweepChildArguments << QStringLiteral("--steps") << QString::number(o.steps);
   if (parser.isSet(until)) o.sweepChildArguments << QStringLiteral("--until") << historyNumber(o.until);
   for (const QString& s : o.sets) o.sweepChildArguments << QStringLiteral("--set") << s;
+  for (const Metric& m : o.metrics) o.sweepChildArguments << QStringLiteral("--metric") << m.name;
   return {kOk, {}};
 }
 

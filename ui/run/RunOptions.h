@@ -7,6 +7,7 @@
 #include <QStringList>
 #include <QVector>
 
+#include "Metrics.h"
 #include "RunFailure.h"
 
 namespace bsdeform::run {
@@ -23,6 +24,7 @@ struct RunOptions {
   int width = 640, height = 480;
   QStringList sets;        ///< --set NAME.field=value, in order
   QString sweep;           ///< --sweep NAME.field=v1,v2,...
+  QVector<Metric> metrics;  ///< --metric (repeatable): sweep.csv's columns beside the norm (Metrics.h)
   bool plot = false;
   long recordEvery = 1;
   QString keepStates;      ///< --keep-states FILE: the states for bsdeform-viewer --states (StateFile.h)

@@ -10,6 +10,7 @@
 #include <QProcess>
 #include <QThread>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
@@ -42,7 +43,8 @@ Failure SweepPool::validate() {
 void SweepPool::collect(int i, const QString& output, const QString& stderrText, int code, bool crashed) {
   for (const QString& line : output.split(QLatin1Char('\n'), Qt::SkipEmptyParts)) {
     const QStringList c = line.split(QLatin1Char('\t'));
-    if (c.size() == 6 && c[0] == QLatin1String("RESULT")) m_rows[i].push_back({m_values[i], c[1], c[2], c[3], c[4], c[5]});
+    if (c.size() == 6 + m_options.metrics.size() && c[0] == QLatin1String("RESULT"))
+      m_rows[i].push_back({m_values[i], c[1], c[2], c[3], c[4], c[5], c.mid(6)});
   }
   if (crashed)
     m_errors[i] = QStringLiteral("run with %1=%2 crashed: %3").arg(m_target, m_values[i], stderrText);
@@ -107,42 +109,55 @@ Failure SweepPool::runChildren() {
   return {kOk, {}};
 }
 
+QString SweepPool::csvHeader() const {
+  QStringList header{QStringLiteral("value,surface,norm,kinetic,strain,status")};
+  for (const Metric& m : m_options.metrics) header << m.name;
+  return header.join(QLatin1Char(','));
+}
+
 Failure SweepPool::readRows() {
   const QString& path = m_options.sweepRows;
   QFile file(path);
   if (!file.open(QIODevice::ReadOnly))
     return {kBadInput, QStringLiteral("cannot open sweep rows '%1': %2").arg(path, file.errorString())};
   const QStringList lines = QString::fromUtf8(file.readAll()).split(QLatin1Char('\n'), Qt::SkipEmptyParts);
-  if (lines.isEmpty() || lines.first() != QLatin1String("value,surface,norm,kinetic,strain,status"))
+  if (lines.isEmpty() || lines.first() != csvHeader())
     return {kBadInput, QStringLiteral("sweep rows '%1': the first line is not sweep.csv's header").arg(path)};
+  const int columns = 6 + int(m_options.metrics.size());
   QVector<Row> rows;
   for (int i = 1; i < lines.size(); ++i) {
     const QStringList c = lines[i].split(QLatin1Char(','));
-    if (c.size() != 6)
-      return {kBadInput, QStringLiteral("sweep rows '%1', line %2: expected 6 columns, got %3").arg(path).arg(i + 1).arg(c.size())};
-    rows.push_back({c[0], c[1], c[2], c[3], c[4], c[5]});
+    if (c.size() != columns)
+      return {kBadInput,
+              QStringLiteral("sweep rows '%1', line %2: expected %3 columns, got %4").arg(path).arg(i + 1).arg(columns).arg(c.size())};
+    rows.push_back({c[0], c[1], c[2], c[3], c[4], c[5], c.mid(6)});
   }
   m_rows = {rows};
   return {kOk, {}};
 }
 
-// sweep.csv (every row), sweep.png (the final norm against the value, when every value is a
-// number) and the summary.
+// sweep.csv (every row, a column per --metric after the six), sweep.png (the final norm, or the
+// first metric, against the value, when every value is a number) and the summary.
 Failure SweepPool::writeResults() {
-  QString csv = QStringLiteral("value,surface,norm,kinetic,strain,status\n");
+  QString csv = csvHeader() + QLatin1Char('\n');
+  const bool plotMetric = !m_options.metrics.isEmpty();
   std::map<QString, PlotSeries> bySurface;
   bool numeric = true;
   for (const auto& rs : m_rows)
     for (const Row& r : rs) {
-      csv += QStringList{r.value, r.surface, r.norm, r.kinetic, r.strain, r.status}.join(QLatin1Char(',')) + QLatin1Char('\n');
+      csv += (QStringList{r.value, r.surface, r.norm, r.kinetic, r.strain, r.status} + r.metrics).join(QLatin1Char(',')) +
+             QLatin1Char('\n');
       bool ok = false;
       const double x = r.value.toDouble(&ok);
       numeric &= ok;
-      if (r.norm.isEmpty()) continue;  // a run bsdeform.sweep reports as failed has no number to plot
+      const QString& y = plotMetric ? (r.metrics.isEmpty() ? QString() : r.metrics.front()) : r.norm;
+      bool finite = false;
+      const double yValue = y.toDouble(&finite);
+      if (y.isEmpty() || !finite || !std::isfinite(yValue)) continue;  // a failed run, a surface never at rest
       auto& s = bySurface[r.surface];
       s.name = r.surface;
       s.x << x;
-      s.y << r.norm.toDouble();
+      s.y << yValue;
     }
   const QDir out(m_options.outDir);
   QString error;
@@ -151,10 +166,16 @@ Failure SweepPool::writeResults() {
   if (numeric) {
     QVector<PlotSeries> series;
     for (auto& kv : bySurface) series << kv.second;
-    if (!writePlotPng(out.filePath(QStringLiteral("sweep.png")),
-                      QStringLiteral("Deformation norm (eq. 15) against %1").arg(m_target), m_target,
-                      QStringLiteral("final norm ||P - P0||"), series, 800, 500, error, {QString(), true, true, true}))
-      return writeFailure(error, written);
+    // a metric is plotted as it is: no least-squares line through a swing's phase
+    const bool ok = plotMetric ? writePlotPng(out.filePath(QStringLiteral("sweep.png")),
+                                              QStringLiteral("%1 against %2").arg(m_options.metrics.front().name, m_target),
+                                              m_target, m_options.metrics.front().name, series, 800, 500, error,
+                                              {QString(), false, true, false})
+                               : writePlotPng(out.filePath(QStringLiteral("sweep.png")),
+                                              QStringLiteral("Deformation norm (eq. 15) against %1").arg(m_target), m_target,
+                                              QStringLiteral("final norm ||P - P0||"), series, 800, 500, error,
+                                              {QString(), true, true, true});
+    if (!ok) return writeFailure(error, written);
     written << out.filePath(QStringLiteral("sweep.png"));
   }
   if (!m_options.quiet) {

@@ -23,8 +23,11 @@ class SweepPool {
   /// One surface's final state in one child run.
   struct Row {
     QString value, surface, norm, kinetic, strain, status;
+    QStringList metrics;  ///< one per --metric, in order
   };
 
+  /// sweep.csv's first line: the six columns, then one per --metric.
+  QString csvHeader() const;
   Failure parseSweep();
   /// Names and every value are checked on the scene first: bad input is reported before any run.
   Failure validate();

@@ -75,17 +75,16 @@ bool DocumentActions::openScene(const QString& path) {
   return true;
 }
 
-// Values the nodes refuse are listed when the scene opens, all of them in one box: the model
-// runs on other values meanwhile, which a word in the status bar alone did not make plain.
+// Values the nodes refuse are listed when the scene opens, all of them in one box; the scene
+// stays paused until they are fixed (SimulationControls::setPlaying).
 void DocumentActions::reportProblems() {
   const QVector<SceneProblem> problems = sceneProblems(m_doc);
   if (problems.isEmpty()) return;
   QStringList lines;
   for (const SceneProblem& p : problems) lines << QStringLiteral("- ") + p.text();
   m_feedback.error(tr("Values refused in %1").arg(QFileInfo(m_doc.path()).fileName()),
-                   tr("%1 has %n value(s) the simulation does not take. Until they are changed, each surface runs on "
-                      "the last values it takes (the defaults when there are none), and the Field Editor shows the "
-                      "refused value in red with its reason.\n\n%2",
+                   tr("%1 has %n value(s) the simulation does not take. Nothing runs until they are changed; the "
+                      "Field Editor shows each refused value as the file has it, in red with its reason.\n\n%2",
                       "", problems.size())
                        .arg(m_doc.path(), lines.join(QLatin1Char('\n'))));
 }
@@ -141,6 +140,18 @@ QString DocumentActions::openFolder() {
   // the installed scenes, then the source tree's (a build that is run where it was built)
   const QStringList shipped = shippedSceneFolders();
   return shipped.isEmpty() ? QString() : shipped.front();
+}
+
+QString DocumentActions::userFolder() {
+  const QString remembered = QSettings().value(kFolderKey).toString();
+  if (!remembered.isEmpty() && QFileInfo(remembered).isDir() &&
+      !shippedSceneFolders().contains(QFileInfo(remembered).canonicalFilePath()))
+    return remembered;
+  // writableLocation names ~/Documents whether or not it exists; a dialog given a folder that
+  // does not exist opens in the working directory (a source tree, say)
+  const QString documents = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
+  if (!documents.isEmpty() && QFileInfo(documents).isDir()) return documents;
+  return QDir::homePath();
 }
 
 void DocumentActions::rememberFolder(const QString& path) {
@@ -213,12 +224,7 @@ void DocumentActions::saveAs() {
   // QFileDialog asks before replacing an existing file; the file is written atomically. A
   // template is offered under its name in the user's folder, not where it came from.
   QString start = m_doc.path().isEmpty() ? openFolder() : m_doc.path();
-  if (m_template) {
-    QString folder = QSettings().value(kFolderKey).toString();
-    if (folder.isEmpty() || !QFileInfo(folder).isDir() || shippedSceneFolders().contains(QFileInfo(folder).canonicalFilePath()))
-      folder = QStandardPaths::writableLocation(QStandardPaths::DocumentsLocation);
-    start = QDir(folder).filePath(QFileInfo(m_doc.path()).fileName());
-  }
+  if (m_template) start = QDir(userFolder()).filePath(QFileInfo(m_doc.path()).fileName());
   QString path = QFileDialog::getSaveFileName(&m_window, tr("Save scene as"), start, tr("Inventor scenes (*.iv)"));
   if (path.isEmpty()) return;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".iv");

@@ -62,6 +62,10 @@ class DocumentActions : public QObject {
   static QMessageBox* unsavedChangesBox(QWidget* parent, const QString& name);
   /// The folder the Open dialog starts in: the last one used, scenes/ the first time.
   static QString openFolder();
+  /// The folder a dialog that writes the user's work starts in (Save As of a template, Record,
+  /// Save Screenshot): the last folder used when it exists and holds no shipped scenes, else
+  /// ~/Documents when it exists, else the home folder; never the folder the viewer was started in.
+  static QString userFolder();
   /// The folders of the scenes that come with bsdeform (installed, and the source tree's for a
   /// build run where it was built), canonical.
   static QStringList shippedSceneFolders();

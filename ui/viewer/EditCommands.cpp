@@ -44,7 +44,10 @@ QString enumName(const SoSFEnum& field) {
 
 QString refusalOf(SoFieldContainer* owner) {
   // a surface: a refused field (other problems, e.g. a force's, do not refuse the model)
-  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) return refusedFieldOf(owner).second;
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) {
+    const QVector<RefusedField> refused = refusedFieldsOf(owner);
+    return refused.isEmpty() ? QString() : refused.front().reason;
+  }
   if (owner->isOfType(SoForceField::getClassTypeId())) {
     auto* f = static_cast<SoForceField*>(owner);
     if (f->type.getValue() == SoForceField::COLLISION) return QString();
@@ -55,13 +58,21 @@ QString refusalOf(SoFieldContainer* owner) {
   return QString();
 }
 
-std::pair<QString, QString> refusedFieldOf(SoFieldContainer* owner) {
-  if (!owner || !owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) return {};
-  auto* s = static_cast<SoBSplineDeformSurface*>(owner);
-  s->simulation();  // rebuilt from the fields now
-  const SoBSplineDeformSurface::Problem& p = s->problem();
-  if (p.kind != SoBSplineDeformSurface::Problem::FIELD) return {};
-  return {QString::fromStdString(p.field), QString::fromStdString(p.message)};
+QVector<RefusedField> refusedFieldsOf(SoFieldContainer* owner) {
+  QVector<RefusedField> out;
+  if (!owner) return out;
+  if (owner->isOfType(SoBSplineDeformSurface::getClassTypeId())) {
+    auto* s = static_cast<SoBSplineDeformSurface*>(owner);
+    s->simulation();  // rebuilt from the fields now
+    for (const SoBSplineDeformSurface::Problem& p : s->refusals())
+      out.push_back({QString::fromStdString(p.field), QString::fromStdString(p.message)});
+  } else if (owner->isOfType(SoForceField::getClassTypeId())) {
+    auto* f = static_cast<SoForceField*>(owner);
+    if (f->type.getValue() == SoForceField::COLLISION) return out;
+    for (const SoForceField::Refusal& r : f->refusedFields())
+      out.push_back({QString::fromStdString(r.field), QString::fromStdString(r.message)});
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 /// back the very node that was removed (with its DEF name, state and connections).
 
 #include <QString>
+#include <QVector>
 #include <QUndoCommand>
 #include <functional>
 #include <memory>
@@ -29,9 +30,16 @@ class SceneDocument;
 /// last valid one when refused); a force field builds its core force (COLLISION, which needs
 /// the scene's obstacles, is taken as it is).
 QString refusalOf(SoFieldContainer* owner);
-/// The field of a surface the node refuses as its values stand, and the reason (FIELD
-/// problems; empty for anything else: a force field's refusal names no field).
-std::pair<QString, QString> refusedFieldOf(SoFieldContainer* owner);
+/// A field a node refuses as its values stand, and the reason.
+struct RefusedField {
+  QString field;   ///< "" when no one field is at fault
+  QString reason;
+};
+/// Every field of `owner` (a surface or a force field) refused as its values stand, each once:
+/// a surface's FIELD refusals (SoBSplineDeformSurface::refusals()), a force field's fields that
+/// make no force (SoForceField::refusedFields(); COLLISION is taken as it is). Empty when the
+/// node takes its values.
+QVector<RefusedField> refusedFieldsOf(SoFieldContainer* owner);
 
 /// What the commands change and whom they tell.
 struct EditContext {

@@ -4,6 +4,7 @@
 #include <Inventor/SbString.h>
 #include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/fields/SoMFEngine.h>
+#include <Inventor/fields/SoMFNode.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
@@ -25,8 +26,11 @@
 #include <QLineEdit>
 #include <QPointer>
 #include <QPushButton>
+#include <QRegularExpression>
+#include <QStringList>
 #include <QTimer>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -62,6 +66,49 @@ QString coinText(SoField* f) {
   SbString s;
   f->get(s);
   return QString::fromUtf8(s.getString());
+}
+
+// A list of nodes (COLLISION's obstacles) as a person names them: "Box, Ball"; a node without a
+// DEF name as its type in angle brackets, "<Cube>" (kept at its place when the text is edited).
+QString nodeListText(const SoMFNode& f) {
+  QStringList names;
+  for (int i = 0; i < f.getNum(); ++i) {
+    SoNode* n = f[i];
+    if (!n)
+      names << QStringLiteral("NULL");
+    else if (n->getName().getLength())
+      names << QString::fromUtf8(n->getName().getString());
+    else
+      names << QStringLiteral("<%1>").arg(QString::fromLatin1(n->getTypeId().getName().getString()));
+  }
+  return names.join(QStringLiteral(", "));
+}
+
+// Sets the list from names separated by commas or spaces: each a DEF name (the node last given
+// it), NULL, or the "<Type>" of the unnamed node already at that place. False (the field left
+// alone) when a name names nothing.
+bool setNodeList(SoMFNode& f, const QString& text) {
+  const QStringList words = text.split(QRegularExpression(QStringLiteral("[,\\s]+")), Qt::SkipEmptyParts);
+  std::vector<SoNode*> nodes;
+  for (int i = 0; i < words.size(); ++i) {
+    const QString& w = words[i];
+    if (w == QLatin1String("NULL")) {
+      nodes.push_back(nullptr);
+    } else if (w.startsWith(QLatin1Char('<')) && w.endsWith(QLatin1Char('>'))) {
+      SoNode* here = i < f.getNum() ? f[i] : nullptr;
+      if (!here || here->getName().getLength() ||
+          QString::fromLatin1(here->getTypeId().getName().getString()) != w.mid(1, w.size() - 2))
+        return false;
+      nodes.push_back(here);
+    } else {
+      SoNode* n = SoNode::getByName(SbName(w.toUtf8().constData()));
+      if (!n) return false;
+      nodes.push_back(n);
+    }
+  }
+  f.setNum(int(nodes.size()));
+  for (int i = 0; i < int(nodes.size()); ++i) f.set1Value(i, nodes[size_t(i)]);
+  return true;
 }
 }  // namespace
 
@@ -235,7 +282,11 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       row.editor = spin;
       row.read = [spin, get] {
         const QSignalBlocker block(spin);
-        spin->setValue(get());
+        // a value beyond the box's range is shown as it is, never clamped (the box says why
+        // it cannot be taken as it stands)
+        const double v = get();
+        if (v < spin->minimum() || v > spin->maximum()) spin->showUnclamped(v);
+        else spin->setValue(v);
       };
       row.problem = [spin] { return spin->problem(); };
       row.readUnclamped = [spin, get] {
@@ -275,7 +326,9 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       row.read = [spins, get] {
         for (int k = 0; k < spins.size(); ++k) {
           const QSignalBlocker block(spins[k]);
-          spins[k]->setValue(get(k));
+          const double v = get(k);
+          if (v < spins[k]->minimum() || v > spins[k]->maximum()) spins[k]->showUnclamped(v);
+          else spins[k]->setValue(v);
         }
       };
       row.problem = [spins] {
@@ -283,8 +336,20 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
           if (!s->problem().isEmpty()) return s->problem();
         return QString();
       };
+    } else if (t.isDerivedFrom(SoMFNode::getClassTypeId())) {
+      // nodes by their names, not as Inventor text (which writes each node out whole)
+      auto* nodes = static_cast<SoMFNode*>(f);
+      auto* edit = new QLineEdit;
+      edit->setToolTip(tr("DEF names, separated by commas"));
+      connect(edit, &QLineEdit::editingFinished, this, [this, nodes, edit] {
+        const QString text = edit->text().trimmed();
+        if (text == nodeListText(*nodes)) return;
+        if (Row* r = rowOf(edit)) commit(*r, [nodes, text] { return setNodeList(*nodes, text); });
+      });
+      row.editor = edit;
+      row.read = [nodes, edit] { edit->setText(nodeListText(*nodes)); };
     } else {
-      // every other field in its own text form: lists of points, strings, nodes
+      // every other field in its own text form: lists of points, strings
       auto* edit = new QLineEdit;
       connect(edit, &QLineEdit::editingFinished, this, [this, f, edit] {
         const QString text = edit->text().trimmed();
@@ -303,7 +368,7 @@ void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
   SoField* field = row.field;
   // what the node refused before the change (a file's value of another field)
   const QString alreadyRefused = m_check ? m_check(m_container) : QString();
-  const QString refusedField = m_refused ? m_refused(m_container).first : QString();
+  const Refusals refusedBefore = m_refused ? m_refused(m_container) : Refusals();
   std::unique_ptr<SoField> before(copyOf(*field));
   const bool beforeIsDefault = field->isDefault();
   const QString name = row.name;
@@ -315,10 +380,23 @@ void FieldEditor::commit(Row& row, const std::function<bool()>& apply) {
     return;
   }
   if (before->isSame(*field)) return;
-  const QString reason = m_check ? m_check(m_container) : QString();
-  // still refused for another field's value, as before this change: this one is taken
-  const bool sameAsBefore = !reason.isEmpty() && alreadyRefused == reason && refusedField != row.name;
-  if (!reason.isEmpty() && !sameAsBefore) {
+  QString reason = m_check ? m_check(m_container) : QString();
+  // Taken unless this field is now refused, or the change makes another field refused that was
+  // not (a degree that no longer fits the rest net): other fields refused as before (a file's
+  // values) do not refuse this change.
+  const Refusals refusedAfter = m_refused ? m_refused(m_container) : Refusals();
+  auto listed = [](const Refusals& list, const QString& field) {
+    return std::any_of(list.begin(), list.end(), [&field](const auto& r) { return r.first == field; });
+  };
+  bool refused = false;
+  for (const auto& r : refusedAfter)
+    if (r.first == row.name || !listed(refusedBefore, r.first)) {
+      reason = r.second;
+      refused = true;
+      if (r.first == row.name) break;
+    }
+  if (refusedAfter.empty() && !reason.isEmpty() && reason != alreadyRefused) refused = true;
+  if (refused) {
     field->copyFrom(*before);  // the node keeps its last valid values
     field->setDefault(beforeIsDefault);
     showInvalid(row, reason);
@@ -359,10 +437,11 @@ void FieldEditor::revert(Row& row) {
 }
 
 void FieldEditor::markRefused() {
-  const std::pair<QString, QString> refused = m_refused && m_container ? m_refused(m_container) : std::pair<QString, QString>();
+  const Refusals refused = m_refused && m_container ? m_refused(m_container) : Refusals();
   QWidget* focus = QApplication::focusWidget();
   for (const auto& r : m_rows) {
-    const bool now = !refused.first.isEmpty() && r->name == refused.first;
+    auto it = std::find_if(refused.begin(), refused.end(), [&r](const auto& x) { return !x.first.isEmpty() && x.first == r->name; });
+    const bool now = it != refused.end();
     if (focus && (focus == r->editor || r->editor->isAncestorOf(focus))) continue;  // being edited
     if (now) {
       if (r->readUnclamped)
@@ -370,7 +449,7 @@ void FieldEditor::markRefused() {
       else if (r->read)
         r->read();
       r->refusedByNode = true;
-      showInvalid(*r, refused.second);
+      showInvalid(*r, it->second);
     } else if (r->refusedByNode) {
       r->refusedByNode = false;
       r->invalid = false;

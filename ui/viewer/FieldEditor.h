@@ -46,11 +46,12 @@ class FieldEditor : public QWidget {
   /// empty when it takes them. Without one every parsed value is taken.
   using Checker = std::function<QString(SoFieldContainer* owner)>;
   void setChecker(Checker checker) { m_check = std::move(checker); }
-  /// The field the node refuses as its values stand (a value read from a file, say) and why;
-  /// an empty name when none. Its row shows the field's own value, not one clamped to the
-  /// editor's range, in red with the reason, until the node takes its values.
-  using RefusedField = std::function<std::pair<QString, QString>(SoFieldContainer* owner)>;
-  void setRefusedField(RefusedField refused) { m_refused = std::move(refused); }
+  /// Every field the node refuses as its values stand (values read from a file, say), each
+  /// with its reason; empty when none. Each one's row shows the field's own value, not one
+  /// clamped to the editor's range, in red with the reason, until the node takes its values.
+  using Refusals = std::vector<std::pair<QString, QString>>;
+  using RefusedFields = std::function<Refusals(SoFieldContainer* owner)>;
+  void setRefusedFields(RefusedFields refused) { m_refused = std::move(refused); }
 
  signals:
   /// A value was refused (message names the field, the value and the reason).
@@ -86,7 +87,7 @@ class FieldEditor : public QWidget {
   void commit(Row& row, const std::function<bool()>& apply);
   void showInvalid(Row& row, const QString& reason);
   void revert(Row& row);
-  /// Marks the row of the field the node refuses as it stands, and unmarks the others.
+  /// Marks the rows of the fields the node refuses as they stand, and unmarks the others.
   void markRefused();
 
   SoFieldContainer* m_container = nullptr;
@@ -94,7 +95,7 @@ class FieldEditor : public QWidget {
   std::vector<std::unique_ptr<Row>> m_rows;
   ChangeHandler m_onChange;
   Checker m_check;
-  RefusedField m_refused;
+  RefusedFields m_refused;
 };
 
 }  // namespace bsdeform

@@ -68,6 +68,7 @@ void GroundGrid::fit(const SbBox3f& sceneBox) {
     x1 = std::ceil((hi[0] + size / 2) / m_spacing) * m_spacing;
     y1 = std::ceil((hi[1] + size / 2) / m_spacing) * m_spacing;
     z = lo[2] - size / 20;
+    m_margin = size / 20;
   }
   m_extent = SbBox3f(x0, y0, z, x1, y1, z);
   const int nx = int(std::lround((x1 - x0) / m_spacing)), ny = int(std::lround((y1 - y0) / m_spacing));
@@ -94,6 +95,19 @@ void GroundGrid::fit(const SbBox3f& sceneBox) {
   int32_t* n = m_lines->numVertices.startEditing();
   std::fill(n, n + line, 2);
   m_lines->numVertices.finishEditing();
+}
+
+bool GroundGrid::lowerUnder(const SbBox3f& sceneBox) {
+  if (sceneBox.isEmpty()) return false;
+  const float z = sceneBox.getMin()[2] - m_margin;
+  if (!(z < m_extent.getMin()[2])) return false;
+  SbVec3f* p = m_coords->point.startEditing();
+  for (int i = 0; i < m_coords->point.getNum(); ++i) p[i][2] = z;
+  m_coords->point.finishEditing();
+  SbVec3f lo = m_extent.getMin(), hi = m_extent.getMax();
+  lo[2] = hi[2] = z;
+  m_extent.setBounds(lo, hi);
+  return true;
 }
 
 }  // namespace bsdeform

@@ -29,6 +29,10 @@ class GroundGrid {
   /// Places and sizes the grid under `sceneBox` (world space; empty: a 10 x 10 grid of unit
   /// cells at z = 0).
   void fit(const SbBox3f& sceneBox);
+  /// Lowers the grid to lie under `sceneBox` too (a cloth that falls below where the scene
+  /// started), by the same margin fit() leaves; the cells and extent stay. Never raises it.
+  /// Returns whether it moved.
+  bool lowerUnder(const SbBox3f& sceneBox);
   /// The grid's cell size, its extent and its height, as fit() chose them.
   float spacing() const { return m_spacing; }
   const SbBox3f& extent() const { return m_extent; }
@@ -42,6 +46,7 @@ class GroundGrid {
   SoBaseColor* m_colors = nullptr;
   SoLineSet* m_lines = nullptr;
   float m_spacing = 1.0f;
+  float m_margin = 0.0f;  ///< how far under the scene's lowest point fit() put it
   SbBox3f m_extent;
 };
 

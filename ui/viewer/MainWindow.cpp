@@ -22,6 +22,7 @@
 #include <QUndoStack>
 #include <QVBoxLayout>
 #include <algorithm>
+#include <cmath>
 
 #include "Backlight.h"
 #include "ClickSelect.h"
@@ -36,7 +37,9 @@
 #include "HelpDialogs.h"
 #include "PlotPanel.h"
 #include "RecordingControls.h"
+#include "SceneDocument.h"
 #include "ScenePanel.h"
+#include "SceneProblems.h"
 #include "SimulationControls.h"
 #include "StatusPanel.h"
 #include "SurfaceListener.h"
@@ -229,7 +232,11 @@ void MainWindow::createDocks() {
   connect(m_scenePanel, &ScenePanel::forceFieldSelected, this, &MainWindow::forceFieldSelected);
   m_editor = new FieldEditor;
   m_editor->setChecker(refusalOf);
-  m_editor->setRefusedField(refusedFieldOf);
+  m_editor->setRefusedFields([](SoFieldContainer* owner) {
+    FieldEditor::Refusals out;
+    for (const RefusedField& r : refusedFieldsOf(owner)) out.emplace_back(r.field, r.reason);
+    return out;
+  });
   connect(m_editor, &FieldEditor::notice, this, [this](const QString& m) { m_feedback->show(m, 8000); });
   // after an edit the keyboard goes back to the 3D view, where Space, S, R, D act
   connect(m_editor, &FieldEditor::done, this, [this] { m_viewer->getGLWidget()->setFocus(Qt::OtherFocusReason); });
@@ -397,6 +404,9 @@ void MainWindow::surfaceEvent(SoBSplineDeformSurface* surface, SoBSplineDeformSu
 }
 
 void MainWindow::refreshViews() {
+  // a live edit the scene refuses (or a refused force field) stops the clock: nothing runs on
+  // values the scene refuses
+  if (isPlaying() && sceneRefused(*m_doc)) setPlaying(false);
   m_drag->update();
   // the camera stays put under a drag and through a recording (one camera for the whole video)
   if (m_drag->isDragging() || isRecording())
@@ -404,6 +414,7 @@ void MainWindow::refreshViews() {
   else
     m_framing->follow();
   m_netDisplay->update();
+  m_decorations->follow();  // a cloth that falls below the grid does not hang through it
   m_plots->updateAxes();
   m_editor->refresh();  // live values (time, steps) included
   updateStatus();
@@ -414,7 +425,17 @@ void MainWindow::updateStatus() {
   SoBSplineDeformSurface* troubled = nullptr;
   for (SoBSplineDeformSurface* s : m_doc->surfaces())
     if (!troubled && s->problem().kind != SoBSplineDeformSurface::Problem::NONE) troubled = s;
-  m_status->update(selectedSurface(), isPlaying(), troubled);
+  QStringList refused;
+  QStringList details;
+  if (sceneRefused(*m_doc)) {
+    for (const SceneProblem& p : sceneProblems(*m_doc)) {
+      const QString what = p.field.isEmpty() ? p.node : p.node + QLatin1Char('.') + p.field;
+      if (!refused.contains(what)) refused << what;
+      details << p.text();
+    }
+  }
+  m_status->setReplaySpeed(m_timelinePanel && m_timelinePanel->isReplaying() ? clock().speed() : 0.0);
+  m_status->update(selectedSurface(), isPlaying(), troubled, refused, details.join(QLatin1Char('\n')));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -439,7 +460,9 @@ bool MainWindow::openStates(const QString& path) {
   StateFileContents contents;
   QString error;
   if (readStateFile(path, contents, error) && m_timeline->load(path, contents)) {
-    m_plots->restart();  // the plots start at the state opened
+    // the plots show the whole kept run, not only the state opened (one point draws no line)
+    m_plots->restart();
+    m_plots->replaceAfter(-INFINITY, m_timeline->diagnosticsAfter(m_doc->surfaces().indexOf(m_plotted), -INFINITY));
     return true;
   }
   m_feedback->error(tr("Open States"), error.isEmpty() ? m_timeline->error() : error);

@@ -150,6 +150,8 @@ void PlotPanel::showUntil(double time) {
   rebuildSeries();
 }
 
+bool PlotPanel::marksPoints() const { return m_series[0]->pointsVisible(); }
+
 double PlotPanel::lastShownTime() const {
   const int n = m_series[0]->count();
   return n ? m_series[0]->at(n - 1).x() : NAN;
@@ -170,6 +172,8 @@ void PlotPanel::rebuildSeries() {
 // Round ticks over what the series show (the latest kMaxSamples samples); y >= 0: norms and
 // energies are non-negative. One sample or none (after Reset) still gives a real range.
 void PlotPanel::updateAxes() {
+  // a single sample (after Solve Static, Reset, a state opened) draws no line: mark it
+  for (auto* series : m_series) series->setPointsVisible(series->count() == 1);
   const bool any = m_series[0]->count() > 0;
   const double t0 = any ? m_series[0]->at(0).x() : 0.0, t1 = any ? m_series[0]->at(m_series[0]->count() - 1).x() : 0.0;
   const AxisTicks time = niceTicks(t0, t1, 6);

@@ -44,6 +44,8 @@ class PlotPanel : public QWidget {
   void updateAxes();
   /// Samples kept in the history (for export).
   int sampleCount() const { return m_history.size(); }
+  /// Whether the curves mark their points (so that a single sample is seen, as after Solve Static).
+  bool marksPoints() const;
   /// The samples kept (also those after the timeline's position).
   const History& history() const { return m_history; }
   /// At most `limit` samples are kept (default 100000, about 3 MB): when the history is full,

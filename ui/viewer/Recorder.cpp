@@ -47,8 +47,23 @@ bool Recorder::start(const QString& path, double fps, const QSize& size, double 
 }
 
 bool Recorder::addFrame(const QImage& picture, QString& error) {
-  QImage rgb = picture.convertToFormat(QImage::Format_RGB888);
-  if (rgb.size() != m_size) rgb = rgb.scaled(m_size, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+  // To the video's size first, to 3-byte pixels last: Qt's smooth scaling hands back 4-byte
+  // pixels (RGB32) whatever it was given, which the encoder read as 3-byte ones (grey frames with
+  // vertical stripes, stretched 4/3 sideways) whenever the view had an odd width or height. An
+  // odd last row or column is cut (as `bsdeform-run --video` does), not scaled away; a view that
+  // changed size while recording is scaled to the video's.
+  QImage sized = picture;
+  if (sized.size() != m_size) {
+    const QSize extra = sized.size() - m_size;
+    sized = extra.width() >= 0 && extra.width() <= 1 && extra.height() >= 0 && extra.height() <= 1
+                ? sized.copy(QRect(QPoint(0, 0), m_size))
+                : sized.scaled(m_size, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+  }
+  const QImage rgb = sized.convertToFormat(QImage::Format_RGB888);
+  if (rgb.format() != QImage::Format_RGB888 || rgb.size() != m_size) {
+    error = tr("cannot record to '%1': the view's picture could not be converted").arg(m_path);
+    return false;
+  }
   if (m_pngSequence) {
     const QFileInfo info(m_path);
     const QString name = info.path() + QLatin1Char('/') + info.completeBaseName() +

@@ -4,12 +4,14 @@
 #include <Inventor/Qt/viewers/SoQtViewer.h>
 
 #include <QAction>
+#include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QInputDialog>
 #include <QSignalBlocker>
 #include <QWidget>
 
+#include "DocumentActions.h"
 #include "Feedback.h"
 #include "Recorder.h"
 #include "SceneDocument.h"
@@ -89,7 +91,8 @@ void RecordingControls::toggled(bool on) {
     stop();
     return;
   }
-  QString path = QFileDialog::getSaveFileName(m_dialogParent, tr("Record the 3D view"), QString(),
+  QString path = QFileDialog::getSaveFileName(m_dialogParent, tr("Record the 3D view"),
+                                              QDir(DocumentActions::userFolder()).filePath(QStringLiteral("recording.mp4")),
                                               tr("Videos (*.mp4 *.webm);;PNG images, numbered (*.png)"));
   bool ok = !path.isEmpty();
   if (ok && QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".mp4");

@@ -8,6 +8,7 @@
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QFile>
+#include <algorithm>
 #include <cstring>
 #include <QFileInfo>
 #include <QTextStream>
@@ -27,7 +28,27 @@ SceneDocument::SceneDocument() = default;
 
 SceneDocument::~SceneDocument() = default;
 
+bool SceneDocument::forceFieldRefused(SoForceField* f) const {
+  for (const KnownRefusal& k : m_knownRefusals)
+    if (k.field.get() == f && k.revision == f->getRevision()) return k.refused;
+  bool refused = false;
+  if (f->type.getValue() != SoForceField::COLLISION) {
+    std::string error;
+    f->makeForce(SoForceField::SurfaceInfo(), error);
+    refused = !error.empty();
+  }
+  auto known = std::find_if(m_knownRefusals.begin(), m_knownRefusals.end(), [f](const KnownRefusal& k) { return k.field.get() == f; });
+  if (known == m_knownRefusals.end()) {
+    m_knownRefusals.push_back(KnownRefusal{NodeRef<SoForceField>(f), 0, false});
+    known = m_knownRefusals.end() - 1;
+  }
+  known->revision = f->getRevision();
+  known->refused = refused;
+  return refused;
+}
+
 void SceneDocument::adopt(SoSeparator* root, const QString& path) {
+  m_knownRefusals.clear();
   m_root.reset(root);
   m_path = path;
   scan();

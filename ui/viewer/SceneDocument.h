@@ -7,6 +7,7 @@
 #include <QString>
 #include <QStringList>
 #include <QVector>
+#include <vector>
 
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/SceneText.h"
@@ -51,6 +52,9 @@ class SceneDocument {
   /// Finds the surfaces and force fields again after the graph changed (a node inserted or
   /// removed); newly seen surfaces' `on` and `speed` count as authored.
   void rescan();
+  /// Whether `f` makes no force from its values as they stand (COLLISION: taken as it is), tried
+  /// again only after its values changed (its revision): the viewer asks every frame.
+  bool forceFieldRefused(SoForceField* f) const;
   /// The surfaces' `on` and `speed` as the file or the field editor set them (written to file).
 
   /// Writes the triangles of `surface` as drawn (world coordinates, with every transform above
@@ -82,6 +86,14 @@ class SceneDocument {
   QByteArray m_headerComment;
   QVector<SoBSplineDeformSurface*> m_surfaces;
   QVector<SoForceField*> m_forceFields;
+  /// forceFieldRefused()'s answers by force field (held: a deleted one's address is not reused
+  /// while it is here) with the revision they were found at; cleared with every new scene.
+  struct KnownRefusal {
+    NodeRef<SoForceField> field;
+    int revision = 0;
+    bool refused = false;
+  };
+  mutable std::vector<KnownRefusal> m_knownRefusals;
 };
 
 }  // namespace bsdeform

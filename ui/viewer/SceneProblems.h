@@ -8,6 +8,7 @@
 /// bar while the model runs on other values.
 
 #include <QString>
+#include <QStringList>
 #include <QVector>
 
 namespace bsdeform {
@@ -24,7 +25,15 @@ struct SceneProblem {
 };
 
 /// Every problem of the document's surfaces and force fields, surfaces first, in scene order
-/// (building each surface's model now).
+/// (building each surface's model now): each refused value of each node (not only the first),
+/// then a surface's other problems (an obstacle, a seam).
 QVector<SceneProblem> sceneProblems(const SceneDocument& doc);
+
+/// Whether any node refuses a value (a surface's field or a force field's): the surfaces'
+/// records and each force field's values tried once (not field by field). Nothing plays then.
+bool sceneRefused(const SceneDocument& doc);
+
+/// The nodes sceneProblems() names, each once, in its order.
+QStringList refusedNodes(const SceneDocument& doc);
 
 }  // namespace bsdeform

@@ -5,6 +5,7 @@
 #include <Inventor/nodes/SoCamera.h>
 #include <Inventor/nodes/SoSeparator.h>
 
+#include <QDir>
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QGLWidget>
@@ -12,6 +13,7 @@
 #include <QPainter>
 #include <string>
 
+#include "DocumentActions.h"
 #include "ImageSize.h"
 #include "bsdeform/NodeRef.h"
 #include "bsdeform/OffscreenRenderer.h"
@@ -53,7 +55,8 @@ QImage Screenshot::window(QWidget* window) const {
 }
 
 bool Screenshot::ask(QWidget* parent, QString& path, QSize& size, QString& error) const {
-  path = QFileDialog::getSaveFileName(parent, tr("Save screenshot"), QString(), tr("PNG images (*.png)"));
+  path = QFileDialog::getSaveFileName(parent, tr("Save screenshot"), QDir(DocumentActions::userFolder()).filePath(QStringLiteral("screenshot.png")),
+                                      tr("PNG images (*.png)"));
   if (path.isEmpty()) return false;
   if (QFileInfo(path).suffix().isEmpty()) path += QStringLiteral(".png");
   const QSize view = m_viewer->getGLWidget()->size();

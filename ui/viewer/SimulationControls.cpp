@@ -13,6 +13,7 @@
 #include "Feedback.h"
 #include "FieldWidgets.h"
 #include "SceneDocument.h"
+#include "SceneProblems.h"
 #include "ViewerClock.h"
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -56,7 +57,17 @@ void SimulationControls::createActions() {
 
 bool SimulationControls::isPlaying() const { return m_clock->isPlaying(); }
 
+bool SimulationControls::refusesToRun() {
+  if (!m_edit.doc.root() || !sceneRefused(m_edit.doc)) return false;
+  m_feedback.show(tr("Not running: %1 refuse(s) a value (red in the Field Editor); the last valid state is kept")
+                      .arg(refusedNodes(m_edit.doc).join(QStringLiteral(", "))),
+                  5000);
+  return true;
+}
+
 void SimulationControls::setPlaying(bool on) {
+  // nothing runs on values the scene refuses (a model on other values would be a different scene)
+  if (on && refusesToRun()) on = false;
   m_clock->setPlaying(on);
   m_playAction->setChecked(on);
   m_playAction->setText(on ? tr("Pause") : tr("Play"));
@@ -67,7 +78,7 @@ void SimulationControls::setSpeed(double speed) { m_speed->setValue(speed); }
 
 void SimulationControls::step() {
   setPlaying(false);
-  if (!m_edit.doc.root()) return;
+  if (!m_edit.doc.root() || refusesToRun()) return;
   // one step of the smallest time step, every surface to that common time (realTime is the
   // paused clock's: it stays)
   SceneRunner(m_edit.doc.root(), SceneRunner::Clock::Untouched).step();

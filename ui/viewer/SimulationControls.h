@@ -61,6 +61,8 @@ class SimulationControls : public QObject {
   QUndoStack& m_undo;
   DragTool& m_drag;
   Feedback& m_feedback;
+  /// True (and says so in the status bar) while a node of the scene refuses a value.
+  bool refusesToRun();
   ViewerClock* m_clock;
   QAction* m_playAction = nullptr;
   QAction* m_stepAction = nullptr;

@@ -36,7 +36,8 @@ void StatusPanel::restart() {
 
 void StatusPanel::follow(SoBSplineDeformSurface* surface) { m_lastSteps = surface->simulation().stepCount(); }
 
-void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDeformSurface* troubled) {
+void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDeformSurface* troubled,
+                         const QStringList& refused, const QString& refusedDetails) {
   const double dt = m_rateClock.elapsed() / 1000.0;
   const long steps = s ? s->simulation().stepCount() : 0;
   if (dt >= 1.0) {
@@ -46,7 +47,10 @@ void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDefor
     m_lastSteps = steps;
     m_rateClock.restart();
   }
-  m_rateLabel->setText(tr("%1 steps/s  %2 frames/s").arg(m_stepsPerSecond, 0, 'f', 1).arg(m_fps, 0, 'f', 1));
+  if (m_replaySpeed > 0.0)
+    m_rateLabel->setText(tr("replay %1 x  %2 frames/s").arg(m_replaySpeed, 0, 'g', 3).arg(m_fps, 0, 'f', 1));
+  else
+    m_rateLabel->setText(tr("%1 steps/s  %2 frames/s").arg(m_stepsPerSecond, 0, 'f', 1).arg(m_fps, 0, 'f', 1));
   if (!s) {
     m_timeLabel->clear();
     m_modelLabel->clear();
@@ -72,7 +76,10 @@ void StatusPanel::update(SoBSplineDeformSurface* s, bool playing, SoBSplineDefor
   const QString who = shown == s ? QString()
                                  : (shownName.getLength() ? QString::fromUtf8(shownName.getString()) : tr("another surface")) +
                                        QLatin1Char('.');
-  if (sim.status() != Status::Ok) {
+  if (!refused.isEmpty()) {
+    m_stateLabel->setText(tr("<b style='color:#c00'>refused: %1</b>").arg(refused.join(QStringLiteral(", ")).toHtmlEscaped()));
+    m_stateLabel->setToolTip(refusedDetails);
+  } else if (sim.status() != Status::Ok) {
     m_stateLabel->setText(tr("<b style='color:#c00'>STOPPED: blew up</b>"));
     m_stateLabel->setToolTip(QString::fromStdString(sim.statusMessage()));
   } else if (problem.kind == Problem::FIELD) {

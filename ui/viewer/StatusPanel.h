@@ -8,6 +8,7 @@
 
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QStringList>
 
 class QLabel;
 class QStatusBar;
@@ -34,12 +35,18 @@ class StatusPanel {
   long framesDrawn() const { return m_frames; }
   /// A new scene: frames and steps count from 0.
   void restart();
+  /// While the timeline replays kept states (speed > 0, simulated seconds per second) the rate
+  /// reads "replay N x": no step is taken then, and "0.0 steps/s" said nothing; 0: not replaying.
+  void setReplaySpeed(double speed) { m_replaySpeed = speed; }
   /// The steps per second count `surface`'s steps from now (another surface is shown).
   void follow(SoBSplineDeformSurface* surface);
   /// The labels for `surface` (nullptr: only the rates) and the clock's `playing`.
   /// `troubled`: a surface of the scene with a problem when `surface` (the selected one) has
   /// none: the state shows it, red while a value is refused, until it is fixed.
-  void update(SoBSplineDeformSurface* surface, bool playing, SoBSplineDeformSurface* troubled = nullptr);
+  /// `refused`: every refused value of the scene as "node.field" (or "node" when no one field
+  /// is at fault), all named, red, before anything else; `refusedDetails` their reasons.
+  void update(SoBSplineDeformSurface* surface, bool playing, SoBSplineDeformSurface* troubled = nullptr,
+              const QStringList& refused = QStringList(), const QString& refusedDetails = QString());
 
  private:
   static void countFrame(void* data, SoAction* action);
@@ -48,6 +55,7 @@ class StatusPanel {
   QLabel* m_rateLabel;
   QLabel* m_modelLabel;
   QLabel* m_stateLabel;
+  double m_replaySpeed = 0.0;
   SoCallback* m_frameCounter;  ///< ref'ed: it outlives every scene shown
   long m_frames = 0;
   long m_lastFrames = 0, m_lastSteps = 0;

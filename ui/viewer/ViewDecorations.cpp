@@ -61,6 +61,11 @@ void ViewDecorations::refit() {
   m_grid->fit(m_scene ? sceneBoundingBox(m_scene, m_viewer->getViewportRegion()) : SbBox3f());
 }
 
+void ViewDecorations::follow() {
+  if (!m_scene || !isGridVisible()) return;
+  m_grid->lowerUnder(sceneBoundingBox(m_scene, m_viewer->getViewportRegion()));
+}
+
 void ViewDecorations::setGridVisible(bool on) {
   m_gridSwitch->whichChild = on ? 0 : SO_SWITCH_NONE;
   if (m_gridAction && m_gridAction->isChecked() != on) m_gridAction->setChecked(on);

@@ -49,6 +49,8 @@ class ViewDecorations : public QObject {
   void sceneShown(SoNode* scene);
   /// Fits the grid to the scene again (a surface was inserted or removed).
   void refit();
+  /// After the scene moved: a grid shown is lowered under a surface that fell below it.
+  void follow();
   void setGridVisible(bool on);
   void setAxesVisible(bool on);
   bool isGridVisible() const;

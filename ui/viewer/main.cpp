@@ -5,6 +5,7 @@
 
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QStringList>
 #include <QTimer>
 #include <malloc.h>
 #include <cmath>
@@ -32,10 +33,12 @@ int main(int argc, char** argv) {
   // Mesa's, not ours to keep (ours are: buffer objects, an allocation-free tessellation), so the
   // viewer keeps up to 256 MB of freed heap instead of trimming it. The library does not.
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  QApplication app(argc, argv);
-  Q_INIT_RESOURCE(viewer);  // the default scene lives in the static viewer library's resources
-  QApplication::setOrganizationName(QStringLiteral("bsdeform"));
-  QApplication::setApplicationName(QStringLiteral("bsdeform-viewer"));
+  // The command line is read before the QApplication exists: --help and a bad option need no
+  // display (Qt's platform plugin aborts without one, with a message about xcb).
+  QStringList arguments;
+  for (int i = 0; i < argc; ++i) arguments << QString::fromLocal8Bit(argv[i]);
+  QCoreApplication::setOrganizationName(QStringLiteral("bsdeform"));
+  QCoreApplication::setApplicationName(QStringLiteral("bsdeform-viewer"));
   QCommandLineParser parser;
   parser.setApplicationDescription(QStringLiteral("Opens, animates and lets you pull B-spline finite-element surfaces."));
   parser.addHelpOption();
@@ -59,7 +62,25 @@ int main(int argc, char** argv) {
                                                  "to scrub through (paused at the last)"),
                                   QStringLiteral("FILE"));
   parser.addOptions({measure, grid, speed, autosave, restore, discard, states});
-  parser.process(app);
+  if (!parser.parse(arguments)) {
+    std::fprintf(stderr, "bsdeform-viewer: %s (--help lists the options)\n", parser.errorText().toLocal8Bit().constData());
+    return 2;
+  }
+  if (parser.isSet(QStringLiteral("help"))) {
+    const QCoreApplication plain(argc, argv);  // the help names the program from its arguments; no display
+    std::fputs(parser.helpText().toLocal8Bit().constData(), stdout);
+    return 0;
+  }
+  // Without a display the window cannot open: say so, and what to use instead.
+  const bool display = !qEnvironmentVariableIsEmpty("DISPLAY") || !qEnvironmentVariableIsEmpty("WAYLAND_DISPLAY") ||
+                       !qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM");
+  if (!display) {
+    std::fprintf(stderr, "bsdeform-viewer: no display to open a window on (DISPLAY is not set). Run it under a desktop "
+                         "or xvfb-run, or use bsdeform-run for headless runs, pictures and videos.\n");
+    return 1;
+  }
+  QApplication app(argc, argv);
+  Q_INIT_RESOURCE(viewer);  // the default scene lives in the static viewer library's resources
   bool ok = true;
   const double autosaveSeconds = parser.isSet(autosave) ? parser.value(autosave).toDouble(&ok) : 60.0;
   if (!ok || !(autosaveSeconds >= 0.0) || autosaveSeconds > 24 * 3600.0) {

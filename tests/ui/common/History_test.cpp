@@ -21,7 +21,7 @@ bsdeform::Diagnostics diagnostics(double norm, double kinetic, double strain) {
 }
 }  // namespace
 
-TEST_CASE("History: series, CSV with 17 significant digits, thinning", "[ui]") {
+TEST_CASE("History: series, CSV in the shortest text that reads back, thinning", "[ui]") {
   History h;
   for (int i = 0; i < 5; ++i) h.append(0.1 * i, diagnostics(1.0 / 3.0 * i, 2.0 * i, 0.25 * i));
   REQUIRE(h.size() == 5);
@@ -33,7 +33,7 @@ TEST_CASE("History: series, CSV with 17 significant digits, thinning", "[ui]") {
   REQUIRE(lines.size() == 7);  // header, 5 rows, the empty text after the last newline
   CHECK(lines[0] == "time,norm,kinetic,strain");
   CHECK(lines[1] == "0,0,0,0");
-  CHECK(lines[2] == "0.10000000000000001,0.33333333333333331,2,0.25");  // reads back exactly
+  CHECK(lines[2] == "0.1,0.3333333333333333,2,0.25");  // reads back exactly
   CHECK(lines[6].isEmpty());
   const QVector<bsdeform::PlotSeries> series = h.plotSeries();
   REQUIRE(series.size() == 3);
@@ -70,4 +70,19 @@ TEST_CASE("History: bsdeform-run's CSV rows have a value under every header colu
   CHECK(value("strain_w02") == d.strain.w02);
   CHECK(value("substeps") == double(sim.subSteps()));
   CHECK(d.strain.total > 0.0);  // a deformed state, not all zeros
+}
+
+TEST_CASE("History: the time column is the time as a person reads it, not a sum's last bits", "[ui]") {
+  // Issue 37, item 4: 0.1 added ten times is 0.9999999999999999, and the CSV said so.
+  History h;
+  double t = 0.0;
+  for (int i = 0; i < 10; ++i) t += 0.1;
+  REQUIRE(t != 1.0);
+  h.append(t, diagnostics(1.0 / 3.0, 0.0, 0.0));
+  const QList<QByteArray> lines = h.csv().split('\n');
+  CHECK(lines[1] == "1,0.3333333333333333,0,0");
+  CHECK(History::detailedCsvRow(t, 10, 1, diagnostics(0, 0, 0)).startsWith(QStringLiteral("1,10,")));
+  CHECK(bsdeform::decimalNumber(0.1 + 0.2) == QStringLiteral("0.3"));
+  CHECK(bsdeform::historyNumber(0.1 + 0.2) == QStringLiteral("0.30000000000000004"));  // other values: exact
+  CHECK(bsdeform::decimalNumber(1e-300) == QStringLiteral("1e-300"));
 }

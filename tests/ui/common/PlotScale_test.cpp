@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "PlotScale.h"
 
@@ -98,4 +102,27 @@ TEST_CASE("PlotScale: least squares recovers a line and its correlation", "[ui]"
   CHECK(f.valid);
   CHECK(f.r == 0.0);
   CHECK(f.slope == 0.0);
+}
+
+TEST_CASE("PlotScale: tick labels tell the ticks apart, also for energies of 1e-16 after a reset", "[ui]") {
+  // Issue 37, item 4: the energy axis read "0.000000000000" five times after Reset.
+  auto labels = [](const bsdeform::AxisTicks& t) {
+    std::vector<std::string> out;
+    const std::string format = bsdeform::tickLabelFormat(t);
+    for (int i = 0; i < t.count; ++i) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, format.c_str(), t.min + i * t.step);
+      out.push_back(buf);
+    }
+    return out;
+  };
+  for (const auto& range : {std::make_pair(0.0, 3.1e-16), std::make_pair(0.0, 1.2), std::make_pair(0.0, 4.2e9),
+                            std::make_pair(2.5e-9, 2.7e-9), std::make_pair(-3.0, 7.0)}) {
+    const bsdeform::AxisTicks t = bsdeform::niceTicks(range.first, range.second, 6, range.first >= 0.0);
+    const std::vector<std::string> l = labels(t);
+    INFO(range.first << ".." << range.second << ": " << bsdeform::tickLabelFormat(t));
+    for (size_t i = 1; i < l.size(); ++i) CHECK(l[i] != l[i - 1]);
+    for (const std::string& text : l) CHECK(text.size() <= 10);
+  }
+  CHECK(bsdeform::tickLabelFormat(bsdeform::niceTicks(0.0, 1.2, 6)) == "%.1f");  // ordinary axes as before
 }

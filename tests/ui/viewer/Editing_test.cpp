@@ -28,8 +28,10 @@
 #include <map>
 #include <utility>
 
+#include "DocumentActions.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "PlotPanel.h"
 #include "SceneDocument.h"
 #include "ViewerClock.h"
 #include "ViewerTestSupport.h"
@@ -386,6 +388,28 @@ TEST_CASE("Editing: the Open dialog starts in scenes/ the first time, then in th
   CHECK(QDir(w.openFolder()) == QDir(dir.path()));
 }
 
+TEST_CASE("Editing: Save As of a template, Record and Save Screenshot start in the user's folder, never the working one",
+          "[ui]") {
+  // Issue 37, item 7: without ~/Documents the Save dialog of a template proposed the folder the
+  // viewer was started in (the repository), and Record's dialog opened there even with one.
+  ensureApp();
+  QTemporaryDir home;
+  const QByteArray oldHome = qgetenv("HOME");
+  qputenv("HOME", QFile::encodeName(home.path()));
+  QSettings().remove(QStringLiteral("lastFolder"));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.path()));  // no ~/Documents
+  REQUIRE(QDir(home.path()).mkdir(QStringLiteral("Documents")));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.filePath(QStringLiteral("Documents"))));
+  // a shipped scene's folder is never proposed; a folder of the user's is, once used
+  QSettings().setValue(QStringLiteral("lastFolder"), QStringLiteral(BSDEFORM_SCENES_DIR));
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(home.filePath(QStringLiteral("Documents"))));
+  QTemporaryDir mine;
+  QSettings().setValue(QStringLiteral("lastFolder"), mine.path());
+  CHECK(QDir(bsdeform::DocumentActions::userFolder()) == QDir(mine.path()));
+  QSettings().remove(QStringLiteral("lastFolder"));
+  qputenv("HOME", oldHome);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The field editor (item 3)
 
@@ -690,6 +714,10 @@ TEST_CASE("Editing: Simulation > Solve Static puts the surface at its equilibriu
   const double t = s->simulation().time();
   REQUIRE(w->solveStatic());
   CHECK(!w->isPlaying());
+  // the plots show the equilibrium, one sample, as a mark (a line of one point is not drawn)
+  processEvents();
+  CHECK(w->plotPanel().sampleCount() == 1);
+  CHECK(w->plotPanel().marksPoints());
   CHECK(s->simulation().evaluate(1.0, 0.5).position.z() == Approx(-0.25).epsilon(1e-9));
   CHECK(s->simulation().current() == s->simulation().previous());
   CHECK(s->simulation().time() == 0.0);
@@ -764,7 +792,7 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   CHECK(sheet->numUControlPoints.getValue() == 8);
   processEvents();
   // the status bar names the refusal, in red, also while the other surface is selected
-  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+  CHECK(stateOfStatusBar(w).contains(QStringLiteral("refused: Sheet.uDegree")));
   REQUIRE(w.selectNode(fine));
   processEvents();
   INFO(stateOfStatusBar(w).toStdString());
@@ -781,7 +809,122 @@ TEST_CASE("Refusals: a file's refused values are listed when it opens, shown as 
   CHECK(ed.messageOf(QStringLiteral("uDegree")).isEmpty());
   CHECK_FALSE(degree->styleSheet().contains(QStringLiteral("#ffd0d0")));
   CHECK(sheet->problem().kind != SoBSplineDeformSurface::Problem::FIELD);
-  CHECK_FALSE(stateOfStatusBar(w).contains(QStringLiteral("refused: uDegree")));
+  CHECK_FALSE(stateOfStatusBar(w).contains(QStringLiteral("Sheet.uDegree")));
+}
+
+TEST_CASE("Refusals: three bad values of a surface and two of a force field are all listed, shown as read, and nothing runs",
+          "[ui]") {
+  // Issue 37, item 3: the dialog listed only the first refused value of each surface, the editor
+  // clamped the others silently (poissonRatio 0.7 as 0.4999999, thickness -0.001 as 1e-300), and
+  // the default model ran under gravity behind the dialog.
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("three.iv"));
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator {\n"
+                  "  DEF Cloth SoBSplineDeformSurface { energy SHELL uDegree 9 poissonRatio 0.7 thickness -0.001\n"
+                  "    boundaryVMin FREE boundaryVMax FREE\n"
+                  "    forces [ SoForceField { type GRAVITY },\n"
+                  "             DEF Tether SoForceField { type SPRING point 2 0.5 stiffness -5 } ] }\n"
+                  "}\n");
+  ensureApp();
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  REQUIRE(w.openScene(path));
+  const QString box = w.lastError();
+  INFO(box.toStdString());
+  for (const char* row : {"Cloth: uDegree = 9: ", "Cloth: poissonRatio = 0.7: ", "Cloth: thickness = -0.001: ",
+                          "Tether: point = 2 0.5: ", "Tether: stiffness = -5: "})
+    CHECK(box.contains(QLatin1String(row)));
+  auto* cloth = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Cloth"));
+  REQUIRE(cloth);
+  CHECK(cloth->refusals().size() == 3);
+  // a scene opened with refusals starts paused, and Play and Step do not run it
+  CHECK_FALSE(w.isPlaying());
+  w.play();
+  CHECK_FALSE(w.isPlaying());
+  w.step();
+  passTime(w, 1.0);
+  CHECK(cloth->simulation().time() == 0.0);
+  CHECK(cloth->stepCount.getValue() == 0);
+  // every value as the file has it, red, with its reason
+  REQUIRE(w.selectNode(cloth));
+  bsdeform::FieldEditor& ed = w.fieldEditor();
+  const std::pair<const char*, const char*> shown[] = {{"uDegree", "9"}, {"poissonRatio", "0.7"}, {"thickness", "-0.001"}};
+  for (const auto& f : shown) {
+    INFO(f.first);
+    QWidget* editor = ed.editorOf(QLatin1String(f.first));
+    CHECK(textOf(editor) == QLatin1String(f.second));
+    CHECK(editor->styleSheet().contains(QStringLiteral("#ffd0d0")));
+    CHECK(ed.messageOf(QLatin1String(f.first)).contains(QLatin1String(f.first)));
+  }
+  auto* tether = static_cast<SoForceField*>(SoBase::getNamedBase("Tether", SoForceField::getClassTypeId()));
+  REQUIRE(tether);
+  REQUIRE(w.selectNode(tether));
+  CHECK(ed.editorOf(QStringLiteral("stiffness"))->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  CHECK(ed.editorOf(QStringLiteral("point"))->styleSheet().contains(QStringLiteral("#ffd0d0")));
+  // the status bar names every refused value of every node
+  processEvents();
+  const QString status = stateOfStatusBar(w);
+  INFO(status.toStdString());
+  for (const char* what : {"Cloth.uDegree", "Cloth.poissonRatio", "Cloth.thickness", "Tether.point", "Tether.stiffness"})
+    CHECK(status.contains(QLatin1String(what)));
+  // fixed one by one: still nothing runs until the last is fixed
+  cloth->uDegree = 3;
+  cloth->poissonRatio = 0.3;
+  cloth->thickness = 0.001;
+  tether->point.setValue(0.5, 0.5);
+  processEvents();
+  w.play();
+  CHECK_FALSE(w.isPlaying());  // the tether's stiffness is still refused
+  tether->stiffness = 5;
+  processEvents();
+  w.play();
+  CHECK(w.isPlaying());
+  passTime(w, 0.2);
+  CHECK(cloth->simulation().time() > 0.0);
+}
+
+TEST_CASE("Field editor: a SHELL scene's numbers as written, and the obstacles by their names", "[ui]") {
+  // Issue 37, item 4: youngsModulus 821000.0000000001 and poissonRatio 0.24300000000000002 in
+  // every SHELL scene; the obstacles as raw Inventor text ("height 0.60000002").
+  ensureApp();
+  {
+    auto w = makeWindow("curtain.iv");
+    auto* curtain = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Curtain"));
+    REQUIRE(curtain);
+    REQUIRE(w->selectNode(curtain));
+    bsdeform::FieldEditor& ed = w->fieldEditor();
+    CHECK(textOf(ed.editorOf(QStringLiteral("youngsModulus"))) == QStringLiteral("821000"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("poissonRatio"))) == QStringLiteral("0.243"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("thickness"))) == QStringLiteral("0.000318"));
+    CHECK(textOf(ed.editorOf(QStringLiteral("density"))) == QStringLiteral("472.6"));
+  }
+  QTemporaryDir dir;
+  const QString path = dir.filePath(QStringLiteral("two.iv"));
+  writeFile(path, "#Inventor V2.1 ascii\nSeparator {\n"
+                  "  Separator { Transform { translation 0.3 0.5 -0.6 } DEF Ball Sphere { radius 0.5 } }\n"
+                  "  Separator { Transform { translation 0.7 0.5 -0.6 } DEF Box Cube { height 0.6 } }\n"
+                  "  SoBSplineDeformSurface { on FALSE numUControlPoints 6 numVControlPoints 6\n"
+                  "    forces [ DEF Contact SoForceField { type COLLISION obstacles [ USE Ball, USE Box ] } ] } }\n");
+  auto window = std::make_unique<MainWindow>();
+  MainWindow& w = *window;
+  w.setInteractive(false);
+  w.clock().setWallClock(false);
+  REQUIRE(w.openScene(path));
+  auto* contact = static_cast<SoForceField*>(SoBase::getNamedBase("Contact", SoForceField::getClassTypeId()));
+  REQUIRE(contact);
+  REQUIRE(w.selectNode(contact));
+  bsdeform::FieldEditor& ed = w.fieldEditor();
+  QWidget* obstacles = ed.editorOf(QStringLiteral("obstacles"));
+  CHECK(textOf(obstacles) == QStringLiteral("Ball, Box"));
+  typeInto(obstacles, QStringLiteral("Box"));
+  REQUIRE(contact->obstacles.getNum() == 1);
+  CHECK(contact->obstacles[0] == SoNode::getByName("Box"));
+  // a name that names nothing is refused, the list kept
+  typeInto(ed.editorOf(QStringLiteral("obstacles")), QStringLiteral("Box, Nowhere"));
+  CHECK(contact->obstacles.getNum() == 1);
+  CHECK(ed.messageOf(QStringLiteral("obstacles")).contains(QStringLiteral("not a valid value")));
 }
 
 TEST_CASE("Editor: at the window's default size the field editor shows its rows whole, with no sideways scrolling",

@@ -8,7 +8,9 @@
 #include <QTemporaryDir>
 #include <QTest>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "../../support/VideoReadBack.h"
 #include "ViewerTestSupport.h"
@@ -80,4 +82,74 @@ TEST_CASE("Recording: an unknown file type is refused with the reason, nothing r
   CHECK_FALSE(w->isRecording());
   CHECK(w->lastError().contains(QStringLiteral("clip.avi")));
   CHECK(QDir(dir.path()).entryList(QDir::Files | QDir::Hidden).isEmpty());
+}
+
+TEST_CASE("Recording: a recorded frame is the picture the view shows, at two window sizes, with and without a scene camera",
+          "[ui]") {
+  // Issue 37, item 1: Record wrote grey frames with fine vertical stripes, stretched about 4/3
+  // sideways (3-byte pixels read as 4-byte ones), while Save Screenshot was right.
+  const char* scenes[] = {"region_load.iv" /* no camera of its own */, "flag.iv" /* its own camera */};
+  const QSize sizes[] = {QSize(1000, 700), QSize(760, 620)};
+  for (const char* scene : scenes) {
+    for (const QSize& windowSize : sizes) {
+      INFO(scene << " in a window of " << windowSize.width() << " x " << windowSize.height());
+      QTemporaryDir dir;
+      auto w = makeWindow(scene);
+      w->setPlaying(false);
+      w->resize(windowSize);
+      processEvents();
+      const QImage shot = w->screenshot().convertToFormat(QImage::Format_RGB888);
+      REQUIRE(!shot.isNull());
+      const QString path = dir.filePath(QStringLiteral("still.mp4"));
+      REQUIRE(w->startRecording(path, 10.0));
+      processEvents();
+      for (int k = 0; k < 2; ++k) {
+        w->step();
+        processEvents();
+      }
+      const QImage after = w->screenshot().convertToFormat(QImage::Format_RGB888);
+      REQUIRE(w->stopRecording());
+      const testsupport::ReadBack back = testsupport::readVideo(path.toStdString());
+      REQUIRE(back.rgb.size() >= 1);
+      REQUIRE(back.width == (shot.width() & ~1));
+      REQUIRE(back.height == (shot.height() & ~1));
+      // the last frame against the view after the last step: colour per 16 x 16 block (the
+      // encoder's 4:2:0 and quantisation blur edges, a block mean keeps colour and geometry)
+      const std::vector<unsigned char>& frame = back.rgb.back();
+      const int bw = back.width / 16, bh = back.height / 16;
+      double worst = 0.0, total = 0.0;
+      int different = 0;
+      for (int by = 0; by < bh; ++by)
+        for (int bx = 0; bx < bw; ++bx)
+          for (int c = 0; c < 3; ++c) {
+            double a = 0.0, b = 0.0;
+            for (int y = by * 16; y < by * 16 + 16; ++y)
+              for (int x = bx * 16; x < bx * 16 + 16; ++x) {
+                a += frame[(size_t(y) * back.width + x) * 3 + c];
+                b += after.constScanLine(y)[x * 3 + c];
+              }
+            const double d = std::abs(a - b) / 256.0;
+            worst = std::max(worst, d);
+            total += d;
+            different += d > 12.0;
+          }
+      const double mean = total / (3.0 * bw * bh);
+      if (std::getenv("BSDEFORM_TEST_KEEP_FRAMES")) {  // to look at
+        const QString stem = QStringLiteral("recorded_%1_%2x%3").arg(QLatin1String(scene)).arg(back.width).arg(back.height);
+        QImage(frame.data(), back.width, back.height, 3 * back.width, QImage::Format_RGB888).save(stem + QStringLiteral("_video.png"));
+        after.save(stem + QStringLiteral("_view.png"));
+      }
+      INFO("mean block difference " << mean << ", worst " << worst << ", blocks off by > 12: " << different);
+      CHECK(mean < 2.0);
+      CHECK(different <= bw * bh / 50);
+      // and the picture is not uniform (a grey frame would match a grey view)
+      double lo = 255, hi = 0;
+      for (size_t i = 0; i < frame.size(); i += 3) {
+        const double luma = 0.3 * frame[i] + 0.59 * frame[i + 1] + 0.11 * frame[i + 2];
+        lo = std::min(lo, luma);
+        hi = std::max(hi, luma);
+      }
+      CHECK(hi - lo > 60.0);
+    }
+  }
 }

@@ -4,10 +4,13 @@
 #include <Inventor/nodes/SoSeparator.h>
 
 #include <QFile>
+#include <QLabel>
 #include <QLocale>
 #include <QProcess>
 #include <QSlider>
+#include <QStatusBar>
 #include <QTemporaryDir>
+#include <QTest>
 #include <QUndoStack>
 #include <catch2/catch.hpp>
 #include <cstring>
@@ -191,6 +194,19 @@ TEST_CASE("Timeline: the plots show the history up to the position, replay plays
   CHECK(tl.isAtEnd());
   CHECK(w->plotPanel().lastShownTime() == newest);
 
+  // the Replay button: the status bar says it replays, not "0.0 steps/s" (issue 37, item 7)
+  scrubTo(*w, 1);
+  w->timelinePanel().setReplaying(true);
+  REQUIRE(QTest::qWaitFor([&] { return tl.position() > 1; }, 5000));
+  processEvents();
+  QString rates;
+  for (QLabel* l : w->statusBar()->findChildren<QLabel*>()) rates += l->text() + QLatin1Char('\n');
+  INFO(rates.toStdString());
+  CHECK(rates.contains(QStringLiteral("replay 1 x")));
+  CHECK_FALSE(rates.contains(QStringLiteral("steps/s")));
+  w->timelinePanel().setReplaying(false);
+  scrubTo(*w, n - 1);
+
   // stepping on from an earlier state: the plots go on from there
   const QVector<double> timesBefore = w->plotPanel().history().time(), normsBefore = w->plotPanel().history().norm();
   scrubTo(*w, 5);
@@ -291,6 +307,11 @@ TEST_CASE("Timeline: bsdeform-run --keep-states opens in the viewer and scrubs t
   CHECK(tl.isAtEnd());
   SoBSplineDeformSurface* s = firstSurface(*w);
   CHECK(s->simulation().stepCount() == 20);
+  // the plots show every kept state, not an empty plot at the last one (issue 37, item 7)
+  const bsdeform::History& plotted = w->plotPanel().history();
+  REQUIRE(plotted.size() == 5);
+  CHECK(plotted.time().front() == 0.0);
+  CHECK(plotted.norm().back() > plotted.norm().front());
 
   // the last state is final.iv's: saved from the viewer, the same state fields to the last bit
   // (final.iv's numbers are the 15-digit values a save writes, bsdeform::snap15)
@@ -319,7 +340,8 @@ TEST_CASE("Timeline: bsdeform-run --keep-states opens in the viewer and scrubs t
     if (cells.size() < 3 || cells[1].toLong() % 5 != 0) continue;
     scrubTo(*w, int(cells[1].toLong() / 5));
     CHECK(s->simulation().stepCount() == cells[1].toLong());
-    CHECK(s->simulation().time() == cells[0].toDouble());
+    // the CSV's time is the 15-digit value of the sum of steps (History: decimalNumber)
+    CHECK(QString::number(s->simulation().time(), 'g', 15).toDouble() == cells[0].toDouble());
     CHECK(s->simulation().diagnostics().norm == cells[2].toDouble());
     ++checked;
   }

@@ -202,6 +202,24 @@ bool contains(SoNode* graph, SoNode* node) {
 }
 }  // namespace
 
+TEST_CASE("Viewer habits: the ground grid stays under a cloth that falls below where it started", "[ui]") {
+  // Issue 37, item 7: the grid sat under the rest plane, and pinned_cloth hung through it.
+  auto w = makeWindow("pinned_cloth.iv");
+  ViewDecorations& deco = w->decorations();
+  REQUIRE(deco.isGridVisible());
+  const float spacing = deco.grid().spacing();
+  const float startZ = deco.grid().extent().getMin()[2];
+  w->setPlaying(true);
+  passTime(*w, 2.0);
+  processEvents();
+  const SbBox3f scene = bsdeform::sceneBoundingBox(w->document().root(), w->viewer()->getViewportRegion());
+  INFO("cloth's lowest z " << scene.getMin()[2] << ", grid at " << deco.grid().extent().getMin()[2]);
+  REQUIRE(scene.getMin()[2] < startZ);  // it did fall below where the grid began
+  CHECK(deco.grid().extent().getMin()[2] < scene.getMin()[2]);
+  CHECK(deco.grid().spacing() == spacing);  // lowered, not refitted: the cells stay
+  w->screenshot().save(QStringLiteral("viewer_grid_under_fallen_cloth.png"));  // looked at
+}
+
 TEST_CASE("Viewer habits: a scene without its own environment gets the ground grid and the axes, neither saved", "[ui]") {
   auto w = makeWindow("paper_fig3_opposite_point_forces.iv");
   ViewDecorations& deco = w->decorations();

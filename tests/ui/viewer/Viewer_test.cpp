@@ -30,6 +30,7 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
 
 using bsdeform::MainWindow;
 
@@ -429,4 +430,82 @@ TEST_CASE("Viewer: a new window comes back with the size and dock layout the las
   CHECK(w->size() == QSize(1200, 800));
   CHECK(w->dockWidgetArea(plots) == Qt::BottomDockWidgetArea);
   CHECK(!scene->isHidden());
+}
+
+TEST_CASE("Viewer: Save and the autosave of a scene with two COLLISION obstacles open again", "[ui]") {
+  // Issue 37, item 0: Coin writes the obstacles as `USE A,` newline `USE B ]`, which its reader
+  // took as a node called "A,": the user's saved work and its autosave could not be opened.
+  ensureApp();
+  QTemporaryDir dir;
+  const QString scene = dir.filePath(QStringLiteral("two.iv"));
+  writeFile(scene, "#Inventor V2.1 ascii\nSeparator {\n"
+                   "  Separator { Transform { translation 0.3 0.5 -0.6 } DEF A Sphere { radius 0.5 } }\n"
+                   "  Separator { Transform { translation 0.7 0.5 -0.6 } DEF B Cube { } }\n"
+                   "  SoBSplineDeformSurface { on FALSE numUControlPoints 6 numVControlPoints 6 timeStep 0.01\n"
+                   "    forces [ SoForceField { type GRAVITY },\n"
+                   "             SoForceField { type COLLISION obstacles [ USE A, USE B ] } ] } }\n");
+  auto w = std::make_unique<MainWindow>();
+  w->setInteractive(false);
+  const QString recovery = dir.filePath(QStringLiteral("recovery"));
+  w->autosave().setDirectory(recovery);
+  w->autosave().setInterval(100);
+  REQUIRE(w->openScene(scene));
+  w->show();
+  REQUIRE(QTest::qWaitForWindowExposed(w.get()));
+  const QString autosaved = w->autosave().filePath();
+  for (int i = 0; i < 3; ++i) w->step();
+  REQUIRE(QTest::qWaitFor([&] { return QFile::exists(autosaved); }, 5000));
+  // copied before the save removes it
+  const QString autosaveCopy = dir.filePath(QStringLiteral("autosave-copy.iv"));
+  REQUIRE(QFile::copy(autosaved, autosaveCopy));
+  const QString saved = dir.filePath(QStringLiteral("saved.iv"));
+  REQUIRE(w->saveSceneAs(saved));
+  CHECK(w->lastError().isEmpty());
+  for (const QString& path : {saved, autosaveCopy}) {
+    INFO(path.toStdString());
+    bsdeform::SceneDocument doc;
+    QString error;
+    const bool loaded = doc.load(path, error);
+    INFO(error.toStdString());
+    REQUIRE(loaded);
+    int collisions = 0;
+    for (SoForceField* ff : doc.forceFields()) {
+      if (ff->type.getValue() != SoForceField::COLLISION) continue;
+      ++collisions;
+      REQUIRE(ff->obstacles.getNum() == 2);
+      CHECK(std::string(ff->obstacles[0]->getName().getString()) == "A");
+      CHECK(std::string(ff->obstacles[1]->getName().getString()) == "B");
+    }
+    CHECK(collisions == 1);
+    CHECK(timeIn(path) == Approx(0.03));
+  }
+  // and the window opens its own file again
+  CHECK(w->openScene(saved));
+  CHECK(w->lastError().isEmpty());
+}
+
+TEST_CASE("Viewer: --help and a missing display are answered without a window", "[ui]") {
+  // Issue 37, item 7: `bsdeform-viewer --help` without a display failed with Qt's "could not
+  // connect to display".
+  ensureApp();
+  QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+  for (const char* name : {"DISPLAY", "WAYLAND_DISPLAY", "QT_QPA_PLATFORM"}) env.remove(QLatin1String(name));
+  auto runViewer = [&env](const QStringList& args, QByteArray& out, QByteArray& err) {
+    QProcess p;
+    p.setProcessEnvironment(env);
+    p.start(QStringLiteral(BSDEFORM_VIEWER), args);
+    REQUIRE(p.waitForFinished(20000));
+    out = p.readAllStandardOutput();
+    err = p.readAllStandardError();
+    return p.exitStatus() == QProcess::NormalExit ? p.exitCode() : -1;
+  };
+  QByteArray out, err;
+  CHECK(runViewer({QStringLiteral("--help")}, out, err) == 0);
+  CHECK(out.contains("--measure-fps"));
+  CHECK(out.contains("--states"));
+  CHECK(runViewer({}, out, err) == 1);
+  CHECK(err.contains("no display"));
+  CHECK(err.contains("bsdeform-run"));
+  CHECK(runViewer({QStringLiteral("--no-such-option")}, out, err) == 2);
+  CHECK(err.contains("no-such-option"));
 }
