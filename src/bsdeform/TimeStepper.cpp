@@ -397,7 +397,11 @@ bool ShellBackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNe
   // plus the work the constant loads can do over the surface's own size (a sheet at z = 0
   // under gravity stores nothing, yet falls)
   const double extent = (net.colwise().maxCoeff() - net.colwise().minCoeff()).norm();
-  scale = kinetic + std::abs(elastic) + std::abs(loads) + s.m_constantLoad.cwiseAbs().sum() * extent;
+  // and a floor: the membrane energy of a uniform strain of 1.4e-4 (1e-8 E t A), below which a
+  // change is rounding (a strip at rest under no load moves its energy between 1e-17 and 1e-16)
+  const ShellMaterial& m = s.m_params.material;
+  scale = kinetic + std::abs(elastic) + std::abs(loads) + s.m_constantLoad.cwiseAbs().sum() * extent +
+          1e-8 * m.youngsModulus * m.thickness * s.m_shell->restArea();
   return true;
 }
 

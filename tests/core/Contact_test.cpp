@@ -310,8 +310,12 @@ TEST_CASE("Contact: a cotton cloth dropped on a box with BACKWARD_EULER stays bo
     REQUIRE(sim.evaluate(0.5, 0.5).position.z() > top);
   }
   CHECK(highest < 2.0);  // bounded: the net stays near its 1 m square
-  // resting on the box: the middle within the thickness above the top, and still
-  const double z = sim.evaluate(0.5, 0.5).position.z();
-  CHECK(z < top + cp.thickness);
+  // resting on the box: over the box's top (the middle of the cloth) the lowest point lies in
+  // the contact layer (the layer's penalty carries it; folds may lift the rest), and still
+  double lowest = 1e30;
+  for (double u = 0.35; u <= 0.651; u += 0.05)
+    for (double v = 0.35; v <= 0.651; v += 0.05) lowest = std::min(lowest, sim.evaluate(u, v).position.z());
+  CHECK(lowest > top);
+  CHECK(lowest < top + cp.thickness);
   CHECK(sim.kineticEnergy() < 1e-4);
 }

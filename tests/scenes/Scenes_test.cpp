@@ -194,6 +194,7 @@ TEST_CASE("Scenes: each written scene reloads and resumes the same trajectory", 
       const double diff = (sa[i]->simulation().current() - sb[i]->simulation().current()).cwiseAbs().maxCoeff();
       const double scale = 1.0 + sa[i]->simulation().current().cwiseAbs().maxCoeff();
       CHECK(diff <= 1e-12 * scale);
+      CHECK(sa[i]->simulation().statusMessage() == sb[i]->simulation().statusMessage());
     }
     a->unref();
     b->unref();
