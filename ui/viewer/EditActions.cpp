@@ -38,6 +38,11 @@ void EditActions::insertSurface() {
   m_undo.push(new InsertSurfaceCommand(m_edit, m_edit.doc.root()));
 }
 
+void EditActions::insertSurface(const MaterialPreset& preset) {
+  if (!m_edit.doc.root()) return;
+  m_undo.push(new InsertSurfaceCommand(m_edit, m_edit.doc.root(), &preset));
+}
+
 bool EditActions::deleteSelected() {
   SoBase* sel = m_panel.selectedNode();
   if (!sel) return false;

@@ -14,6 +14,7 @@ class SoBSplineDeformSurface;
 namespace bsdeform {
 
 class Feedback;
+struct MaterialPreset;
 class ScenePanel;
 struct EditContext;
 
@@ -31,6 +32,9 @@ class EditActions {
   bool insertForceField(int type);
   /// Adds a surface (default fields) beside the scene.
   void insertSurface();
+  /// Adds a SHELL surface of `preset`'s material (MaterialPresets.h), its other fields the
+  /// defaults, beside the scene.
+  void insertSurface(const MaterialPreset& preset);
   /// Deletes the selected surface or force field. False when nothing is selected.
   bool deleteSelected();
 

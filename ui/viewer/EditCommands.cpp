@@ -13,6 +13,7 @@
 #include <QObject>
 #include <algorithm>
 
+#include "MaterialPresets.h"
 #include "SceneDocument.h"
 #include "bsdeform/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
@@ -178,8 +179,9 @@ void InsertForceCommand::undo() {
 
 // ---------------------------------------------------------------------------------------------
 
-InsertSurfaceCommand::InsertSurfaceCommand(EditContext& context, SoGroup* root)
+InsertSurfaceCommand::InsertSurfaceCommand(EditContext& context, SoGroup* root, const MaterialPreset* preset)
     : m_context(context), m_root(root), m_surface(new SoBSplineDeformSurface) {
+  if (preset) applyMaterialPreset(m_surface, *preset);
   m_root->ref();
   auto* group = new SoSeparator;
   m_group = group;
@@ -196,7 +198,7 @@ InsertSurfaceCommand::InsertSurfaceCommand(EditContext& context, SoGroup* root)
     group->addChild(move);
   }
   group->addChild(m_surface);
-  setText(QObject::tr("Add surface"));
+  setText(preset ? QObject::tr("Add surface: %1").arg(QString::fromUtf8(preset->name)) : QObject::tr("Add surface"));
 }
 
 InsertSurfaceCommand::~InsertSurfaceCommand() {

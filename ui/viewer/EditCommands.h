@@ -24,6 +24,7 @@ class SoForceField;
 namespace bsdeform {
 
 class SceneDocument;
+struct MaterialPreset;
 
 /// Why `owner` (a surface or a force field) refuses its current field values: the node's
 /// message, empty when it takes them. A surface rebuilds its model to find out (and keeps its
@@ -100,10 +101,11 @@ class InsertForceCommand : public QUndoCommand {
 void insertedForceDefaults(SoForceField* force, int type, SoBSplineDeformSurface* surface);
 
 /// A new surface (default fields, the plane (u, v, 0)) in its own Separator, moved along x
-/// beside what the scene already shows.
+/// beside what the scene already shows; with a `preset`, a SHELL of that material
+/// (applyMaterialPreset, MaterialPresets.h), its other fields the defaults.
 class InsertSurfaceCommand : public QUndoCommand {
  public:
-  InsertSurfaceCommand(EditContext& context, SoGroup* root);
+  InsertSurfaceCommand(EditContext& context, SoGroup* root, const MaterialPreset* preset = nullptr);
   ~InsertSurfaceCommand() override;
   void undo() override;
   void redo() override;

@@ -35,6 +35,7 @@
 #include "Feedback.h"
 #include "FieldEditor.h"
 #include "HelpDialogs.h"
+#include "MaterialPresets.h"
 #include "PlotPanel.h"
 #include "RecordingControls.h"
 #include "SceneDocument.h"
@@ -220,7 +221,20 @@ void MainWindow::createEditActions() {
     a->setToolTip(tr("Add a %1 force field to the selected surface").arg(QString::fromLatin1(name.getString())));
   }
   probe->unref();
-  insert->addAction(tr("&Surface"), this, &MainWindow::insertSurface);
+  // Insert > Surface: the plain surface (the node's defaults: the paper's energy), then one
+  // SHELL surface per named material
+  QMenu* surfaces = insert->addMenu(tr("&Surface"));
+  surfaces->setToolTipsVisible(true);
+  QAction* plain = surfaces->addAction(tr("&Plain (default fields)"), this, &MainWindow::insertSurface);
+  plain->setToolTip(tr("Add a surface with the node's default fields (the paper's energy)"));
+  surfaces->addSection(tr("SHELL materials"));
+  for (const MaterialPreset& preset : materialPresets()) {
+    QAction* a = surfaces->addAction(QString::fromUtf8(preset.name), this,
+                                     [this, &preset] { insertPresetSurface(preset); });
+    a->setToolTip(tr("Add a SHELL surface: E %1 Pa, ν %2, t %3 m, ρ %4 kg/m³ (%5)")
+                      .arg(preset.youngsModulus).arg(preset.poissonRatio).arg(preset.thickness)
+                      .arg(preset.density).arg(QString::fromUtf8(preset.source)));
+  }
 }
 
 void MainWindow::createDocks() {
@@ -500,6 +514,7 @@ bool MainWindow::solveStatic() { return m_simulation->solveStatic(); }
 
 bool MainWindow::insertForceField(int type) { return m_edits->insertForceField(type); }
 void MainWindow::insertSurface() { m_edits->insertSurface(); }
+void MainWindow::insertPresetSurface(const MaterialPreset& preset) { m_edits->insertSurface(preset); }
 bool MainWindow::deleteSelected() { return m_edits->deleteSelected(); }
 long MainWindow::framesDrawn() const { return m_status->framesDrawn(); }
 

@@ -45,6 +45,7 @@ class ViewerClock;
 class WheelZoom;
 class ClickSelect;
 struct EditContext;
+struct MaterialPreset;
 
 /// The window: the 3D view, the menus, tool bar and docks, and the wiring between the parts
 /// that do the work (DocumentActions, SimulationControls, RecordingControls, ExportActions,
@@ -73,6 +74,9 @@ class MainWindow : public QMainWindow {
   bool insertForceField(int type);
   /// Adds a surface (default fields) beside the scene, undoably, and selects it.
   void insertSurface();
+  /// Adds a SHELL surface of `preset`'s material (one of materialPresets(): Insert > Surface's
+  /// presets) beside the scene, undoably, and selects it.
+  void insertPresetSurface(const MaterialPreset& preset);
   /// Deletes the selected surface or force field, undoably. False when nothing is selected.
   bool deleteSelected();
   /// The selected surface or force field in the scene panel (nullptr: none).

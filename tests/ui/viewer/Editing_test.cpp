@@ -12,6 +12,8 @@
 #include <QDir>
 #include <QFile>
 #include <QLineEdit>
+#include <QMenu>
+#include <QMenuBar>
 #include <QMessageBox>
 #include <QProcess>
 #include <QPushButton>
@@ -29,8 +31,10 @@
 #include <utility>
 
 #include "DocumentActions.h"
+#include "EditCommands.h"
 #include "FieldEditor.h"
 #include "MainWindow.h"
+#include "MaterialPresets.h"
 #include "PlotPanel.h"
 #include "SceneDocument.h"
 #include "ViewerClock.h"
@@ -249,6 +253,91 @@ TEST_CASE("Editing: every inserted force field type acts at once the way its nam
     inserted(type);
     CHECK((centreAfter(2) - Eigen::Vector3d(0.5, 0.5, 0.0)).norm() < 1e-12);  // nothing moves a surface at rest
     w->undoStack().undo();
+  }
+}
+
+// The menu Insert > Surface, as the user finds it.
+QMenu* insertSurfaceMenu(MainWindow& w) {
+  for (QAction* top : w.menuBar()->actions())
+    if (top->menu() && top->text() == QStringLiteral("&Insert"))
+      for (QAction* a : top->menu()->actions())
+        if (a->menu() && a->text() == QStringLiteral("&Surface")) return a->menu();
+  return nullptr;
+}
+
+TEST_CASE("Editing: Insert > Surface offers the named SHELL materials, inserted with the table's values, and each steps", "[ui]") {
+  auto w = makeWindow("region_load.iv");
+  w->pause();
+  QUndoStack& undo = w->undoStack();
+  QMenu* menu = insertSurfaceMenu(*w);
+  REQUIRE(menu);
+  std::map<QString, QAction*> items;
+  for (QAction* a : menu->actions())
+    if (!a->isSeparator() && !a->menu()) items[a->text()] = a;
+  const std::vector<bsdeform::MaterialPreset>& presets = bsdeform::materialPresets();
+  CHECK(items.size() == presets.size() + 1);  // the plain surface and one per material
+
+  // the plain insert as before: the node's defaults, the paper's energy
+  REQUIRE(items.count(QStringLiteral("&Plain (default fields)")));
+  items[QStringLiteral("&Plain (default fields)")]->trigger();
+  REQUIRE(w->document().surfaces().size() == 2);
+  SoBSplineDeformSurface* plain = w->document().surfaces()[1];
+  CHECK(w->selectedNode() == plain);
+  CHECK(plain->energy.getValue() == SoBSplineDeformSurface::PAPER_ENERGY);
+  undo.undo();
+  REQUIRE(w->document().surfaces().size() == 1);
+
+  for (const bsdeform::MaterialPreset& preset : presets) {
+    const QString name = QString::fromUtf8(preset.name);
+    INFO(name.toStdString());
+    REQUIRE(items.count(name));
+    items[name]->trigger();  // as the user does it
+    REQUIRE(w->document().surfaces().size() == 2);
+    SoBSplineDeformSurface* s = w->document().surfaces()[1];
+    CHECK(w->selectedNode() == s);
+    CHECK(undo.undoText() == QStringLiteral("Add surface: %1").arg(name));
+    CHECK(s->energy.getValue() == SoBSplineDeformSurface::SHELL);
+    CHECK(s->youngsModulus.getValue() == preset.youngsModulus);
+    CHECK(s->poissonRatio.getValue() == preset.poissonRatio);
+    CHECK(s->thickness.getValue() == preset.thickness);
+    CHECK(s->density.getValue() == preset.density);
+    CHECK(bsdeform::refusalOf(s).isEmpty());
+    // the model the surface runs is that material, and it steps under gravity
+    const bsdeform::ModelParameters& p = s->simulation().parameters();
+    CHECK(p.energy == bsdeform::EnergyModel::Shell);
+    CHECK(p.material.youngsModulus == preset.youngsModulus);
+    CHECK(p.material.poissonRatio == preset.poissonRatio);
+    CHECK(p.material.thickness == preset.thickness);
+    CHECK(p.material.density == preset.density);
+    REQUIRE(w->insertForceField(SoForceField::GRAVITY));
+    REQUIRE(s->stepSimulation(3));
+    CHECK(s->simulation().stepCount() == 3);
+    CHECK(s->simulation().status() == bsdeform::Status::Ok);
+    CHECK(s->simulation().deformationNorm() > 0.0);  // it moved
+    undo.undo();  // the gravity
+    undo.undo();  // the surface
+    CHECK(w->document().surfaces().size() == 1);
+  }
+}
+
+TEST_CASE("Editing: docs/nodes.md's table of named materials is the presets' table", "[ui]") {
+  // Each preset has a row "| name | E | ν | t | ρ | source |" with the same numbers.
+  QFile doc(QStringLiteral(BSDEFORM_SCENES_DIR "/../docs/nodes.md"));
+  REQUIRE(doc.open(QIODevice::ReadOnly | QIODevice::Text));
+  const QStringList lines = QString::fromUtf8(doc.readAll()).split(QLatin1Char('\n'));
+  for (const bsdeform::MaterialPreset& preset : bsdeform::materialPresets()) {
+    const QString name = QString::fromUtf8(preset.name);
+    INFO(name.toStdString());
+    QStringList cells;
+    for (const QString& line : lines)
+      if (line.startsWith(QStringLiteral("| %1 |").arg(name))) cells = line.split(QLatin1Char('|'));
+    REQUIRE(cells.size() >= 7);  // "", name, E, ν, t, ρ, source..., ""
+    bool ok[4] = {};
+    CHECK(cells[2].trimmed().toDouble(&ok[0]) == preset.youngsModulus);
+    CHECK(cells[3].trimmed().toDouble(&ok[1]) == preset.poissonRatio);
+    CHECK(cells[4].trimmed().toDouble(&ok[2]) == preset.thickness);
+    CHECK(cells[5].trimmed().toDouble(&ok[3]) == preset.density);
+    CHECK((ok[0] && ok[1] && ok[2] && ok[3]));
   }
 }
 
