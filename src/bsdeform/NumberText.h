@@ -1,19 +1,21 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file NumberText.h
-/// How the core writes a number into an error message: 17 significant digits, so that the
-/// value a user sees is the value that was refused.
+/// How the core writes a number into an error message: the shortest text that reads back to
+/// the same double (std::to_chars), so that the value a user sees is the value that was refused
+/// and reads as the user wrote it (0.7, not 0.69999999999999996).
 
-#include <sstream>
+#include <charconv>
 #include <string>
+#include <system_error>
 
 namespace bsdeform {
 
 inline std::string numberText(double x) {
-  std::ostringstream os;
-  os.precision(17);
-  os << x;
-  return os.str();
+  char buffer[64];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, x);
+  if (r.ec != std::errc()) return "?";
+  return std::string(buffer, r.ptr);
 }
 
 }  // namespace bsdeform

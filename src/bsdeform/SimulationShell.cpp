@@ -4,6 +4,7 @@
 // bound at the state, and the nonlinear static problem by Newton with load increments. Its
 // time steppers are in TimeStepper.cpp.
 #include <Eigen/CholmodSupport>
+#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -176,11 +177,35 @@ void Simulation::shellUpdateBound() {
 // loads balance.
 StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
   const Eigen::Index n = m_space.numMoving();
-  bool conservative = true;
-  for (const auto& f : m_forces) conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
+  bool conservative = true, followers = true;
+  for (const auto& f : m_forces) {
+    conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
+    followers &= f->dependence() == kDependsOnNormal;  // pressure: indifferent to rigid motions
+  }
   ControlNet net = m_rest;
   ControlNet x = m_space.gatherMoving(net);
   const ControlNet L0 = conservative ? loadAt(net, 0.0) : ControlNet();
+  // Nothing holds the surface (free and periodic sides, no pin, no held coordinate): loads
+  // with a resultant have no equilibrium (said at once, not after a minute of cut increments),
+  // and an equilibrium found is one of a family of rigid motions, brought back to the rest
+  // position below.
+  const Boundaries& b = m_space.boundaries();
+  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
+  bool heldByNothing = loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
+  for (char held : m_heldMask) heldByNothing &= held == 0;
+  if (heldByNothing) {
+    const ControlNet Lrest = loadAt(net, 0.0);
+    const Eigen::RowVector3d resultant = Lrest.colwise().sum();
+    const double size = Lrest.cwiseAbs().sum();
+    if (resultant.norm() > 1e-8 * size) {
+      std::ostringstream os;
+      os << "static solve: nothing holds the surface (every side FREE or PERIODIC, no pin) and the loads' "
+            "resultant at rest, ("
+         << numberText(resultant.x()) << ", " << numberText(resultant.y()) << ", " << numberText(resultant.z())
+         << "), is not zero: there is no equilibrium; hold the surface (a side, a pin) or run the dynamics";
+      throw std::runtime_error(os.str());
+    }
+  }
   struct State {
     ControlNet g, R, L;
     double r = 0.0, merit = 0.0;
@@ -292,6 +317,25 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
       inc.iterations = used;
       result.increments.push_back(std::move(inc));
       ++next;
+    }
+  }
+  if (heldByNothing) {
+    // the rigid drift the free motions allowed, taken out: the mass-weighted centroid back at
+    // rest's, and (loads indifferent to rotations: pressure) the best-fitting rotation about it
+    // (Kabsch, weighted by the net masses); the equilibrium is the same up to that motion
+    const Eigen::VectorXd& W = m_shellModel->netMass();
+    const double total = W.sum();
+    for (StaticResult::Increment& inc : result.increments) {
+      const Eigen::RowVector3d c = (W.transpose() * inc.net) / total, c0 = (W.transpose() * m_rest) / total;
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      if (followers) {
+        const Eigen::Matrix3d H = (inc.net.rowwise() - c).transpose() * W.asDiagonal() * (m_rest.rowwise() - c0);
+        Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+        D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+        R = svd.matrixV() * D * svd.matrixU().transpose();  // rotates the solution onto rest
+      }
+      inc.net = ((inc.net.rowwise() - c) * R.transpose()).rowwise() + c0;
     }
   }
   result.net = result.increments.back().net;

@@ -332,6 +332,28 @@ TEST_CASE("SHELL pressurised open tube follows the membrane's closed-form pressu
     const double closedForm = 1e-3 * 1e5 * (lambda * lambda - 1) / (2 * R0);
     CAPTURE(inc.loadFactor, lambda, closedForm);
     CHECK(inc.loadFactor * pmax == Approx(closedForm).epsilon(1e-4));
+    // nothing holds it: the equilibrium comes back without the rigid drift the free motions
+    // allowed (the section's centre on the axis, no turn about it; without the correction the
+    // tube had drifted 1238 m and turned 1.5 rad here)
+    const Eigen::Vector3d mid = sim.space().evaluate(inc.net, 0.0, 0.5, 0).position;
+    CHECK(c.norm() < 1e-4);
+    CHECK(std::abs(std::atan2(mid.y(), mid.x()) - std::atan2(sim.space().evaluate(rest, 0.0, 0.5, 0).position.y(),
+                                                           sim.space().evaluate(rest, 0.0, 0.5, 0).position.x())) < 1e-4);
+  }
+}
+
+TEST_CASE("SHELL static solve refuses at once loads that nothing can balance on a surface nothing holds", "[shell]") {
+  ModelParameters p = shellParams(3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  Simulation sim(p);
+  sim.addForce(std::make_shared<GravityForce>(1.0, Eigen::Vector3d(0, 0, -9.81)));
+  try {
+    sim.solveStatic(1e-9, 60, LinearSolver::Automatic, 1);
+    FAIL("a free sheet under gravity has no equilibrium");
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    CAPTURE(what);
+    CHECK(what.find("nothing holds the surface") != std::string::npos);
+    CHECK(what.find("(0, 0, -9.8") != std::string::npos);  // the resultant: 1 kg/m² on 1 m²
   }
 }
 
