@@ -152,7 +152,7 @@ TEST_CASE("SoBSplineDeformSurface: a refused SHELL material names its field and 
   REQUIRE(s->stepSimulation(1));
   s->poissonRatio = 0.7;
   CHECK(s->simulation().parameters().material.poissonRatio == 0.3);  // the last valid model
-  CHECK_THAT(s->lastWarning(), Catch::Contains("field 'poissonRatio'") && Catch::Contains("0.69999"));
+  CHECK_THAT(s->lastWarning(), Catch::Contains("field 'poissonRatio'") && Catch::Contains("(got 0.7)"));
   s->poissonRatio = 0.3;
   s->thickness = -1.0;
   CHECK(s->simulation().parameters().material.thickness == 0.001);
