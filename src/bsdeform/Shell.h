@@ -15,7 +15,8 @@
 /// Everything is derived from one kernel, the energy density's gradient with respect to the
 /// five surface derivatives (S_u, S_v, S_uu, S_uv, S_vv) at a Gauss point, written once for
 /// doubles and for dual numbers: the Hessian–vector product is the exact directional derivative
-/// of the gradient, and the 15 x 15 Hessian of the density is 15 such derivatives.
+/// of the gradient. The 15 x 15 Hessian of the density, for the assembled tangent, is derived by
+/// hand (docs/math.md §16, "The tangent") and checked against the dual numbers in the tests.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>

@@ -491,8 +491,10 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
       for (int k = 0; k < 3; ++k)
         if (held(f, k)) ev.g(f, k) = 0.0;
     ev.r = ev.g.norm();
-    ev.E = 0.5 * (dx.array() * Mdx.array()).sum() / (h * h) + 0.5 * (c / h) * (dn.array() * Mdn.array()).sum() +
-           s.m_energy->energy(net) + phi;
+    // the potential only where the line search watches it (every load has one)
+    ev.E = ev.potential ? 0.5 * (dx.array() * Mdx.array()).sum() / (h * h) +
+                              0.5 * (c / h) * (dn.array() * Mdn.array()).sum() + s.m_energy->energy(net) + phi
+                        : 0.0;
   };
   ControlNet x = xhat;
   for (Eigen::Index f = 0; f < x.rows(); ++f)
