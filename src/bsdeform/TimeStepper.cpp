@@ -517,6 +517,9 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   };
   bool converged = false;
   double lastUpdate = 0.0;
+  // a step starts with a factorisation of its own (kept only within the step), so that a run
+  // resumed from a saved state takes the same iterates as the uninterrupted one
+  m_refactor = true;
   for (int it = 0; it < s.m_params.maxNewtonIterations && std::isfinite(cur.r); ++it) {
     if (cur.r <= s.m_params.newtonTolerance * forceScale) {
       converged = true;
@@ -524,7 +527,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     }
     ++m_newtonIterations;
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    // The factorisation of an earlier iterate (or step) is kept while the iterates contract
+    // The factorisation of an earlier iterate of the step is kept while the iterates contract
     // fast with it (a chord step costs a gradient and a solve, not an assembly and a
     // factorisation); a new one is made when the last update shrank by less than half, or
     // the line search refused a kept one's step. The exact tangent while it is positive

@@ -119,8 +119,8 @@ class ShellImplicitStepper final : public TimeStepper {
 /// not converge is retaken in 2, 4, ... 16 pieces, then reported. When every load has a
 /// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
 /// its value when the run (or the last change of forces) began: a rise is reported as a
-/// blow-up. A factorisation is kept across iterations and steps while the iterates contract
-/// fast with it (chord steps), and made anew when they do not.
+/// blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
+/// factorisation is kept while the iterates contract fast with it (chord steps).
 class ShellBackwardEulerStepper final : public TimeStepper {
  public:
   using TimeStepper::TimeStepper;
