@@ -188,8 +188,9 @@ TEST_CASE("BACKWARD_EULER is refused for the paper's energy", "[shell]") {
   CHECK_THROWS_AS(Simulation(p), std::invalid_argument);
 }
 
+// [slow]: a minute under the sanitizers (the Release suite runs it)
 TEST_CASE("IMPLICIT (Newmark) takes the forces at the iterate: a sheet bouncing on a penalty plane gains no energy",
-          "[shell]") {
+          "[shell][slow]") {
   for (Integrator integrator : {Integrator::Implicit, Integrator::BackwardEuler}) {
     CAPTURE(integrator == Integrator::Implicit);
     // Newmark's error at an impact falls with the step (the penalty's period is 0.044 s)
@@ -234,7 +235,8 @@ TEST_CASE("IMPLICIT (Newmark) takes the forces at the iterate: a sheet bouncing 
   }
 }
 
-TEST_CASE("The implicit steppers report a total energy that rises with no work done as a blow-up", "[shell]") {
+// [slow]: two minutes under the sanitizers (the Release suite runs it)
+TEST_CASE("The implicit steppers report a total energy that rises with no work done as a blow-up", "[shell][slow]") {
   // a cotton curtain hinged at its top, released horizontal, Δt = 0.02: Newmark's energy is not
   // bounded for the stiff membrane at this step (it rose to 3.5 MJ in 2 s and was drawn);
   // backward Euler dissipates and runs through
