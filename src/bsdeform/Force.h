@@ -212,11 +212,11 @@ class DistributedForce : public Force {
   /// Whether the rectangle has zero width in u or v (a line load, or a point).
   bool isLine() const { return m_rect.u0 == m_rect.u1 || m_rect.v0 == m_rect.v1; }
 
-  /// The Jacobian of a density given by densityJacobian(): \f$\sum_g w_g B_p B_q (K_x + s K_v)\f$
-  /// over the same Gauss points as the load.
+  /// The Jacobian of a density whose derivatives densityDerivatives() gives:
+  /// \f$\sum_g w_g B_p B_q (K_x + s K_v)\f$ over the same Gauss points as the load.
   bool hasJacobian() const override { return m_hasDensityDerivatives; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
-  /// \f$\int \phi\f$ over the same Gauss points, \f$\phi\f$ from densityPotential().
+  /// \f$\int \phi\f$ over the same Gauss points, \f$\phi\f$ from densityDerivatives().
   bool potential(const LoadContext& ctx, double& value) const override;
 
  protected:
@@ -238,7 +238,6 @@ class DistributedForce : public Force {
   void forEachGaussPoint(
       const LoadContext& ctx, unsigned dependence,
       const std::function<void(const SurfaceSample&, double, const LocalBasis&, const LocalBasis&)>& fn) const;
-  bool perCurrentArea() const { return m_perCurrentArea; }
   /// With physical units (LoadContext::rest), the density is per unit area of the current
   /// surface (a follower pressure) instead of the rest surface's.
   void setPerCurrentArea() { m_perCurrentArea = true; }

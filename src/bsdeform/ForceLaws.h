@@ -114,7 +114,7 @@ class PressureForce : public DistributedForce {
   /// \f$\int p\,(S_u \times S_v)\,B_k\f$, so \f$K_{km} = -p\int B_k(B_{m,v}[S_u]_\times -
   /// B_{m,u}[S_v]_\times)\f$; per parameter area \f$\hat n\f$'s derivative
   /// \f$(I - \hat n\hat n^T)/|N|\f$ enters too. No potential (a follower load): the Newton
-  /// matrix takes the symmetric part (TangentMatrix), the residual the exact load.
+  /// matrix takes the symmetric part (Simulation's tangent), the residual the exact load.
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
   bool potential(const LoadContext&, double& value) const override {
