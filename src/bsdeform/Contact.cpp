@@ -36,6 +36,20 @@ struct PointQuery {
 Eigen::Vector3d densityAt(const ContactWorld& world, const ContactParameters& p, const Eigen::Vector3d& x,
                           const Eigen::Vector3d& v, double dt, const Eigen::Matrix3d& frame, double scale,
                           double* depthOut, PointQuery* query);
+// The distance of x (moving with v) from an obstacle's closest point `hit`, signed for closed
+// obstacles, and in n the unit direction away from the obstacle.
+double separation(const ContactWorld::Obstacle& o, const ClosestHit& hit, const Eigen::Vector3d& x,
+                  const Eigen::Vector3d& v, Eigen::Vector3d& n) {
+  const double s = o.closed ? hit.signedDistance : hit.distance;
+  n = hit.normal;
+  if (hit.distance > 1e-12 * (1.0 + x.norm())) {
+    n = (x - hit.point) / hit.distance;
+    if (o.closed && s < 0.0) n = -n;
+  } else if (!o.closed && v.dot(n) > 0.0) {
+    n = -n;  // on an open shell: push back to the side it came from
+  }
+  return s;
+}
 
 double checked(double x, const char* name, bool positive) {
   if (!std::isfinite(x) || x < 0.0 || (positive && x == 0.0))
@@ -198,17 +212,8 @@ Eigen::Vector3d densityAt(const ContactWorld& world, const ContactParameters& p,
       query->free = std::min(query->free, hit.distance - (inside ? search : p.thickness));
       if (hit.distance > search) continue;  // the law looks no farther than the search
     }
-    // s: distance from the obstacle, signed for closed obstacles; n: away from the obstacle
-    double s = hit.distance;
-    Eigen::Vector3d n = hit.normal;
-    if (o.closed) s = hit.signedDistance;
-    if (hit.distance > 1e-12 * (1.0 + x.norm())) {
-      n = (x - hit.point) / hit.distance;
-      if (o.closed && s < 0.0) n = -n;
-    } else if (!o.closed && v.dot(n) > 0.0) {
-      n = -n;  // on an open shell: push back to the side it came from
-    }
-    const double depth = p.thickness - s;
+    Eigen::Vector3d n;
+    const double depth = p.thickness - separation(o, hit, x, v, n);
     if (!(depth > 0.0)) continue;
     deepest = std::max(deepest, depth);
     // the frame's gain along the normal and, at most, in the tangent plane: |A^T n|^2 and the
@@ -248,16 +253,8 @@ Eigen::Matrix3d jacobianAt(const ContactWorld& world, const ContactParameters& p
     if (!o.tree) continue;
     ClosestHit hit;
     if (!o.tree->closest(x, search, hit)) continue;
-    double sd = hit.distance;
-    Eigen::Vector3d n = hit.normal;
-    if (o.closed) sd = hit.signedDistance;
-    if (hit.distance > 1e-12 * (1.0 + x.norm())) {
-      n = (x - hit.point) / hit.distance;
-      if (o.closed && sd < 0.0) n = -n;
-    } else if (!o.closed && v.dot(n) > 0.0) {
-      n = -n;
-    }
-    const double depth = p.thickness - sd;
+    Eigen::Vector3d n;
+    const double depth = p.thickness - separation(o, hit, x, v, n);
     if (!(depth > 0.0)) continue;
     const Eigen::Vector3d an = frame.transpose() * n;
     const double damping = std::min(p.damping, rateCap / std::max(an.squaredNorm(), 1e-300));
