@@ -12,6 +12,7 @@
 
 #include "bsdeform/ElasticEnergy.h"
 #include "bsdeform/ForceLaws.h"
+#include "bsdeform/RestShape.h"
 #include "bsdeform/TangentMatrix.h"
 #include "bsdeform/Shell.h"
 #include "bsdeform/Simulation.h"
@@ -182,8 +183,33 @@ void ShellBackwardEulerStep(benchmark::State& state) {
   }
   state.counters["newton/step"] = steps ? double(newton) / double(steps) : 0.0;
 }
+// The linear static solve of a pinched cylinder of S x S knot spans (R = 300, L = 600, t = 3,
+// E = 3e6, nu = 0.3; both ends BUILT_IN, a stand-in for rigid diaphragms; two opposite unit point
+// loads at mid-length): Newton's two iterations on the fixed-pattern tangent, CHOLMOD. Peak
+// memory is the process's (`/usr/bin/time -f %M` around a run of one size).
+void StaticPinchedCylinder(benchmark::State& state) {
+  const int spans = int(state.range(0));
+  ModelParameters p;
+  p.numU = p.numV = spans - 3;
+  p.boundaries = shapeBoundaries(ShapeKind::Cylinder,
+                                 Boundaries{Boundary::Periodic, Boundary::Periodic, Boundary::BuiltIn, Boundary::BuiltIn});
+  p.energy = EnergyModel::Shell;
+  p.material = ShellMaterial{3e6, 0.3, 3.0, 1.0};
+  ShapeSize size;
+  size.radius = 300;
+  size.height = 600;
+  const SplineSpace space(3, 3, p.numU, p.numV, p.boundaries);
+  Simulation sim(p, shapeRestNet(ShapeKind::Cylinder, size, space));
+  for (double u : {0.0, 0.5}) {
+    const Eigen::Vector3d x = sim.evaluate(u, 0.5).position;
+    sim.addForce(std::make_shared<PointForce>(u, 0.5, Eigen::Vector3d(-x.x(), -x.y(), 0.0).normalized()));
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(sim.solveStatic(1e-8, 100, LinearSolver::Automatic, 1).residual);
+  state.counters["unknowns"] = double(3 * sim.space().numMoving());
+}
 }  // namespace
 
+BENCHMARK(StaticPinchedCylinder)->Arg(64)->Arg(186)->Iterations(1)->Unit(benchmark::kSecond);
 BENCHMARK(ShellForces)->RangeMultiplier(2)->Range(32, 512)->Unit(benchmark::kMillisecond);
 BENCHMARK(ShellBound)->Arg(32)->Arg(128)->Unit(benchmark::kMillisecond);
 BENCHMARK(ShellImplicitStep)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
