@@ -308,6 +308,49 @@ struct CollisionForce::Cache {
   std::vector<float> pointClearance;
   std::vector<int> hints;
   Counters counters;
+
+  /// The quadrature of `s` (the cache starts over when the space is another).
+  void fitQuadrature(const SplineSpace& s) {
+    if (degreeU == s.degreeU() && degreeV == s.degreeV() && spansU == s.basisU().numSpans() &&
+        spansV == s.basisV().numSpans())
+      return;
+    *this = Cache{};
+    degreeU = s.degreeU();
+    degreeV = s.degreeV();
+    spansU = s.basisU().numSpans();
+    spansV = s.basisV().numSpans();
+    // the points DistributedForce uses: n + 1 for the basis, two more for the density
+    qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
+    qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
+    bu.resize(qu.size());
+    bv.resize(qv.size());
+    for (std::size_t i = 0; i < qu.size(); ++i) s.basisU().evaluateInSpan(qu[i].span, qu[i].x, 1, bu[i]);
+    for (std::size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bv[j]);
+    auto begins = [](const std::vector<Node1D>& q, int spans) {
+      std::vector<int> b(std::size_t(spans) + 1, int(q.size()));
+      for (int i = int(q.size()) - 1; i >= 0; --i) b[std::size_t(q[std::size_t(i)].span)] = i;
+      for (int k = spans - 1; k >= 0; --k) b[std::size_t(k)] = std::min(b[std::size_t(k)], b[std::size_t(k) + 1]);
+      return b;
+    };
+    uBegin = begins(qu, spansU);
+    vBegin = begins(qv, spansV);
+  }
+
+  /// Whether the reference is still the one the clearances belong to (same obstacles, frame and
+  /// net size, and `current` within the skin of it); `moved` receives the largest control-point
+  /// displacement since the reference, world units (when the rest matches).
+  bool sameReference(const ContactWorld& w, const ControlNet& current, double& moved) const {
+    moved = 0.0;
+    bool same = valid && linear == w.linear && offset == w.offset && trees.size() == w.obstacles.size() &&
+                reference.rows() == current.rows();
+    for (std::size_t k = 0; same && k < w.obstacles.size(); ++k) {
+      const TriangleTree* t = w.obstacles[k].tree.get();
+      same = trees[k].first == t && (!t || trees[k].second == t->version());
+    }
+    if (!same) return false;
+    moved = normA * std::sqrt((current - reference).rowwise().squaredNorm().maxCoeff());
+    return moved < skin;
+  }
 };
 
 struct CollisionForce::Seen {
@@ -348,46 +391,14 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   ++n.loads;
   n.activeElements = 0;
   const SplineSpace& s = ctx.space;
-  if (c.degreeU != s.degreeU() || c.degreeV != s.degreeV() || c.spansU != s.basisU().numSpans() ||
-      c.spansV != s.basisV().numSpans()) {
-    c = Cache{};
-    c.degreeU = s.degreeU();
-    c.degreeV = s.degreeV();
-    c.spansU = s.basisU().numSpans();
-    c.spansV = s.basisV().numSpans();
-    // the points DistributedForce uses: n + 1 for the basis, two more for the density
-    c.qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
-    c.qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
-    c.bu.resize(c.qu.size());
-    c.bv.resize(c.qv.size());
-    for (std::size_t i = 0; i < c.qu.size(); ++i) s.basisU().evaluateInSpan(c.qu[i].span, c.qu[i].x, 1, c.bu[i]);
-    for (std::size_t j = 0; j < c.qv.size(); ++j) s.basisV().evaluateInSpan(c.qv[j].span, c.qv[j].x, 1, c.bv[j]);
-    auto begins = [](const std::vector<Node1D>& q, int spans) {
-      std::vector<int> b(std::size_t(spans) + 1, int(q.size()));
-      for (int i = int(q.size()) - 1; i >= 0; --i) b[std::size_t(q[std::size_t(i)].span)] = i;
-      for (int k = spans - 1; k >= 0; --k) b[std::size_t(k)] = std::min(b[std::size_t(k)], b[std::size_t(k) + 1]);
-      return b;
-    };
-    c.uBegin = begins(c.qu, c.spansU);
-    c.vBegin = begins(c.qv, c.spansV);
-  }
+  c.fitQuadrature(s);
   n.elements = c.spansU * c.spansV;
   const ContactWorld& w = *m_world;
   if (w.obstacles.empty()) return;
   const double search = kSearch * m_params.thickness;
 
-  // Is the reference still the one the clearances belong to?
-  bool same = c.valid && c.linear == w.linear && c.offset == w.offset && c.trees.size() == w.obstacles.size() &&
-              c.reference.rows() == ctx.current.rows();
-  for (std::size_t k = 0; same && k < w.obstacles.size(); ++k) {
-    const TriangleTree* t = w.obstacles[k].tree.get();
-    same = c.trees[k].first == t && (!t || c.trees[k].second == t->version());
-  }
   double moved = 0.0;  // largest control-point displacement since the reference, world units
-  if (same) {
-    moved = c.normA * std::sqrt((ctx.current - c.reference).rowwise().squaredNorm().maxCoeff());
-    same = moved < c.skin;
-  }
+  bool same = c.sameReference(w, ctx.current, moved);
   // Box of an element's control points (local coordinates): centre and half diagonal.
   auto box = [&](int su, int sv, Eigen::Vector3d& centre, double& half) {
     const int r0 = c.bu[std::size_t(c.uBegin[std::size_t(su)])].first + s.degreeU();
@@ -491,50 +502,30 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
   const ContactWorld& w = *m_world;
   if (w.obstacles.empty()) return;
   const SplineSpace& s = ctx.space;
-  const Cache& c = *m_cache;
+  Cache& c = *m_cache;
   // the quadrature of the load; its clearances (when they belong to this net's neighbourhood)
   // skip the elements and points no obstacle can reach, as addLoad() does
-  const std::vector<Node1D> qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
-  const std::vector<Node1D> qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
-  bool useClearance = c.valid && c.linear == w.linear && c.offset == w.offset && c.reference.rows() == ctx.current.rows() &&
-                      c.qu.size() == qu.size() && c.qv.size() == qv.size() && c.trees.size() == w.obstacles.size();
-  for (std::size_t k = 0; useClearance && k < w.obstacles.size(); ++k) {
-    const TriangleTree* t = w.obstacles[k].tree.get();
-    useClearance = c.trees[k].first == t && (!t || c.trees[k].second == t->version());
-  }
+  c.fitQuadrature(s);
+  const std::vector<Node1D>& qu = c.qu;
+  const std::vector<Node1D>& qv = c.qv;
   double moved = 0.0;
-  if (useClearance) {
-    moved = c.normA * std::sqrt((ctx.current - c.reference).rowwise().squaredNorm().maxCoeff());
-    useClearance = moved < c.skin;
-  }
+  const bool useClearance = c.sameReference(w, ctx.current, moved);
   const Frame frame(w.linear);
   const unsigned needs = kDependsOnPosition | kDependsOnVelocity | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
   const int cols = s.netCols();
   const int Lu = s.degreeU() + 1, Lv = s.degreeV() + 1, L = Lu * Lv;
   // per element: Σ over its points of w B_p B_q K, then one block per pair of its points
   std::vector<Eigen::Matrix3d> local(std::size_t(L) * L);
-  std::vector<LocalBasis> bvs(qv.size());
-  for (std::size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, 1, bvs[j]);
-  LocalBasis bu;
-  std::size_t i0 = 0;
-  while (i0 < qu.size()) {
-    std::size_t i1 = i0;
-    while (i1 < qu.size() && qu[i1].span == qu[i0].span) ++i1;
-    std::size_t j0 = 0;
-    while (j0 < qv.size()) {
-      std::size_t j1 = j0;
-      while (j1 < qv.size() && qv[j1].span == qv[j0].span) ++j1;
+  for (int su = 0; su < c.spansU; ++su)
+    for (int sv = 0; sv < c.spansV; ++sv) {
+      if (useClearance && c.clearance[std::size_t(su) * std::size_t(c.spansV) + std::size_t(sv)] > moved) continue;
       bool any = false;
-      int firstU = 0, firstV = 0;
-      for (std::size_t i = i0; i < i1; ++i) {
-        s.basisU().evaluateInSpan(qu[i].span, qu[i].x, 1, bu);
-        for (std::size_t j = j0; j < j1; ++j) {
-          if (useClearance) {
-            const std::size_t e = std::size_t(qu[i].span) * std::size_t(c.spansV) + std::size_t(qv[j].span);
-            if (c.clearance[e] > moved || c.pointClearance[i * qv.size() + j] > moved) continue;
-          }
-          const LocalBasis& bv = bvs[j];
-          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[i].x, qv[j].x, needs);
+      for (int i = c.uBegin[std::size_t(su)]; i < c.uBegin[std::size_t(su) + 1]; ++i)
+        for (int j = c.vBegin[std::size_t(sv)]; j < c.vBegin[std::size_t(sv) + 1]; ++j) {
+          if (useClearance && c.pointClearance[std::size_t(i) * qv.size() + std::size_t(j)] > moved) continue;
+          const LocalBasis& bu = c.bu[std::size_t(i)];
+          const LocalBasis& bv = c.bv[std::size_t(j)];
+          const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[std::size_t(i)].x, qv[std::size_t(j)].x, needs);
           const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
           if (!(gamma > 0.0)) continue;
           const double scale = m_params.areaScale * gamma;
@@ -544,32 +535,27 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
           if (!any) {
             for (Eigen::Matrix3d& m : local) m.setZero();
             any = true;
-            firstU = bu.first;
-            firstV = bv.first;
           }
-          const Eigen::Matrix3d K = (qu[i].w * qv[j].w * scale) * (w.linear.transpose() * Kw * w.linear);
-          double B[kMaxDegree + 1][kMaxDegree + 1];
-          for (int a = 0; a < bu.count; ++a)
-            for (int b = 0; b < bv.count; ++b) B[a][b] = bu.d[0][a] * bv.d[0][b];
+          const Eigen::Matrix3d K =
+              (qu[std::size_t(i)].w * qv[std::size_t(j)].w * scale) * (w.linear.transpose() * Kw * w.linear);
           for (int p = 0; p < L; ++p) {
-            const double Bp = B[p / Lv][p % Lv];
+            const double Bp = bu.d[0][p / Lv] * bv.d[0][p % Lv];
             if (Bp == 0.0) continue;
-            for (int q = 0; q < L; ++q) local[std::size_t(p) * L + q] += (Bp * B[q / Lv][q % Lv]) * K;
+            for (int q = 0; q < L; ++q) local[std::size_t(p) * L + q] += (Bp * (bu.d[0][q / Lv] * bv.d[0][q % Lv])) * K;
           }
+        }
+      if (!any) continue;
+      // the element's points: net rows su + a, columns sv + b (its B-splines' first index plus n)
+      const int firstU = c.bu[std::size_t(c.uBegin[std::size_t(su)])].first + s.degreeU();
+      const int firstV = c.bv[std::size_t(c.vBegin[std::size_t(sv)])].first + s.degreeV();
+      for (int p = 0; p < L; ++p) {
+        const Eigen::Index rp = Eigen::Index(firstU + p / Lv) * cols + firstV + p % Lv;
+        for (int q = 0; q < L; ++q) {
+          const Eigen::Index rq = Eigen::Index(firstU + q / Lv) * cols + firstV + q % Lv;
+          sink.add(rp, rq, local[std::size_t(p) * L + q]);
         }
       }
-      if (any)
-        for (int p = 0; p < L; ++p) {
-          const Eigen::Index rp = Eigen::Index(firstU + p / Lv + s.degreeU()) * cols + firstV + p % Lv + s.degreeV();
-          for (int q = 0; q < L; ++q) {
-            const Eigen::Index rq = Eigen::Index(firstU + q / Lv + s.degreeU()) * cols + firstV + q % Lv + s.degreeV();
-            sink.add(rp, rq, local[std::size_t(p) * L + q]);
-          }
-        }
-      j0 = j1;
     }
-    i0 = i1;
-  }
 }
 
 bool CollisionForce::storedEnergy(const LoadContext& ctx, double& value) const {
@@ -584,17 +570,15 @@ bool CollisionForce::storedEnergy(const LoadContext& ctx, double& value) const {
     return false;
   }
   if (w.obstacles.empty()) return true;
-  const SplineSpace& s = ctx.space;
-  const std::vector<Node1D> qu = splitQuadrature(s.basisU(), 0.0, 1.0, s.degreeU() + 3);
-  const std::vector<Node1D> qv = splitQuadrature(s.basisV(), 0.0, 1.0, s.degreeV() + 3);
+  Cache& c = *m_cache;
+  c.fitQuadrature(ctx.space);
   const Frame frame(w.linear);
   const unsigned needs = kDependsOnPosition | (frame.similarity > 0.0 ? 0u : unsigned(kDependsOnNormal));
-  LocalBasis bu, bv;
-  for (const Node1D& nu : qu) {
-    s.basisU().evaluateInSpan(nu.span, nu.x, 1, bu);
-    for (const Node1D& nv : qv) {
-      s.basisV().evaluateInSpan(nv.span, nv.x, 1, bv);
-      const SurfaceSample smp = sampleFromBases(ctx, bu, bv, nu.x, nv.x, needs);
+  for (std::size_t i = 0; i < c.qu.size(); ++i) {
+    const Node1D& nu = c.qu[i];
+    for (std::size_t j = 0; j < c.qv.size(); ++j) {
+      const Node1D& nv = c.qv[j];
+      const SurfaceSample smp = sampleFromBases(ctx, c.bu[i], c.bv[j], nu.x, nv.x, needs);
       const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
       double depth = 0.0;
       densityAt(w, m_params, w.linear * smp.position + w.offset, Eigen::Vector3d::Zero(), 0.0, w.linear, 1.0, &depth,
