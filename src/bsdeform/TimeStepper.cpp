@@ -20,7 +20,59 @@ namespace bsdeform {
 
 TimeStepper::~TimeStepper() = default;
 
+bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, const ControlNet& start,
+                                 const ControlNet& before, double t, double dt,
+                                 const std::function<bool(double, double)>& stepOf, const std::function<void()>& restart,
+                                 const std::function<void(const ControlNet&, int)>& finish) {
+  if (m_blewUp) {
+    previous = start;
+    restart();
+    return false;
+  }
+  std::string failure = m_solveFailure;
+  for (int pieces = 2; pieces <= 16 && current.allFinite(); pieces *= 2) {
+    const double h = dt / pieces;
+    // the same velocity, over a piece: an affine combination keeps held and derived points
+    current = start;
+    previous = start - (start - before) / double(pieces);
+    restart();
+    bool ok = true;
+    int iterations = 0;
+    for (int k = 0; k < pieces && ok; ++k) {
+      ok = stepOf(t + k * h, h);
+      iterations += m_newtonIterations;
+    }
+    if (ok) {
+      finish(start, pieces);
+      m_newtonIterations = iterations;
+      m_solveFailure.clear();
+      return true;
+    }
+    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+  }
+  m_solveFailure = failure;
+  previous = start;  // step() keeps it: the last valid state
+  restart();
+  return false;
+}
+
 namespace {
+/// Splits the loads for an implicit step: the constant ones (in `load` already) and those that
+/// depend on time only, evaluated at `ctx` and added to `load` (they stay fixed within the
+/// step); the others, which depend on the state, in `stateForces` (evaluated at every iterate).
+void splitLoads(const std::vector<std::shared_ptr<const Force>>& forces, const LoadContext& ctx, ControlNet& load,
+                std::vector<const Force*>& stateForces) {
+  stateForces.clear();
+  for (const auto& f : forces) {
+    const unsigned dep = f->dependence();
+    if (dep == kConstant) continue;
+    if (dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))
+      stateForces.push_back(f.get());
+    else
+      f->addLoad(ctx, load);
+  }
+}
+
 /// Crisfield's line search along a Newton direction d: the step length α where the residual's
 /// component along d, s(α) = d·R(x + αd), vanishes (the energy's minimum along d for a
 /// conservative problem), found by regula falsi from s(0) < 0. The full step is taken when it
@@ -197,37 +249,13 @@ bool ShellImplicitStepper::subStep(double t) {
   const double dt = s.m_params.timeStep;
   const ControlNet start = s.m_current, before = s.m_previous;
   if (stepOf(t, dt)) return true;
-  std::string failure = m_solveFailure;
-  if (failure.rfind("the total energy", 0) == 0) {  // a blow-up is not cured by smaller pieces
-    s.m_previous = start;
-    m_cached = false;
-    return false;
-  }
-  for (int pieces = 2; pieces <= 16 && s.m_current.allFinite(); pieces *= 2) {
-    const double h = dt / pieces;
-    // the same velocity, over a piece: an affine combination keeps held and derived points
-    s.m_current = start;
-    s.m_previous = start - (start - before) / double(pieces);
-    m_cached = false;
-    bool ok = true;
-    int iterations = 0;
-    for (int k = 0; k < pieces && ok; ++k) {
-      ok = stepOf(t + k * h, h);
-      iterations += m_newtonIterations;
-    }
-    if (ok) {
-      s.m_previous = start;  // one step before, as the next step expects
-      m_cached = false;
-      m_newtonIterations = iterations;
-      m_solveFailure.clear();
-      return true;
-    }
-    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
-  }
-  m_solveFailure = failure;
-  s.m_previous = start;  // step() keeps it: the last valid state
-  m_cached = false;
-  return false;
+  return retakeInPieces(
+      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); },
+      [this] { m_cached = false; },
+      [this, &s](const ControlNet& begin, int) {
+        s.m_previous = begin;  // one step before, as the next step expects
+        m_cached = false;
+      });
 }
 
 bool ShellImplicitStepper::stepOf(double t, double dt) {
@@ -235,19 +263,10 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   // constant loads and those that depend on time only, at the start; the others (contact,
   // springs, pressure, drag) at every iterate, at the state V = (x + 2P + P-)/4 moving with
   // (x - P-)/(2 dt): the average the stiffness term takes (docs/math.md §16)
+  m_blewUp = false;
   ControlNet load = s.m_constantLoad;
   std::vector<const Force*> stateForces;
-  {
-    const LoadContext ctx0 = s.loadContext(s.m_current, s.m_previous, dt, t);
-    for (const auto& f : s.m_forces) {
-      const unsigned dep = f->dependence();
-      if (dep == kConstant) continue;
-      if (dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))
-        stateForces.push_back(f.get());
-      else
-        f->addLoad(ctx0, load);
-    }
-  }
+  splitLoads(s.m_forces, s.loadContext(s.m_current, s.m_previous, dt, t), load, stateForces);
   const double c = s.m_params.damping;
   const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
   const ControlNet P = s.m_space.gatherMoving(s.m_current), Pm = s.m_space.gatherMoving(s.m_previous);
@@ -368,6 +387,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
            << " J with no work done on the system (a blow-up)";
         m_solveFailure = os.str();
         m_hasReference = false;
+        m_blewUp = true;
         return false;
       }
     } else {
@@ -410,34 +430,13 @@ bool ShellBackwardEulerStepper::subStep(double t) {
   const double dt = s.m_params.timeStep;
   const ControlNet start = s.m_current, before = s.m_previous;
   if (stepOf(t, dt)) return true;
-  std::string failure = m_solveFailure;
-  if (failure.rfind("the total energy", 0) == 0) {  // a blow-up is not cured by smaller pieces
-    s.m_previous = start;
-    return false;
-  }
-  for (int pieces = 2; pieces <= 16 && s.m_current.allFinite(); pieces *= 2) {
-    const double h = dt / pieces;
-    s.m_current = start;
-    s.m_previous = start - (start - before) / double(pieces);
-    bool ok = true;
-    int iterations = 0;
-    for (int k = 0; k < pieces && ok; ++k) {
-      ok = stepOf(t + k * h, h);
-      iterations += m_newtonIterations;
-    }
-    if (ok) {
-      // one step before, with the velocity of the last piece
-      s.m_previous = s.m_current - double(pieces) * (s.m_current - s.m_previous);
-      s.m_space.completeNet(s.m_previous, &s.m_rest);
-      m_newtonIterations = iterations;
-      m_solveFailure.clear();
-      return true;
-    }
-    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
-  }
-  m_solveFailure = failure;
-  s.m_previous = start;
-  return false;
+  return retakeInPieces(
+      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); }, [] {},
+      [&s](const ControlNet&, int pieces) {
+        // one step before, with the velocity of the last piece
+        s.m_previous = s.m_current - double(pieces) * (s.m_current - s.m_previous);
+        s.m_space.completeNet(s.m_previous, &s.m_rest);
+      });
 }
 
 bool ShellBackwardEulerStepper::stepOf(double t, double h) {
@@ -447,6 +446,12 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   const ControlNet P = sp.gatherMoving(s.m_current), Pm = sp.gatherMoving(s.m_previous);
   const ControlNet xhat = 2.0 * P - Pm;  // P + h v
   const ControlNet startNet = s.m_current;
+  m_blewUp = false;
+  // the constant loads and those that depend on time only are fixed within the step (their
+  // potential -L·x); the others are evaluated at every iterate
+  ControlNet fixedLoad = s.m_constantLoad;
+  std::vector<const Force*> stateForces;
+  splitLoads(s.m_forces, s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
   if (!m_hasReference) {
     m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
   }
@@ -465,18 +470,11 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     sp.completeNet(net, &s.m_rest);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
     s.shellGradient(net, gW);
-    L = s.m_constantLoad;
+    L = fixedLoad;
     ev.potential = true;
-    double phi = -(s.m_constantLoad.array() * x.array()).sum();
-    for (const auto& f : s.m_forces) {
-      const unsigned dep = f->dependence();
-      if (dep == kConstant) continue;
-      const ControlNet before = L;
+    double phi = -(fixedLoad.array() * x.array()).sum();
+    for (const Force* f : stateForces) {
       f->addLoad(ctx, L);
-      if (!(dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))) {
-        phi -= ((L - before).array() * x.array()).sum();  // depends on time only: constant in the step
-        continue;
-      }
       double value = 0.0;
       if (f->potential(ctx, value))
         phi += value;
@@ -611,6 +609,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
          << " J with no work done on the system (a blow-up)";
       m_solveFailure = os.str();
       m_hasReference = false;
+      m_blewUp = true;
       return false;
     }
   }

@@ -13,6 +13,7 @@
 ///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure;
 ///   ShellBackwardEulerStepper  backward Euler as the minimisation of the incremental potential.
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -47,8 +48,22 @@ class TimeStepper {
   void clearFailure() { m_solveFailure.clear(); }
 
  protected:
+  /// The Newton steppers' step cutting, after stepOf(t, dt) failed from (current, previous) =
+  /// (start, before): the step again in 2, 4, 8, 16 equal pieces with the same velocity,
+  /// stepOf(t, h) taking one piece (and setting m_newtonIterations), restart() called before
+  /// each try (the stepper forgets what it kept of earlier states). On success finish(start,
+  /// pieces) sets the previous net the next step expects and m_newtonIterations is the sum over
+  /// the pieces; on failure the pieces' failure is reported and previous is start (the last
+  /// valid state). Not tried after a blow-up (m_blewUp: smaller pieces do not cure it).
+  bool retakeInPieces(ControlNet& current, ControlNet& previous, const ControlNet& start, const ControlNet& before,
+                      double t, double dt, const std::function<bool(double, double)>& stepOf,
+                      const std::function<void()>& restart,
+                      const std::function<void(const ControlNet& start, int pieces)>& finish);
+
   Simulation& m_sim;
   std::string m_solveFailure;
+  int m_newtonIterations = 0;  ///< of the last step (the Newton steppers)
+  bool m_blewUp = false;       ///< the last step failed the energy check
 };
 
 class PaperExplicitStepper final : public TimeStepper {
@@ -100,7 +115,6 @@ class ShellImplicitStepper final : public TimeStepper {
   /// dW/dP at the current and previous state (valid while m_cached).
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
-  int m_newtonIterations = 0;
   /// The energy check's reference: the total energy after the first step since the last
   /// change (ShellBackwardEulerStepper::totalEnergy()), and its scale.
   bool m_hasReference = false;
@@ -147,7 +161,6 @@ class ShellBackwardEulerStepper final : public TimeStepper {
   bool stepOf(double t, double h);
 
   std::shared_ptr<NewtonSolver> m_newton;
-  int m_newtonIterations = 0;
   bool m_refactor = true;      ///< the next iteration factorises anew
   double m_factoredStep = 0.0; ///< the step size of the kept factorisation
   long m_factorisations = 0;
