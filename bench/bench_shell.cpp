@@ -69,11 +69,9 @@ std::shared_ptr<const Force> gravity() {
   return std::make_shared<GravityForce>(kCotton.density * kCotton.thickness, Eigen::Vector3d(0, 0, -9.81));
 }
 
-// A cotton curtain hinged along v = 1 falling under gravity: one implicit step of 1/60 s each
-// iteration, from the state the previous ones left (the first 5 steps untimed).
-void ShellImplicitStep(benchmark::State& state) {
-  ModelParameters p = curtain(int(state.range(0)));
-  p.integrator = Integrator::Implicit;
+// Steps of the curtain `p` falling under gravity, each iteration one step from the state the
+// previous ones left (the first 5 steps untimed); Newton iterations per step as a counter.
+void implicitSteps(benchmark::State& state, const ModelParameters& p) {
   Simulation sim(p);
   sim.addForce(gravity());
   sim.advance(5);
@@ -87,6 +85,14 @@ void ShellImplicitStep(benchmark::State& state) {
     ++steps;
   }
   state.counters["newton/step"] = steps ? double(newton) / double(steps) : 0.0;
+}
+
+// A cotton curtain hinged along v = 1 falling under gravity: one implicit (Newmark) step of
+// 1/60 s each iteration.
+void ShellImplicitStep(benchmark::State& state) {
+  ModelParameters p = curtain(int(state.range(0)));
+  p.integrator = Integrator::Implicit;
+  implicitSteps(state, p);
 }
 
 // The explicit counterpart: one step of 1/60 s of the same curtain (sub-stepped below the
@@ -169,20 +175,9 @@ void ShellBackwardEulerStep(benchmark::State& state) {
   p.integrator = Integrator::BackwardEuler;
   p.timeStep = 0.02;
   p.newtonVelocityTolerance = 1e-4;
-  Simulation sim(p);
-  sim.addForce(gravity());
-  sim.advance(5);
-  long newton = 0, steps = 0;
-  for (auto _ : state) {
-    if (sim.step() != Status::Ok) {
-      state.SkipWithError(sim.statusMessage().c_str());
-      break;
-    }
-    newton += sim.lastNewtonIterations();
-    ++steps;
-  }
-  state.counters["newton/step"] = steps ? double(newton) / double(steps) : 0.0;
+  implicitSteps(state, p);
 }
+
 // The linear static solve of a pinched cylinder of S x S knot spans (R = 300, L = 600, t = 3,
 // E = 3e6, nu = 0.3; both ends BUILT_IN, a stand-in for rigid diaphragms; two opposite unit point
 // loads at mid-length): Newton's two iterations on the fixed-pattern tangent, CHOLMOD. Peak
