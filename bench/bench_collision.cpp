@@ -16,8 +16,8 @@
 #include <cmath>
 #include <memory>
 
-#include "bsdeform/Contact.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 namespace {
 

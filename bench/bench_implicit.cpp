@@ -14,7 +14,7 @@
 
 #include <memory>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 namespace {
 

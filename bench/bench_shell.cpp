@@ -10,12 +10,12 @@
 
 #include <Eigen/CholmodSupport>
 
-#include "bsdeform/ElasticEnergy.h"
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/RestShape.h"
-#include "bsdeform/TangentMatrix.h"
-#include "bsdeform/Shell.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/energy/ElasticEnergy.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/TangentMatrix.h"
+#include "bsdeform/energy/Shell.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

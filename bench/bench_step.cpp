@@ -23,10 +23,10 @@
 #include <Eigen/Sparse>
 #include <memory>
 
-#include "bsdeform/Parallel.h"
-#include "bsdeform/RestShape.h"
-#include "bsdeform/DiagnosticsBeside.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/base/Parallel.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/DiagnosticsBeside.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 namespace {
 

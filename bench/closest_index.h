@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "bsdeform/ClosestPointOnTriangle.h"
-#include "bsdeform/TriangleTree.h"
+#include "bsdeform/contact/ClosestPointOnTriangle.h"
+#include "bsdeform/contact/TriangleTree.h"
 
 namespace closestbench {
 

@@ -16,7 +16,7 @@
 #include <memory>
 #include <vector>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

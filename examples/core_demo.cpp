@@ -7,7 +7,7 @@
 #include <exception>
 #include <memory>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 int main(int argc, char** argv) {
   try {

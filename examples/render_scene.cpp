@@ -13,7 +13,7 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 int main(int argc, char** argv) {

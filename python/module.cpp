@@ -29,7 +29,7 @@
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

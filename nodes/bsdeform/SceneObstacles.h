@@ -6,7 +6,7 @@
 /// coordinates with SoCallbackAction, keeps a bsdeform::ContactWorld current, and re-gathers
 /// only when Coin says something changed (the force field's `obstacles` field, or an
 /// SoPathSensor on the obstacle's path in the scene). The contact law is in the core
-/// (bsdeform/Contact.h).
+/// (bsdeform/contact/Contact.h).
 ///
 /// Frames: an obstacle's world transform is the one above its first occurrence (depth-first)
 /// under the surface's scene root: the head of the path of a traversal that reached the
@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include "bsdeform/Contact.h"
+#include "bsdeform/contact/Contact.h"
 
 class SoNode;
 class SoPath;

@@ -9,7 +9,7 @@
 #include <cmath>
 
 #include "bsdeform/SceneReader.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {

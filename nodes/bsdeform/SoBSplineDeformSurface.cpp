@@ -22,12 +22,12 @@
 #include <cmath>
 #include <sstream>
 
-#include "bsdeform/ParameterError.h"
+#include "bsdeform/base/ParameterError.h"
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/SimulationState.h"
-#include "bsdeform/Tessellation.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationState.h"
+#include "bsdeform/spline/Tessellation.h"
 #include "bsdeform/SoForceField.h"
 #include "bsdeform/SurfaceBuffers.h"
 #include "bsdeform/SurfaceModel.h"

@@ -86,7 +86,7 @@
 #include <string>
 #include <vector>
 
-#include "bsdeform/Tessellation.h"
+#include "bsdeform/spline/Tessellation.h"
 
 namespace bsdeform {
 class ForceSlots;
@@ -254,7 +254,7 @@ class SoBSplineDeformSurface : public SoShape {
   /// viewer's mouse spring.
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);
   void removeTransientForce(const bsdeform::Force* force);
-  /// The simulation's state now (bsdeform/SimulationState.h): what restoreState() takes back.
+  /// The simulation's state now (bsdeform/dynamics/SimulationState.h): what restoreState() takes back.
   bsdeform::SimulationState state();
   /// Puts back a state taken with state() from this surface or one built alike (the viewer's
   /// timeline, a bsdeform-run --keep-states file) into the current model, which stays (no

@@ -19,9 +19,9 @@
 #include <sstream>
 
 #include "bsdeform/CoinEigen.h"
-#include "bsdeform/Force.h"
-#include "bsdeform/Contact.h"
-#include "bsdeform/ForceLaws.h"
+#include "bsdeform/forces/Force.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/forces/ForceLaws.h"
 #include "bsdeform/FieldInfo.h"
 #include "bsdeform/SceneText.h"
 

@@ -6,8 +6,8 @@
 /// A surface lists the force fields acting on it in its `forces` field; one force field can act
 /// on several surfaces (DEF/USE). Field changes — from code, from a file or through a field
 /// connection (e.g. `magnitude = ElapsedTime {} . timeOut`) — take effect on the next step.
-/// The node only converts its fields: each type maps to one core class (bsdeform/Force.h,
-/// bsdeform/ForceLaws.h), which validates the values and holds the formula.
+/// The node only converts its fields: each type maps to one core class (bsdeform/forces/Force.h,
+/// bsdeform/forces/ForceLaws.h), which validates the values and holds the formula.
 ///
 /// \code
 /// SoBSplineDeformSurface {
@@ -56,7 +56,7 @@
 /// | PRESSURE         | PressureForce                       | magnitude                                  |
 /// | PLANE_COLLISION  | PlaneContactForce                   | center, normal, stiffness                  |
 /// | SPHERE_COLLISION | SphereContactForce                  | center, radius, stiffness                  |
-/// | COLLISION        | CollisionForce (bsdeform/Contact.h) | obstacles, obstacleNames, thickness, stiffness, damping, friction |
+/// | COLLISION        | CollisionForce (bsdeform/contact/Contact.h) | obstacles, obstacleNames, thickness, stiffness, damping, friction |
 ///
 /// COLLISION: each entry of `obstacles` is any subgraph (DEF/USE a Separator with a Transform
 /// and a Cube, an IndexedFaceSet, a NurbsSurface, another SoBSplineDeformSurface). Its

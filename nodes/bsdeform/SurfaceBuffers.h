@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <map>
 
-#include "bsdeform/Tessellation.h"
+#include "bsdeform/spline/Tessellation.h"
 
 class SoState;
 

@@ -10,9 +10,9 @@
 #include <Inventor/lists/SoFieldList.h>
 
 #include "bsdeform/FieldInfo.h"
-#include "bsdeform/HugePages.h"
-#include "bsdeform/ParameterError.h"
-#include "bsdeform/RestShape.h"
+#include "bsdeform/base/HugePages.h"
+#include "bsdeform/base/ParameterError.h"
+#include "bsdeform/spline/RestShape.h"
 #include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/SoForceField.h"

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 class SoNode;

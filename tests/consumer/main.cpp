@@ -4,7 +4,7 @@
 #include <Inventor/actions/SoSearchAction.h>
 #include <Inventor/nodes/SoSeparator.h>
 #include <bsdeform/NodesInit.h>
-#include <bsdeform/Simulation.h>
+#include <bsdeform/dynamics/Simulation.h>
 #include <bsdeform/SoBSplineDeformSurface.h>
 
 #include <cstdio>

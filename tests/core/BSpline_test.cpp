@@ -3,8 +3,8 @@
 #include <cmath>
 #include <random>
 
-#include "bsdeform/BSpline.h"
-#include "bsdeform/GaussLegendre.h"
+#include "bsdeform/spline/BSpline.h"
+#include "bsdeform/spline/GaussLegendre.h"
 
 using namespace bsdeform;
 

@@ -12,10 +12,10 @@
 #include <random>
 
 #include "../support/ThreadSettings.h"
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Parallel.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/TangentMatrix.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/base/Parallel.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/TangentMatrix.h"
 
 using namespace bsdeform;
 

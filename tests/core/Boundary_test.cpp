@@ -7,9 +7,9 @@
 #include <memory>
 #include <random>
 
-#include "bsdeform/GaussLegendre.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/spline/GaussLegendre.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 using namespace bsdeform;
 

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <memory>
 
-#include "bsdeform/Contact.h"
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <memory>
 
-#include "bsdeform/GaussLegendre.h"
-#include "bsdeform/RestShape.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/spline/GaussLegendre.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

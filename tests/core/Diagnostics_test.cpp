@@ -12,9 +12,9 @@
 #include <thread>
 
 #include "../support/ThreadSettings.h"
-#include "bsdeform/DiagnosticsBeside.h"
-#include "bsdeform/Parallel.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/DiagnosticsBeside.h"
+#include "bsdeform/base/Parallel.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

@@ -9,8 +9,8 @@
 #include <memory>
 #include <random>
 
-#include "bsdeform/Simulation.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 using namespace bsdeform;
 

@@ -11,8 +11,8 @@
 #include <random>
 
 #include "../support/ForceFieldCheck.h"
-#include "bsdeform/ElasticEnergy.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/energy/ElasticEnergy.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 using namespace bsdeform::test;

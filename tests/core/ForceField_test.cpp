@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "../support/ForceFieldCheck.h"
-#include "bsdeform/Contact.h"
-#include "bsdeform/ForceLaws.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/forces/ForceLaws.h"
 
 using namespace bsdeform;
 using namespace bsdeform::test;

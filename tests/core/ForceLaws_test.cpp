@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "../support/ForceFieldCheck.h"
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 using namespace bsdeform::test;

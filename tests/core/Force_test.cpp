@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "bsdeform/Force.h"
+#include "bsdeform/forces/Force.h"
 
 using namespace bsdeform;
 

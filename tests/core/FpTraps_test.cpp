@@ -8,7 +8,7 @@
 #include <csignal>
 #include <memory>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "../support/FpTraps.h"
 
 using namespace bsdeform;

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "bsdeform/SplineSpace.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/spline/SplineSpace.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 namespace bsdeform::test {
 

@@ -11,9 +11,9 @@
 #include <string>
 
 #include "ImplicitCases.h"
-#include "bsdeform/ImplicitSystem.h"
-#include "bsdeform/RestShape.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/ImplicitSystem.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 using namespace bsdeform::test;

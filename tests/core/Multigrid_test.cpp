@@ -14,11 +14,11 @@
 #include <vector>
 
 #include "ImplicitCases.h"
-#include "bsdeform/BSpline.h"
-#include "bsdeform/ImplicitSystem.h"
-#include "bsdeform/Multigrid.h"
-#include "bsdeform/MultigridOperator.h"
-#include "bsdeform/MultigridTransfer.h"
+#include "bsdeform/spline/BSpline.h"
+#include "bsdeform/dynamics/ImplicitSystem.h"
+#include "bsdeform/dynamics/Multigrid.h"
+#include "bsdeform/dynamics/MultigridOperator.h"
+#include "bsdeform/dynamics/MultigridTransfer.h"
 
 using namespace bsdeform;
 using namespace bsdeform::multigrid;

@@ -6,7 +6,7 @@
 #include <random>
 #include <string>
 
-#include "bsdeform/NumberText.h"
+#include "bsdeform/base/NumberText.h"
 
 using bsdeform::numberText;
 

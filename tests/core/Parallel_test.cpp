@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The kernels' thread pool (bsdeform/Parallel.h): every part runs exactly once, whichever thread
+// The kernels' thread pool (bsdeform/base/Parallel.h): every part runs exactly once, whichever thread
 // takes it, for back-to-back jobs (the pool's spinning hand-over) and for calls from several
 // threads at once (one of them gets the pool, the others run their parts themselves); and the
 // background thread of BackgroundWork.
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "../support/ThreadSettings.h"
-#include "bsdeform/Parallel.h"
+#include "bsdeform/base/Parallel.h"
 
 using namespace bsdeform;
 

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <memory>
 
-#include "bsdeform/RestShape.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

@@ -11,8 +11,8 @@
 #include <functional>
 #include <memory>
 
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

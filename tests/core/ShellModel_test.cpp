@@ -9,8 +9,8 @@
 #include <memory>
 #include <random>
 
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using namespace bsdeform;
 

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "bsdeform/Shell.h"
+#include "bsdeform/energy/Shell.h"
 
 using namespace bsdeform;
 

@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <memory>
 
-#include "bsdeform/Force.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/SimulationState.h"
+#include "bsdeform/forces/Force.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationState.h"
 
 using namespace bsdeform;
 

@@ -7,10 +7,10 @@
 #include <random>
 
 #include "../support/ThreadSettings.h"
-#include "bsdeform/Parallel.h"
-#include "bsdeform/RestShape.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/base/Parallel.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 using namespace bsdeform;
 

@@ -8,8 +8,8 @@
 #include <random>
 #include <utility>
 
-#include "bsdeform/RestShape.h"
-#include "bsdeform/SplineSpace.h"
+#include "bsdeform/spline/RestShape.h"
+#include "bsdeform/spline/SplineSpace.h"
 
 using namespace bsdeform;
 

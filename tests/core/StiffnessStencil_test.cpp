@@ -4,8 +4,8 @@
 #include <cmath>
 #include <random>
 
-#include "bsdeform/GaussLegendre.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/spline/GaussLegendre.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 using namespace bsdeform;
 

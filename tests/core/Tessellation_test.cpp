@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "bsdeform/SplineSpace.h"
-#include "bsdeform/Tessellation.h"
+#include "bsdeform/spline/SplineSpace.h"
+#include "bsdeform/spline/Tessellation.h"
 
 using namespace bsdeform;
 

@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
-#include "bsdeform/TriangleTree.h"
+#include "bsdeform/contact/TriangleTree.h"
 
 using namespace bsdeform;
 using Eigen::Vector3d;

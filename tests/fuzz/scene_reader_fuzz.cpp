@@ -23,7 +23,7 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace {

@@ -9,11 +9,11 @@
 #include <cmath>
 
 #include "NodesTestUtil.h"
-#include "bsdeform/Contact.h"
+#include "bsdeform/contact/Contact.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneObstacles.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoForceField.h"
 
 namespace {

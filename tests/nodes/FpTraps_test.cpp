@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "NodesTestUtil.h"
-#include "bsdeform/Force.h"
+#include "bsdeform/forces/Force.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "../support/FpTraps.h"
 

@@ -12,8 +12,8 @@
 #include "bsdeform/NodesInit.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/Contact.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

@@ -21,7 +21,7 @@
 
 #include "NodesTestUtil.h"
 #include "bsdeform/OffscreenRenderer.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoForceField.h"
 
 using testutil::Coin;

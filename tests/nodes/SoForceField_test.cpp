@@ -14,8 +14,8 @@
 #include <algorithm>
 
 #include "NodesTestUtil.h"
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoForceField.h"
 
 using testutil::Coin;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "NodesTestUtil.h"
-#include "bsdeform/SimulationState.h"
+#include "bsdeform/dynamics/SimulationState.h"
 
 namespace {
 const char* kScene = R"IV(#Inventor V2.1 ascii

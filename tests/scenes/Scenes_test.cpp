@@ -23,7 +23,7 @@
 #include "../support/FpTraps.h"
 #include "../support/Skip.h"
 #include "bsdeform/SceneReader.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using testutil::Coin;
 

@@ -23,10 +23,10 @@
 #include <utility>
 #include <vector>
 
-#include "bsdeform/BSpline.h"
-#include "bsdeform/Force.h"
-#include "bsdeform/GaussLegendre.h"
-#include "bsdeform/SplineSpace.h"
+#include "bsdeform/spline/BSpline.h"
+#include "bsdeform/forces/Force.h"
+#include "bsdeform/spline/GaussLegendre.h"
+#include "bsdeform/spline/SplineSpace.h"
 
 namespace bsdeform::test {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
-// Puts back the core's thread settings (bsdeform/Parallel.h, StiffnessStencil.h) when a test
+// Puts back the core's thread settings (bsdeform/base/Parallel.h, StiffnessStencil.h) when a test
 // leaves, passed or not: kernel threads, the split threshold, the background thread (which also
 // ends a back-off the test may have started).
-#include "bsdeform/Parallel.h"
-#include "bsdeform/StiffnessStencil.h"
+#include "bsdeform/base/Parallel.h"
+#include "bsdeform/energy/StiffnessStencil.h"
 
 struct ThreadSettingsGuard {
   int threads = bsdeform::kernelThreads();

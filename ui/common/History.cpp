@@ -5,7 +5,7 @@
 
 #include <QStringList>
 
-#include "bsdeform/Diagnostics.h"
+#include "bsdeform/dynamics/Diagnostics.h"
 
 namespace bsdeform {
 

@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "bsdeform/SimulationState.h"
+#include "bsdeform/dynamics/SimulationState.h"
 
 namespace bsdeform {
 

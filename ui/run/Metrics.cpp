@@ -6,8 +6,8 @@
 #include <cmath>
 
 #include "History.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/SplineSpace.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/spline/SplineSpace.h"
 
 namespace bsdeform::run {
 

@@ -22,7 +22,7 @@
 #include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

@@ -19,10 +19,10 @@
 #include "RunOptions.h"
 #include "RunSetup.h"
 #include "bsdeform/NodeRef.h"
-#include "bsdeform/DiagnosticsBeside.h"
+#include "bsdeform/dynamics/DiagnosticsBeside.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneRunner.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 class SoSeparator;
 class SoBSplineDeformSurface;

@@ -21,8 +21,8 @@
 #include <Inventor/nodes/SoSeparator.h>
 #include <Inventor/nodes/SoSwitch.h>
 
-#include "bsdeform/ForceLaws.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {

@@ -15,7 +15,7 @@
 
 #include "MaterialPresets.h"
 #include "SceneDocument.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

@@ -15,7 +15,7 @@
 #include "AtomicFile.h"
 #include "Plot.h"
 #include "PlotScale.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {

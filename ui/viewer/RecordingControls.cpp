@@ -15,7 +15,7 @@
 #include "Feedback.h"
 #include "Recorder.h"
 #include "SceneDocument.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {

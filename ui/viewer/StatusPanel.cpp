@@ -8,7 +8,7 @@
 #include <QStatusBar>
 #include <algorithm>
 
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "DiscardBranchCommand.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 namespace bsdeform {
 

@@ -21,7 +21,7 @@
 
 #include "StateFile.h"
 #include "StateHistory.h"
-#include "bsdeform/Diagnostics.h"
+#include "bsdeform/dynamics/Diagnostics.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 class QUndoStack;

@@ -14,7 +14,7 @@
 
 #include "MainWindow.h"
 #include "bsdeform/NodesInit.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace {

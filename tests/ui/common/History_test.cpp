@@ -6,8 +6,8 @@
 #include <catch2/catch.hpp>
 
 #include "History.h"
-#include "bsdeform/Diagnostics.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Diagnostics.h"
+#include "bsdeform/dynamics/Simulation.h"
 
 using bsdeform::History;
 

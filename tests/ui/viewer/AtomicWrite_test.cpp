@@ -15,7 +15,7 @@
 #include "Plot.h"
 #include "SceneDocument.h"
 #include "bsdeform/NodesInit.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using testsupport::checkKept;

@@ -39,7 +39,7 @@
 #include "SceneDocument.h"
 #include "ViewerClock.h"
 #include "ViewerTestSupport.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

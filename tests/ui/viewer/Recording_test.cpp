@@ -14,7 +14,7 @@
 
 #include "../../support/VideoReadBack.h"
 #include "ViewerTestSupport.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using namespace viewer_test;

@@ -23,8 +23,8 @@
 #include "TimelinePanel.h"
 #include "ViewerTestSupport.h"
 #include "bsdeform/SceneReader.h"
-#include "bsdeform/Simulation.h"
-#include "bsdeform/SimulationState.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationState.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using bsdeform::MainWindow;

@@ -30,8 +30,8 @@
 #include "PlotPanel.h"
 #include "ViewFraming.h"
 #include "ViewerTestSupport.h"
-#include "bsdeform/Diagnostics.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Diagnostics.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 using namespace viewer_test;

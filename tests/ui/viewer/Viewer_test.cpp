@@ -28,7 +28,7 @@
 #include "PlotPanel.h"
 #include "ViewerTestSupport.h"
 #include "bsdeform/NodesInit.h"
-#include "bsdeform/Simulation.h"
+#include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
 

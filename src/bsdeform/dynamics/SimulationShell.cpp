@@ -1,0 +1,347 @@
+// SPDX-License-Identifier: MIT
+// The SHELL model's part of Simulation (docs/math.md §16): the unknowns' mass and force through
+// T (moving points, periodic copies, derived layers), the Newton tangent, the explicit step's
+// bound at the state, and the nonlinear static problem by Newton with load increments. Its
+// time steppers are in TimeStepper.cpp.
+#include <Eigen/CholmodSupport>
+#include <Eigen/SVD>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "bsdeform/base/HugePages.h"
+#include "bsdeform/base/NumberText.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationPrivate.h"
+#include "bsdeform/dynamics/TimeStepper.h"
+
+namespace bsdeform {
+
+struct Simulation::MassSolver {
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  std::vector<Eigen::Index> freeOf;  ///< unknown -> row of the reduced matrix, -1 if pinned
+  Eigen::Index size = 0;
+};
+
+
+LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet& previous, double stepSize,
+                                    double t) const {
+  LoadContext ctx{m_space, current, previous, stepSize, t};
+  if (m_shell) ctx.rest = &m_rest;
+  return ctx;
+}
+
+void Simulation::initShell() {
+  auto model = std::make_unique<ShellModelEnergy>(m_space, m_rest, m_params.material);
+  m_shellModel = model.get();
+  m_shell = &model->shell();
+  m_energy = std::move(model);
+  m_paper = nullptr;
+  const std::vector<int>& foldStart = m_shellModel->foldStart();
+  const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
+  const Eigen::VectorXd& W = m_shellModel->netMass();
+  const int cols = m_space.netCols();
+  // M = T^T W T
+  const Eigen::Index n = m_space.numMoving();
+  std::vector<Eigen::Triplet<double>> t;
+  for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
+    for (int a = foldStart[size_t(p)]; a < foldStart[size_t(p) + 1]; ++a)
+      for (int b = foldStart[size_t(p)]; b < foldStart[size_t(p) + 1]; ++b)
+        t.emplace_back(int(fold[size_t(a)].first), int(fold[size_t(b)].first),
+                       W[p] * fold[size_t(a)].second * fold[size_t(b)].second);
+  m_shellMass.resize(n, n);
+  m_shellMass.setFromTriplets(t.begin(), t.end());
+  m_shellMassSolver.reset();
+  if (!m_space.hasDerived()) {
+    m_shellMassDiag = m_shellMass.diagonal();
+  } else {
+    m_shellMassDiag.resize(0);
+    auto solver = std::make_shared<MassSolver>();
+    solver->freeOf.assign(size_t(n), -1);
+    for (Eigen::Index f = 0; f < n; ++f)
+      if (!m_pinMask[size_t(m_space.movingToNet(f))]) solver->freeOf[size_t(f)] = solver->size++;
+    std::vector<Eigen::Triplet<double>> reduced;
+    for (int k = 0; k < m_shellMass.outerSize(); ++k)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
+        const Eigen::Index r = solver->freeOf[size_t(it.row())], c = solver->freeOf[size_t(it.col())];
+        if (r >= 0 && c >= 0) reduced.emplace_back(int(r), int(c), it.value());
+      }
+    Eigen::SparseMatrix<double> Mf(solver->size, solver->size);
+    Mf.setFromTriplets(reduced.begin(), reduced.end());
+    solver->ldlt.compute(Mf);
+    if (solver->ldlt.info() != Eigen::Success) throw std::runtime_error("SHELL: the mass matrix T^T W T is singular");
+    m_shellMassSolver = std::move(solver);
+  }
+  m_uniformMass = false;
+  m_massMoving = m_shellMass.diagonal();
+  if (m_params.integrator == Integrator::BackwardEuler)
+    m_stepper = std::make_unique<ShellBackwardEulerStepper>(*this);
+  else if (m_params.integrator == Integrator::Implicit)
+    m_stepper = std::make_unique<ShellImplicitStepper>(*this);
+  else
+    m_stepper = std::make_unique<ShellExplicitStepper>(*this);
+  m_edgeMass.reset();
+  m_derivedRows.clear();
+  for (int i = 0; i < m_space.netRows(); ++i)
+    for (int j = 0; j < cols; ++j)
+      if (m_space.isDerived(i, j)) m_derivedRows.push_back(Eigen::Index(i) * cols + j);
+  m_stencilLambda = 0.0;
+  m_elasticLambda = m_energy->eigenvalueBound(m_current);
+}
+
+ControlNet Simulation::elasticForce() const {
+  ControlNet f;
+  m_energy->gradient(m_current, f);
+  return -f;
+}
+
+ShellEnergies Simulation::shellEnergies() const { return m_shell ? m_shell->energy(m_current) : ShellEnergies(); }
+
+void Simulation::shellSolveMass(ControlNet& a) const {
+  if (!m_shellMassSolver) {
+    for (Eigen::Index f = 0; f < a.rows(); ++f)
+      if (m_pinMask[size_t(m_space.movingToNet(f))])
+      a.row(f).setZero();
+    else
+      a.row(f) /= m_shellMassDiag[f];
+    return;
+  }
+  const MassSolver& s = *m_shellMassSolver;
+  Eigen::MatrixXd r(s.size, 3);
+  for (Eigen::Index f = 0; f < a.rows(); ++f)
+    if (s.freeOf[size_t(f)] >= 0) r.row(s.freeOf[size_t(f)]) = a.row(f);
+  const Eigen::MatrixXd x = s.ldlt.solve(r);
+  for (Eigen::Index f = 0; f < a.rows(); ++f)
+    if (s.freeOf[size_t(f)] >= 0)
+      a.row(f) = x.row(s.freeOf[size_t(f)]);
+    else
+      a.row(f).setZero();
+}
+
+ControlNet Simulation::shellApplyMass(const ControlNet& a) const {
+  if (!m_shellMassSolver) return m_shellMassDiag.asDiagonal() * a;
+  return m_shellMass * a;
+}
+
+namespace {
+/// Forces' Jacobian blocks into the tangent, symmetrised: ½ B at (p, q) and ½ Bᵀ at (q, p).
+class TangentSink final : public JacobianSink {
+ public:
+  TangentSink(TangentMatrix& K, double scale) : m_K(K), m_scale(scale) {}
+  void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override {
+    m_K.addNetBlock(p, q, (0.5 * m_scale) * B);
+    m_K.addNetBlock(q, p, (0.5 * m_scale) * B.transpose());
+  }
+
+ private:
+  TangentMatrix& m_K;
+  double m_scale;
+};
+}  // namespace
+
+const Eigen::SparseMatrix<double>& Simulation::shellTangent(const ControlNet& net, double scale, double shift,
+                                                            HessianMode mode, const LoadContext* forces,
+                                                            double velocityScale, double forceScale) const {
+  if (!m_tangent)
+    m_tangent = std::make_unique<TangentMatrix>(m_space, m_shellModel->foldStart(), m_shellModel->foldEntries());
+  TangentMatrix& K = *m_tangent;
+  K.setZero();
+  // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
+  m_shell->elementHessians(net, mode, m_space.periodicU(),
+                           [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
+  if (shift != 0.0) K.addScalarMatrix(m_shellMass, shift);
+  if (forces) {
+    TangentSink sink(K, forceScale);
+    for (const auto& f : m_forces)
+      if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
+  }
+  K.applyHeld(m_heldMask);
+  return K.matrix();
+}
+
+void Simulation::shellUpdateBound() {
+  m_elasticLambda = m_energy->eigenvalueBound(m_current);
+  updateSubSteps();
+}
+
+// Newton's method with a Levenberg–Marquardt safeguard, load increment by load increment. The
+// step solves (H + mu M) d = -R; mu = 0 (pure Newton) while the steps are accepted, raised
+// (x4 from a small multiple of the stiffness) when the tangent is not positive definite or the
+// step is refused, lowered (/4, down to 0) after an accepted step. A step is accepted when it
+// lowers the merit: the total potential W - L.x when every load is constant (the equilibrium
+// is its minimum: a thin plate's first, purely bending step then cannot take the iteration into
+// the membrane's stiff valley), the residual norm otherwise (follower loads have no potential).
+// A surface nothing holds keeps mu > 0 near its free motions and still converges where the
+// loads balance.
+StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
+  const Eigen::Index n = m_space.numMoving();
+  bool conservative = true, followers = true;
+  for (const auto& f : m_forces) {
+    conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
+    followers &= f->dependence() == kDependsOnNormal;  // pressure: indifferent to rigid motions
+  }
+  ControlNet net = m_rest;
+  ControlNet x = m_space.gatherMoving(net);
+  const ControlNet L0 = conservative ? loadAt(net, 0.0) : ControlNet();
+  // Nothing holds the surface (free and periodic sides, no pin, no held coordinate): loads
+  // with a resultant have no equilibrium (said at once, not after a minute of cut increments),
+  // and an equilibrium found is one of a family of rigid motions, brought back to the rest
+  // position below.
+  const Boundaries& b = m_space.boundaries();
+  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
+  bool heldByNothing = loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
+  for (char held : m_heldMask) heldByNothing &= held == 0;
+  if (heldByNothing) {
+    const ControlNet Lrest = loadAt(net, 0.0);
+    const Eigen::RowVector3d resultant = Lrest.colwise().sum();
+    const double size = Lrest.cwiseAbs().sum();
+    if (resultant.norm() > 1e-8 * size) {
+      std::ostringstream os;
+      os << "static solve: nothing holds the surface (every side FREE or PERIODIC, no pin) and the loads' "
+            "resultant at rest, ("
+         << numberText(resultant.x()) << ", " << numberText(resultant.y()) << ", " << numberText(resultant.z())
+         << "), is not zero: there is no equilibrium; hold the surface (a side, a pin) or run the dynamics";
+      throw std::runtime_error(os.str());
+    }
+  }
+  struct State {
+    ControlNet g, R, L;
+    double r = 0.0, merit = 0.0;
+  };
+  // the state at xi: gradient, residual, relative residual, merit
+  auto evaluate = [&](const ControlNet& xi, double factor, State& st) {
+    m_space.scatterMoving(xi, net);
+    m_space.completeNet(net, &m_rest);
+    shellGradient(net, st.g);
+    st.L = conservative ? (factor * L0).eval() : (factor * loadAt(net, 0.0)).eval();
+    st.R = st.g - st.L;
+    for (Eigen::Index f = 0; f < st.R.rows(); ++f)
+      for (int c = 0; c < 3; ++c)
+        if (heldCoordinate(f, c)) st.R(f, c) = 0.0;
+    st.r = st.R.norm() / (st.L.norm() + st.g.norm() + 1e-300);
+    st.merit = conservative ? m_shell->energy(net).total() - (st.L.array() * xi.array()).sum() : st.R.norm();
+  };
+  NewtonSolver solver;
+  const double massMean = m_shellMass.diagonal().mean();
+  StaticResult result;
+  result.method = "Newton (CHOLMOD)";
+  int totalIterations = 0;
+  double muMin = 0.0;  // a small multiple of the stiffness, set at the first need
+  auto raise = [&](double mu) {
+    if (muMin == 0.0) {
+      double diag = 0.0;
+      const Eigen::SparseMatrix<double>& K = m_tangent->matrix();
+      for (int c = 0; c < K.outerSize(); ++c)
+        for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+          if (it.row() == it.col()) diag = std::max(diag, std::abs(it.value()));
+      muMin = 1e-8 * diag / massMean;
+    }
+    return std::max(4.0 * mu, muMin);
+  };
+  // Newton from x at load factor `factor`, at most `limit` iterations; x is the last accepted
+  // iterate either way
+  State cur, trial;
+  auto newton = [&](ControlNet& xi, double factor, int limit, int& used) {
+    evaluate(xi, factor, cur);
+    double mu = 0.0;
+    used = 0;
+    while (!(cur.r <= tolerance)) {
+      if (used >= limit || !std::isfinite(cur.r)) return false;
+      ++used;
+      bool factored = false;
+      for (int attempt = 0; attempt < 60 && !factored; ++attempt) {
+        factored = solver.factor(shellTangent(net, 1.0, mu, HessianMode::Exact));
+        if (!factored) mu = raise(mu);
+      }
+      if (!factored) return false;
+      const Eigen::VectorXd d = solver.llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.R.data(), cur.R.size()));
+      const ControlNet dx = Eigen::Map<const ControlNet>(d.data(), n, 3);
+      evaluate(xi + dx, factor, trial);
+      // accepted when it lowers the merit (far from the equilibrium) or the residual
+      // (near it, where the potential's change is below its rounding)
+      if ((std::isfinite(trial.merit) && trial.merit < cur.merit) || trial.r < cur.r) {
+        xi += dx;
+        std::swap(cur, trial);
+        // a full Newton step of 1e-11 of the net's size: converged to what the positions'
+        // rounding lets the residual show (stiff membranes under small loads stop here)
+        if (mu == 0.0 && dx.cwiseAbs().maxCoeff() <= 1e-11 * xi.cwiseAbs().maxCoeff()) break;
+        mu = mu * 0.25 < muMin ? 0.0 : mu * 0.25;
+      } else {
+        mu = raise(mu);  // refused: a shorter, more gradient-like step from the same state
+        m_space.scatterMoving(xi, net);
+        m_space.completeNet(net, &m_rest);
+      }
+    }
+    return true;
+  };
+  // Load increments: the loadSteps equal ones are the equilibria reported; between them the
+  // increment is cut by 4 when Newton does not converge within 25 iterations (from the rest of
+  // a thin plate, the first pure-bending step must stay near the linear range), and grown
+  // again after quick convergence. Each increment starts from the secant prediction of the
+  // last two equilibria.
+  const int perIncrement = std::min(maxIterations, 25);
+  double done = 0.0, delta = 1.0 / loadSteps, lastDelta = 0.0;
+  ControlNet previous = x;
+  int next = 1;
+  while (next <= loadSteps) {
+    const double target = double(next) / loadSteps;
+    const double factor = std::min(done + delta, target);
+    ControlNet xi = x;
+    if (lastDelta > 0.0) xi += ((factor - done) / lastDelta) * (x - previous);
+    int used = 0;
+    const bool ok = newton(xi, factor, perIncrement, used);
+    totalIterations += used;
+    if (!ok) {
+      delta = 0.25 * (factor - done);
+      if (delta < 1e-7 / loadSteps || totalIterations > maxIterations * loadSteps * 4)
+        throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
+                                 numberText(factor) + " (relative residual " + numberText(cur.r) + ", tolerance " +
+                                 numberText(tolerance) + ", " + std::to_string(totalIterations) +
+                                 " iterations in all); run the dynamics with damping to find this equilibrium");
+      continue;
+    }
+    previous = x;
+    x = xi;
+    lastDelta = factor - done;
+    done = factor;
+    if (used <= 6) delta = std::min(2.0 * (factor - (done - lastDelta)), 1.0 / loadSteps);
+    if (factor == target) {
+      StaticResult::Increment inc;
+      inc.loadFactor = factor;
+      m_space.scatterMoving(x, net);
+      m_space.completeNet(net, &m_rest);
+      inc.net = net;
+      inc.residual = cur.r;
+      inc.iterations = used;
+      result.increments.push_back(std::move(inc));
+      ++next;
+    }
+  }
+  if (heldByNothing) {
+    // the rigid drift the free motions allowed, taken out: the mass-weighted centroid back at
+    // rest's, and (loads indifferent to rotations: pressure) the best-fitting rotation about it
+    // (Kabsch, weighted by the net masses); the equilibrium is the same up to that motion
+    const Eigen::VectorXd& W = m_shellModel->netMass();
+    const double total = W.sum();
+    for (StaticResult::Increment& inc : result.increments) {
+      const Eigen::RowVector3d c = (W.transpose() * inc.net) / total, c0 = (W.transpose() * m_rest) / total;
+      Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+      if (followers) {
+        const Eigen::Matrix3d H = (inc.net.rowwise() - c).transpose() * W.asDiagonal() * (m_rest.rowwise() - c0);
+        Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+        Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+        D(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+        R = svd.matrixV() * D * svd.matrixU().transpose();  // rotates the solution onto rest
+      }
+      inc.net = ((inc.net.rowwise() - c) * R.transpose()).rowwise() + c0;
+    }
+  }
+  result.net = result.increments.back().net;
+  result.residual = result.increments.back().residual;
+  result.loadIterations = totalIterations;
+  return result;
+}
+
+}  // namespace bsdeform

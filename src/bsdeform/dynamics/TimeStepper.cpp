@@ -1,0 +1,619 @@
+// SPDX-License-Identifier: MIT
+// The four time steppers (TimeStepper.h): the paper's explicit and implicit schemes and the
+// shell's, each with the data only it uses. They read and write the state the Simulation holds
+// (its friends: `s` below is the Simulation).
+#include "bsdeform/dynamics/TimeStepper.h"
+
+#include <Eigen/CholmodSupport>
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <functional>
+#include <sstream>
+#include <vector>
+
+#include "bsdeform/base/HugePages.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationPrivate.h"
+
+namespace bsdeform {
+
+TimeStepper::~TimeStepper() = default;
+
+bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, const ControlNet& start,
+                                 const ControlNet& before, double t, double dt,
+                                 const std::function<bool(double, double)>& stepOf, const std::function<void()>& restart,
+                                 const std::function<void(const ControlNet&, int)>& finish) {
+  if (m_blewUp) {
+    previous = start;
+    restart();
+    return false;
+  }
+  std::string failure = m_solveFailure;
+  for (int pieces = 2; pieces <= 16 && current.allFinite(); pieces *= 2) {
+    const double h = dt / pieces;
+    // the same velocity, over a piece: an affine combination keeps held and derived points
+    current = start;
+    previous = start - (start - before) / double(pieces);
+    restart();
+    bool ok = true;
+    int iterations = 0;
+    for (int k = 0; k < pieces && ok; ++k) {
+      ok = stepOf(t + k * h, h);
+      iterations += m_newtonIterations;
+    }
+    if (ok) {
+      finish(start, pieces);
+      m_newtonIterations = iterations;
+      m_solveFailure.clear();
+      return true;
+    }
+    failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+  }
+  m_solveFailure = failure;
+  previous = start;  // step() keeps it: the last valid state
+  restart();
+  return false;
+}
+
+namespace {
+/// Splits the loads for an implicit step: the constant ones (in `load` already) and those that
+/// depend on time only, evaluated at `ctx` and added to `load` (they stay fixed within the
+/// step); the others, which depend on the state, in `stateForces` (evaluated at every iterate).
+void splitLoads(const std::vector<std::shared_ptr<const Force>>& forces, const LoadContext& ctx, ControlNet& load,
+                std::vector<const Force*>& stateForces) {
+  stateForces.clear();
+  for (const auto& f : forces) {
+    const unsigned dep = f->dependence();
+    if (dep == kConstant) continue;
+    if (dep & (kDependsOnPosition | kDependsOnVelocity | kDependsOnNormal))
+      stateForces.push_back(f.get());
+    else
+      f->addLoad(ctx, load);
+  }
+}
+
+/// Crisfield's line search along a Newton direction d: the step length α where the residual's
+/// component along d, s(α) = d·R(x + αd), vanishes (the energy's minimum along d for a
+/// conservative problem), found by regula falsi from s(0) < 0. The full step is taken when it
+/// already removes half of |s(0)| or the energy still decreases there; at most 10 trials.
+/// `evaluate(α)` sets the trial state and returns s(α).
+template <typename Eval>
+double lineSearch(double s0, Eval&& evaluate) {
+  double a = 0.0, sa = s0, b = 1.0;
+  double sb = evaluate(1.0);
+  if (!(s0 < 0.0) || !std::isfinite(sb)) return std::isfinite(sb) ? 1.0 : 0.0;
+  if (sb <= 0.0 || std::abs(sb) <= 0.5 * std::abs(s0)) return 1.0;
+  double alpha = 1.0;
+  for (int k = 0; k < 10; ++k) {
+    alpha = a - sa * (b - a) / (sb - sa);
+    alpha = std::min(std::max(alpha, a + 0.05 * (b - a)), b - 0.05 * (b - a));
+    const double sAlpha = evaluate(alpha);
+    if (!std::isfinite(sAlpha)) return 0.0;
+    if (std::abs(sAlpha) <= 0.5 * std::abs(s0)) break;
+    if (sAlpha < 0.0) {
+      a = alpha;
+      sa = sAlpha;
+    } else {
+      b = alpha;
+      sb = sAlpha;
+    }
+  }
+  return alpha;
+}
+}  // namespace
+
+bool PaperExplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.subStepSize(), m = s.massPerPoint(), c = s.dampingPerPoint();
+  const double g = 2.0 * m + dt * c;
+  const double alpha = 2.0 * dt * dt / g, gamma = (2.0 * m - dt * c) / g;
+  // Lumped mass next to a free edge: alpha = 2 dt^2 / (s (2m + dt c)) for the point's mass
+  // ratio s (damping scales alike, so gamma does not change).
+  std::function<double(int, int)> scale;
+  StiffnessStencil::BandSolve bandSolve;
+  if (s.m_edgeMass) {
+    // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
+    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.m_edgeMass->bandPlan(s.m_stencil.bandPoints(), m));
+    bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
+      for (size_t k = k0; k < k1; ++k) {
+        Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
+        for (int e = plan->start[k]; e < plan->start[k + 1]; ++e) {
+          const auto& entry = plan->entries[size_t(e)];
+          assert(size_t(entry.first) >= k0 && size_t(entry.first) < k1);
+          acc += entry.second * r[size_t(entry.first) - k0];
+        }
+        out[k - k0] = acc;
+      }
+    };
+  } else if (!s.m_uniformMass) {
+    scale = [&s, m](int i, int j) { return m / s.massAt(i, j); };
+  }
+  // The new state overwrites the previous one (same buffer); held points are equal in both.
+  const bool ok = s.m_stencil.centralDifferenceUpdate(s.m_current, s.m_previous, load, alpha, gamma, s.m_divergenceLimit,
+                                                    scale, bandSolve);
+  s.holdPins(s.m_previous);
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  return ok;
+}
+
+PaperImplicitStepper::PaperImplicitStepper(Simulation& sim) : TimeStepper(sim) {
+  Simulation& s = m_sim;
+  // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
+  // next to a free edge
+  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  Eigen::VectorXd massTerm;
+  const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
+  std::vector<Eigen::Triplet<double>> coupling;
+  double kappa = 0.0;
+  if (s.m_uniformMass) {
+    massTerm = Eigen::VectorXd::Constant(s.m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
+  } else if (s.m_edgeMass) {
+    massTerm.resize(s.m_space.numMoving());
+    for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
+      const Eigen::Index r = s.m_space.movingToNet(f);
+      massTerm[f] = factor * s.m_edgeMass->diagonal(int(r / s.m_space.netCols()), int(r % s.m_space.netCols()));
+    }
+    coupling = s.m_edgeMass->offDiagonal(factor);
+    // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
+    // kappa(M^-1 K), what Jacobi-CG meets in practice; the diagonal formula is far too
+    // pessimistic with the coupling (docs/benchmarks.md, "Why the code is as it is")
+    kappa = 1.0 + s.m_elasticLambda / (4.0 * factor);
+  } else {
+    massTerm = s.m_massMoving * factor;
+  }
+  m_implicit = std::make_unique<ImplicitSystem>(s.m_space, s.m_stencil, massTerm, s.pinnedMoving(), s.m_params.implicitSolver,
+                                                s.m_params.solverTolerance, s.m_params.maxSolverIterations,
+                                                std::move(coupling), kappa);
+}
+
+bool PaperImplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  // Newmark (docs/math.md §6) for the increment d = P+ - P: with K = M/dt^2 + C/(2dt) + A_II/4,
+  //   K d = L - (A_II V + A_IB P_B) + (M/dt^2 - C/(2dt)) (P - P-),   V = P + (P- - P)/4,
+  // where A_II V + A_IB P_B is the stencil applied to the whole net V (its held points are
+  // their rest values exactly): no matrix, and a state at rest gives d = 0 exactly.
+  allocateNet(m_scratch, s.m_current.rows());
+  m_scratch = s.m_current + 0.25 * (s.m_previous - s.m_current);
+  ControlNet rhs;
+  s.m_stencil.applyMoving(m_scratch, rhs);
+  const ControlNet velocity = s.m_space.gatherMoving(s.m_current) - s.m_space.gatherMoving(s.m_previous);  // P - P-
+  if (s.m_uniformMass) {
+    rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
+  } else if (s.m_edgeMass) {
+    ControlNet Mv;
+    s.m_edgeMass->apply(velocity, Mv);
+    rhs = load - rhs + (1.0 / (dt * dt) - (c / m) / (2.0 * dt)) * Mv;
+  } else {
+    const double cm = c / m;
+    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (s.m_massMoving.asDiagonal() * velocity);
+  }
+  for (Eigen::Index f : m_implicit->pinned()) rhs.row(f).setZero();  // pinned rows of K are D: d = 0
+  // CG starts from the constant-velocity prediction d = P - P-.
+  ControlNet next = velocity;
+  const bool solved = m_implicit->solve(rhs, next);
+  next += s.m_space.gatherMoving(s.m_current);
+  bool ok = solved;
+  for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= s.m_divergenceLimit;
+  s.m_space.scatterMoving(next, s.m_previous);
+  if (!s.m_pinned.empty() || s.m_space.hasDerived()) {
+    s.holdPins(s.m_previous);
+    s.m_space.completeNet(s.m_previous, &s.m_rest);
+  }
+  s.m_current.swap(s.m_previous);
+  if (!solved && next.allFinite()) {
+    std::ostringstream os;
+    os << "conjugate gradients stopped at relative residual " << m_implicit->lastResidual() << " after "
+       << m_implicit->lastIterations() << " iterations (solverTolerance " << s.m_params.solverTolerance
+       << ", maxSolverIterations " << s.m_params.maxSolverIterations << ")";
+    m_solveFailure = os.str();
+  }
+  return ok;
+}
+
+bool ShellExplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const ControlNet& load = s.effectiveLoad(t);
+  const double dt = s.subStepSize(), c = s.m_params.damping;
+  // M (P+ - 2P + P-)/dt^2 + c M (P+ - P-)/(2 dt) = L - dW/dP
+  const double alpha = dt * dt / (1.0 + 0.5 * c * dt), gamma = (1.0 - 0.5 * c * dt) / (1.0 + 0.5 * c * dt);
+  ControlNet a;
+  s.shellGradient(s.m_current, a);
+  a = load - a;
+  s.shellSolveMass(a);
+  bool ok = true;
+  for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
+    const Eigen::Index r = s.m_space.movingToNet(f);
+    if (s.m_pinMask[size_t(r)]) continue;
+    Eigen::RowVector3d next = s.m_current.row(r) + gamma * (s.m_current.row(r) - s.m_previous.row(r)) + alpha * a.row(f);
+    for (int k = 0; k < 3; ++k)
+      if (s.heldCoordinate(f, k)) next[k] = s.m_rest(r, k);
+    ok &= next.cwiseAbs().maxCoeff() <= s.m_divergenceLimit;  // false for NaN
+    s.m_previous.row(r) = next;
+  }
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  return ok;
+}
+
+// Newmark (average acceleration) in three-level form, the forces averaged as the stiffness term
+// of the linear scheme is (docs/math.md §16):
+//   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
+// solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
+bool ShellImplicitStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const double dt = s.m_params.timeStep;
+  const ControlNet start = s.m_current, before = s.m_previous;
+  if (stepOf(t, dt)) return true;
+  return retakeInPieces(
+      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); },
+      [this] { m_cached = false; },
+      [this, &s](const ControlNet& begin, int) {
+        s.m_previous = begin;  // one step before, as the next step expects
+        m_cached = false;
+      });
+}
+
+bool ShellImplicitStepper::stepOf(double t, double dt) {
+  Simulation& s = m_sim;
+  // constant loads and those that depend on time only, at the start; the others (contact,
+  // springs, pressure, drag) at every iterate, at the state V = (x + 2P + P-)/4 moving with
+  // (x - P-)/(2 dt): the average the stiffness term takes (docs/math.md §16)
+  m_blewUp = false;
+  ControlNet load = s.m_constantLoad;
+  std::vector<const Force*> stateForces;
+  splitLoads(s.m_forces, s.loadContext(s.m_current, s.m_previous, dt, t), load, stateForces);
+  const double c = s.m_params.damping;
+  const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
+  const ControlNet P = s.m_space.gatherMoving(s.m_current), Pm = s.m_space.gatherMoving(s.m_previous);
+  if (!m_cached) {
+    s.shellGradient(s.m_current, m_gradCurrent);
+    s.shellGradient(s.m_previous, m_gradPrevious);
+    m_cached = true;
+  }
+  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.shellApplyMass(P - Pm);
+  const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
+  ControlNet net = s.m_current;
+  ControlNet x = P + (P - Pm), g, R;
+  ControlNet netV = s.m_current, netVPrev = s.m_current;  // V and V - (x - P-), for the forces
+  auto stateLoad = [&](const ControlNet& xi) {
+    ControlNet Lv = ControlNet::Zero(xi.rows(), 3);
+    if (stateForces.empty()) return Lv;
+    netV = 0.25 * (net + 2.0 * s.m_current + s.m_previous);
+    netVPrev = netV - (net - s.m_previous);
+    const LoadContext ctx = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
+    for (const Force* f : stateForces) f->addLoad(ctx, Lv);
+    return Lv;
+  };
+  auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
+    s.m_space.scatterMoving(xi, net);
+    s.m_space.completeNet(net, &s.m_rest);
+    s.shellGradient(net, gi);
+    Ri = a * s.shellApplyMass(xi - P) + 0.25 * gi - fixed - stateLoad(xi);
+    for (Eigen::Index f = 0; f < Ri.rows(); ++f)
+      for (int c = 0; c < 3; ++c)
+        if (s.heldCoordinate(f, c)) Ri(f, c) = 0.0;
+    return Ri.norm();
+  };
+  for (Eigen::Index f = 0; f < x.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (s.heldCoordinate(f, c)) x(f, c) = P(f, c);
+  // a failed step leaves the rejected state current and the last good one previous (step())
+  auto reject = [&]() {
+    s.m_space.scatterMoving(x, s.m_previous);
+    s.m_space.completeNet(s.m_previous, &s.m_rest);
+    s.m_current.swap(s.m_previous);
+    m_cached = false;
+    return false;
+  };
+  double r = residual(x, g, R);
+  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
+  const Eigen::Index n = s.m_space.numMoving();
+  int it = 0;
+  m_newtonIterations = 0;
+  while (!(r <= s.m_params.newtonTolerance * scale)) {
+    if (it >= s.m_params.maxNewtonIterations || !std::isfinite(r)) {
+      std::ostringstream os;
+      os << "Newton's method stopped at relative residual " << r / scale << " after " << it
+         << " iterations (newtonTolerance " << s.m_params.newtonTolerance << ", maxNewtonIterations "
+         << s.m_params.maxNewtonIterations << ")";
+      m_solveFailure = os.str();
+      return reject();
+    }
+    ++it;
+    // an indefinite tangent (compression, buckling): a larger multiple of the mass until it is
+    // positive definite (a shorter step in time for this iteration), then the projected one
+    bool factored = false;
+    double shift = a;
+    for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
+      const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
+      factored = m_newton->factor(s.shellTangent(net, 0.25, shift,
+                                                 attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
+                                                 stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25));
+      shift *= 4.0;
+    }
+    if (!factored) {
+      m_solveFailure = "the Newton tangent is not positive definite even with projected element Hessians";
+      return reject();
+    }
+    const Eigen::VectorXd rhs = -Eigen::Map<const Eigen::VectorXd>(R.data(), R.size());
+    const Eigen::VectorXd d = m_newton->llt.solve(rhs);
+    ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    ControlNet xNew, gNew, RNew;
+    double tried = -1.0;
+    const double alpha = lineSearch((step.array() * R.array()).sum(), [&](double al) {
+      tried = al;
+      xNew = x + al * step;
+      residual(xNew, gNew, RNew);
+      return (step.array() * RNew.array()).sum();
+    });
+    if (alpha != tried) {
+      xNew = x + alpha * step;
+      residual(xNew, gNew, RNew);
+    }
+    x = std::move(xNew);
+    g = std::move(gNew);
+    R = std::move(RNew);
+    r = R.norm();
+    // a full Newton step of 1e-11 of the net's size: converged to what the positions' rounding
+    // lets the residual show (stiff membranes under small loads reach this first)
+    if (alpha == 1.0 && step.cwiseAbs().maxCoeff() <= 1e-11 * x.cwiseAbs().maxCoeff()) break;
+  }
+  m_newtonIterations = it;
+  bool ok = true;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
+  s.m_space.scatterMoving(x, s.m_previous);
+  s.holdPins(s.m_previous);
+  s.m_space.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  m_gradPrevious.swap(m_gradCurrent);
+  m_gradCurrent = g;
+  // the energy check: Newmark conserves energy to O(dt²) without damping, so only a rise
+  // beyond the reference's own scale (kinetic + elastic + the loads' reach) is a blow-up
+  if (ok) {
+    double energy = 0.0, scaleNow = 0.0;
+    if (ShellBackwardEulerStepper::totalEnergy(s, x, s.m_current, (x - P) / dt, t + dt, energy, scaleNow)) {
+      if (!m_hasReference) {
+        m_hasReference = true;
+        m_reference = energy;
+        m_referenceScale = scaleNow;
+      } else if (energy > m_reference + m_referenceScale + 1e-300) {
+        std::ostringstream os;
+        os << "the total energy rose from " << m_reference << " to " << energy
+           << " J with no work done on the system (a blow-up)";
+        m_solveFailure = os.str();
+        m_hasReference = false;
+        m_blewUp = true;
+        return false;
+      }
+    } else {
+      m_hasReference = false;
+    }
+  }
+  return ok;
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+bool ShellBackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
+                                            const ControlNet& v, double t, double& energy, double& scale) {
+  const double kinetic = 0.5 * (v.array() * s.shellApplyMass(v).array()).sum();
+  const double elastic = s.m_energy->energy(net);
+  double loads = -(s.m_constantLoad.array() * x.array()).sum();
+  const LoadContext ctx = s.loadContext(net, net, s.m_params.timeStep, t);
+  for (const auto& f : s.m_forces) {
+    if (f->dependence() == kConstant) continue;
+    double stored = 0.0;
+    if (!f->storedEnergy(ctx, stored)) return false;
+    loads += stored;
+  }
+  energy = kinetic + elastic + loads;
+  // plus the work the constant loads can do over the surface's own size (a sheet at z = 0
+  // under gravity stores nothing, yet falls)
+  const double extent = (net.colwise().maxCoeff() - net.colwise().minCoeff()).norm();
+  // and a floor: the membrane energy of a uniform strain of 1.4e-4 (1e-8 E t A), below which a
+  // change is rounding (a strip at rest under no load moves its energy between 1e-17 and 1e-16)
+  const ShellMaterial& m = s.m_params.material;
+  scale = kinetic + std::abs(elastic) + std::abs(loads) + s.m_constantLoad.cwiseAbs().sum() * extent +
+          1e-8 * m.youngsModulus * m.thickness * s.m_shell->restArea();
+  return true;
+}
+
+bool ShellBackwardEulerStepper::subStep(double t) {
+  Simulation& s = m_sim;
+  const double dt = s.m_params.timeStep;
+  const ControlNet start = s.m_current, before = s.m_previous;
+  if (stepOf(t, dt)) return true;
+  return retakeInPieces(
+      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); }, [] {},
+      [&s](const ControlNet&, int pieces) {
+        // one step before, with the velocity of the last piece
+        s.m_previous = s.m_current - double(pieces) * (s.m_current - s.m_previous);
+        s.m_space.completeNet(s.m_previous, &s.m_rest);
+      });
+}
+
+bool ShellBackwardEulerStepper::stepOf(double t, double h) {
+  Simulation& s = m_sim;
+  const SplineSpace& sp = s.m_space;
+  const double c = s.m_params.damping, tNew = t + h;
+  const ControlNet P = sp.gatherMoving(s.m_current), Pm = sp.gatherMoving(s.m_previous);
+  const ControlNet xhat = 2.0 * P - Pm;  // P + h v
+  const ControlNet startNet = s.m_current;
+  m_blewUp = false;
+  // the constant loads and those that depend on time only are fixed within the step (their
+  // potential -L·x); the others are evaluated at every iterate
+  ControlNet fixedLoad = s.m_constantLoad;
+  std::vector<const Force*> stateForces;
+  splitLoads(s.m_forces, s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
+  if (!m_hasReference) {
+    m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
+  }
+  ControlNet net = s.m_current;
+  auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
+  // E(x) and its gradient; `potential` false when a load has none (the line search then
+  // watches the residual)
+  struct Eval {
+    ControlNet g;
+    double E = 0.0, r = 0.0;
+    bool potential = true;
+  };
+  ControlNet gW, L, Mdx, Mdn;
+  auto evaluate = [&](const ControlNet& x, Eval& ev) {
+    sp.scatterMoving(x, net);
+    sp.completeNet(net, &s.m_rest);
+    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    s.shellGradient(net, gW);
+    L = fixedLoad;
+    ev.potential = true;
+    double phi = -(fixedLoad.array() * x.array()).sum();
+    for (const Force* f : stateForces) {
+      f->addLoad(ctx, L);
+      double value = 0.0;
+      if (f->potential(ctx, value))
+        phi += value;
+      else
+        ev.potential = false;
+    }
+    const ControlNet dx = x - xhat, dn = x - P;
+    Mdx = s.shellApplyMass(dx);
+    Mdn = s.shellApplyMass(dn);
+    ev.g = Mdx / (h * h) + (c / h) * Mdn + gW - L;
+    for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
+      for (int k = 0; k < 3; ++k)
+        if (held(f, k)) ev.g(f, k) = 0.0;
+    ev.r = ev.g.norm();
+    // the potential only where the line search watches it (every load has one)
+    ev.E = ev.potential ? 0.5 * (dx.array() * Mdx.array()).sum() / (h * h) +
+                              0.5 * (c / h) * (dn.array() * Mdn.array()).sum() + s.m_energy->energy(net) + phi
+                        : 0.0;
+  };
+  ControlNet x = xhat;
+  for (Eigen::Index f = 0; f < x.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (held(f, k)) x(f, k) = P(f, k);
+  Eval cur, trial;
+  evaluate(x, cur);
+  const double forceScale = (s.m_constantLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
+  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
+  const Eigen::Index n = sp.numMoving();
+  const double massShift = 1.0 / (h * h) + c / h;
+  m_newtonIterations = 0;
+  auto reject = [&]() {
+    sp.scatterMoving(x, s.m_previous);
+    sp.completeNet(s.m_previous, &s.m_rest);
+    s.m_current.swap(s.m_previous);
+    m_hasReference = false;
+    m_refactor = true;
+    return false;
+  };
+  bool converged = false;
+  double lastUpdate = 0.0;
+  // a step starts with a factorisation of its own (kept only within the step), so that a run
+  // resumed from a saved state takes the same iterates as the uninterrupted one
+  m_refactor = true;
+  for (int it = 0; it < s.m_params.maxNewtonIterations && std::isfinite(cur.r); ++it) {
+    if (cur.r <= s.m_params.newtonTolerance * forceScale) {
+      converged = true;
+      break;
+    }
+    ++m_newtonIterations;
+    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    // The factorisation of an earlier iterate of the step is kept while the iterates contract
+    // fast with it (a chord step costs a gradient and a solve, not an assembly and a
+    // factorisation); a new one is made when the last update shrank by less than half, or
+    // the line search refused a kept one's step. The exact tangent while it is positive
+    // definite (Newton converges quadratically; the mass term M/h² usually makes it so), else
+    // the element Hessians projected (a descent direction whatever the state), then more of
+    // the mass (a force's Jacobian, a sphere's tangential part, can still be indefinite).
+    const bool fresh = m_refactor || m_factoredStep != h;
+    if (fresh) {
+      bool factored = m_newton->factor(s.shellTangent(net, 1.0, massShift, HessianMode::Exact, &ctx, 1.0 / h));
+      double shift = massShift;
+      for (int attempt = 0; attempt < 8 && !factored; ++attempt) {
+        factored = m_newton->factor(s.shellTangent(net, 1.0, shift, HessianMode::Projected, &ctx, 1.0 / h));
+        shift *= 4.0;
+      }
+      if (!factored) {
+        m_solveFailure = "the Newton matrix is not positive definite even with the element Hessians projected";
+        return reject();
+      }
+      m_refactor = false;
+      m_factoredStep = h;
+      ++m_factorisations;
+    }
+    const Eigen::VectorXd d = m_newton->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+    const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    const double slope = (step.array() * cur.g.array()).sum();
+    double alpha = 1.0;
+    bool accepted = false;
+    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+      evaluate(x + alpha * step, trial);
+      const bool better = cur.potential && trial.potential
+                              ? trial.E <= cur.E + 1e-4 * alpha * slope
+                              : trial.r <= (1.0 - 1e-4 * alpha) * cur.r;
+      if (std::isfinite(trial.r) && better) {
+        accepted = true;
+        break;
+      }
+    }
+    const double update = alpha * step.cwiseAbs().maxCoeff();
+    if (!accepted && !fresh) {  // the kept factorisation's step: try again with a new one
+      m_refactor = true;
+      evaluate(x, cur);
+      continue;
+    }
+    if (!accepted) {
+      // no decrease along a descent direction: the potential's rounding floor (converged when
+      // the step itself is below the tolerance)
+      evaluate(x, cur);
+      if (step.cwiseAbs().maxCoeff() <= s.m_params.newtonVelocityTolerance * h) converged = true;
+      break;
+    }
+    x += alpha * step;
+    std::swap(cur, trial);
+    if (update <= s.m_params.newtonVelocityTolerance * h) {
+      converged = true;
+      break;
+    }
+    if (!fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) m_refactor = true;
+    lastUpdate = update;
+  }
+  if (!converged) {
+    std::ostringstream os;
+    os << "Newton's method did not converge in " << m_newtonIterations << " iterations (residual "
+       << cur.r / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
+       << ", newtonVelocityTolerance " << s.m_params.newtonVelocityTolerance << ", maxNewtonIterations "
+       << s.m_params.maxNewtonIterations << ")";
+    m_solveFailure = os.str();
+    return reject();
+  }
+  bool ok = true;
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
+  sp.scatterMoving(x, s.m_previous);
+  s.holdPins(s.m_previous);
+  sp.completeNet(s.m_previous, &s.m_rest);
+  s.m_current.swap(s.m_previous);
+  if (ok && m_hasReference) {
+    double energy = 0.0, scale = 0.0;
+    if (totalEnergy(s, x, s.m_current, (x - P) / h, tNew, energy, scale) &&
+        energy > m_reference + 1e-2 * std::max(m_referenceScale, scale) + 1e-300) {
+      std::ostringstream os;
+      os << "the total energy rose from " << m_reference << " to " << energy
+         << " J with no work done on the system (a blow-up)";
+      m_solveFailure = os.str();
+      m_hasReference = false;
+      m_blewUp = true;
+      return false;
+    }
+  }
+  return ok;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,171 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file TimeStepper.h
+/// Not installed. A Simulation is a model (space, held points, mass, energy), a state (current
+/// and previous nets, time) and one of these: a time integration scheme with the data only it
+/// needs (a factorisation, scratch nets, the forces of the last states), which advances the
+/// state by one sub-step. Simulation::step() calls it for every sub-step and handles failure,
+/// the clock and the status. Four implementations, chosen by the integrator and the energy:
+///   PaperExplicitStepper  the paper's corrected central differences through the stencil's
+///                         fused kernel (design.md §2);
+///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
+///   ShellExplicitStepper  central differences with the lumped mass T^T W T;
+///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure;
+///   ShellBackwardEulerStepper  backward Euler as the minimisation of the incremental potential.
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bsdeform/dynamics/EdgeMass.h"
+#include "bsdeform/dynamics/ImplicitSystem.h"
+#include "bsdeform/spline/SplineSpace.h"
+
+namespace bsdeform {
+
+class Simulation;
+struct NewtonSolver;
+
+class TimeStepper {
+ public:
+  explicit TimeStepper(Simulation& sim) : m_sim(sim) {}
+  virtual ~TimeStepper();
+  TimeStepper(const TimeStepper&) = delete;
+  TimeStepper& operator=(const TimeStepper&) = delete;
+  /// One sub-step from time t. False when the new state is not valid: the rejected state is
+  /// then current and the last good one previous (Simulation::step() restores it).
+  virtual bool subStep(double t) = 0;
+  /// Forgets what it kept of earlier states (a state was set, reset, or a step failed).
+  virtual void invalidate() {}
+  /// The forces changed (work may be done on the system from now on).
+  virtual void forcesChanged() {}
+  /// Newton iterations of the last step (0 for the linear schemes).
+  virtual int newtonIterations() const { return 0; }
+  /// The implicit scheme's constant system (null for the others).
+  virtual const ImplicitSystem* implicitSystem() const { return nullptr; }
+  /// Why the last sub-step's solver failed ("" when it did not).
+  const std::string& solveFailure() const { return m_solveFailure; }
+  void clearFailure() { m_solveFailure.clear(); }
+
+ protected:
+  /// The Newton steppers' step cutting, after stepOf(t, dt) failed from (current, previous) =
+  /// (start, before): the step again in 2, 4, 8, 16 equal pieces with the same velocity,
+  /// stepOf(t, h) taking one piece (and setting m_newtonIterations), restart() called before
+  /// each try (the stepper forgets what it kept of earlier states). On success finish(start,
+  /// pieces) sets the previous net the next step expects and m_newtonIterations is the sum over
+  /// the pieces; on failure the pieces' failure is reported and previous is start (the last
+  /// valid state). Not tried after a blow-up (m_blewUp: smaller pieces do not cure it).
+  bool retakeInPieces(ControlNet& current, ControlNet& previous, const ControlNet& start, const ControlNet& before,
+                      double t, double dt, const std::function<bool(double, double)>& stepOf,
+                      const std::function<void()>& restart,
+                      const std::function<void(const ControlNet& start, int pieces)>& finish);
+
+  Simulation& m_sim;
+  std::string m_solveFailure;
+  int m_newtonIterations = 0;  ///< of the last step (the Newton steppers)
+  bool m_blewUp = false;       ///< the last step failed the energy check
+};
+
+class PaperExplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+
+ private:
+  std::unique_ptr<EdgeMass::BandPlan> m_bandPlan;  ///< built at the first step with derived layers
+};
+
+class PaperImplicitStepper final : public TimeStepper {
+ public:
+  /// Builds K = M/dt^2 + C/(2dt) + A_II/4 and its solver.
+  explicit PaperImplicitStepper(Simulation& sim);
+  bool subStep(double t) override;
+  const ImplicitSystem* implicitSystem() const override { return m_implicit.get(); }
+
+ private:
+  std::unique_ptr<ImplicitSystem> m_implicit;
+  ControlNet m_scratch;  ///< a full net (the stencil's argument)
+};
+
+class ShellExplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+};
+
+class ShellImplicitStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  /// One implicit step of Delta t from t; when Newton's method fails, the step is taken again
+  /// in 2, 4, ... 16 equal pieces (the velocity kept), so a fast change (a load ramped by the
+  /// wall clock, a snap) costs time instead of stopping the run.
+  bool subStep(double t) override;
+  void invalidate() override {
+    m_cached = false;
+    m_hasReference = false;
+  }
+  void forcesChanged() override { m_hasReference = false; }
+  int newtonIterations() const override { return m_newtonIterations; }
+
+ private:
+  /// One three-level Newmark step of size dt from t (the previous net dt before the current).
+  bool stepOf(double t, double dt);
+
+  std::shared_ptr<NewtonSolver> m_newton;  ///< the tangent's symbolic factorisation, kept
+  /// dW/dP at the current and previous state (valid while m_cached).
+  ControlNet m_gradCurrent, m_gradPrevious;
+  bool m_cached = false;
+  /// The energy check's reference: the total energy after the first step since the last
+  /// change (ShellBackwardEulerStepper::totalEnergy()), and its scale.
+  bool m_hasReference = false;
+  double m_reference = 0.0, m_referenceScale = 0.0;
+};
+
+/// Backward Euler for SHELL as the minimisation of the incremental potential (docs/math.md
+/// §16, "Backward Euler"):
+///   E(x) = ½ (x - x̂)ᵀ M (x - x̂) / h² + c/(2h) (x - P)ᵀ M (x - P) + W(x) + Φ(x),
+/// x̂ = P + h v, v = (P - P-)/h, Φ the loads' potentials (constant loads: -L·x); its gradient is
+/// the residual of M (x - 2P + P-)/h² + c M (x - P)/h + ∇W(x) = L(x, (x - P)/h, t + h), every
+/// force evaluated at the iterate. Newton with the element Hessians projected to PSD, the
+/// forces' Jacobians inside (symmetrised), a backtracking (Armijo) line search on E (on the
+/// residual's norm when a force has no potential); converged when the largest update over h
+/// is below newtonVelocityTolerance or the residual below newtonTolerance. A step that does
+/// not converge is retaken in 2, 4, ... 16 pieces, then reported. When every load has a
+/// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
+/// its value when the run (or the last change of forces) began: a rise is reported as a
+/// blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
+/// factorisation is kept while the iterates contract fast with it (chord steps).
+class ShellBackwardEulerStepper final : public TimeStepper {
+ public:
+  using TimeStepper::TimeStepper;
+  bool subStep(double t) override;
+  void invalidate() override {
+    m_hasReference = false;
+    m_refactor = true;
+  }
+  void forcesChanged() override {
+    m_hasReference = false;
+    m_refactor = true;
+  }
+  int newtonIterations() const override { return m_newtonIterations; }
+  /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
+  /// a factorisation is kept while the iterates contract fast with it).
+  long factorisations() const { return m_factorisations; }
+  /// Total energy (kinetic + elastic + what the loads store, Force::storedEnergy()) of a state
+  /// x (its net `net`) with velocity v, and its scale (the sum of the parts' magnitudes); false
+  /// when some load can do work (nothing to check). Also the Newmark stepper's check.
+  static bool totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& v,
+                          double t, double& energy, double& scale);
+
+ private:
+  bool stepOf(double t, double h);
+
+  std::shared_ptr<NewtonSolver> m_newton;
+  bool m_refactor = true;      ///< the next iteration factorises anew
+  double m_factoredStep = 0.0; ///< the step size of the kept factorisation
+  long m_factorisations = 0;
+  bool m_hasReference = false;
+  double m_reference = 0.0, m_referenceScale = 0.0;
+};
+
+}  // namespace bsdeform
