@@ -159,6 +159,7 @@ TEST_CASE("BACKWARD_EULER: the drag spring at the model's stiffness moves a SHEL
   auto anchor = std::make_shared<Eigen::Vector3d>(start + Eigen::Vector3d(0, 0, 0.1));
   sim.addForce(std::make_shared<SpringForce>(0.5, 0.2, anchor, sim.dragStiffness()));
   sim.advance(50);
+  CAPTURE(sim.statusMessage());
   REQUIRE(sim.status() == Status::Ok);
   const double lifted = sim.evaluate(0.5, 0.2).position.z() - start.z();
   CAPTURE(lifted);

@@ -14,6 +14,7 @@
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/base/NumberText.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/NewtonMinimizer.h"
 #include "bsdeform/dynamics/SimulationPrivate.h"
 #include "bsdeform/dynamics/TimeStepper.h"
 
@@ -166,17 +167,12 @@ void Simulation::shellUpdateBound() {
   updateSubSteps();
 }
 
-// Newton's method with a Levenberg–Marquardt safeguard, load increment by load increment. The
-// step solves (H + mu M) d = -R; mu = 0 (pure Newton) while the steps are accepted, raised
-// (x4 from a small multiple of the stiffness) when the tangent is not positive definite or the
-// step is refused, lowered (/4, down to 0) after an accepted step. A step is accepted when it
-// lowers the merit: the total potential W - L.x when every load is constant (the equilibrium
-// is its minimum: a thin plate's first, purely bending step then cannot take the iteration into
-// the membrane's stiff valley), the residual norm otherwise (follower loads have no potential).
-// A surface nothing holds keeps mu > 0 near its free motions and still converges where the
-// loads balance.
+// The minimum of the total potential (or the zero of the residual, for follower loads), load
+// increment by load increment, by the Newton solver backward Euler uses (NewtonMinimizer): a
+// thin plate's first, purely bending step cannot take the iteration into the membrane's stiff
+// valley, since the line search watches the potential. A surface nothing holds keeps a
+// multiple of the mass near its free motions and still converges where the loads balance.
 StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, int loadSteps) const {
-  const Eigen::Index n = m_space.numMoving();
   bool conservative = true, followers = true;
   for (const auto& f : m_forces) {
     conservative &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
@@ -206,75 +202,88 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
       throw std::runtime_error(os.str());
     }
   }
-  struct State {
-    ControlNet g, R, L;
-    double r = 0.0, merit = 0.0;
-  };
-  // the state at xi: gradient, residual, relative residual, merit
-  auto evaluate = [&](const ControlNet& xi, double factor, State& st) {
+  // the total potential W(x) - L·x at load factor `loadFactor` (its gradient the residual
+  // R = dW/dx - L, held coordinates zeroed) when every load is constant; ||R|| otherwise
+  // (follower loads have no potential); judged relative to ||L|| + ||dW/dx||
+  ControlNet gW, L;
+  double loadFactor = 0.0;
+  auto evaluate = [&](const ControlNet& xi, NewtonPoint& p) {
     m_space.scatterMoving(xi, net);
     m_space.completeNet(net, &m_rest);
-    shellGradient(net, st.g);
-    st.L = conservative ? (factor * L0).eval() : (factor * loadAt(net, 0.0)).eval();
-    st.R = st.g - st.L;
-    for (Eigen::Index f = 0; f < st.R.rows(); ++f)
+    shellGradient(net, gW);
+    L = conservative ? (loadFactor * L0).eval() : (loadFactor * loadAt(net, 0.0)).eval();
+    p.g = gW - L;
+    for (Eigen::Index f = 0; f < p.g.rows(); ++f)
       for (int c = 0; c < 3; ++c)
-        if (heldCoordinate(f, c)) st.R(f, c) = 0.0;
-    st.r = st.R.norm() / (st.L.norm() + st.g.norm() + 1e-300);
-    st.merit = conservative ? m_shell->energy(net).total() - (st.L.array() * xi.array()).sum() : st.R.norm();
+        if (heldCoordinate(f, c)) p.g(f, c) = 0.0;
+    p.norm = p.g.norm();
+    p.scale = L.norm() + gW.norm() + 1e-300;
+    p.potential = conservative;
+    if (conservative) {
+      const double elastic = m_shell->energy(net).total();
+      p.value = elastic - (L.array() * xi.array()).sum();
+      p.valueScale = std::abs(elastic) + (L.array() * xi.array()).abs().sum();
+    } else {
+      p.value = p.valueScale = 0.0;
+    }
   };
-  NewtonSolver solver;
+  // Newton's method (NewtonMinimizer, the one backward Euler uses): the exact tangent, the
+  // loads' Jacobians inside; where it is not positive definite the element Hessians projected,
+  // then a multiple of the mass from a small multiple of the stiffness (a surface nothing
+  // holds is singular along its rigid motions), lowered again as Levenberg–Marquardt does.
+  // Converged when a full step is below newtonTolerance times the surface's size (a length,
+  // no rounding floor: thin shells under small loads sit on the relative residual's), or the
+  // relative residual below the tolerance.
+  const double extent = (m_rest.colwise().maxCoeff() - m_rest.colwise().minCoeff()).norm();
   const double massMean = m_shellMass.diagonal().mean();
+  double diag = 0.0;
+  {
+    const Eigen::SparseMatrix<double>& K = shellTangent(net, 1.0, 0.0, HessianMode::Exact);
+    for (int c = 0; c < K.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+        if (it.row() == it.col()) diag = std::max(diag, std::abs(it.value()));
+  }
+  // The loads' Jacobians go into the tangent where every load that depends on the state has a
+  // potential (springs, contact: the tangent is then the total potential's Hessian). A follower
+  // pressure's symmetrised Jacobian is indefinite on a free body and, shifted, slows Newton to a
+  // linear rate: without it the tangent is the elastic one, as before.
+  bool jacobians = !conservative;
+  {
+    const LoadContext ctx = loadContext(net, net, m_params.timeStep, 0.0);
+    for (const auto& f : m_forces) {
+      double value = 0.0;
+      if (f->dependence() != kConstant && (f->dependence() & ~unsigned(kDependsOnTime)) != 0 &&
+          !f->potential(ctx, value))
+        jacobians = false;
+    }
+  }
+  NewtonMinimizer minimizer;
+  NewtonMinimizer::Problem problem;
+  problem.evaluate = evaluate;
+  problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+    if (!jacobians) return shellTangent(net, 1.0, shift, mode);
+    const LoadContext ctx = loadContext(net, net, m_params.timeStep, 0.0);
+    return shellTangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor);
+  };
+  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= tolerance * p.scale; };
+  NewtonMinimizer::Options options;
+  options.updateTolerance = std::max(tolerance, 1e-12) * extent;
+  options.firstExtraShift = 1e-8 * diag / massMean;
+  options.shiftAttempts = 60;
+  options.rememberShift = true;
   StaticResult result;
   result.method = "Newton (CHOLMOD)";
   int totalIterations = 0;
-  double muMin = 0.0;  // a small multiple of the stiffness, set at the first need
-  auto raise = [&](double mu) {
-    if (muMin == 0.0) {
-      double diag = 0.0;
-      const Eigen::SparseMatrix<double>& K = m_tangent->matrix();
-      for (int c = 0; c < K.outerSize(); ++c)
-        for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
-          if (it.row() == it.col()) diag = std::max(diag, std::abs(it.value()));
-      muMin = 1e-8 * diag / massMean;
-    }
-    return std::max(4.0 * mu, muMin);
-  };
-  // Newton from x at load factor `factor`, at most `limit` iterations; x is the last accepted
+  NewtonPoint cur;
+  // Newton from x at load factor `f`, at most `limit` iterations; x is the last accepted
   // iterate either way
-  State cur, trial;
-  auto newton = [&](ControlNet& xi, double factor, int limit, int& used) {
-    evaluate(xi, factor, cur);
-    double mu = 0.0;
-    used = 0;
-    while (!(cur.r <= tolerance)) {
-      if (used >= limit || !std::isfinite(cur.r)) return false;
-      ++used;
-      bool factored = false;
-      for (int attempt = 0; attempt < 60 && !factored; ++attempt) {
-        factored = solver.factor(shellTangent(net, 1.0, mu, HessianMode::Exact));
-        if (!factored) mu = raise(mu);
-      }
-      if (!factored) return false;
-      const Eigen::VectorXd d = solver.llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.R.data(), cur.R.size()));
-      const ControlNet dx = Eigen::Map<const ControlNet>(d.data(), n, 3);
-      evaluate(xi + dx, factor, trial);
-      // accepted when it lowers the merit (far from the equilibrium) or the residual
-      // (near it, where the potential's change is below its rounding)
-      if ((std::isfinite(trial.merit) && trial.merit < cur.merit) || trial.r < cur.r) {
-        xi += dx;
-        std::swap(cur, trial);
-        // a full Newton step of 1e-11 of the net's size: converged to what the positions'
-        // rounding lets the residual show (stiff membranes under small loads stop here)
-        if (mu == 0.0 && dx.cwiseAbs().maxCoeff() <= 1e-11 * xi.cwiseAbs().maxCoeff()) break;
-        mu = mu * 0.25 < muMin ? 0.0 : mu * 0.25;
-      } else {
-        mu = raise(mu);  // refused: a shorter, more gradient-like step from the same state
-        m_space.scatterMoving(xi, net);
-        m_space.completeNet(net, &m_rest);
-      }
-    }
-    return true;
+  auto newton = [&](ControlNet& xi, double f, int limit, int& used) {
+    loadFactor = f;
+    evaluate(xi, cur);
+    options.maxIterations = limit;
+    const NewtonMinimizer::Outcome outcome = minimizer.minimize(xi, cur, problem, options);
+    used = outcome.iterations;
+    return outcome.converged;
   };
   // Load increments: the loadSteps equal ones are the equilibria reported; between them the
   // increment is cut by 4 when Newton does not converge within 25 iterations (from the rest of
@@ -297,7 +306,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
       delta = 0.25 * (factor - done);
       if (delta < 1e-7 / loadSteps || totalIterations > maxIterations * loadSteps * 4)
         throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
-                                 numberText(factor) + " (relative residual " + numberText(cur.r) + ", tolerance " +
+                                 numberText(factor) + " (relative residual " + numberText(cur.norm / cur.scale) + ", tolerance " +
                                  numberText(tolerance) + ", " + std::to_string(totalIterations) +
                                  " iterations in all); run the dynamics with damping to find this equilibrium");
       continue;
@@ -313,7 +322,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
       m_space.scatterMoving(x, net);
       m_space.completeNet(net, &m_rest);
       inc.net = net;
-      inc.residual = cur.r;
+      inc.residual = cur.norm / cur.scale;
       inc.iterations = used;
       result.increments.push_back(std::move(inc));
       ++next;

@@ -14,6 +14,7 @@
 
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/NewtonMinimizer.h"
 #include "bsdeform/dynamics/SimulationPrivate.h"
 
 namespace bsdeform {
@@ -459,13 +460,8 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
   // E(x) and its gradient; `potential` false when a load has none (the line search then
   // watches the residual)
-  struct Eval {
-    ControlNet g;
-    double E = 0.0, r = 0.0;
-    bool potential = true;
-  };
   ControlNet gW, L, Mdx, Mdn;
-  auto evaluate = [&](const ControlNet& x, Eval& ev) {
+  auto evaluate = [&](const ControlNet& x, NewtonPoint& ev) {
     sp.scatterMoving(x, net);
     sp.completeNet(net, &s.m_rest);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
@@ -488,107 +484,57 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (held(f, k)) ev.g(f, k) = 0.0;
-    ev.r = ev.g.norm();
+    ev.norm = ev.g.norm();
     // the potential only where the line search watches it (every load has one)
-    ev.E = ev.potential ? 0.5 * (dx.array() * Mdx.array()).sum() / (h * h) +
-                              0.5 * (c / h) * (dn.array() * Mdn.array()).sum() + s.m_energy->energy(net) + phi
-                        : 0.0;
+    if (ev.potential) {
+      const double inertia = 0.5 * (dx.array() * Mdx.array()).sum() / (h * h);
+      const double damping = 0.5 * (c / h) * (dn.array() * Mdn.array()).sum();
+      const double elastic = s.m_energy->energy(net);
+      ev.value = inertia + damping + elastic + phi;
+      ev.valueScale = std::abs(inertia) + std::abs(damping) + std::abs(elastic) + std::abs(phi) +
+                      (fixedLoad.array() * x.array()).abs().sum();
+    } else {
+      ev.value = ev.valueScale = 0.0;
+    }
   };
   ControlNet x = xhat;
   for (Eigen::Index f = 0; f < x.rows(); ++f)
     for (int k = 0; k < 3; ++k)
       if (held(f, k)) x(f, k) = P(f, k);
-  Eval cur, trial;
+  NewtonPoint cur;
   evaluate(x, cur);
   const double forceScale = (s.m_constantLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
-  if (!m_newton) m_newton = std::make_shared<NewtonSolver>();
-  const Eigen::Index n = sp.numMoving();
   const double massShift = 1.0 / (h * h) + c / h;
-  m_newtonIterations = 0;
   auto reject = [&]() {
     sp.scatterMoving(x, s.m_previous);
     sp.completeNet(s.m_previous, &s.m_rest);
     s.m_current.swap(s.m_previous);
     m_hasReference = false;
-    m_refactor = true;
     return false;
   };
-  bool converged = false;
-  double lastUpdate = 0.0;
-  // a step starts with a factorisation of its own (kept only within the step), so that a run
-  // resumed from a saved state takes the same iterates as the uninterrupted one
-  m_refactor = true;
-  for (int it = 0; it < s.m_params.maxNewtonIterations && std::isfinite(cur.r); ++it) {
-    if (cur.r <= s.m_params.newtonTolerance * forceScale) {
-      converged = true;
-      break;
-    }
-    ++m_newtonIterations;
+  // The exact tangent while it is positive definite (the mass term M/h² usually makes it so),
+  // else the element Hessians projected, then more of the mass (a force's Jacobian, a sphere's
+  // tangential part, can still be indefinite); each step starts with a factorisation of its own
+  // (NewtonMinimizer), so that a run resumed from a saved state takes the same iterates.
+  NewtonMinimizer::Problem problem;
+  problem.evaluate = evaluate;
+  problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    // The factorisation of an earlier iterate of the step is kept while the iterates contract
-    // fast with it (a chord step costs a gradient and a solve, not an assembly and a
-    // factorisation); a new one is made when the last update shrank by less than half, or
-    // the line search refused a kept one's step. The exact tangent while it is positive
-    // definite (Newton converges quadratically; the mass term M/h² usually makes it so), else
-    // the element Hessians projected (a descent direction whatever the state), then more of
-    // the mass (a force's Jacobian, a sphere's tangential part, can still be indefinite).
-    const bool fresh = m_refactor || m_factoredStep != h;
-    if (fresh) {
-      bool factored = m_newton->factor(s.shellTangent(net, 1.0, massShift, HessianMode::Exact, &ctx, 1.0 / h));
-      double shift = massShift;
-      for (int attempt = 0; attempt < 8 && !factored; ++attempt) {
-        factored = m_newton->factor(s.shellTangent(net, 1.0, shift, HessianMode::Projected, &ctx, 1.0 / h));
-        shift *= 4.0;
-      }
-      if (!factored) {
-        m_solveFailure = "the Newton matrix is not positive definite even with the element Hessians projected";
-        return reject();
-      }
-      m_refactor = false;
-      m_factoredStep = h;
-      ++m_factorisations;
-    }
-    const Eigen::VectorXd d = m_newton->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
-    const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
-    const double slope = (step.array() * cur.g.array()).sum();
-    double alpha = 1.0;
-    bool accepted = false;
-    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
-      evaluate(x + alpha * step, trial);
-      const bool better = cur.potential && trial.potential
-                              ? trial.E <= cur.E + 1e-4 * alpha * slope
-                              : trial.r <= (1.0 - 1e-4 * alpha) * cur.r;
-      if (std::isfinite(trial.r) && better) {
-        accepted = true;
-        break;
-      }
-    }
-    const double update = alpha * step.cwiseAbs().maxCoeff();
-    if (!accepted && !fresh) {  // the kept factorisation's step: try again with a new one
-      m_refactor = true;
-      evaluate(x, cur);
-      continue;
-    }
-    if (!accepted) {
-      // no decrease along a descent direction: the potential's rounding floor (converged when
-      // the step itself is below the tolerance)
-      evaluate(x, cur);
-      if (step.cwiseAbs().maxCoeff() <= s.m_params.newtonVelocityTolerance * h) converged = true;
-      break;
-    }
-    x += alpha * step;
-    std::swap(cur, trial);
-    if (update <= s.m_params.newtonVelocityTolerance * h) {
-      converged = true;
-      break;
-    }
-    if (!fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) m_refactor = true;
-    lastUpdate = update;
-  }
-  if (!converged) {
+    return s.shellTangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
+  };
+  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.m_params.newtonTolerance * forceScale; };
+  NewtonMinimizer::Options options;
+  options.maxIterations = s.m_params.maxNewtonIterations;
+  options.updateTolerance = s.m_params.newtonVelocityTolerance * h;
+  options.shift = massShift;
+  if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
+  const NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
+  m_newtonIterations = outcome.iterations;
+  m_factorisations += outcome.factorisations;
+  if (!outcome.converged) {
     std::ostringstream os;
-    os << "Newton's method did not converge in " << m_newtonIterations << " iterations (residual "
-       << cur.r / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
+    os << "Newton's method did not converge in " << m_newtonIterations << " iterations (" << outcome.failure
+       << "; residual " << cur.norm / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
        << ", newtonVelocityTolerance " << s.m_params.newtonVelocityTolerance << ", maxNewtonIterations "
        << s.m_params.maxNewtonIterations << ")";
     m_solveFailure = os.str();

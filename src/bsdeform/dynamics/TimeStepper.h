@@ -19,6 +19,7 @@
 
 #include "bsdeform/dynamics/EdgeMass.h"
 #include "bsdeform/dynamics/ImplicitSystem.h"
+#include "bsdeform/dynamics/NewtonMinimizer.h"
 #include "bsdeform/spline/SplineSpace.h"
 
 namespace bsdeform {
@@ -139,14 +140,8 @@ class ShellBackwardEulerStepper final : public TimeStepper {
  public:
   using TimeStepper::TimeStepper;
   bool subStep(double t) override;
-  void invalidate() override {
-    m_hasReference = false;
-    m_refactor = true;
-  }
-  void forcesChanged() override {
-    m_hasReference = false;
-    m_refactor = true;
-  }
+  void invalidate() override { m_hasReference = false; }
+  void forcesChanged() override { m_hasReference = false; }
   int newtonIterations() const override { return m_newtonIterations; }
   /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
   /// a factorisation is kept while the iterates contract fast with it).
@@ -160,9 +155,7 @@ class ShellBackwardEulerStepper final : public TimeStepper {
  private:
   bool stepOf(double t, double h);
 
-  std::shared_ptr<NewtonSolver> m_newton;
-  bool m_refactor = true;      ///< the next iteration factorises anew
-  double m_factoredStep = 0.0; ///< the step size of the kept factorisation
+  std::unique_ptr<NewtonMinimizer> m_newton;  ///< its symbolic factorisation kept
   long m_factorisations = 0;
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;

@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/dynamics/NewtonMinimizer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "bsdeform/dynamics/SimulationPrivate.h"
+
+namespace bsdeform {
+
+NewtonMinimizer::NewtonMinimizer() : m_solver(std::make_unique<NewtonSolver>()) {}
+NewtonMinimizer::~NewtonMinimizer() = default;
+
+NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& cur, const Problem& problem,
+                                                   const Options& options) {
+  Outcome out;
+  const Eigen::Index n = x.rows();
+  NewtonPoint trial;
+  bool refactor = true;  // every minimize() starts with a factorisation of its own
+  double lastUpdate = 0.0;
+  double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
+  auto nextShift = [&](double s) { return s > 0.0 ? 4.0 * s : options.firstExtraShift; };
+  // Factorises the tangent at the current point: exact, then projected, then with more mass.
+  auto factor = [&]() {
+    // rememberShift: start a quarter of the last extra shift that worked, unless that is
+    // below the first one (then the exact tangent again, for Newton's quadratic convergence)
+    double extra = options.rememberShift && remembered > 0.0 ? 0.25 * remembered : 0.0;
+    if (extra < options.firstExtraShift || options.shift > 0.0) extra = 0.0;
+    if (extra == 0.0) {
+      if (m_solver->factor(problem.tangent(HessianMode::Exact, options.shift))) {
+        remembered = 0.0;
+        return true;
+      }
+    }
+    double total = options.shift + extra;
+    for (int attempt = 0; attempt < options.shiftAttempts; ++attempt) {
+      if (m_solver->factor(problem.tangent(HessianMode::Projected, total))) {
+        remembered = total - options.shift;
+        return true;
+      }
+      // with a shift of its own (the dynamics) the whole mass multiple grows 4 times
+      total = options.shift > 0.0 ? 4.0 * total : nextShift(total);
+    }
+    return false;
+  };
+  for (; out.iterations < options.maxIterations && std::isfinite(cur.norm);) {
+    if (problem.residualSmall(cur)) {
+      out.converged = true;
+      return out;
+    }
+    ++out.iterations;
+    // The factorisation of an earlier iterate is kept while the iterates contract fast with it;
+    // a new one is made when the last update shrank by less than half, or the search refused a
+    // kept one's step.
+    const bool fresh = refactor;
+    if (fresh) {
+      if (!factor()) {
+        out.failure = "the Newton matrix is not positive definite even with the element Hessians projected";
+        return out;
+      }
+      refactor = false;
+      ++out.factorisations;
+    }
+    const Eigen::VectorXd d = m_solver->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+    const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    const double slope = (step.array() * cur.g.array()).sum();
+    const double stepSize = step.cwiseAbs().maxCoeff();
+    double alpha = 1.0;
+    bool accepted = false;
+    // at most 30 halvings on the potential; 10 on the residual's norm (a norm that a
+    // thousandth of the step does not lower sits on its rounding: a stall, not progress)
+    for (int k = 0; k < 30; ++k, alpha *= 0.5) {
+      problem.evaluate(x + alpha * step, trial);
+      // the potential decides while its change is above its rounding (1e-12 of its parts'
+      // magnitudes), the residual's norm below that (near a minimum a full step's change of the
+      // potential is rounding, and only the gradient still sees the way)
+      const bool resolved = std::abs(trial.value - cur.value) > 1e-12 * std::max(cur.valueScale, trial.valueScale);
+      const bool better = cur.potential && trial.potential && resolved
+                              ? trial.value <= cur.value + 1e-4 * alpha * slope
+                              : trial.norm <= (1.0 - 1e-4 * alpha) * cur.norm;
+      if (std::isfinite(trial.norm) && better) {
+        accepted = true;
+        break;
+      }
+      if (k >= 10 && !(cur.potential && trial.potential && resolved)) break;
+    }
+    if (!accepted && !fresh) {  // the kept factorisation's step: try again with a new one
+      refactor = true;
+      problem.evaluate(x, cur);
+      continue;
+    }
+    if (!accepted) {
+      // no decrease along a descent direction: the potential's rounding floor (converged when
+      // the step itself is below the tolerance)
+      problem.evaluate(x, cur);
+      out.converged = stepSize <= options.updateTolerance;
+      if (!out.converged) out.failure = "the line search found no decrease along the Newton direction";
+      return out;
+    }
+    x += alpha * step;
+    std::swap(cur, trial);
+    // converged when the Newton step is below the tolerance: it estimates the distance to the
+    // minimum whether or not the search took all of it (near the minimum the potential's
+    // rounding can refuse a full step; far from it a shortened step is no sign of convergence)
+    if (stepSize <= options.updateTolerance) {
+      out.converged = true;
+      return out;
+    }
+    const double update = alpha * stepSize;
+    if (!fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
+    lastUpdate = update;
+  }
+  if (!std::isfinite(cur.norm)) {
+    out.failure = "the residual is not finite";
+  } else if (problem.residualSmall(cur)) {
+    out.converged = true;
+  } else {
+    std::ostringstream os;
+    os << "no convergence in " << out.iterations << " iterations";
+    out.failure = os.str();
+  }
+  return out;
+}
+
+}  // namespace bsdeform

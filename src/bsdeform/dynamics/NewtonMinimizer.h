@@ -1,0 +1,83 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file NewtonMinimizer.h
+/// Not installed. The one Newton solver of the SHELL model: backward Euler's step (the
+/// minimum of the incremental potential) and the static solve (the minimum of the total
+/// potential, load increment by load increment) both call minimize() with their own
+/// evaluation and tangent (docs/math.md §16, "One Newton solver").
+///
+/// An iteration solves K d = -g with K the tangent at the iterate (the exact one while it is
+/// positive definite, else the element Hessians projected to PSD, then with more of the mass
+/// added), then searches along d (Armijo backtracking on the potential; on the residual's norm
+/// when some load has no potential, or where the potential's change is below its rounding). A factorisation is kept while the iterates contract fast
+/// with it (chord steps: a gradient and a solve, no assembly and factorisation). Converged when
+/// the largest component of an accepted Newton step is below `updateTolerance` (a length:
+/// physical units, no rounding floor) or the residual is below its tolerance.
+
+#include <Eigen/SparseCore>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bsdeform/energy/Shell.h"
+#include "bsdeform/spline/SplineSpace.h"
+
+namespace bsdeform {
+
+struct NewtonSolver;
+
+/// The minimised function at one point.
+struct NewtonPoint {
+  ControlNet g;            ///< its gradient (the residual), held coordinates zeroed
+  double value = 0.0;      ///< its value (valid when `potential`)
+  double valueScale = 0.0; ///< the sum of its parts' magnitudes (its rounding is 1e-16 of it)
+  double norm = 0.0;       ///< ||g||
+  double scale = 0.0;      ///< the size of the forces ||g|| is judged against (the caller's)
+  bool potential = true;   ///< every part has a potential (else the search watches ||g||)
+};
+
+class NewtonMinimizer {
+ public:
+  struct Problem {
+    /// The point x (also made the problem's current state, for tangent()).
+    std::function<void(const ControlNet& x, NewtonPoint& p)> evaluate;
+    /// The tangent at the last evaluated point, with `shift` times the mass added.
+    std::function<const Eigen::SparseMatrix<double>&(HessianMode mode, double shift)> tangent;
+    /// Whether p's residual is below the caller's tolerance (converged).
+    std::function<bool(const NewtonPoint& p)> residualSmall;
+  };
+  struct Options {
+    int maxIterations = 30;
+    double updateTolerance = 0.0;  ///< a length: converged when an accepted step is below
+    double shift = 0.0;            ///< the mass multiple every tangent has (1/h² + c/h; 0: statics)
+    /// The first mass multiple added when even the projected tangent is not positive definite
+    /// (when `shift` is 0; otherwise 4 shift, 16 shift, ...), and how many times it is tried
+    /// (each 4 times the last).
+    double firstExtraShift = 0.0;
+    int shiftAttempts = 8;
+    /// Where the exact tangent was not positive definite, later factorisations of the same
+    /// minimize() start from the projected one with a quarter of the last extra shift
+    /// (Levenberg–Marquardt's lowering: a free body stays singular near its rigid motions).
+    bool rememberShift = false;
+  };
+  struct Outcome {
+    bool converged = false;
+    int iterations = 0;
+    int factorisations = 0;
+    std::string failure;  ///< why it stopped, when not converged
+  };
+
+  NewtonMinimizer();
+  ~NewtonMinimizer();
+  NewtonMinimizer(const NewtonMinimizer&) = delete;
+  NewtonMinimizer& operator=(const NewtonMinimizer&) = delete;
+
+  /// Minimises from x (updated to the last accepted iterate, `cur` its evaluation); cur must
+  /// be evaluated at x on entry.
+  Outcome minimize(ControlNet& x, NewtonPoint& cur, const Problem& problem, const Options& options);
+
+ private:
+  std::unique_ptr<NewtonSolver> m_solver;  ///< CHOLMOD, its symbolic analysis kept
+};
+
+}  // namespace bsdeform
