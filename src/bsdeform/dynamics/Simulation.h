@@ -12,6 +12,7 @@
 /// explicit and implicit schemes, each with its own data).
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "bsdeform/forces/Force.h"
 #include "bsdeform/dynamics/ImplicitSystem.h"
 #include "bsdeform/energy/Shell.h"
+#include "bsdeform/dynamics/ArcLength.h"
 #include "bsdeform/spline/SplineSpace.h"
 #include "bsdeform/energy/StiffnessStencil.h"
 #include "bsdeform/dynamics/TangentMatrix.h"
@@ -280,6 +282,17 @@ class Simulation {
   /// where nothing holds the surface), `maxLoadIterations` Newton iterations per increment.
   StaticResult solveStatic(double tolerance = 1e-10, int maxLoadIterations = 100,
                            LinearSolver solver = LinearSolver::Automatic, int loadSteps = 1) const;
+  /// SHELL: the static equilibrium path by arc-length continuation (ArcLength.h, Crisfield's
+  /// cylindrical form) from the rest state, the loads at time 0 scaled by the load factor:
+  /// one StaticResult::Increment per converged point (its load factor, net, relative residual
+  /// and Newton iterations), through limit points and snap-backs, until the load factor passes
+  /// options.maxLoad or options.maxSteps points were found; `each` called with every point.
+  /// The corrector's tangent is the elastic one (the loads' Jacobians left out: exact for loads
+  /// that do not depend on the state).
+  /// @throws std::runtime_error for the paper's energy, for a surface nothing holds (naming
+  ///         the free motions' cause), or when a step does not converge even much shortened
+  StaticResult solveStaticArcLength(const ArcLengthOptions& options,
+                                    const std::function<void(const StaticResult::Increment&)>& each = {}) const;
 
   /// The elastic force on the unknowns at the current state (numMoving x 3, order of
   /// movingToNet): -dW/dP for SHELL (W the shell energy of the net the unknowns complete),

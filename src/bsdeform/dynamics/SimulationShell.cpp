@@ -354,3 +354,68 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
 }
 
 }  // namespace bsdeform
+
+namespace bsdeform {
+
+StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
+                                              const std::function<void(const StaticResult::Increment&)>& each) const {
+  if (!m_shell) throw std::runtime_error("arc length: only the SHELL energy (energy SHELL) traces equilibrium paths");
+  const Boundaries& b = m_space.boundaries();
+  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
+  bool heldByNothing = loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
+  for (char held : m_heldMask) heldByNothing &= held == 0;
+  if (heldByNothing)
+    throw std::runtime_error("arc length: nothing holds the surface (every side FREE or PERIODIC, no pin): its "
+                             "rigid motions leave the tangent singular; hold a side or pin a point");
+  const Eigen::Index n = m_space.numMoving();
+  ControlNet net = m_rest, grad;
+  auto toNet = [&](const Eigen::VectorXd& x) {
+    m_space.scatterMoving(Eigen::Map<const ControlNet>(x.data(), n, 3), net);
+    m_space.completeNet(net, &m_rest);
+  };
+  auto zeroHeld = [&](Eigen::VectorXd& v) {
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      if (m_heldMask[size_t(i)]) v[i] = 0.0;
+  };
+  ArcLengthProblem problem;
+  problem.evaluate = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g, Eigen::VectorXd& F) {
+    toNet(x);
+    shellGradient(net, grad);
+    g = Eigen::Map<const Eigen::VectorXd>(grad.data(), grad.size());
+    const ControlNet L = loadAt(net, 0.0);
+    F = Eigen::Map<const Eigen::VectorXd>(L.data(), L.size());
+    zeroHeld(g);
+    zeroHeld(F);
+  };
+  problem.tangent = [&](const Eigen::VectorXd& x) {
+    toNet(x);
+    return Eigen::SparseMatrix<double>(shellTangent(net, 1.0, 0.0, HessianMode::Exact));
+  };
+  problem.lowerOnly = true;
+  const ControlNet x0 = m_space.gatherMoving(m_rest);
+  StaticResult result;
+  result.method = "arc length (Crisfield, SparseLU)";
+  int total = 0;
+  auto increment = [&](const ArcLengthPoint& p) {
+    StaticResult::Increment inc;
+    inc.loadFactor = p.loadFactor;
+    toNet(p.x);
+    inc.net = net;
+    inc.residual = p.residual;
+    inc.iterations = p.iterations;
+    total += p.iterations;
+    return inc;
+  };
+  arcLengthPath(Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size()), problem, options,
+                [&](const ArcLengthPoint& p) {
+                  result.increments.push_back(increment(p));
+                  if (each) each(result.increments.back());
+                });
+  if (result.increments.empty()) throw std::runtime_error("arc length: no point found");
+  result.net = result.increments.back().net;
+  result.residual = result.increments.back().residual;
+  result.loadIterations = total;
+  return result;
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file ArcLength.h
+/// Arc-length continuation (Crisfield 1981, the cylindrical form: the constraint on the
+/// displacement increment only): the equilibrium path g(x) = λ F(x) of a structure under a
+/// load F scaled by the load factor λ, traced step by step through limit points (where the
+/// load passes a maximum: snap-through) and snap-backs (where the displacement turns back),
+/// which load control cannot pass (docs/math.md §16, "Arc-length continuation").
+///
+/// Each step goes a fixed distance Δl in the unknowns: |Δx| = Δl, Δx the step's increment.
+/// Predictor along the tangent K⁻¹F, in the direction of the last step's increment (its sign
+/// by the angle with it, so the path does not turn back at a limit point); corrector: Newton on
+/// R = g − λF with the constraint, solving K δ_R = −R and K δ_F = F and picking δλ from the
+/// quadratic |Δx + δ_R + δλ δ_F|² = Δl² (of its two roots the one whose increment makes the
+/// smaller angle with the step's increment so far). K is factorised as an LU (SparseLU,
+/// pivoting): beyond a limit point it is indefinite. A step that does not converge is retried
+/// with half the arc length; quick steps lengthen the next one.
+
+#include <Eigen/SparseCore>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace bsdeform {
+
+struct ArcLengthProblem {
+  /// g(x) (the internal force) and F(x) (the load at factor 1), both with held unknowns zeroed.
+  std::function<void(const Eigen::VectorXd& x, Eigen::VectorXd& g, Eigen::VectorXd& F)> evaluate;
+  /// dg/dx at x (lower triangle or full, symmetric; held unknowns with a unit diagonal).
+  std::function<Eigen::SparseMatrix<double>(const Eigen::VectorXd& x)> tangent;
+  /// Whether the matrix from tangent() holds only its lower triangle.
+  bool lowerOnly = true;
+};
+
+struct ArcLengthOptions {
+  int maxSteps = 20;         ///< converged points to find at most
+  double maxLoad = 1.0;      ///< stop once the load factor passes this (> 0)
+  /// The arc length Δl; 0: the length of the linear response to a load factor of
+  /// maxLoad / maxSteps (so that a linear structure reaches maxLoad in maxSteps steps).
+  double arcLength = 0.0;
+  double tolerance = 1e-8;   ///< relative residual |g − λF| / (|g| + |λF|)
+  double updateTolerance = 0.0;  ///< or a Newton correction below this length (largest component)
+  int maxIterations = 25;    ///< per step, before the step is retried shorter
+  int maxCuts = 12;          ///< halvings of the arc length in one step before giving up
+};
+
+struct ArcLengthPoint {
+  double loadFactor = 0.0;
+  Eigen::VectorXd x;
+  double residual = 0.0;  ///< relative, as ArcLengthOptions::tolerance
+  int iterations = 0;
+};
+
+/// The path from x0 (an equilibrium at λ = 0) for at most options.maxSteps steps or until the
+/// load factor passes options.maxLoad. `each`, when given, is called with every converged point.
+/// @throws std::runtime_error naming the step and the load factor when a step does not
+///         converge even at 2^-maxCuts of the arc length, or the tangent cannot be factorised
+std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLengthProblem& problem,
+                                          const ArcLengthOptions& options,
+                                          const std::function<void(const ArcLengthPoint&)>& each = {});
+
+}  // namespace bsdeform
