@@ -269,6 +269,9 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   NewtonMinimizer::Options options;
   options.updateTolerance = std::max(tolerance, 1e-12) * extent;
   options.firstExtraShift = 1e-8 * diag / massMean;
+  // a surface nothing holds keeps that smallest shift in every tangent: unshifted, its singular
+  // tangent can still factorise in rounding and a step then moves it 1e7 along a rigid motion
+  if (heldByNothing) options.shift = options.firstExtraShift;
   options.shiftAttempts = 60;
   options.rememberShift = true;
   StaticResult result;
