@@ -66,6 +66,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
     const double slope = (step.array() * cur.g.array()).sum();
     const double stepSize = step.cwiseAbs().maxCoeff();
+    const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
     double alpha = 1.0;
     bool accepted = false;
     // at most 30 halvings on the potential; 10 on the residual's norm (a norm that a
@@ -94,7 +95,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       // no decrease along a descent direction: the potential's rounding floor (converged when
       // the step itself is below the tolerance)
       problem.evaluate(x, cur);
-      out.converged = stepSize <= options.updateTolerance;
+      out.converged = stepSize <= updateTolerance;
       if (!out.converged) out.failure = "the line search found no decrease along the Newton direction";
       return out;
     }
@@ -103,7 +104,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // converged when the Newton step is below the tolerance: it estimates the distance to the
     // minimum whether or not the search took all of it (near the minimum the potential's
     // rounding can refuse a full step; far from it a shortened step is no sign of convergence)
-    if (stepSize <= options.updateTolerance) {
+    if (stepSize <= updateTolerance) {
       out.converged = true;
       return out;
     }

@@ -45,6 +45,9 @@ class NewtonMinimizer {
     std::function<const Eigen::SparseMatrix<double>&(HessianMode mode, double shift)> tangent;
     /// Whether p's residual is below the caller's tolerance (converged).
     std::function<bool(const NewtonPoint& p)> residualSmall;
+    /// Optional: the update tolerance at the iterate x (a length), in place of
+    /// Options::updateTolerance (the static solve's is relative to the displacement so far).
+    std::function<double(const ControlNet& x)> updateTolerance;
   };
   struct Options {
     int maxIterations = 30;

@@ -266,8 +266,14 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     return shellTangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor);
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= tolerance * p.scale; };
+  // the update against the displacement so far (whatever the load's size: a thin strip under a
+  // small load moves microns), with a floor of 1e-11 of the surface's size (the positions'
+  // rounding as the step sees it)
+  const ControlNet restUnknowns = x;
+  problem.updateTolerance = [&](const ControlNet& xi) {
+    return tolerance * (xi - restUnknowns).cwiseAbs().maxCoeff() + 1e-11 * extent;
+  };
   NewtonMinimizer::Options options;
-  options.updateTolerance = std::max(tolerance, 1e-12) * extent;
   options.firstExtraShift = 1e-8 * diag / massMean;
   // a surface nothing holds keeps that smallest shift in every tangent: unshifted, its singular
   // tangent can still factorise in rounding and a step then moves it 1e7 along a rigid motion
