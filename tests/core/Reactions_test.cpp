@@ -153,7 +153,7 @@ TEST_CASE("Reactions: the full-net gradient and loads fold onto the model's own"
   }
 }
 
-TEST_CASE("Reactions: a SHELL plate CLAMPED on four sides; each side carries a quarter of the vertical load", "[core]") {
+TEST_CASE("Reactions: a SHELL plate CLAMPED on four sides: each side carries a quarter of the vertical load", "[core]") {
   ModelParameters p = shellParams(8, 8, Boundaries());
   Simulation sim(p);
   const double q = 2.0, P = 0.5;
@@ -181,7 +181,7 @@ TEST_CASE("Reactions: a SHELL plate CLAMPED on four sides; each side carries a q
   CHECK(atRest.imbalance().norm() > 0.5 * atRest.applied.norm());
 }
 
-TEST_CASE("Reactions: a SHELL strip on two SIMPLY_SUPPORTED sides, two FREE; a BUILT_IN cantilever", "[core]") {
+TEST_CASE("Reactions: a SHELL strip on two SIMPLY_SUPPORTED sides, two FREE, and a BUILT_IN cantilever", "[core]") {
   {
     ModelParameters p = shellParams(10, 3, sides(Boundary::SimplySupported, Boundary::SimplySupported, Boundary::Free, Boundary::Free));
     Simulation sim(p);
@@ -220,7 +220,7 @@ TEST_CASE("Reactions: a SHELL strip on two SIMPLY_SUPPORTED sides, two FREE; a B
   }
 }
 
-TEST_CASE("Reactions: a SHELL sheet on four pins, each carrying a quarter; a hanging cylinder", "[core]") {
+TEST_CASE("Reactions: a SHELL sheet on four pins, each carrying a quarter, and a hanging cylinder", "[core]") {
   {
     ModelParameters p = shellParams(8, 8, sides(Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free));
     p.pins = {Eigen::Vector2d(0.2, 0.2), Eigen::Vector2d(0.8, 0.2), Eigen::Vector2d(0.2, 0.8), Eigen::Vector2d(0.8, 0.8)};
@@ -279,7 +279,7 @@ TEST_CASE("Reactions: the paper's energy balances too, CLAMPED, SIMPLY_SUPPORTED
   }
 }
 
-TEST_CASE("Probe: the surface point and its displacement from rest; (u, v) outside [0,1] refused", "[core]") {
+TEST_CASE("Probe: the surface point and its displacement from rest, (u, v) outside [0,1] refused", "[core]") {
   ModelParameters p;
   p.numU = p.numV = 6;
   Simulation sim(p);

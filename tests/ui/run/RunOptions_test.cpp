@@ -119,7 +119,7 @@ TEST_CASE("RunOptions: --keep-states names the state file, and is refused with -
   CHECK(f.message.contains(QStringLiteral("--static and --keep-states")));
 }
 
-TEST_CASE("RunOptions: --probe NAME=u,v, repeatable; bad names and values refused by name", "[ui]") {
+TEST_CASE("RunOptions: --probe NAME=u,v, repeatable, bad names and values refused by name", "[ui]") {
   RunOptions o;
   REQUIRE(parse({QStringLiteral("--probe"), QStringLiteral("tip=1,0.5"), QStringLiteral("--probe"),
                  QStringLiteral("_c2=0, 1e-1"), QStringLiteral("s.iv")},
