@@ -29,6 +29,8 @@
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
+#include "bsdeform/dynamics/Probe.h"
+#include "bsdeform/dynamics/Reactions.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
@@ -139,6 +141,9 @@ py::array_t<double> netArray(const bsdeform::SplineSpace& space, const bsdeform:
   return a;
 }
 
+/// A 3-vector as a Python tuple (x, y, z).
+py::tuple vector3(const Eigen::Vector3d& x) { return py::make_tuple(x.x(), x.y(), x.z()); }
+
 /// One SoBSplineDeformSurface of a scene, as Python works on it. Holds a reference to the node.
 class Surface {
  public:
@@ -195,9 +200,16 @@ class Surface {
     bsdeform::StaticResult r;
     std::string error;
     py::list path;
-    auto each = [&path](const bsdeform::StaticResult& all, size_t k, const bsdeform::Diagnostics& diag) {
+    auto each = [this, &path](const bsdeform::StaticResult& all, size_t k, const bsdeform::Diagnostics& diag) {
       const bsdeform::StaticResult::Increment& inc = all.increments[k];
+      // the node's simulation holds this increment now
+      const bsdeform::SupportReactions sr = bsdeform::supportReactions(m_node->simulation(), inc.net, inc.loadFactor);
+      py::dict reactions;
+      for (const bsdeform::SupportReactions::Side& side : sr.sides) reactions[py::str(side.name)] = vector3(side.force);
+      for (size_t p = 0; p < sr.pins.size(); ++p) reactions[py::str("pin" + std::to_string(p))] = vector3(sr.pins[p]);
       py::dict e;
+      e["reactions"] = reactions;
+      e["applied"] = vector3(sr.applied);
       e["load_factor"] = inc.loadFactor;
       e["norm"] = diag.norm;
       e["strain"] = diag.strain.total;
@@ -213,6 +225,20 @@ class Surface {
     d["method"] = r.method;
     d["load_iterations"] = r.loadIterations;
     d["increments"] = path;
+    return d;
+  }
+
+  /// S(u, v) of the current state and its displacement from rest (bsdeform::probe).
+  py::dict probe(double u, double v) {
+    bsdeform::ProbeSample p;
+    try {
+      p = bsdeform::probe(m_node->simulation(), u, v);
+    } catch (const std::invalid_argument& e) {
+      throw py::value_error(e.what());
+    }
+    py::dict d;
+    d["point"] = vector3(p.point);
+    d["displacement"] = vector3(p.displacement);
     return d;
   }
 
@@ -405,9 +431,18 @@ velocity becomes the state (control and previous net both the equilibrium, time 
 error), method ('CHOLMOD Cholesky' or 'multigrid-preconditioned CG'), load_iterations (fixed-point
 iterations of position-dependent loads; SHELL: Newton iterations), increments (one dict per load
 step of ``load_steps``: load_factor, norm, strain, strain_membrane, strain_bending, residual,
-iterations: a load-displacement curve). Raises SimulationError naming the free motions when
+iterations: a load-displacement curve; and reactions, a dict of the force (x, y, z) each held
+side ('umin', 'umax', 'vmin', 'vmax': CLAMPED, SIMPLY_SUPPORTED, BUILT_IN) and pin ('pin0', ...)
+exerts on the surface, and applied, the sum of the loads: they balance, applied + the reactions
+= 0, as the runner's reaction_* and applied_* columns). Raises SimulationError naming the free motions when
 nothing holds the surface, or when position-dependent loads (or SHELL's Newton) do not settle;
 the state is then left alone.
+)doc")
+      .def("probe", &Surface::probe, py::arg("u"), py::arg("v"), R"doc(
+A probe of the current state at the parameter point (u, v), both in [0, 1] (else ValueError): a
+dict with point, the surface point S(u, v), and displacement, S(u, v) - S_rest(u, v), its
+displacement from the rest surface; each a tuple (x, y, z) in the surface's own coordinates. The
+numbers of ``bsdeform-run --probe NAME=u,v`` (NAME_x ... NAME_dz).
 )doc")
       .def("diagnostics", &Surface::diagnostics, R"doc(
 A dict: time, steps, norm (eq. 15), kinetic, strain (total), strain_terms (w10, w01, w11, w20,

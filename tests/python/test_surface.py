@@ -165,6 +165,32 @@ class Stepping(unittest.TestCase):
         self.assertGreater(s.evaluate(0.5, 0.5)[2], 0.0)
 
 
+class Probe(unittest.TestCase):
+    def test_probe_is_the_point_and_its_displacement_as_the_runner_writes_them(self):
+        (beam,) = bsdeform.surfaces(bsdeform.read_scene(scene("cantilever.iv")))
+        p = beam.probe(1.0, 0.5)
+        self.assertEqual(sorted(p), ["displacement", "point"])
+        self.assertEqual(p["displacement"], (0.0, 0.0, 0.0))  # at rest
+        self.assertAlmostEqual(p["point"][0], 1.0, places=12)
+        beam.step(3)
+        p = beam.probe(1.0, 0.5)
+        self.assertEqual(p["point"], beam.evaluate(1.0, 0.5))
+        self.assertLess(p["displacement"][2], 0.0)  # the tip falls
+        self.assertEqual(beam.probe(0.0, 0.5)["displacement"], (0.0, 0.0, 0.0))  # the clamped root stays
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            subprocess.run([RUN, scene("cantilever.iv"), "--steps", "3", "--probe", "tip=1,0.5", "-o", out,
+                            "--quiet"], check=True, capture_output=True, timeout=300)
+            with open(os.path.join(out, "Strip.csv")) as fh:
+                row = list(csv.DictReader(fh))[-1]
+        self.assertEqual(p["point"], tuple(float(row["tip_" + a]) for a in "xyz"))
+        self.assertEqual(p["displacement"], tuple(float(row["tip_d" + a]) for a in "xyz"))
+        with self.assertRaisesRegex(ValueError, "u must be in \\[0, 1\\], got 1.5"):
+            beam.probe(1.5, 0.5)
+        with self.assertRaisesRegex(ValueError, "v must be in"):
+            beam.probe(0.5, -1)
+
+
 class Static(unittest.TestCase):
     def test_solve_static_is_the_runners_equilibrium_and_holds_still(self):
         (beam,) = bsdeform.surfaces(bsdeform.read_scene(scene("cantilever.iv")))
@@ -184,6 +210,29 @@ class Static(unittest.TestCase):
             with open(os.path.join(out, "Strip.csv")) as fh:
                 (row,) = list(csv.DictReader(fh))
         self.assertEqual(float(row["norm"]), beam.diagnostics()["norm"])
+
+    def test_reactions_balance_the_loads_as_the_runner_writes_them(self):
+        (plate,) = bsdeform.surfaces(bsdeform.read_scene(scene("plate_simply_supported.iv")))
+        result = plate.solve_static(load_steps=2)
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            subprocess.run([RUN, scene("plate_simply_supported.iv"), "--static", "--load-steps", "2", "-o", out,
+                            "--quiet"], check=True, capture_output=True, timeout=300)
+            with open(os.path.join(out, "Plate.csv")) as fh:
+                rows = list(csv.DictReader(fh))
+        self.assertEqual(len(rows), 2)
+        for inc, row in zip(result["increments"], rows):
+            self.assertEqual(sorted(inc["reactions"]), ["umax", "umin", "vmax", "vmin"])
+            applied = inc["applied"]
+            self.assertGreater(abs(applied[2]), 1.0)
+            for c in range(3):
+                total = applied[c] + sum(r[c] for r in inc["reactions"].values())
+                self.assertLess(abs(total), 1e-10 * abs(applied[2]))
+            for side, force in inc["reactions"].items():
+                self.assertAlmostEqual(force[2], -applied[2] / 4, delta=1e-10 * abs(applied[2]))  # symmetry
+                for c, axis in enumerate("xyz"):
+                    self.assertEqual(force[c], float(row["reaction_%s_%s" % (side, axis)]))
+            self.assertEqual(applied, tuple(float(row["applied_" + a]) for a in "xyz"))
 
     def test_a_surface_held_nowhere_names_its_free_motions(self):
         node = bsdeform.new_node("SoBSplineDeformSurface", numUControlPoints=6, numVControlPoints=6, on=False,

@@ -989,6 +989,127 @@ TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, 
   CHECK(r.err.find("--load-steps needs --static") != std::string::npos);
 }
 
+namespace {
+// The header of a CSV, split at its commas.
+std::vector<std::string> csvHeader(const std::string& csv) {
+  std::istringstream header(csv.substr(0, csv.find('\n')));
+  std::vector<std::string> out;
+  for (std::string cell; std::getline(header, cell, ',');) out.push_back(cell);
+  return out;
+}
+
+// Every row balances: applied + the reactions of `supports` ("umin", "pin0", ...) = 0, each
+// component within `tolerance` of |applied|; returns the rows' count.
+size_t checkReactionsBalance(const std::string& csv, const std::vector<std::string>& supports, double tolerance) {
+  const std::vector<double> ax = csvColumn(csv, "applied_x"), ay = csvColumn(csv, "applied_y"), az = csvColumn(csv, "applied_z");
+  for (size_t k = 0; k < ax.size(); ++k) {
+    Eigen::Vector3d sum(ax[k], ay[k], az[k]);
+    const double size = sum.norm();
+    for (const std::string& name : supports)
+      sum += Eigen::Vector3d(csvColumn(csv, "reaction_" + name + "_x")[k], csvColumn(csv, "reaction_" + name + "_y")[k],
+                             csvColumn(csv, "reaction_" + name + "_z")[k]);
+    CAPTURE(k, sum.transpose(), size);
+    CHECK(size > 0.0);
+    CHECK(sum.norm() <= tolerance * size);
+  }
+  return ax.size();
+}
+}  // namespace
+
+TEST_CASE("bsdeform-run --probe: a surface point and its displacement in every row, dynamic and static", "[scenes]") {
+  TempDir dir;
+  // dynamic: the cantilever's tip and its clamped root, every step
+  Run r = run(scene("cantilever.iv") + " --steps 5 --probe tip=1,0.5 --probe root=0,0.5 -o dyn -q", dir.path);
+  REQUIRE(r.code == 0);
+  std::string csv = slurp(dir.path + "/dyn/Strip.csv");
+  std::vector<std::string> header = csvHeader(csv);
+  const std::vector<std::string> tail(header.end() - 12, header.end());
+  CHECK(tail == std::vector<std::string>{"tip_x", "tip_y", "tip_z", "tip_dx", "tip_dy", "tip_dz", "root_x", "root_y",
+                                         "root_z", "root_dx", "root_dy", "root_dz"});
+  CHECK(csv.find("reaction_") == std::string::npos);  // reactions are a static solve's
+  const std::vector<double> tipZ = csvColumn(csv, "tip_z"), tipDz = csvColumn(csv, "tip_dz");
+  REQUIRE(tipZ.size() == 6);  // the start and 5 steps
+  CHECK(tipZ[0] == 0.0);
+  for (size_t k = 1; k < tipZ.size(); ++k) CHECK(tipZ[k] < tipZ[k - 1]);  // the tip falls
+  CHECK(tipDz == tipZ);  // the rest surface is the plane z = 0
+  CHECK(csvColumn(csv, "tip_x").back() == Approx(1.0).epsilon(1e-12));
+  for (double d : csvColumn(csv, "root_dz")) CHECK(d == 0.0);  // held
+  {
+    // the last row is the state final.iv holds (its net written in the file's precision)
+    Coin::get();
+    SoSeparator* root = testutil::read(slurp(dir.path + "/dyn/final.iv"));
+    REQUIRE(root);
+    const auto surfaces = bsdeform::sceneSurfaces(root);
+    REQUIRE(surfaces.size() == 1);
+    CHECK(surfaces[0]->simulation().evaluate(1.0, 0.5).position.z() == Approx(tipZ.back()).epsilon(1e-6));
+    root->unref();
+  }
+  // static, the paper's cantilever: the tip at q L^4 / (8 D) = 0.25, its root held; the clamped
+  // side carries the whole load
+  r = run(scene("cantilever.iv") + " --static --probe tip=1,0.5 -o stat -q", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("the reactions balance the applied loads to") != std::string::npos);
+  csv = slurp(dir.path + "/stat/Strip.csv");
+  CHECK(csvColumn(csv, "tip_dz").at(0) == Approx(-0.25).epsilon(1e-9));
+  header = csvHeader(csv);
+  CHECK(std::vector<std::string>(header.end() - 12, header.end()) ==
+        std::vector<std::string>{"tip_x", "tip_y", "tip_z", "tip_dx", "tip_dy", "tip_dz", "reaction_umin_x",
+                                 "reaction_umin_y", "reaction_umin_z", "applied_x", "applied_y", "applied_z"});
+  CHECK(checkReactionsBalance(csv, {"umin"}, 1e-10) == 1);
+  // bad input: refused, naming the option and the value, nothing run
+  for (const auto& [arg, says] :
+       {std::make_pair("--probe 2tip=1,0.5", "--probe '2tip=1,0.5' is not NAME=u,v"),
+        std::make_pair("--probe tip=1.5,0.5", "--probe 'tip=1.5,0.5': u and v must be numbers in [0, 1], got '1.5'"),
+        std::make_pair("--probe tip=0.5", "--probe 'tip=0.5' is not NAME=u,v"),
+        std::make_pair("--probe tip=a,0.5", "got 'a' and '0.5'"),
+        std::make_pair("--probe tip=1,1 --probe tip=0,0", "a probe named 'tip' is given twice"),
+        std::make_pair("--probe applied=1,1", "would give the columns of the reactions or applied loads")}) {
+    INFO(arg);
+    r = run(scene("cantilever.iv") + " " + arg + " -o bad", dir.path);
+    CHECK(r.code == 2);
+    CHECK(r.err.find(says) != std::string::npos);
+    CHECK(slurp(dir.path + "/bad/Strip.csv").empty());
+  }
+}
+
+TEST_CASE("bsdeform-run --static: the reactions of every held side and pin balance the applied loads", "[scenes]") {
+  TempDir dir;
+  // the paper's simply supported plate, in two load steps: each side carries a quarter
+  Run r = run(scene("plate_simply_supported.iv") + " --static --load-steps 2 -o plate -q", dir.path);
+  REQUIRE(r.code == 0);
+  std::string csv = slurp(dir.path + "/plate/Plate.csv");
+  CHECK(checkReactionsBalance(csv, {"umin", "umax", "vmin", "vmax"}, 1e-10) == 2);
+  const std::vector<double> az = csvColumn(csv, "applied_z");
+  for (const char* side : {"umin", "umax", "vmin", "vmax"}) {
+    INFO(side);
+    const std::vector<double> z = csvColumn(csv, std::string("reaction_") + side + "_z");
+    for (size_t k = 0; k < z.size(); ++k) CHECK(z[k] == Approx(-az[k] / 4).epsilon(1e-10));
+  }
+  CHECK(az[1] == Approx(2 * az[0]).epsilon(1e-12));  // the load factor
+  // SHELL, large deflection: Sze's cantilever rolled down to P = 4; its BUILT_IN side carries it
+  r = run(scene("cantilever_roll.iv") + " --static --load-steps 4 --set Ramp.b=1 --probe tip=1,0.5 -o roll -q", dir.path);
+  REQUIRE(r.code == 0);
+  csv = slurp(dir.path + "/roll/Strip.csv");
+  CHECK(csvHeader(csv).back() == "applied_z");
+  CHECK(checkReactionsBalance(csv, {"umin"}, 1e-8) == 4);
+  CHECK(csvColumn(csv, "applied_z").back() == Approx(-4.0).epsilon(1e-12));
+  CHECK(-csvColumn(csv, "tip_dz").back() == Approx(6.69964).epsilon(1e-3));  // the exact elastica's tip
+  // SHELL, FREE sides and four pins: each pin carries a quarter of the weight
+  writeFile(dir.path + "/pins.iv", "#Inventor V2.1 ascii\nSeparator {\n  DEF Sheet SoBSplineDeformSurface {\n"
+                                   "    numUControlPoints 8 numVControlPoints 8\n"
+                                   "    energy SHELL youngsModulus 1e5 poissonRatio 0.3 thickness 0.01 density 100\n"
+                                   "    boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE\n"
+                                   "    pins [ 0.2 0.2, 0.8 0.2, 0.2 0.8, 0.8 0.8 ]\n"
+                                   "    forces [ SoForceField { type GRAVITY force 0 0 -9.81 } ]\n  }\n}\n");
+  r = run("pins.iv --static -o pins -q", dir.path);
+  REQUIRE(r.code == 0);
+  csv = slurp(dir.path + "/pins/Sheet.csv");
+  CHECK(csv.find("reaction_umin") == std::string::npos);  // FREE sides hold nothing
+  CHECK(checkReactionsBalance(csv, {"pin0", "pin1", "pin2", "pin3"}, 1e-8) == 1);
+  CHECK(csvColumn(csv, "applied_z")[0] == Approx(-100 * 0.01 * 9.81).epsilon(1e-12));
+  for (int k = 0; k < 4; ++k) CHECK(csvColumn(csv, "reaction_pin" + std::to_string(k) + "_z")[0] == Approx(100 * 0.01 * 9.81 / 4).epsilon(1e-8));
+}
+
 TEST_CASE("bsdeform-run: a scene with two COLLISION obstacles is written to a final.iv that reopens", "[scenes]") {
   // Issue 37, item 0: Coin lays out the list as `USE A,` newline `USE B ]` and its reader then
   // looks for "A,": the run ended in a final.iv that nothing could read (exit 2 on reopening).

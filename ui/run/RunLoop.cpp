@@ -22,6 +22,8 @@
 #include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
+#include "bsdeform/dynamics/Probe.h"
+#include "bsdeform/dynamics/Reactions.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 #include "bsdeform/SoForceField.h"
@@ -43,6 +45,55 @@ bool writeScene(SoNode* root, const QString& path, QString& error) {
 }
 
 QByteArray utf8(const QString& s) { return s.toUtf8(); }
+
+// The history CSV's extra columns: each cell or name after a comma, so that they follow the
+// usual columns (History::detailedCsvHeader / Row, whose line end is cut off first).
+QString withoutLineEnd(QString line) {
+  if (line.endsWith(QLatin1Char('\n'))) line.chop(1);
+  return line;
+}
+
+void appendVector(QString& cells, const Eigen::Vector3d& x) {
+  for (int c = 0; c < 3; ++c) cells += QLatin1Char(',') + historyNumber(x[c]);
+}
+
+QString probeHeader(const QVector<ProbeOption>& probes) {
+  QString h;
+  for (const ProbeOption& p : probes)
+    for (const char* suffix : {"_x", "_y", "_z", "_dx", "_dy", "_dz"}) h += QLatin1Char(',') + p.name + QLatin1String(suffix);
+  return h;
+}
+
+// S(u, v) and S - S_rest of every probe, at the simulation's current state (core math:
+// bsdeform::probe)
+QString probeCells(const Simulation& sim, const QVector<ProbeOption>& probes) {
+  QString cells;
+  for (const ProbeOption& p : probes) {
+    const ProbeSample sample = probe(sim, p.u, p.v);
+    appendVector(cells, sample.point);
+    appendVector(cells, sample.displacement);
+  }
+  return cells;
+}
+
+QString reactionHeader(const SupportReactions& r) {
+  QString h;
+  auto add = [&h](const QString& name) {
+    for (const char* c : {"_x", "_y", "_z"}) h += QLatin1Char(',') + name + QLatin1String(c);
+  };
+  for (const SupportReactions::Side& side : r.sides) add(QStringLiteral("reaction_") + QString::fromStdString(side.name));
+  for (int k = 0; k < int(r.pins.size()); ++k) add(QStringLiteral("reaction_pin%1").arg(k));
+  add(QStringLiteral("applied"));
+  return h;
+}
+
+QString reactionCells(const SupportReactions& r) {
+  QString cells;
+  for (const SupportReactions::Side& side : r.sides) appendVector(cells, side.force);
+  for (const Eigen::Vector3d& pin : r.pins) appendVector(cells, pin);
+  appendVector(cells, r.applied);
+  return cells;
+}
 
 }  // namespace
 
@@ -229,6 +280,7 @@ void RunLoop::record(Surface& s) {
   s.pending.steps = sim.stepCount();
   s.pending.subSteps = sim.subSteps();
   s.pending.values = s.beside->begin(sim);
+  s.pending.probes = probeCells(sim, m_options.probes);
   s.lastRecorded = sim.stepCount();
 }
 
@@ -238,8 +290,8 @@ void RunLoop::flushRow(Surface& s) {
   const Diagnostics d = row.values.get();
   row.values = PendingDiagnostics();
   const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
-  if (s.csv.isEmpty()) s.csv = History::detailedCsvHeader(shell);
-  s.csv += History::detailedCsvRow(row.time, row.steps, row.subSteps, d, shell);
+  if (s.csv.isEmpty()) s.csv = withoutLineEnd(History::detailedCsvHeader(shell)) + probeHeader(m_options.probes) + QLatin1Char('\n');
+  s.csv += withoutLineEnd(History::detailedCsvRow(row.time, row.steps, row.subSteps, d, shell)) + row.probes + QLatin1Char('\n');
   s.history.append(row.time, d);
 }
 
@@ -300,13 +352,27 @@ Failure RunLoop::runStatic() {
     one.start();
     StaticResult r;
     std::string error;
-    // one row per load increment: the load factor, then the usual columns
+    // one row per load increment: the load factor, the usual columns, the probes, then the
+    // reactions of the held sides and pins and the applied loads' sum (bsdeform/dynamics/Reactions.h)
     const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
-    s.csv = QStringLiteral("load_factor,") + History::detailedCsvHeader(shell);
-    const bool solved = s.node->solveStatic(&r, &error, o.loadSteps, [&s, shell](const StaticResult& all, size_t k, const Diagnostics& d) {
-      s.csv += decimalNumber(all.increments[k].loadFactor) + QLatin1Char(',') + History::detailedCsvRow(0.0, 0, 1, d, shell);
-      s.history.append(0.0, d);
-    });
+    s.csv.clear();
+    double imbalance = 0.0;  // the largest |applied + reactions| / |applied| over the increments
+    const bool solved = s.node->solveStatic(
+        &r, &error, o.loadSteps, [&s, shell, &o, &imbalance](const StaticResult& all, size_t k, const Diagnostics& d) {
+          // the simulation holds increment k now (its net at rest)
+          const Simulation& sim = s.node->simulation();
+          const StaticResult::Increment& inc = all.increments[k];
+          const SupportReactions reactions = supportReactions(sim, inc.net, inc.loadFactor);
+          if (s.csv.isEmpty())
+            s.csv = QStringLiteral("load_factor,") + withoutLineEnd(History::detailedCsvHeader(shell)) +
+                    probeHeader(o.probes) + reactionHeader(reactions) + QLatin1Char('\n');
+          s.csv += decimalNumber(inc.loadFactor) + QLatin1Char(',') +
+                   withoutLineEnd(History::detailedCsvRow(0.0, 0, 1, d, shell)) + probeCells(sim, o.probes) +
+                   reactionCells(reactions) + QLatin1Char('\n');
+          s.history.append(0.0, d);
+          if (reactions.applied.norm() > 0.0)
+            imbalance = std::max(imbalance, reactions.imbalance().norm() / reactions.applied.norm());
+        });
     if (!solved)
       return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(error))};
     m_staticLines << QStringLiteral("%1: equilibrium by %2 in %3 s, relative residual %4%5")
@@ -317,7 +383,8 @@ Failure RunLoop::runStatic() {
                                   ? QStringLiteral(", %1 Newton iterations in %2 load step(s)").arg(r.loadIterations).arg(o.loadSteps)
                               : r.loadIterations > 1
                                   ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads").arg(r.loadIterations)
-                                  : QString());
+                                  : QString())
+                  + QStringLiteral("; the reactions balance the applied loads to %1 of them").arg(imbalance, 0, 'g', 3);
   }
   const double seconds = timer.elapsed() / 1000.0;
   if (o.pngEvery > 0 || !o.pngAt.isEmpty()) {

@@ -60,6 +60,7 @@ class RunLoop {
       long steps = 0;
       int subSteps = 0;
       PendingDiagnostics values;
+      QString probes;  ///< the --probe cells of the state, each after a comma (taken at once: cheap)
     } pending;
   };
 

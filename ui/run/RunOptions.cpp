@@ -3,6 +3,7 @@
 
 #include <QCommandLineParser>
 #include <QFileInfo>
+#include <QRegularExpression>
 #include <cmath>
 
 #include "History.h"
@@ -24,6 +25,34 @@ QVector<double> parseList(const QString& text, bool& ok) {
 }
 
 }  // namespace
+
+bool ProbeOption::parse(const QString& text, ProbeOption& probe, QString& why) {
+  static const QRegularExpression form(QStringLiteral("^([A-Za-z_][A-Za-z0-9_]*)=([^,]*),([^,]*)$"));
+  const QRegularExpressionMatch m = form.match(text);
+  if (!m.hasMatch()) {
+    why = QStringLiteral("--probe '%1' is not NAME=u,v (NAME a C identifier: letters, digits and '_', not starting "
+                         "with a digit)")
+              .arg(text);
+    return false;
+  }
+  probe.name = m.captured(1);
+  // the reaction and load columns of a static CSV end alike: a probe must not shadow them
+  if (probe.name == QLatin1String("applied") || probe.name.startsWith(QLatin1String("reaction_"))) {
+    why = QStringLiteral("--probe '%1': the name '%2' would give the columns of the reactions or applied loads "
+                         "(reaction_..., applied_...); choose another")
+              .arg(text, probe.name);
+    return false;
+  }
+  bool okU = false, okV = false;
+  probe.u = m.captured(2).trimmed().toDouble(&okU);
+  probe.v = m.captured(3).trimmed().toDouble(&okV);
+  if (!okU || !okV || !(probe.u >= 0.0 && probe.u <= 1.0) || !(probe.v >= 0.0 && probe.v <= 1.0)) {
+    why = QStringLiteral("--probe '%1': u and v must be numbers in [0, 1], got '%2' and '%3'")
+              .arg(text, m.captured(2), m.captured(3));
+    return false;
+  }
+  return true;
+}
 
 Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   QCommandLineParser parser;
@@ -90,12 +119,19 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   const QCommandLineOption staticSolve(
       QStringLiteral("static"),
       QStringLiteral("solve for the equilibrium of the loads at t = 0 instead of stepping (the paper's A P = L):\n"
-                     "final.iv holds it at rest, the CSV one row, --png-every/--png-at one image; prints the residual"));
+                     "final.iv holds it at rest, the CSV one row (with the reactions of the held sides and pins,\n"
+                     "reaction_umin_x ..., reaction_pin0_x ..., and the applied loads' sum applied_x ...), --png-every/\n"
+                     "--png-at one image; prints the residual and how well the reactions balance the loads"));
   const QCommandLineOption loadSteps(
       QStringLiteral("load-steps"),
       QStringLiteral("with --static: apply the loads in K equal increments (SHELL: Newton from each equilibrium to\n"
                      "the next), one CSV row per increment with its load factor: a load-displacement curve"),
       QStringLiteral("K"));
+  const QCommandLineOption probe(
+      QStringLiteral("probe"),
+      QStringLiteral("add the surface point S(u,v) and its displacement from rest to every CSV row, as columns\n"
+                     "NAME_x NAME_y NAME_z NAME_dx NAME_dy NAME_dz (the surface's own coordinates; repeatable)"),
+      QStringLiteral("NAME=u,v"));
   QCommandLineOption resultOnly(QStringLiteral("result-only"), QStringLiteral("internal: print RESULT lines, write nothing"));
   resultOnly.setFlags(QCommandLineOption::HiddenFromHelp);
   QCommandLineOption resultLines(QStringLiteral("result-lines"),
@@ -112,7 +148,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
       {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, metric, plot, recordEvery, keepStates, quiet,
-       staticSolve, loadSteps, resultOnly, resultLines, sweepProgram, sweepRows});
+       staticSolve, loadSteps, probe, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -207,6 +243,17 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
     if (!o.staticSolve)
       return {kBadInput, QStringLiteral("--load-steps needs --static: it divides the static load into increments")};
   }
+  for (const QString& text : parser.values(probe)) {
+    ProbeOption p;
+    QString why;
+    if (!ProbeOption::parse(text, p, why)) return {kBadInput, why};
+    for (const ProbeOption& q : o.probes)
+      if (q.name == p.name) return {kBadInput, QStringLiteral("--probe '%1': a probe named '%2' is given twice").arg(text, p.name)};
+    o.probes << p;
+  }
+  if (!o.probes.isEmpty() && !o.sweep.isEmpty())
+    return {kBadInput, QStringLiteral("--probe and --sweep: a sweep writes no history CSV; measure a point with "
+                                      "--metric z@U:V, or probe one run with --set")};
   o.resultOnly = parser.isSet(resultOnly);
   o.resultLines = parser.isSet(resultLines);
   o.sweepProgram = parser.value(sweepProgram);

@@ -12,6 +12,15 @@
 
 namespace bsdeform::run {
 
+/// --probe NAME=u,v: the surface point S(u, v) and its displacement from rest, six CSV columns
+/// NAME_x NAME_y NAME_z NAME_dx NAME_dy NAME_dz in every history row (bsdeform/dynamics/Probe.h).
+struct ProbeOption {
+  QString name;  ///< a C identifier
+  double u = 0.0, v = 0.0;  ///< in [0, 1]
+  /// Reads `NAME=u,v`; false with `why` naming the option and the value.
+  static bool parse(const QString& text, ProbeOption& probe, QString& why);
+};
+
 struct RunOptions {
   QString scene;
   long steps = 100;
@@ -34,6 +43,7 @@ struct RunOptions {
   bool quiet = false;
   bool staticSolve = false;  ///< --static: solve for the equilibrium at t = 0 instead of stepping
   int loadSteps = 1;         ///< --load-steps K: the static load in K increments, a CSV row each
+  QVector<ProbeOption> probes;  ///< --probe NAME=u,v (repeatable), in order
   bool resultOnly = false;  ///< internal: a sweep child prints RESULT lines and writes nothing
   bool resultLines = false;  ///< internal (bsdeform.sweep): print RESULT lines after writing the outputs
   QString sweepProgram;     ///< internal: the program started per sweep value (default: this one)

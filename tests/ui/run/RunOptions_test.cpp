@@ -118,3 +118,40 @@ TEST_CASE("RunOptions: --keep-states names the state file, and is refused with -
   CHECK(f.code == bsdeform::run::kBadInput);
   CHECK(f.message.contains(QStringLiteral("--static and --keep-states")));
 }
+
+TEST_CASE("RunOptions: --probe NAME=u,v, repeatable, bad names and values refused by name", "[ui]") {
+  RunOptions o;
+  REQUIRE(parse({QStringLiteral("--probe"), QStringLiteral("tip=1,0.5"), QStringLiteral("--probe"),
+                 QStringLiteral("_c2=0, 1e-1"), QStringLiteral("s.iv")},
+                o)
+              .ok());
+  REQUIRE(o.probes.size() == 2);
+  CHECK(o.probes[0].name == QStringLiteral("tip"));
+  CHECK(o.probes[0].u == 1.0);
+  CHECK(o.probes[0].v == 0.5);
+  CHECK(o.probes[1].name == QStringLiteral("_c2"));
+  CHECK(o.probes[1].v == 0.1);
+  REQUIRE(parse({QStringLiteral("--static"), QStringLiteral("--probe"), QStringLiteral("a=0,0"), QStringLiteral("s.iv")}, o).ok());
+  CHECK(o.probes.size() == 1);
+  for (const auto& [value, says] :
+       {std::make_pair("tip", "--probe 'tip' is not NAME=u,v"), std::make_pair("9a=0,0", "--probe '9a=0,0' is not NAME=u,v"),
+        std::make_pair("a-b=0,0", "--probe 'a-b=0,0' is not NAME=u,v"), std::make_pair("a=0,0,0", "is not NAME=u,v"),
+        std::make_pair("a=-0.1,0", "u and v must be numbers in [0, 1], got '-0.1' and '0'"),
+        std::make_pair("a=0,nan", "got '0' and 'nan'"), std::make_pair("a=,1", "got '' and '1'"),
+        std::make_pair("reaction_umin=0,0", "would give the columns of the reactions"),
+        std::make_pair("applied=0,0", "would give the columns of the reactions")}) {
+    INFO(value);
+    const Failure f = parse({QStringLiteral("--probe"), QString::fromUtf8(value), QStringLiteral("s.iv")}, o);
+    CHECK(f.code == bsdeform::run::kBadInput);
+    CHECK(f.message.contains(QString::fromUtf8(says)));
+  }
+  Failure f = parse({QStringLiteral("--probe"), QStringLiteral("a=0,0"), QStringLiteral("--probe"), QStringLiteral("a=1,1"),
+                     QStringLiteral("s.iv")},
+                    o);
+  CHECK(f.message.contains(QStringLiteral("a probe named 'a' is given twice")));
+  f = parse({QStringLiteral("--probe"), QStringLiteral("a=0,0"), QStringLiteral("--sweep"), QStringLiteral("S.w10=1,2"),
+             QStringLiteral("s.iv")},
+            o);
+  CHECK(f.code == bsdeform::run::kBadInput);
+  CHECK(f.message.contains(QStringLiteral("--probe and --sweep")));
+}
