@@ -195,7 +195,7 @@ class Surface {
 
   void reset() { m_node->resetSimulation(); }
 
-  py::dict solveStatic(int loadSteps) {
+  py::dict solveStatic(int loadSteps, bool arcLength, double maxLoad) {
     checked();
     bsdeform::StaticResult r;
     std::string error;
@@ -219,7 +219,16 @@ class Surface {
       e["iterations"] = inc.iterations;
       path.append(e);
     };
-    if (!m_node->solveStatic(&r, &error, loadSteps, each)) raise("SimulationError", nodeLabel(m_node) + ": " + error);
+    bsdeform::ArcLengthOptions arc;
+    if (arcLength) {
+      if (!(maxLoad > 0.0) || !std::isfinite(maxLoad)) throw py::value_error("max_load must be a number > 0");
+      if (loadSteps < 1) throw py::value_error("load_steps must be >= 1");
+      arc.maxSteps = loadSteps;
+      arc.maxLoad = maxLoad;
+      arc.tolerance = m_node->simulation().parameters().newtonTolerance;
+    }
+    if (!m_node->solveStatic(&r, &error, loadSteps, each, arcLength ? &arc : nullptr))
+      raise("SimulationError", nodeLabel(m_node) + ": " + error);
     py::dict d;
     d["residual"] = r.residual;
     d["method"] = r.method;
@@ -424,7 +433,8 @@ node, field and value) and SimulationError when the simulation blows up (the las
 is kept) or refuses a step.
 )doc")
       .def("reset", &Surface::reset, "Back to the rest state (same as touching the `reset` field).")
-      .def("solve_static", &Surface::solveStatic, py::arg("load_steps") = 1, R"doc(
+      .def("solve_static", &Surface::solveStatic, py::arg("load_steps") = 1, py::arg("arc_length") = false,
+           py::arg("max_load") = 1.0, R"doc(
 The paper's static problem (eq. 10): the equilibrium of the current loads at t = 0 with zero
 velocity becomes the state (control and previous net both the equilibrium, time and step count
 0), as ``bsdeform-run --static`` does. Returns a dict: residual (relative, the normwise backward
@@ -436,7 +446,10 @@ side ('umin', 'umax', 'vmin', 'vmax': CLAMPED, SIMPLY_SUPPORTED, BUILT_IN) and p
 exerts on the surface, and applied, the sum of the loads: they balance, applied + the reactions
 = 0, as the runner's reaction_* and applied_* columns). Raises SimulationError naming the free motions when
 nothing holds the surface, or when position-dependent loads (or SHELL's Newton) do not settle;
-the state is then left alone.
+the state is then left alone. ``arc_length=True`` (SHELL): the equilibrium path by arc-length
+continuation instead (Crisfield's, as ``bsdeform-run --static --arc-length``), through limit
+points and snap-backs: at most ``load_steps`` points, until the load factor passes ``max_load``;
+one increment per converged point.
 )doc")
       .def("probe", &Surface::probe, py::arg("u"), py::arg("v"), R"doc(
 A probe of the current state at the parameter point (u, v), both in [0, 1] (else ValueError): a

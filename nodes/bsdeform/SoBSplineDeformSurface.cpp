@@ -365,11 +365,12 @@ bool SoBSplineDeformSurface::solveStatic(bsdeform::StaticResult* result, std::st
 
 bool SoBSplineDeformSurface::solveStatic(
     bsdeform::StaticResult* result, std::string* error, int loadSteps,
-    const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each) {
+    const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each,
+    const bsdeform::ArcLengthOptions* arcLength) {
   ensureSimulation();
   updateForces(*m_sim);
   try {
-    bsdeform::StaticResult r = bsdeform::solveStaticInto(*m_sim, loadSteps, each);
+    bsdeform::StaticResult r = bsdeform::solveStaticInto(*m_sim, loadSteps, each, arcLength);
     if (result) *result = std::move(r);
   } catch (const std::exception& e) {
     if (error) *error = e.what();

@@ -96,6 +96,7 @@ class Force;
 class SceneObstacles;
 class SurfaceBuffers;
 struct StaticResult;
+struct ArcLengthOptions;
 struct Diagnostics;
 struct SimulationState;
 }  // namespace bsdeform
@@ -247,9 +248,11 @@ class SoBSplineDeformSurface : public SoShape {
   /// The same in `loadSteps` equal load increments (SHELL: Newton from each equilibrium to the
   /// next, a load-displacement curve); `each` (if set) is called with every increment and its
   /// diagnostics (the result, the increment's number in result.increments), in order, before
-  /// the last becomes the state.
+  /// the last becomes the state. With `arcLength` (SHELL), the equilibrium path by arc-length
+  /// continuation instead (bsdeform::Simulation::solveStaticArcLength; loadSteps unused).
   bool solveStatic(bsdeform::StaticResult* result, std::string* error, int loadSteps,
-                   const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each);
+                   const std::function<void(const bsdeform::StaticResult&, size_t, const bsdeform::Diagnostics&)>& each,
+                   const bsdeform::ArcLengthOptions* arcLength = nullptr);
   /// Adds / removes a force that is not part of the scene (not written to file), e.g. the
   /// viewer's mouse spring.
   void addTransientForce(std::shared_ptr<const bsdeform::Force> force);

@@ -240,12 +240,14 @@ bool startState(Simulation& sim, const Surface& n, bool stateFromFields, const S
 }
 
 StaticResult solveStaticInto(Simulation& sim, int loadSteps,
-                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each) {
+                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each,
+                             const ArcLengthOptions* arcLength) {
   // at most 100 Newton iterations per increment (SHELL) or fixed-point iterations of the
   // position-dependent loads (the paper's model)
   const ModelParameters& mp = sim.parameters();
   const bool shell = mp.energy == EnergyModel::Shell;
-  StaticResult r = sim.solveStatic(shell ? mp.newtonTolerance : 1e-10, 100, LinearSolver::Automatic, loadSteps);
+  StaticResult r = arcLength ? sim.solveStaticArcLength(*arcLength)
+                             : sim.solveStatic(shell ? mp.newtonTolerance : 1e-10, 100, LinearSolver::Automatic, loadSteps);
   if (each)
     for (size_t k = 0; k < r.increments.size(); ++k) {
       sim.setState(r.increments[k].net, r.increments[k].net, 0.0, 0, 0.0, HeldPoints::Check);

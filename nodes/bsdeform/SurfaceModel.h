@@ -61,9 +61,12 @@ bool startState(Simulation& sim, const SoBSplineDeformSurface& node, bool stateF
 /// The paper's static problem solved for `sim`'s current loads (SHELL: Newton to
 /// newtonTolerance; the paper's model: the linear solve to 1e-10), in `loadSteps` increments,
 /// `each` called with every increment while the state holds it; the last becomes the state.
-/// Throws what Simulation::solveStatic throws, leaving the state alone.
+/// Throws what Simulation::solveStatic throws, leaving the state alone. With `arcLength`
+/// (SHELL), the path by arc-length continuation instead (Simulation::solveStaticArcLength): one
+/// increment per converged point, the last becoming the state.
 StaticResult solveStaticInto(Simulation& sim, int loadSteps,
-                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each);
+                             const std::function<void(const StaticResult&, size_t, const Diagnostics&)>& each,
+                             const ArcLengthOptions* arcLength = nullptr);
 
 /// Whole steps of `dt` due after `seconds` of realTime at `speed`, the remainder kept in `owed`
 /// for the next call. A slow frame is not made up: a quarter second at most per call, 10000 steps

@@ -234,6 +234,28 @@ class Static(unittest.TestCase):
                     self.assertEqual(force[c], float(row["reaction_%s_%s" % (side, axis)]))
             self.assertEqual(applied, tuple(float(row["applied_" + a]) for a in "xyz"))
 
+    def test_arc_length_follows_the_roof_through_its_limit_point_as_the_runner_does(self):
+        (roof,) = bsdeform.surfaces(bsdeform.read_scene(scene("hinged_roof_snap.iv")))
+        result = roof.solve_static(arc_length=True, load_steps=60, max_load=1.0)
+        loads = [inc["load_factor"] for inc in result["increments"]]
+        peak = next(k for k in range(len(loads) - 1) if loads[k + 1] < loads[k])  # the limit point
+        self.assertGreater(peak, 0)
+        self.assertLess(min(loads[peak:]), 0.5 * loads[peak])  # through the limit point: the load falls
+        self.assertGreater(loads[-1], 1.0)                        # and rises again past the full load
+        for inc in result["increments"]:
+            self.assertLess(inc["residual"], 1e-8)
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "out")
+            subprocess.run([RUN, scene("hinged_roof_snap.iv"), "--static", "--arc-length", "--load-steps", "60",
+                            "-o", out, "--quiet"], check=True, capture_output=True, timeout=300)
+            with open(os.path.join(out, "Roof.csv")) as fh:
+                rows = list(csv.DictReader(fh))
+        self.assertEqual(len(rows), len(loads))
+        for r, l in zip(rows, loads):  # the CSV writes 15 significant digits
+            self.assertAlmostEqual(float(r["load_factor"]), l, delta=1e-14 * max(1.0, abs(l)))
+        with self.assertRaisesRegex(ValueError, "max_load"):
+            roof.solve_static(arc_length=True, max_load=0.0)
+
     def test_a_surface_held_nowhere_names_its_free_motions(self):
         node = bsdeform.new_node("SoBSplineDeformSurface", numUControlPoints=6, numVControlPoints=6, on=False,
                                  boundaryUMin="FREE", boundaryUMax="FREE", boundaryVMin="FREE",

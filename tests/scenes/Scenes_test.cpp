@@ -1241,3 +1241,39 @@ TEST_CASE("bsdeform-run --sweep --metric: a column per metric, the first plotted
   CHECK(bad.code == 2);
   CHECK(bad.err.find("w@2:0") != std::string::npos);
 }
+
+TEST_CASE("bsdeform-run --static --arc-length: the hinged roof's path through its limit point, its plot and refusals",
+          "[scenes]") {
+  TempDir dir;
+  const Run r = run(scene("hinged_roof_snap.iv") + " --static --arc-length --probe centre=0.5,0.5 --plot -o arc", dir.path);
+  REQUIRE(r.code == 0);
+  CHECK(r.out.find("arc-length step(s)") != std::string::npos);
+  const std::string csv = slurp(dir.path + "/arc/Roof.csv");
+  std::istringstream lines(csv);
+  std::string header, line;
+  std::getline(lines, header);
+  REQUIRE(header.rfind("load_factor,", 0) == 0);
+  CHECK(header.find("centre_dz") != std::string::npos);
+  std::vector<double> loads;
+  while (std::getline(lines, line)) loads.push_back(std::stod(line.substr(0, line.find(','))));
+  REQUIRE(loads.size() > 5);
+  // up to a limit point, down through the snap, up again past the full load
+  auto peak = loads.begin();  // the first local maximum: the limit point
+  while (peak + 1 != loads.end() && *(peak + 1) >= *peak) ++peak;
+  REQUIRE(peak + 1 != loads.end());
+  CHECK(*peak > 0.7);
+  CHECK(*peak < 0.8);
+  CHECK(*std::min_element(peak, loads.end()) < 0.5 * *peak);
+  CHECK(loads.back() > 1.0);
+  CHECK(!slurp(dir.path + "/arc/Roof_load_path.png").empty());
+  // refusals, naming the option
+  const Run noStatic = run(scene("hinged_roof_snap.iv") + " --arc-length -o x", dir.path);
+  CHECK(noStatic.code == 2);
+  CHECK(noStatic.err.find("--arc-length needs --static") != std::string::npos);
+  const Run badLoad = run(scene("hinged_roof_snap.iv") + " --static --arc-length --max-load -1 -o x", dir.path);
+  CHECK(badLoad.code == 2);
+  CHECK(badLoad.err.find("--max-load '-1'") != std::string::npos);
+  const Run noArc = run(scene("hinged_roof_snap.iv") + " --static --max-load 2 -o x", dir.path);
+  CHECK(noArc.code == 2);
+  CHECK(noArc.err.find("--max-load needs --arc-length") != std::string::npos);
+}

@@ -357,6 +357,11 @@ Failure RunLoop::runStatic() {
     const bool shell = s.node->simulation().parameters().energy == EnergyModel::Shell;
     s.csv.clear();
     double imbalance = 0.0;  // the largest |applied + reactions| / |applied| over the increments
+    ArcLengthOptions arc;
+    arc.maxSteps = o.loadSteps;
+    arc.maxLoad = o.maxLoad;
+    arc.tolerance = s.node->simulation().parameters().newtonTolerance;
+    s.path = PlotSeries();
     const bool solved = s.node->solveStatic(
         &r, &error, o.loadSteps, [&s, shell, &o, &imbalance](const StaticResult& all, size_t k, const Diagnostics& d) {
           // the simulation holds increment k now (its net at rest)
@@ -370,9 +375,15 @@ Failure RunLoop::runStatic() {
                    withoutLineEnd(History::detailedCsvRow(0.0, 0, 1, d, shell)) + probeCells(sim, o.probes) +
                    reactionCells(reactions) + QLatin1Char('\n');
           s.history.append(0.0, d);
+          if (!o.probes.isEmpty()) {  // the load path against the first probe's displacement (--plot)
+            const ProbeSample p = probe(sim, o.probes.first().u, o.probes.first().v);
+            s.path.x << p.displacement.norm();
+            s.path.y << inc.loadFactor;
+          }
           if (reactions.applied.norm() > 0.0)
             imbalance = std::max(imbalance, reactions.imbalance().norm() / reactions.applied.norm());
-        });
+        },
+        o.arcLength ? &arc : nullptr);
     if (!solved)
       return {kBadInput, QStringLiteral("scene '%1', surface %2: %3").arg(o.scene, s.name, QString::fromStdString(error))};
     m_staticLines << QStringLiteral("%1: equilibrium by %2 in %3 s, relative residual %4%5")
@@ -380,7 +391,9 @@ Failure RunLoop::runStatic() {
                          .arg(one.elapsed() / 1000.0, 0, 'f', 2)
                          .arg(r.residual, 0, 'g', 3)
                          .arg(s.node->simulation().parameters().energy == EnergyModel::Shell  // solved by Newton
-                                  ? QStringLiteral(", %1 Newton iterations in %2 load step(s)").arg(r.loadIterations).arg(o.loadSteps)
+                                  ? (o.arcLength ? QStringLiteral(", %1 Newton iterations in %2 arc-length step(s), load factor %3 at the end")
+                                                       .arg(r.loadIterations).arg(r.increments.size()).arg(r.increments.back().loadFactor, 0, 'g', 6)
+                                                 : QStringLiteral(", %1 Newton iterations in %2 load step(s)").arg(r.loadIterations).arg(o.loadSteps))
                               : r.loadIterations > 1
                                   ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads").arg(r.loadIterations)
                                   : QString())
@@ -460,7 +473,18 @@ Failure RunLoop::writeOutputs() {
     const QString path = m_out.filePath(s.name + QStringLiteral(".csv"));
     if (!saveFileAtomically(path, s.csv.toUtf8(), error)) return writeFailure(error, m_written);
     m_written << path;
-    if (o.plot) {
+    if (o.plot && o.staticSolve && !o.probes.isEmpty()) {
+      // the load path: load factor against the first probe's displacement
+      const QString plotPath = m_out.filePath(s.name + QStringLiteral("_load_path.png"));
+      QString perr;
+      PlotSeries series = s.path;
+      series.name = QStringLiteral("load factor");
+      if (!writePlotPng(plotPath, s.name + QStringLiteral(": load factor against the displacement at %1").arg(o.probes.first().name),
+                        QStringLiteral("|%1 displacement|").arg(o.probes.first().name), QStringLiteral("load factor"),
+                        {series}, 800, 500, perr))
+        return writeFailure(perr, m_written);
+      m_written << plotPath;
+    } else if (o.plot) {
       const QString plotPath = m_out.filePath(s.name + QStringLiteral("_history.png"));
       QString perr;
       if (!writePlotPng(plotPath, s.name + QStringLiteral(": deformation over time"), QStringLiteral("time"),

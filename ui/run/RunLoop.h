@@ -15,6 +15,7 @@
 #include "History.h"
 #include "KeptStates.h"
 #include "Metrics.h"
+#include "Plot.h"
 #include "RunFailure.h"
 #include "RunOptions.h"
 #include "RunSetup.h"
@@ -50,6 +51,7 @@ class RunLoop {
     long lastRecorded = -1;  ///< step count of the last history row
     int callback = -1;       ///< the surface's step callback (records the rows)
     std::shared_ptr<MetricTracker> metrics;  ///< --metric: measured after every step (null without)
+    PlotSeries path;  ///< --static with --probe: the first probe's displacement (x) and load factor (y)
     /// Computes the rows beside the steps (shared: Surface lives in a QVector). Its destructor
     /// finishes the row being computed, whose values `pending` keeps.
     std::shared_ptr<DiagnosticsBeside> beside = std::make_shared<DiagnosticsBeside>();

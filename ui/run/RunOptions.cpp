@@ -127,6 +127,15 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       QStringLiteral("with --static: apply the loads in K equal increments (SHELL: Newton from each equilibrium to\n"
                      "the next), one CSV row per increment with its load factor: a load-displacement curve"),
       QStringLiteral("K"));
+  const QCommandLineOption arcLength(
+      QStringLiteral("arc-length"),
+      QStringLiteral("with --static (SHELL): trace the equilibrium path by arc-length continuation (Crisfield),\n"
+                     "through limit points and snap-backs, one CSV row per converged point (its load factor, the\n"
+                     "probes, the energies, the reactions): --load-steps points at most (default 50), until the\n"
+                     "load factor passes --max-load; --plot draws the load factor against the first probe"));
+  const QCommandLineOption maxLoad(QStringLiteral("max-load"),
+                                   QStringLiteral("with --arc-length: stop once the load factor passes F (default 1)"),
+                                   QStringLiteral("F"));
   const QCommandLineOption probe(
       QStringLiteral("probe"),
       QStringLiteral("add the surface point S(u,v) and its displacement from rest to every CSV row, as columns\n"
@@ -148,7 +157,7 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
   sweepRows.setFlags(QCommandLineOption::HiddenFromHelp);
   parser.addOptions(
       {steps, until, outDir, overwrite, pngEvery, pngAt, frameNames, size, video, videoFps, exportMesh, set, sweep, metric, plot, recordEvery, keepStates, quiet,
-       staticSolve, loadSteps, probe, resultOnly, resultLines, sweepProgram, sweepRows});
+       staticSolve, loadSteps, arcLength, maxLoad, probe, resultOnly, resultLines, sweepProgram, sweepRows});
   parser.process(arguments);
 
   if (parser.positionalArguments().size() != 1) return {kBadInput, QStringLiteral("expected exactly one scene file (see --help)")};
@@ -242,6 +251,20 @@ Failure RunOptions::parse(const QStringList& arguments, RunOptions& o) {
       return {kBadInput, QStringLiteral("--load-steps '%1' is not a whole number in 1..100000").arg(parser.value(loadSteps))};
     if (!o.staticSolve)
       return {kBadInput, QStringLiteral("--load-steps needs --static: it divides the static load into increments")};
+  }
+  o.arcLength = parser.isSet(arcLength);
+  if (o.arcLength) {
+    if (!o.staticSolve)
+      return {kBadInput, QStringLiteral("--arc-length needs --static: it traces the static equilibrium path")};
+    if (!parser.isSet(loadSteps)) o.loadSteps = 50;
+  }
+  if (parser.isSet(maxLoad)) {
+    bool ok = false;
+    o.maxLoad = parser.value(maxLoad).toDouble(&ok);
+    if (!ok || !(o.maxLoad > 0.0) || !std::isfinite(o.maxLoad))
+      return {kBadInput, QStringLiteral("--max-load '%1' is not a number > 0").arg(parser.value(maxLoad))};
+    if (!o.arcLength)
+      return {kBadInput, QStringLiteral("--max-load needs --arc-length: load control stops at the full load (factor 1)")};
   }
   for (const QString& text : parser.values(probe)) {
     ProbeOption p;

@@ -43,6 +43,11 @@ struct RunOptions {
   bool quiet = false;
   bool staticSolve = false;  ///< --static: solve for the equilibrium at t = 0 instead of stepping
   int loadSteps = 1;         ///< --load-steps K: the static load in K increments, a CSV row each
+  /// --arc-length: with --static (SHELL), the equilibrium path by arc-length continuation, through
+  /// limit points and snap-backs: --load-steps K points at most (default 50), until the load
+  /// factor passes --max-load F (default 1)
+  bool arcLength = false;
+  double maxLoad = 1.0;      ///< --max-load F
   QVector<ProbeOption> probes;  ///< --probe NAME=u,v (repeatable), in order
   bool resultOnly = false;  ///< internal: a sweep child prints RESULT lines and writes nothing
   bool resultLines = false;  ///< internal (bsdeform.sweep): print RESULT lines after writing the outputs

@@ -2,6 +2,7 @@
 #include "bsdeform/dynamics/ArcLength.h"
 
 #include <Eigen/SparseLU>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -122,8 +123,9 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
         point.loadFactor = lambda;
         point.x = x;
         point.iterations = it;
-        // quick convergence: a longer next step (at most 4 times the first)
-        if (it <= 4 && dl < 4.0 * firstLength) dl *= 1.5;
+        // the next arc length aims at 4 iterations (Crisfield's Δl sqrt(I_d / I), between half
+        // and twice this one, at most 1000 times the first)
+        dl = std::min(dl * std::clamp(std::sqrt(4.0 / std::max(it, 1)), 0.5, 2.0), 1000.0 * firstLength);
         break;
       }
     }

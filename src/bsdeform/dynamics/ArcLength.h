@@ -14,7 +14,8 @@
 /// quadratic |Δx + δ_R + δλ δ_F|² = Δl² (of its two roots the one whose increment makes the
 /// smaller angle with the step's increment so far). K is factorised as an LU (SparseLU,
 /// pivoting): beyond a limit point it is indefinite. A step that does not converge is retried
-/// with half the arc length; quick steps lengthen the next one.
+/// with half the arc length; the next step's length aims at 4 iterations (Δl sqrt(4 / I),
+/// between half and twice the last, at most 1000 times the first).
 
 #include <Eigen/SparseCore>
 #include <functional>
