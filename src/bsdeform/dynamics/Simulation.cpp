@@ -188,6 +188,18 @@ void Simulation::init() {
     }
   }
 
+  m_components.reset();
+  m_tangentHeldMask = m_heldMask;
+  bool anySupport = false;
+  for (const SideSupport& side : m_params.sideSupports) anySupport |= side.kind != SideSupport::Kind::None;
+  if (anySupport) {
+    require(m_params.energy == EnergyModel::Shell,
+            "supports per component (holdUMin ...) and SYMMETRY sides: only the SHELL energy takes them");
+    m_components = std::make_unique<ComponentConstraints>(m_space, m_rest, m_params.sideSupports);
+    for (Eigen::Index d = 0; d < 3 * m_space.numMoving(); ++d)
+      if (m_components->constrained(d)) m_heldMask[size_t(d)] = 1;
+  }
+
   allocateNet(m_current, m_rest.rows());
   allocateNet(m_previous, m_rest.rows());
   m_current = m_rest;
@@ -406,6 +418,10 @@ void Simulation::applyStartRule() {
 }
 
 std::string Simulation::refusal() const {
+  if (m_components)
+    return "supports per component (holdUMin ..., SIMPLY_SUPPORTED holding some of X, Y, Z) and SYMMETRY sides "
+           "are taken by the static solve and arc length only (bsdeform-run --static, Solve Static), not yet by the "
+           "time steppers";
   std::ostringstream os;
   os.precision(6);
   const double dt = m_params.timeStep;

@@ -24,6 +24,7 @@
 #include "bsdeform/dynamics/ImplicitSystem.h"
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/dynamics/ArcLength.h"
+#include "bsdeform/dynamics/SideSupports.h"
 #include "bsdeform/spline/SplineSpace.h"
 #include "bsdeform/energy/StiffnessStencil.h"
 #include "bsdeform/dynamics/TangentMatrix.h"
@@ -90,6 +91,11 @@ struct ModelParameters {
     int axis = 0;
   };
   std::vector<HeldCoordinate> heldCoordinates;
+  /// SHELL, the static solve and arc length: per side (uMin, uMax, vMin, vMax), a support that
+  /// holds chosen world components of the edge curve (a diaphragm, a roller) or a symmetry
+  /// plane through it (SideSupports.h); such a side is FREE in `boundaries`. The time steppers
+  /// refuse a model with one (Status::Refused, saying so).
+  SideSupports sideSupports;
   Weights weights;               ///< omega_10 .. omega_02
   MassModel massModel = MassModel::Nodal;
   double mass = 1.0;     ///< m (> 0): per control point (Nodal) or per unit area (Lumped)
@@ -434,6 +440,11 @@ class Simulation {
   struct MassSolver;
   std::shared_ptr<MassSolver> m_shellMassSolver;
   mutable std::unique_ptr<TangentMatrix> m_tangent;  ///< the Newton tangent's fixed pattern (first use)
+  /// ModelParameters::sideSupports on the unknowns (null without any)
+  std::unique_ptr<ComponentConstraints> m_components;
+  std::vector<char> m_tangentHeldMask;  ///< m_heldMask without m_components' coordinates (folded later)
+  /// The unknowns x (constrained coordinates completed) into the full net `net`.
+  void completeUnknowns(ControlNet& x, ControlNet& net) const;
   /// The scheme (TimeStepper.h): created by init() and initShell().
   std::unique_ptr<TimeStepper> m_stepper;
   friend class PaperExplicitStepper;

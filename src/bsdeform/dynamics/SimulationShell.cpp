@@ -158,7 +158,7 @@ const Eigen::SparseMatrix<double>& Simulation::shellTangent(const ControlNet& ne
     for (const auto& f : m_forces)
       if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
   }
-  K.applyHeld(m_heldMask);
+  K.applyHeld(m_tangentHeldMask);
   return K.matrix();
 }
 
@@ -208,10 +208,14 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   ControlNet gW, L;
   double loadFactor = 0.0;
   auto evaluate = [&](const ControlNet& xi, NewtonPoint& p) {
-    m_space.scatterMoving(xi, net);
-    m_space.completeNet(net, &m_rest);
+    ControlNet xc = xi;
+    completeUnknowns(xc, net);
     shellGradient(net, gW);
     L = conservative ? (loadFactor * L0).eval() : (loadFactor * loadAt(net, 0.0)).eval();
+    if (m_components) {
+      m_components->fold(gW);
+      m_components->fold(L);
+    }
     p.g = gW - L;
     for (Eigen::Index f = 0; f < p.g.rows(); ++f)
       for (int c = 0; c < 3; ++c)
@@ -260,10 +264,14 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   NewtonMinimizer minimizer;
   NewtonMinimizer::Problem problem;
   problem.evaluate = evaluate;
+  Eigen::SparseMatrix<double> folded;  // the tangent with the supports per component eliminated
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
-    if (!jacobians) return shellTangent(net, 1.0, shift, mode);
     const LoadContext ctx = loadContext(net, net, m_params.timeStep, 0.0);
-    return shellTangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor);
+    const Eigen::SparseMatrix<double>& K =
+        jacobians ? shellTangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor) : shellTangent(net, 1.0, shift, mode);
+    if (!m_components) return K;
+    folded = m_components->foldTangent(K, m_heldMask);
+    return folded;
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= tolerance * p.scale; };
   // the update against the displacement so far (whatever the load's size: a thin strip under a
@@ -328,8 +336,8 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     if (factor == target) {
       StaticResult::Increment inc;
       inc.loadFactor = factor;
-      m_space.scatterMoving(x, net);
-      m_space.completeNet(net, &m_rest);
+      ControlNet xc = x;
+      completeUnknowns(xc, net);
       inc.net = net;
       inc.residual = cur.norm / cur.scale;
       inc.iterations = used;
@@ -379,8 +387,8 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   const Eigen::Index n = m_space.numMoving();
   ControlNet net = m_rest, grad;
   auto toNet = [&](const Eigen::VectorXd& x) {
-    m_space.scatterMoving(Eigen::Map<const ControlNet>(x.data(), n, 3), net);
-    m_space.completeNet(net, &m_rest);
+    ControlNet xc = Eigen::Map<const ControlNet>(x.data(), n, 3);
+    completeUnknowns(xc, net);
   };
   auto zeroHeld = [&](Eigen::VectorXd& v) {
     for (Eigen::Index i = 0; i < v.size(); ++i)
@@ -390,17 +398,22 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   problem.evaluate = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g, Eigen::VectorXd& F) {
     toNet(x);
     shellGradient(net, grad);
+    ControlNet L = loadAt(net, 0.0);
+    if (m_components) {
+      m_components->fold(grad);
+      m_components->fold(L);
+    }
     g = Eigen::Map<const Eigen::VectorXd>(grad.data(), grad.size());
-    const ControlNet L = loadAt(net, 0.0);
     F = Eigen::Map<const Eigen::VectorXd>(L.data(), L.size());
     zeroHeld(g);
     zeroHeld(F);
   };
   problem.tangent = [&](const Eigen::VectorXd& x) {
     toNet(x);
-    return Eigen::SparseMatrix<double>(shellTangent(net, 1.0, 0.0, HessianMode::Exact));
+    const Eigen::SparseMatrix<double>& K = shellTangent(net, 1.0, 0.0, HessianMode::Exact);
+    return m_components ? m_components->foldTangent(K, m_heldMask) : Eigen::SparseMatrix<double>(K);
   };
-  problem.lowerOnly = true;
+  problem.lowerOnly = !m_components;
   const ControlNet x0 = m_space.gatherMoving(m_rest);
   StaticResult result;
   result.method = "arc length (Crisfield, SparseLU)";
@@ -425,6 +438,16 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   result.residual = result.increments.back().residual;
   result.loadIterations = total;
   return result;
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+void Simulation::completeUnknowns(ControlNet& x, ControlNet& net) const {
+  if (m_components) m_components->complete(x);
+  m_space.scatterMoving(x, net);
+  m_space.completeNet(net, &m_rest);
 }
 
 }  // namespace bsdeform
