@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 
+#include "bsdeform/dynamics/Reactions.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/forces/Force.h"
 #include "bsdeform/forces/ForceLaws.h"
@@ -159,6 +160,18 @@ TEST_CASE("Scordelis-Lo roof as a quarter model: two SYMMETRY sides and a rigid 
     axial = std::max(axial, std::abs(e.y() - e0.y()));
   }
   CHECK(axial > 1e-3 * w * scale);
+  // the reactions: the diaphragm carries the weight (z) and nothing along the axis; the two
+  // symmetry planes the forces across them; with the weight they balance
+  const SupportReactions sr = supportReactions(roof, r.net);
+  REQUIRE(sr.sides.size() == 3);
+  CAPTURE(sr.imbalance().transpose(), sr.applied.transpose());
+  CHECK(sr.imbalance().norm() <= 1e-6 * sr.applied.norm());
+  for (const SupportReactions::Side& side : sr.sides)
+    if (side.name == "vmax") {
+      // the whole weight, but for what the corner it shares with the crown's band splits
+      CHECK(side.force.z() == Approx(-sr.applied.z()).epsilon(0.01));
+      CHECK(std::abs(side.force.y()) <= 0.01 * sr.applied.norm());  // the axial slide is free
+    }
 }
 
 TEST_CASE("Supports per component refuse what they cannot do, naming it", "[shell][supports]") {

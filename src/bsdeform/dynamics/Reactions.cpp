@@ -87,10 +87,15 @@ SupportReactions supportReactions(const Simulation& sim, const ControlNet& net, 
     Boundary side;
     int width;
   };
-  const Band bands[4] = {{"umin", b.uMin, bandWidth(b.uMin, s.degreeU())},
-                         {"umax", b.uMax, bandWidth(b.uMax, s.degreeU())},
-                         {"vmin", b.vMin, bandWidth(b.vMin, s.degreeV())},
-                         {"vmax", b.vMax, bandWidth(b.vMax, s.degreeV())}};
+  Band bands[4] = {{"umin", b.uMin, bandWidth(b.uMin, s.degreeU())},
+                   {"umax", b.uMax, bandWidth(b.uMax, s.degreeU())},
+                   {"vmin", b.vMin, bandWidth(b.vMin, s.degreeV())},
+                   {"vmax", b.vMax, bandWidth(b.vMax, s.degreeV())}};
+  // a support per component or a SYMMETRY side (FREE in the space) holds its n outer layers'
+  // combinations too: its band is theirs (a symmetry plane's reaction is the force across it)
+  for (int k = 0; k < 4; ++k)
+    if (sim.parameters().sideSupports[size_t(k)].kind != SideSupport::Kind::None)
+      bands[k].width = k < 2 ? s.degreeU() : s.degreeV();
   int sideOf[4];  // index in r.sides, or -1
   for (int k = 0; k < 4; ++k) {
     sideOf[k] = -1;
