@@ -74,6 +74,11 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryVMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryVMax, (CLAMPED));
+  SO_NODE_ADD_FIELD(holdUMin, (X | Y | Z));
+  SO_NODE_ADD_FIELD(holdUMax, (X | Y | Z));
+  SO_NODE_ADD_FIELD(holdVMin, (X | Y | Z));
+  SO_NODE_ADD_FIELD(holdVMax, (X | Y | Z));
+  SO_NODE_ADD_FIELD(holdPins, (X | Y | Z));
   SO_NODE_ADD_FIELD(pins, (SbVec2d(0, 0)));
   SO_NODE_ADD_FIELD(start, (SECOND_ORDER));
   SO_NODE_ADD_FIELD(restShape, (PLANE));
@@ -108,6 +113,15 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, PERIODIC);
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, SIMPLY_SUPPORTED);
   SO_NODE_DEFINE_ENUM_VALUE(Boundary, BUILT_IN);
+  SO_NODE_DEFINE_ENUM_VALUE(Boundary, SYMMETRY);
+  SO_NODE_DEFINE_ENUM_VALUE(Components, X);
+  SO_NODE_DEFINE_ENUM_VALUE(Components, Y);
+  SO_NODE_DEFINE_ENUM_VALUE(Components, Z);
+  SO_NODE_SET_SF_ENUM_TYPE(holdUMin, Components);
+  SO_NODE_SET_SF_ENUM_TYPE(holdUMax, Components);
+  SO_NODE_SET_SF_ENUM_TYPE(holdVMin, Components);
+  SO_NODE_SET_SF_ENUM_TYPE(holdVMax, Components);
+  SO_NODE_SET_SF_ENUM_TYPE(holdPins, Components);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryUMin, Boundary);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryUMax, Boundary);
   SO_NODE_SET_SF_ENUM_TYPE(boundaryVMin, Boundary);

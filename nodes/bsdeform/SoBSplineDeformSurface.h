@@ -41,8 +41,13 @@
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
 ///   boundaryVMin CLAMPED  #   a rest net that closes: the last n layers repeat the first n) |
 ///   boundaryVMax CLAMPED  #   SIMPLY_SUPPORTED (edge curve held, a hinge) | BUILT_IN (edge curve
-///                         #   and cross derivative held, an engineering clamp); u = 1, v = 0,
-///                         #   v = 1 alike
+///                         #   and cross derivative held, an engineering clamp) | SYMMETRY (SHELL,
+///                         #   static: a symmetry plane through the edge); u = 1, v = 0, v = 1 alike
+///   holdUMin (X | Y | Z)  # SHELL, static: the components a SIMPLY_SUPPORTED side holds (a rigid
+///   holdUMax (X | Y | Z)  #   diaphragm: two of them, a roller: one); holdUMax, holdVMin,
+///   holdVMin (X | Y | Z)  #   holdVMax alike
+///   holdVMax (X | Y | Z)
+///   holdPins (X | Y | Z)  # SHELL, static: the components the pins hold
 ///   pins [ ]              # (u, v) in [0,1]^2: each holds the control points of its knot span
 ///   start SECOND_ORDER    # SECOND_ORDER: P(-dt) = P(0) + dt^2/2 a(0) | PAPER: P(-dt) = P(0)
 ///   restShape PLANE       # rest net when restNet is empty: PLANE (u, v, 0) | CYLINDER | CONE |
@@ -70,6 +75,7 @@
 #include <Inventor/fields/SoMFVec2d.h>
 #include <Inventor/fields/SoSFVec3d.h>
 #include <Inventor/fields/SoMFVec3d.h>
+#include <Inventor/fields/SoSFBitMask.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
 #include <Inventor/fields/SoSFEnum.h>
@@ -114,7 +120,9 @@ class SoBSplineDeformSurface : public SoShape {
   enum MassModel { NODAL, LUMPED };
   enum Integrator { EXPLICIT, IMPLICIT, BACKWARD_EULER };
   enum Reference { REST, ABSOLUTE };
-  enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN };
+  enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN, SYMMETRY };
+  /// The world components of holdUMin ... holdVMax and holdPins (an SFBitMask).
+  enum Components { X = 1, Y = 2, Z = 4 };
   enum Start { PAPER, SECOND_ORDER };
   enum Shape { PLANE, CYLINDER, CONE, SPHERE, ELLIPSOID, TORUS };
   /// The `energy` field; its values are spelt PAPER and SHELL in files (PAPER_ENERGY only in
@@ -152,6 +160,12 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED
   SoSFEnum boundaryVMin;        ///< side v = 0; CLAMPED
   SoSFEnum boundaryVMax;        ///< side v = 1; CLAMPED
+  /// SHELL, static: the world components a SIMPLY_SUPPORTED side holds (X | Y | Z)
+  SoSFBitMask holdUMin;
+  SoSFBitMask holdUMax;         ///< as holdUMin, side u = 1
+  SoSFBitMask holdVMin;         ///< as holdUMin, side v = 0
+  SoSFBitMask holdVMax;         ///< as holdUMin, side v = 1
+  SoSFBitMask holdPins;         ///< SHELL, static: the world components pins hold (X | Y | Z)
   SoMFVec2d pins;               ///< pinned parameter points (u, v); empty
   SoSFEnum start;               ///< SECOND_ORDER (consistent release from rest) or PAPER; SECOND_ORDER
   SoSFEnum restShape;           ///< rest net generated when restNet is empty; PLANE

@@ -35,6 +35,7 @@ Boundary sideOf(const SoSFEnum& f) {
     case Surface::PERIODIC: return Boundary::Periodic;
     case Surface::SIMPLY_SUPPORTED: return Boundary::SimplySupported;
     case Surface::BUILT_IN: return Boundary::BuiltIn;
+    case Surface::SYMMETRY: return Boundary::Free;  // the constraint: ModelParameters::sideSupports
     default: return Boundary::Clamped;
   }
 }
@@ -94,8 +95,32 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
                                                            {&n.boundaryVMin, "boundaryVMin"},
                                                            {&n.boundaryVMax, "boundaryVMax"}};
   for (const auto& side : sides)
-    check(side.first->getValue() >= Surface::CLAMPED && side.first->getValue() <= Surface::BUILT_IN, side.second,
+    check(side.first->getValue() >= Surface::CLAMPED && side.first->getValue() <= Surface::SYMMETRY, side.second,
           unknown(side.second, side.first->getValue()));
+  // holdUMin ... : a SIMPLY_SUPPORTED side's components (SHELL); left at X | Y | Z elsewhere
+  const SoSFBitMask* holds[] = {&n.holdUMin, &n.holdUMax, &n.holdVMin, &n.holdVMax};
+  const char* holdNames[] = {"holdUMin", "holdUMax", "holdVMin", "holdVMax"};
+  const unsigned all = Surface::X | Surface::Y | Surface::Z;
+  for (int k = 0; k < 4; ++k) {
+    const unsigned mask = unsigned(holds[k]->getValue());
+    check((mask & ~all) == 0, holdNames[k], "field '" + std::string(holdNames[k]) + "' has an unknown value " + std::to_string(mask));
+    if (mask == all) continue;
+    check(sides[k].first->getValue() == Surface::SIMPLY_SUPPORTED, holdNames[k],
+          "field '" + std::string(holdNames[k]) + "' holds chosen components of a SIMPLY_SUPPORTED side; " + sides[k].second +
+              " is not SIMPLY_SUPPORTED (leave " + holdNames[k] + " at X | Y | Z)");
+    check(mask != 0, holdNames[k], "field '" + std::string(holdNames[k]) + "' holds no component: make " +
+                                       sides[k].second + " FREE instead");
+    check(n.energy.getValue() == Surface::SHELL, holdNames[k],
+          "field '" + std::string(holdNames[k]) + "' (components of a side): only the SHELL energy takes them");
+  }
+  for (const auto& side : sides)
+    check(side.first->getValue() != Surface::SYMMETRY || n.energy.getValue() == Surface::SHELL, side.second,
+          std::string("field '") + side.second + "' SYMMETRY: only the SHELL energy takes symmetry sides");
+  const unsigned pinMask = unsigned(n.holdPins.getValue());
+  check((pinMask & ~all) == 0 && pinMask != 0, "holdPins",
+        "field 'holdPins' must hold one or more of X, Y, Z, got " + std::to_string(pinMask));
+  check(pinMask == all || n.energy.getValue() == Surface::SHELL, "holdPins",
+        "field 'holdPins' (components of the pins): only the SHELL energy takes them");
   for (int i = 0; i < n.pins.getNum(); ++i) {
     const SbVec2d q = n.pins[i];
     check(q[0] >= 0.0 && q[0] <= 1.0 && q[1] >= 0.0 && q[1] <= 1.0, "pins",
@@ -137,6 +162,22 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   p.reference = n.reference.getValue() == Surface::ABSOLUTE ? ElasticReference::Absolute : ElasticReference::Rest;
   p.start = n.start.getValue() == Surface::PAPER ? StartRule::Paper : StartRule::SecondOrder;
   p.boundaries = {sideOf(n.boundaryUMin), sideOf(n.boundaryUMax), sideOf(n.boundaryVMin), sideOf(n.boundaryVMax)};
+  // SYMMETRY and SIMPLY_SUPPORTED holding some components: FREE in the space, the constraint on
+  // the unknowns (bsdeform/dynamics/SideSupports.h)
+  {
+    Boundary* space[] = {&p.boundaries.uMin, &p.boundaries.uMax, &p.boundaries.vMin, &p.boundaries.vMax};
+    for (int k = 0; k < 4; ++k) {
+      const unsigned mask = unsigned(holds[k]->getValue());
+      if (sides[k].first->getValue() == Surface::SYMMETRY) {
+        *space[k] = Boundary::Free;
+        p.sideSupports[size_t(k)] = SideSupport{SideSupport::Kind::Symmetry, all};
+      } else if (sides[k].first->getValue() == Surface::SIMPLY_SUPPORTED && mask != all) {
+        *space[k] = Boundary::Free;
+        p.sideSupports[size_t(k)] = SideSupport{SideSupport::Kind::Hinge, mask};
+      }
+    }
+  }
+  p.pinComponents = pinMask;
   for (int i = 0; i < n.pins.getNum(); ++i) p.pins.emplace_back(n.pins[i][0], n.pins[i][1]);
   const auto shape = static_cast<ShapeKind>(shapeValue);
   p.boundaries = shapeBoundaries(shape, p.boundaries);

@@ -8,6 +8,7 @@
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBool.h>
 #include <Inventor/fields/SoSFDouble.h>
+#include <Inventor/fields/SoSFBitMask.h>
 #include <Inventor/fields/SoSFEnum.h>
 #include <Inventor/fields/SoSFFloat.h>
 #include <Inventor/fields/SoSFInt32.h>
@@ -235,6 +236,41 @@ void FieldEditor::setContainer(SoFieldContainer* container, const QString& title
       row.read = [bf, check] {
         const QSignalBlocker block(check);
         check->setChecked(bf->getValue());
+      };
+    } else if (t.isDerivedFrom(SoSFBitMask::getClassTypeId())) {
+      // a bit mask (holdUMin ...): one check box per bit, the value their sum
+      auto* box = new QWidget;
+      auto* h = new QHBoxLayout(box);
+      h->setContentsMargins(0, 0, 0, 0);
+      auto* bf = static_cast<SoSFBitMask*>(f);
+      QVector<QPair<QCheckBox*, int>> bits;
+      for (int k = 0; k < bf->getNumEnums(); ++k) {
+        SbName en;
+        const int value = bf->getEnum(k, en);
+        auto* check = new QCheckBox(QString::fromLatin1(en.getString()));
+        check->setFocusPolicy(Qt::TabFocus);
+        h->addWidget(check);
+        bits.append({check, value});
+      }
+      h->addStretch(1);
+      for (const auto& [check, value] : bits)
+        connect(check, &QCheckBox::toggled, this, [this, bf, box, bits] {
+          int mask = 0;
+          for (const auto& [c, v] : bits)
+            if (c->isChecked()) mask |= v;
+          if (bf->getValue() != mask)
+            if (Row* r = rowOf(box)) commit(*r, [bf, mask] {
+                bf->setValue(mask);
+                return true;
+              });
+          emit done();
+        });
+      row.editor = box;
+      row.read = [bf, bits] {
+        for (const auto& [check, value] : bits) {
+          const QSignalBlocker block(check);
+          check->setChecked((bf->getValue() & value) != 0);
+        }
       };
     } else if (t.isDerivedFrom(SoSFEnum::getClassTypeId())) {
       auto* combo = new QComboBox;

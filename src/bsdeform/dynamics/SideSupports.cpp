@@ -48,8 +48,9 @@ ComponentConstraints::ComponentConstraints(const SplineSpace& space, const Contr
     if (s.kind == SideSupport::Kind::None) continue;
     if (boundaryOf(space.boundaries(), side) != Boundary::Free)
       throw std::invalid_argument(std::string(fieldOf(side)) +
-                                  ": a support per component or SYMMETRY needs the side free in the spline space "
-                                  "(an internal error of the model's set-up)");
+                                  ": SYMMETRY or a SIMPLY_SUPPORTED side holding chosen components needs a side the "
+                                  "rest shape leaves open (restShape made it " +
+                                  boundaryName(boundaryOf(space.boundaries(), side)) + ")");
     const bool uSide = side < 2;
     const int n = uSide ? space.degreeU() : space.degreeV();
     const int lines = uSide ? C : R;

@@ -170,7 +170,13 @@ void Simulation::init() {
 
   m_heldMask.assign(size_t(3 * m_space.numMoving()), 0);
   for (Eigen::Index f = 0; f < m_space.numMoving(); ++f)
-    if (m_pinMask[size_t(m_space.movingToNet(f))]) m_heldMask[size_t(3 * f)] = m_heldMask[size_t(3 * f + 1)] = m_heldMask[size_t(3 * f + 2)] = 1;
+    if (m_pinMask[size_t(m_space.movingToNet(f))])
+      for (int c = 0; c < 3; ++c)
+        if (m_params.pinComponents & (1u << c)) m_heldMask[size_t(3 * f + c)] = 1;
+  require((m_params.pinComponents & ~7u) == 0 && (m_params.pinComponents & 7u) != 0,
+          "pinComponents: the pins must hold one or more of x, y, z");
+  require(m_params.pinComponents == 7u || m_params.energy == EnergyModel::Shell,
+          "pinComponents: only the SHELL energy's pins hold chosen components");
   if (!m_params.heldCoordinates.empty()) {
     require(m_params.energy == EnergyModel::Shell, "heldCoordinates: only the SHELL energy holds single coordinates");
     require(!m_space.hasDerived(),
@@ -418,6 +424,9 @@ void Simulation::applyStartRule() {
 }
 
 std::string Simulation::refusal() const {
+  if (m_params.pinComponents != 7u && !m_params.pins.empty())
+    return "pins holding chosen components (holdPins) are taken by the static solve and arc length only "
+           "(bsdeform-run --static, Solve Static), not yet by the time steppers";
   if (m_components)
     return "supports per component (holdUMin ..., SIMPLY_SUPPORTED holding some of X, Y, Z) and SYMMETRY sides "
            "are taken by the static solve and arc length only (bsdeform-run --static, Solve Static), not yet by the "

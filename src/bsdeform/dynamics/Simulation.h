@@ -96,6 +96,9 @@ struct ModelParameters {
   /// plane through it (SideSupports.h); such a side is FREE in `boundaries`. The time steppers
   /// refuse a model with one (Status::Refused, saying so).
   SideSupports sideSupports;
+  /// SHELL, the static solve and arc length: the world components the pins hold (bit 0 x,
+  /// 1 y, 2 z; 7 all, the default). The time steppers refuse pins holding fewer.
+  unsigned pinComponents = 7;
   Weights weights;               ///< omega_10 .. omega_02
   MassModel massModel = MassModel::Nodal;
   double mass = 1.0;     ///< m (> 0): per control point (Nodal) or per unit area (Lumped)
