@@ -267,7 +267,10 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
         // a full Newton step of 1e-11 of the net's size: converged to what the positions'
         // rounding lets the residual show (stiff membranes under small loads stop here)
         if (mu == 0.0 && dx.cwiseAbs().maxCoeff() <= 1e-11 * xi.cwiseAbs().maxCoeff()) break;
-        mu = mu * 0.25 < muMin ? 0.0 : mu * 0.25;
+        // a surface nothing holds keeps the shift: unshifted, its tangent is singular along the
+        // rigid motions and a step could move it 1e7 along them (the residual is indifferent to
+        // them), leaving the positions' rounding above the tolerance
+        mu = mu * 0.25 < muMin ? (heldByNothing ? muMin : 0.0) : mu * 0.25;
       } else {
         mu = raise(mu);  // refused: a shorter, more gradient-like step from the same state
         m_space.scatterMoving(xi, net);
