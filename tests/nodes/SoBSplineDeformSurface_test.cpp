@@ -160,7 +160,7 @@ TEST_CASE("SoBSplineDeformSurface: a refused SHELL material names its field and 
   root->unref();
 }
 
-TEST_CASE("SoBSplineDeformSurface: material NEO_HOOKEAN reads, writes back and reaches the model; bad values "
+TEST_CASE("SoBSplineDeformSurface: material NEO_HOOKEAN reads, writes back and reaches the model, and bad values "
           "are refused naming the field",
           "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { energy SHELL "
