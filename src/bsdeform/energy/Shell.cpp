@@ -39,7 +39,7 @@ struct Tables {
 /// the kernel at each Gauss point and adds the gradient to out(row, c, value) when `grad`.
 /// Returns the element's energies.
 template <typename T, typename Law, typename Load, typename Store>
-void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint* rest, const Law& k,
+void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint* rest, const Law& law,
                  bool bending, bool grad, Load&& load, Store&& store, T& em, T& eb) {
   const int L1 = tb.L1, L2 = tb.L2, Q1 = tb.Q1, Q2 = tb.Q2;
   // T[a][q2][dv][c] = Σ_b tv[q2][dv][b] X[a][b][c]
@@ -75,7 +75,7 @@ void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint*
           y[3 * m + c] = s;
         }
       T g[15], pm, pb;
-      density(y, rest[q1 * Q2 + q2], k, bending, g, pm, pb);
+      density(y, rest[q1 * Q2 + q2], law, bending, g, pm, pb);
       em += pm;
       eb += pb;
       if (!grad) continue;
@@ -164,7 +164,8 @@ ShellEnergy::ShellEnergy(const SplineSpace& space, const ControlNet& rest, const
   requireParameter(std::isfinite(m.density) && m.density > 0.0, "density",
                    "must be a finite number > 0 (got " + numberText(m.density) + ")");
   requireParameter(m.law == ShellMaterialLaw::SaintVenantKirchhoff || m.law == ShellMaterialLaw::NeoHookean,
-                   "material", "must be SAINT_VENANT_KIRCHHOFF or NEO_HOOKEAN (got " + std::to_string(int(m.law)) + ")");
+                   "material",
+                   "must be SAINT_VENANT_KIRCHHOFF or NEO_HOOKEAN (got " + std::to_string(int(m.law)) + ")");
   require(rest.rows() == space.netSize(), "ShellEnergy: the rest net does not fit the spline space");
   m_bending = space.degreeU() >= 2 && space.degreeV() >= 2;
   m_qu = space.degreeU() + 1;
@@ -254,14 +255,14 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
   const int size = std::max(m_space.degreeU() + 1, 4);
   std::vector<ShellEnergies> partial(size_t((S1 + size - 1) / size));
   const double* X = net.data();
-  withLaw(m_material, true, [&](const auto& k) {
+  withLaw(m_material, true, [&](const auto& law) {
     forEachBlock([&](int b, int s0, int s1) {
       ShellEnergies sum;
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           double em, eb;
           elementPass<double>(
-              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, false,
+              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, false,
               [X](Eigen::Index r, int c) { return X[3 * r + c]; }, [](Eigen::Index, int, double) {}, em, eb);
           sum.membrane += em;
           sum.bending += eb;
@@ -280,7 +281,7 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
 void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
   const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  withLaw(m_material, false, [&](const auto& k) {
+  withLaw(m_material, false, [&](const auto& law) {
     grad.setZero(net.rows(), 3);
     const double* X = net.data();
     double* G = grad.data();
@@ -289,7 +290,7 @@ void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
         for (int e2 = 0; e2 < S2; ++e2) {
           double em, eb;
           elementPass<double>(
-              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, true,
+              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, true,
               [X](Eigen::Index r, int c) { return X[3 * r + c]; },
               [G](Eigen::Index r, int c, double s) { G[3 * r + c] += s; }, em, eb);
         }
@@ -300,7 +301,7 @@ void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
 void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const {
   const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  withLaw(m_material, false, [&](const auto& k) {
+  withLaw(m_material, false, [&](const auto& law) {
     out.setZero(net.rows(), 3);
     const double* X = net.data();
     const double* D = dir.data();
@@ -310,7 +311,7 @@ void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, C
         for (int e2 = 0; e2 < S2; ++e2) {
           Dual em, eb;
           elementPass<Dual>(
-              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], k, m_bending, true,
+              tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, true,
               [X, D](Eigen::Index r, int c) { return Dual(X[3 * r + c], D[3 * r + c]); },
               [O](Eigen::Index r, int c, Dual s) { O[3 * r + c] += s.b; }, em, eb);
         }
@@ -323,7 +324,7 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
-  withLaw(m_material, false, [&](const auto& k) {
+  withLaw(m_material, false, [&](const auto& law) {
     const bool project = mode == HessianMode::Projected;
     auto elements = [&](int s0, int s1) {
       // K_pq = Σ_d c[d][p] (Σ_e c[e][q] H_de) in 3 x 3 blocks, the upper blocks (q >= p) only,
@@ -347,7 +348,7 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
               for (int p = 0; p < L; ++p)
                 for (int m = 0; m < 5; ++m)
                   for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * X[p][cc];
-              densityHessian(y, rest[q1 * m_qv + q2], k, m_bending, project, H);
+              densityHessian(y, rest[q1 * m_qv + q2], law, m_bending, project, H);
               accumulateElement(L, c, H, HC.data(), Ke.data());
             }
           for (int p = 0; p < L; ++p)
@@ -407,7 +408,7 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
   Eigen::VectorXd rows = Eigen::VectorXd::Zero(m_space.netSize());
-  withLaw(m_material, false, [&](const auto& k) {
+  withLaw(m_material, false, [&](const auto& law) {
     forEachBlock([&](int, int s0, int s1) {
       double c[5][kMaxPoints * kMaxPoints];
       for (int e1 = s0; e1 < s1; ++e1)
@@ -423,7 +424,7 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
                   for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * net(r, cc);
               }
               Eigen::Matrix<double, 15, 15> H;
-              densityHessian(y, rest[q1 * m_qv + q2], k, m_bending, false, H.data());
+              densityHessian(y, rest[q1 * m_qv + q2], law, m_bending, false, H.data());
               double s[5] = {};
               for (int m = 0; m < 5; ++m)
                 for (int p = 0; p < L; ++p) s[m] += std::abs(c[m][p]);

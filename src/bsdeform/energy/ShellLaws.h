@@ -16,7 +16,6 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>
-#include <type_traits>
 
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/energy/ShellDual.h"
