@@ -56,6 +56,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(w20, (0.01));
   SO_NODE_ADD_FIELD(w02, (0.01));
   SO_NODE_ADD_FIELD(energy, (PAPER_ENERGY));
+  SO_NODE_ADD_FIELD(material, (SAINT_VENANT_KIRCHHOFF));
   SO_NODE_ADD_FIELD(youngsModulus, (1.0e6));
   SO_NODE_ADD_FIELD(poissonRatio, (0.3));
   SO_NODE_ADD_FIELD(thickness, (0.001));
@@ -98,6 +99,9 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   fieldData->addEnumValue("Energy", "PAPER", PAPER_ENERGY);
   SO_NODE_DEFINE_ENUM_VALUE(Energy, SHELL);
   SO_NODE_SET_SF_ENUM_TYPE(energy, Energy);
+  SO_NODE_DEFINE_ENUM_VALUE(Material, SAINT_VENANT_KIRCHHOFF);
+  SO_NODE_DEFINE_ENUM_VALUE(Material, NEO_HOOKEAN);
+  SO_NODE_SET_SF_ENUM_TYPE(material, Material);
   SO_NODE_DEFINE_ENUM_VALUE(MassModel, NODAL);
   SO_NODE_DEFINE_ENUM_VALUE(MassModel, LUMPED);
   SO_NODE_SET_SF_ENUM_TYPE(massModel, MassModel);

@@ -22,6 +22,8 @@
 ///   energy PAPER          # PAPER: the paper's eq. 7 with the weights above | SHELL: the
 ///                         #   Kirchhoff–Love thin shell of the material below (SI units;
 ///                         #   mass rho t per rest area, damping a rate in 1/s, loads per m²)
+///   material SAINT_VENANT_KIRCHHOFF # SHELL: SAINT_VENANT_KIRCHHOFF (S = C:E) | NEO_HOOKEAN
+///                         #   (compressible, plane stress, through the thickness; large strains)
 ///   youngsModulus 1e6     # SHELL: E (Pa), > 0
 ///   poissonRatio 0.3      # SHELL: nu, in [0, 0.5)
 ///   thickness 0.001       # SHELL: t (m), > 0
@@ -128,6 +130,8 @@ class SoBSplineDeformSurface : public SoShape {
   /// The `energy` field; its values are spelt PAPER and SHELL in files (PAPER_ENERGY only in
   /// C++, where Start already has a PAPER).
   enum Energy { PAPER_ENERGY = 0, SHELL = 1 };
+  /// The `material` field (SHELL): the strain energy per volume.
+  enum Material { SAINT_VENANT_KIRCHHOFF = 0, NEO_HOOKEAN = 1 };
 
   static void initClass();
   SoBSplineDeformSurface();
@@ -142,6 +146,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble w20;               ///< omega_20 bending along u; 0.01
   SoSFDouble w02;               ///< omega_02 bending along v; 0.01
   SoSFEnum energy;              ///< PAPER (eq. 7, the weights above) or SHELL (Kirchhoff–Love); PAPER
+  SoSFEnum material;            ///< SHELL: SAINT_VENANT_KIRCHHOFF or NEO_HOOKEAN; SAINT_VENANT_KIRCHHOFF
   SoSFDouble youngsModulus;     ///< SHELL: E in Pa; 1e6
   SoSFDouble poissonRatio;      ///< SHELL: nu in [0, 0.5); 0.3
   SoSFDouble thickness;         ///< SHELL: t in m; 0.001

@@ -82,6 +82,8 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
         unknown("massModel", n.massModel.getValue()));
   check(n.energy.getValue() == Surface::PAPER_ENERGY || n.energy.getValue() == Surface::SHELL, "energy",
         unknown("energy", n.energy.getValue()));
+  check(n.material.getValue() == Surface::SAINT_VENANT_KIRCHHOFF || n.material.getValue() == Surface::NEO_HOOKEAN,
+        "material", unknown("material", n.material.getValue()));
   check(n.integrator.getValue() == Surface::EXPLICIT || n.integrator.getValue() == Surface::IMPLICIT ||
             n.integrator.getValue() == Surface::BACKWARD_EULER,
         "integrator",
@@ -156,6 +158,8 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   p.material.poissonRatio = n.poissonRatio.getValue();
   p.material.thickness = n.thickness.getValue();
   p.material.density = n.density.getValue();
+  p.material.law = n.material.getValue() == Surface::NEO_HOOKEAN ? ShellMaterialLaw::NeoHookean
+                                                                  : ShellMaterialLaw::SaintVenantKirchhoff;
   p.newtonTolerance = n.newtonTolerance.getValue();
   p.maxNewtonIterations = n.maxNewtonIterations.getValue();
   p.newtonVelocityTolerance = n.newtonVelocityTolerance.getValue();

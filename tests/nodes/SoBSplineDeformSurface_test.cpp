@@ -160,6 +160,48 @@ TEST_CASE("SoBSplineDeformSurface: a refused SHELL material names its field and 
   root->unref();
 }
 
+TEST_CASE("SoBSplineDeformSurface: material NEO_HOOKEAN reads, writes back and reaches the model, and bad values "
+          "are refused naming the field",
+          "[nodes]") {
+  SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { energy SHELL "
+                                     "material NEO_HOOKEAN on FALSE } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK(s->material.getValue() == SoBSplineDeformSurface::NEO_HOOKEAN);
+  REQUIRE(s->stepSimulation(1));
+  CHECK(s->simulation().parameters().material.law == bsdeform::ShellMaterialLaw::NeoHookean);
+  const std::string text = testutil::write(root);
+  CHECK(text.find("material NEO_HOOKEAN") != std::string::npos);
+  SoSeparator* again = testutil::read(text);
+  REQUIRE(again);
+  CHECK(testutil::find<SoBSplineDeformSurface>(again)->material.getValue() == SoBSplineDeformSurface::NEO_HOOKEAN);
+  again->unref();
+  // the default is St. Venant–Kirchhoff, and a default is not written
+  SoSeparator* plain = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { energy SHELL on FALSE } }");
+  REQUIRE(plain);
+  auto* p = testutil::find<SoBSplineDeformSurface>(plain);
+  REQUIRE(p->stepSimulation(1));
+  CHECK(p->simulation().parameters().material.law == bsdeform::ShellMaterialLaw::SaintVenantKirchhoff);
+  const std::string plainText = testutil::write(plain);
+  CHECK(plainText.find("material SAINT_VENANT_KIRCHHOFF") == std::string::npos);
+  CHECK(plainText.find("material NEO_HOOKEAN") == std::string::npos);
+  plain->unref();
+  // a value set from code that names no law: refused, the last valid model kept
+  s->material.setValue(7);
+  CHECK(s->simulation().parameters().material.law == bsdeform::ShellMaterialLaw::NeoHookean);
+  CHECK_THAT(s->lastWarning(), Catch::Contains("field 'material'") && Catch::Contains("7"));
+  s->material = SoBSplineDeformSurface::SAINT_VENANT_KIRCHHOFF;
+  REQUIRE(s->stepSimulation(1));
+  CHECK(s->simulation().parameters().material.law == bsdeform::ShellMaterialLaw::SaintVenantKirchhoff);
+  root->unref();
+  // an unknown name in a file is Coin's parse error, naming the value
+  Coin::get().messages.clear();
+  CHECK(testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { material MOONEY_RIVLIN } }") ==
+        nullptr);
+  REQUIRE(!Coin::get().messages.empty());
+  CHECK(Coin::get().messages[0].find("MOONEY_RIVLIN") != std::string::npos);
+}
+
 TEST_CASE("SoBSplineDeformSurface: bounding box, triangle count and SoComplexity", "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
   REQUIRE(root);

@@ -56,7 +56,7 @@ enum class ElasticReference {
 /// Which elastic energy the model has.
 enum class EnergyModel {
   Paper,  ///< the paper's eq. 7: quadratic in the positions, weights omega (the default)
-  Shell,  ///< the Kirchhoff–Love thin shell of a St. Venant–Kirchhoff material (Shell.h)
+  Shell,  ///< the Kirchhoff–Love thin shell of a St. Venant–Kirchhoff or neo-Hookean material (Shell.h)
 };
 
 /// How the scheme starts from a state at rest (the net one (sub-)step delta before t = 0).

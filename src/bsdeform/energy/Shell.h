@@ -8,15 +8,19 @@
 /// surface and A_αβ, B_αβ, J₀ = |A₁×A₂| of the rest surface:
 ///   membrane strain E = ½(a − A), bending strain κ = B − b,
 ///   C^{αβγδ} = λ̄ A^{αβ}A^{γδ} + μ (A^{αγ}A^{βδ} + A^{αδ}A^{βγ}),  λ̄ = Eν/(1−ν²), μ = E/(2(1+ν)),
-///   W = ∫ (½ t E:C:E + ½ t³/12 κ:C:κ) J₀ du dv   (St. Venant–Kirchhoff, plane stress).
+///   W = ∫ (½ t E:C:E + ½ t³/12 κ:C:κ) J₀ du dv   (St. Venant–Kirchhoff, plane stress),
+/// or, with ShellMaterialLaw::NeoHookean, W = ∫∫ Ψ(E + zκ) dz J₀ du dv with a compressible
+/// neo-Hookean Ψ condensed to plane stress (docs/math.md §16.1).
 /// The rest surface is stress-free whatever its shape. Degree 1 in either direction has no
 /// second derivatives: the membrane part only.
 ///
-/// Everything is derived from one kernel, the energy density's gradient with respect to the
-/// five surface derivatives (S_u, S_v, S_uu, S_uv, S_vv) at a Gauss point, written once for
-/// doubles and for dual numbers: the Hessian–vector product is the exact directional derivative
-/// of the gradient. The 15 x 15 Hessian of the density, for the assembled tangent, is derived by
-/// hand (docs/math.md §16, "The tangent") and checked against the dual numbers in the tests.
+/// Three parts: the kinematics kernel (ShellKinematics.h: the five surface derivatives
+/// y = (S_u, S_v, S_uu, S_uv, S_vv) at a Gauss point → E, κ and their derivatives), the material
+/// law (ShellLaws.h: E, κ → energy, stress resultants and their tangent) and the element loops
+/// here. The kernel is written once for doubles and for dual numbers: the Hessian–vector product
+/// is the exact directional derivative of the gradient. The 15 x 15 Hessian of the density, for
+/// the assembled tangent, is derived by hand for both laws (docs/math.md §16, "The tangent", and
+/// §16.1) and checked against the dual numbers in the tests.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -27,12 +31,20 @@
 
 namespace bsdeform {
 
+/// The shell's strain energy per reference volume (docs/math.md §16 and §16.1).
+enum class ShellMaterialLaw {
+  SaintVenantKirchhoff,  ///< S = C:E, plane stress, membrane t and bending t³/12 (the default)
+  NeoHookean,  ///< compressible neo-Hookean, plane stress by condensing the thickness stretch,
+               ///< integrated through the thickness (Kiendl et al. 2015); SVK's for small strains
+};
+
 /// A homogeneous, isotropic elastic sheet (SI units in the nodes: Pa, m, kg/m³).
 struct ShellMaterial {
   double youngsModulus = 1.0e6;  ///< E > 0
   double poissonRatio = 0.3;     ///< ν in [0, 0.5)
   double thickness = 1.0e-3;     ///< t > 0
   double density = 1000.0;       ///< ρ > 0 (mass per volume; ρ t per rest area)
+  ShellMaterialLaw law = ShellMaterialLaw::SaintVenantKirchhoff;  ///< the strain energy
 };
 
 /// The two parts of the shell's strain energy.
@@ -76,7 +88,8 @@ class ShellEnergy {
   /// The element Hessians of W at `net`: sink(e1, e2, Ke) for every element (knot span e1 in u,
   /// e2 in v), Ke the ((n1+1)(n2+1) x 3)^2 matrix row-major in 3 x 3 blocks [p][q][a][b], local
   /// point p = a * (n2 + 1) + b at net point (e1 + a, e2 + b). The density Hessian is derived
-  /// by hand (docs/math.md §16, "The tangent"), not by dual numbers. Unless `serial`, sink is
+  /// by hand (docs/math.md §16, "The tangent"; §16.1 for the neo-Hookean law's material part),
+  /// not by dual numbers. Unless `serial`, sink is
   /// called from several threads at once, for elements of u-blocks that touch disjoint net rows
   /// (each net row's contributions come in the same order for any thread count).
   void elementHessians(const ControlNet& net, HessianMode mode, bool serial,
