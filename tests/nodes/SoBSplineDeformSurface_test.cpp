@@ -202,6 +202,58 @@ TEST_CASE("SoBSplineDeformSurface: material NEO_HOOKEAN reads, writes back and r
   CHECK(Coin::get().messages[0].find("MOONEY_RIVLIN") != std::string::npos);
 }
 
+TEST_CASE("SoBSplineDeformSurface: holdUMin and SYMMETRY read, write back and reach the model, and misuse is refused "
+          "naming the field",
+          "[nodes]") {
+  SoSeparator* root = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { energy SHELL numUControlPoints 4 "
+      "numVControlPoints 4 boundaryUMin SIMPLY_SUPPORTED holdUMin ( X | Z ) boundaryUMax SIMPLY_SUPPORTED "
+      "boundaryVMin SYMMETRY boundaryVMax FREE holdPins Z on FALSE } }");
+  REQUIRE(root);
+  auto* s = testutil::find<SoBSplineDeformSurface>(root);
+  CHECK(s->holdUMin.getValue() == (SoBSplineDeformSurface::X | SoBSplineDeformSurface::Z));
+  CHECK(s->holdUMax.getValue() == (SoBSplineDeformSurface::X | SoBSplineDeformSurface::Y | SoBSplineDeformSurface::Z));
+  CHECK(s->boundaryVMin.getValue() == SoBSplineDeformSurface::SYMMETRY);
+  const bsdeform::ModelParameters& p = s->simulation().parameters();
+  CHECK(p.boundaries.uMin == bsdeform::Boundary::Free);  // the components on the unknowns
+  CHECK(p.sideSupports[0].kind == bsdeform::SideSupport::Kind::Hinge);
+  CHECK(p.sideSupports[0].components == 5u);
+  CHECK(p.boundaries.uMax == bsdeform::Boundary::SimplySupported);  // all three: the space's own
+  CHECK(p.sideSupports[1].kind == bsdeform::SideSupport::Kind::None);
+  CHECK(p.sideSupports[2].kind == bsdeform::SideSupport::Kind::Symmetry);
+  CHECK(p.pinComponents == 4u);
+  // static only: the steppers refuse, saying so; the static solve takes it
+  CHECK(!s->stepSimulation(1));
+  CHECK_THAT(s->simulation().statusMessage(), Catch::Contains("static solve and arc length only"));
+  const std::string text = testutil::write(root);
+  CHECK(text.find("holdUMin (X | Z)") != std::string::npos);
+  CHECK(text.find("boundaryVMin SYMMETRY") != std::string::npos);
+  // a default is not written (the name appears only in the node's field declarations)
+  CHECK(text.find("holdUMax (") == std::string::npos);
+  CHECK(text.find("holdUMax X") == std::string::npos);
+  SoSeparator* again = testutil::read(text);
+  REQUIRE(again);
+  CHECK(testutil::find<SoBSplineDeformSurface>(again)->holdUMin.getValue() == 5);
+  again->unref();
+  root->unref();
+  // components on a side that is not SIMPLY_SUPPORTED, on the paper's energy: refused by name
+  auto refusedField = [](const char* fields) {
+    SoSeparator* r = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { ") + fields +
+                                    " on FALSE } }");
+    REQUIRE(r);
+    auto* n = testutil::find<SoBSplineDeformSurface>(r);
+    n->stepSimulation(1);
+    const std::string w = n->lastWarning();
+    r->unref();
+    return w;
+  };
+  CHECK_THAT(refusedField("energy SHELL boundaryUMin FREE holdUMin X"),
+             Catch::Contains("field 'holdUMin'") && Catch::Contains("not SIMPLY_SUPPORTED"));
+  CHECK_THAT(refusedField("boundaryUMin SIMPLY_SUPPORTED holdUMin X"),
+             Catch::Contains("field 'holdUMin'") && Catch::Contains("SHELL"));
+  CHECK_THAT(refusedField("boundaryVMax SYMMETRY"), Catch::Contains("field 'boundaryVMax'") && Catch::Contains("SHELL"));
+}
+
 TEST_CASE("SoBSplineDeformSurface: bounding box, triangle count and SoComplexity", "[nodes]") {
   SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { on FALSE } }");
   REQUIRE(root);

@@ -236,7 +236,8 @@ class Simulation {
   double subStepsNeeded() const { return m_subStepsNeeded; }
   /// Why the next step() would be refused, or "" when it can be taken: it needs more than
   /// maxSubSteps sub-steps, or the clock no longer advances by Delta t at time() (t + Delta t
-  /// rounds to t, or off by more than 1e-4 Delta t).
+  /// rounds to t, or off by more than 1e-4 Delta t), or the model has supports the time
+  /// steppers do not take (sideSupports, pinComponents: static solve and arc length only).
   std::string refusal() const;
 
   Status status() const { return m_status; }
