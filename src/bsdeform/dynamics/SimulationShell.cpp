@@ -201,6 +201,25 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
          << "), is not zero: there is no equilibrium; hold the surface (a side, a pin) or run the dynamics";
       throw std::runtime_error(os.str());
     }
+  } else if (conservative && loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax)) {
+    // held only in some components (supports per component, SYMMETRY, pins holding some, held
+    // coordinates): a translation along an axis no constraint touches is still free, and a
+    // constant load along it has no equilibrium (a spring or contact may still hold it)
+    const ControlNet Lrest = loadAt(net, 0.0);
+    const Eigen::RowVector3d resultant = Lrest.colwise().sum();
+    const double size = Lrest.cwiseAbs().sum();
+    for (int a = 0; a < 3; ++a) {
+      bool touched = false;
+      for (size_t d = size_t(a); d < m_heldMask.size(); d += 3) touched |= m_heldMask[d] != 0;
+      if (!touched && std::abs(resultant[a]) > 1e-8 * size) {
+        const char axis[] = {char('x' + a), '\0'};
+        throw std::runtime_error(std::string("static solve: the translation along ") + axis +
+                                 " is free (no support, symmetry side or pin holds a " + axis +
+                                 " component) and the loads' resultant along it at rest, " + numberText(resultant[a]) +
+                                 ", is not zero: there is no equilibrium; hold " + axis +
+                                 " somewhere (holdPins, a side's hold components)");
+      }
+    }
   }
   // the total potential W(x) - L·x at load factor `loadFactor` (its gradient the residual
   // R = dW/dx - L, held coordinates zeroed) when every load is constant; ||R|| otherwise
