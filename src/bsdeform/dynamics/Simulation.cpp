@@ -138,7 +138,9 @@ double Simulation::massAt(int i, int j) const {
 }
 
 void Simulation::holdPins(ControlNet& net) const {
-  for (Eigen::Index r : m_pinned) net.row(r) = m_rest.row(r);
+  for (Eigen::Index r : m_pinned)
+    for (int c = 0; c < 3; ++c)
+      if (m_params.pinComponents & (1u << c)) net(r, c) = m_rest(r, c);
   for (const ModelParameters::HeldCoordinate& h : m_params.heldCoordinates) net(h.point, h.axis) = m_rest(h.point, h.axis);
 }
 
@@ -424,13 +426,11 @@ void Simulation::applyStartRule() {
 }
 
 std::string Simulation::refusal() const {
-  if (m_params.pinComponents != 7u && !m_params.pins.empty())
-    return "pins holding chosen components (holdPins) are taken by the static solve and arc length only "
-           "(bsdeform-run --static, Solve Static), not yet by the time steppers";
-  if (m_components)
-    return "supports per component (holdUMin ..., SIMPLY_SUPPORTED holding some of X, Y, Z) and SYMMETRY sides "
-           "are taken by the static solve and arc length only (bsdeform-run --static, Solve Static), not yet by the "
-           "time steppers";
+  const bool partial = (m_params.pinComponents != 7u && !m_params.pins.empty()) || m_components;
+  if (partial && m_params.integrator != Integrator::BackwardEuler)
+    return "supports per component (holdUMin ..., SIMPLY_SUPPORTED holding some of X, Y, Z), SYMMETRY sides and "
+           "pins holding some components (holdPins) are taken by the static solve, arc length and integrator "
+           "BACKWARD_EULER only, not yet by EXPLICIT or IMPLICIT";
   std::ostringstream os;
   os.precision(6);
   const double dt = m_params.timeStep;

@@ -461,14 +461,15 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   // E(x) and its gradient; `potential` false when a load has none (the line search then
   // watches the residual)
   ControlNet gW, L, Mdx, Mdn;
+  ControlNet xc;  // x with the coordinates constrained by supports per component completed
   auto evaluate = [&](const ControlNet& x, NewtonPoint& ev) {
-    sp.scatterMoving(x, net);
-    sp.completeNet(net, &s.m_rest);
+    xc = x;
+    s.completeUnknowns(xc, net);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
     s.shellGradient(net, gW);
     L = fixedLoad;
     ev.potential = true;
-    double phi = -(fixedLoad.array() * x.array()).sum();
+    double phi = -(fixedLoad.array() * xc.array()).sum();
     for (const Force* f : stateForces) {
       f->addLoad(ctx, L);
       double value = 0.0;
@@ -477,10 +478,11 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
       else
         ev.potential = false;
     }
-    const ControlNet dx = x - xhat, dn = x - P;
+    const ControlNet dx = xc - xhat, dn = xc - P;
     Mdx = s.shellApplyMass(dx);
     Mdn = s.shellApplyMass(dn);
     ev.g = Mdx / (h * h) + (c / h) * Mdn + gW - L;
+    if (s.m_components) s.m_components->fold(ev.g);  // onto the free coordinates
     for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (held(f, k)) ev.g(f, k) = 0.0;
@@ -492,7 +494,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
       const double elastic = s.m_energy->energy(net);
       ev.value = inertia + damping + elastic + phi;
       ev.valueScale = std::abs(inertia) + std::abs(damping) + std::abs(elastic) + std::abs(phi) +
-                      (fixedLoad.array() * x.array()).abs().sum();
+                      (fixedLoad.array() * xc.array()).abs().sum();
     } else {
       ev.value = ev.valueScale = 0.0;
     }
@@ -518,9 +520,13 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   // (NewtonMinimizer), so that a run resumed from a saved state takes the same iterates.
   NewtonMinimizer::Problem problem;
   problem.evaluate = evaluate;
+  Eigen::SparseMatrix<double> folded;
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    return s.shellTangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
+    const Eigen::SparseMatrix<double>& K = s.shellTangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
+    if (!s.m_components) return K;
+    folded = s.m_components->foldTangent(K, s.m_heldMask);
+    return folded;
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.m_params.newtonTolerance * forceScale; };
   NewtonMinimizer::Options options;
@@ -529,6 +535,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   options.shift = massShift;
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   const NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
+  if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only
   m_newtonIterations = outcome.iterations;
   m_factorisations += outcome.factorisations;
   if (!outcome.converged) {
