@@ -45,7 +45,7 @@
 ///   boundaryVMax CLAMPED  #   SIMPLY_SUPPORTED (edge curve held, a hinge) | BUILT_IN (edge curve
 ///                         #   and cross derivative held, an engineering clamp) | SYMMETRY (SHELL,
 ///                         #   static: a symmetry plane through the edge); u = 1, v = 0, v = 1 alike
-///   holdUMin (X | Y | Z)  # SHELL, static: the components a SIMPLY_SUPPORTED side holds (a rigid
+///   holdUMin (X | Y | Z)  # SHELL: the components a SIMPLY_SUPPORTED or BUILT_IN side holds (a rigid
 ///   holdUMax (X | Y | Z)  #   diaphragm: two of them, a roller: one); holdUMax, holdVMin,
 ///   holdVMin (X | Y | Z)  #   holdVMax alike
 ///   holdVMax (X | Y | Z)
@@ -165,7 +165,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED
   SoSFEnum boundaryVMin;        ///< side v = 0; CLAMPED
   SoSFEnum boundaryVMax;        ///< side v = 1; CLAMPED
-  /// SHELL, static: the world components a SIMPLY_SUPPORTED side holds (X | Y | Z)
+  /// SHELL: the world components a SIMPLY_SUPPORTED or BUILT_IN side holds (X | Y | Z)
   SoSFBitMask holdUMin;
   SoSFBitMask holdUMax;         ///< as holdUMin, side u = 1
   SoSFBitMask holdVMin;         ///< as holdUMin, side v = 0

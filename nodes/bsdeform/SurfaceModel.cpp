@@ -107,9 +107,10 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
     const unsigned mask = unsigned(holds[k]->getValue());
     check((mask & ~all) == 0, holdNames[k], "field '" + std::string(holdNames[k]) + "' has an unknown value " + std::to_string(mask));
     if (mask == all) continue;
-    check(sides[k].first->getValue() == Surface::SIMPLY_SUPPORTED, holdNames[k],
-          "field '" + std::string(holdNames[k]) + "' holds chosen components of a SIMPLY_SUPPORTED side; " + sides[k].second +
-              " is not SIMPLY_SUPPORTED (leave " + holdNames[k] + " at X | Y | Z)");
+    check(sides[k].first->getValue() == Surface::SIMPLY_SUPPORTED || sides[k].first->getValue() == Surface::BUILT_IN,
+          holdNames[k],
+          "field '" + std::string(holdNames[k]) + "' holds chosen components of a SIMPLY_SUPPORTED or BUILT_IN side; " +
+              sides[k].second + " is neither (leave " + holdNames[k] + " at X | Y | Z)");
     check(mask != 0, holdNames[k], "field '" + std::string(holdNames[k]) + "' holds no component: make " +
                                        sides[k].second + " FREE instead");
     check(n.energy.getValue() == Surface::SHELL, holdNames[k],
@@ -178,6 +179,9 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
       } else if (sides[k].first->getValue() == Surface::SIMPLY_SUPPORTED && mask != all) {
         *space[k] = Boundary::Free;
         p.sideSupports[size_t(k)] = SideSupport{SideSupport::Kind::Hinge, mask};
+      } else if (sides[k].first->getValue() == Surface::BUILT_IN && mask != all) {
+        *space[k] = Boundary::Free;
+        p.sideSupports[size_t(k)] = SideSupport{SideSupport::Kind::Clamp, mask};
       }
     }
   }

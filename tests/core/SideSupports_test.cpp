@@ -359,3 +359,43 @@ TEST_CASE("BACKWARD_EULER takes supports per component and SYMMETRY sides: the d
   CHECK(explicitRoof.step() == Status::Refused);
   CHECK(explicitRoof.statusMessage().find("BACKWARD_EULER only") != std::string::npos);
 }
+
+TEST_CASE("Supports per component on BUILT_IN sides: all three are BUILT_IN, Z alone keeps the edge's height and "
+          "slope at rest",
+          "[shell][supports]") {
+  const ShellMaterial m{1e6, 0.3, 0.01, 1.0};
+  ModelParameters bi = shell(8, 8, Boundaries{Boundary::BuiltIn, Boundary::Free, Boundary::Free, Boundary::Free}, m);
+  Simulation a(bi);
+  a.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -2.0)));
+  const StaticResult ra = a.solveStatic(1e-11, 100, LinearSolver::Automatic, 2);
+  ModelParameters comp = bi;
+  comp.boundaries.uMin = Boundary::Free;
+  comp.sideSupports[0] = SideSupport{SideSupport::Kind::Clamp, 7};
+  Simulation b(comp);
+  b.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -2.0)));
+  const StaticResult rb = b.solveStatic(1e-11, 100, LinearSolver::Automatic, 2);
+  for (double u : {0.0, 0.4, 1.0})
+    for (double v : {0.0, 0.5, 1.0}) {
+      CAPTURE(u, v);
+      CHECK((a.space().evaluate(ra.net, u, v, 0).position - b.space().evaluate(rb.net, u, v, 0).position).norm() <= 1e-9);
+    }
+  // Z only on both u sides (x, y free: a sheet on two clamping rails it may slide along)
+  ModelParameters z = comp;
+  z.boundaries.uMax = Boundary::Free;
+  z.sideSupports[0] = SideSupport{SideSupport::Kind::Clamp, 4};
+  z.sideSupports[1] = SideSupport{SideSupport::Kind::Clamp, 4};
+  Simulation c(z);
+  c.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -2.0)));
+  const StaticResult rc = c.solveStatic(1e-11, 100, LinearSolver::Automatic, 2);
+  double sag = 0.0;
+  for (double v : {0.0, 0.3, 0.5, 1.0}) {
+    for (double u : {0.0, 1.0}) {
+      const SurfacePoint p = c.space().evaluate(rc.net, u, v, 1), r0 = c.space().evaluate(c.rest(), u, v, 1);
+      CAPTURE(u, v);
+      CHECK(std::abs(p.position.z() - r0.position.z()) <= 1e-12);
+      CHECK(std::abs(p.du.z() - r0.du.z()) <= 1e-10);  // clamped: no slope across the edge
+    }
+    sag = std::max(sag, -c.space().evaluate(rc.net, 0.5, v, 0).position.z());
+  }
+  CHECK(sag > 1e-3);
+}

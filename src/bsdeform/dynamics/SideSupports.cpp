@@ -77,18 +77,23 @@ ComponentConstraints::ComponentConstraints(const SplineSpace& space, const Contr
       if (!m_isDerived[size_t(d)]) m_derived.push_back(d);
       m_isDerived[size_t(d)] = 1;
     };
-    if (s.kind == SideSupport::Kind::Hinge) {
+    if (s.kind == SideSupport::Kind::Hinge || s.kind == SideSupport::Kind::Clamp) {
+      const bool clamp = s.kind == SideSupport::Kind::Clamp;
       if ((s.components & 7u) == 0)
-        throw std::invalid_argument(std::string(fieldOf(side)) + ": SIMPLY_SUPPORTED holding no component (hold " +
-                                    sideName(side) + " is empty): use FREE");
-      const EdgeLayers el = edgeLayers(Boundary::SimplySupported, n);
+        throw std::invalid_argument(std::string(fieldOf(side)) + ": " + (clamp ? "BUILT_IN" : "SIMPLY_SUPPORTED") +
+                                    " holding no component (hold " + sideName(side) + " is empty): use FREE");
+      // the space's own layers for the side kind: `held` outer layers at rest, then `derived`
+      // layers from the next `sources` ones with weights Z
+      const EdgeLayers el = edgeLayers(clamp ? Boundary::BuiltIn : Boundary::SimplySupported, n);
       for (int t = 0; t < lines; ++t)
         for (int c = 0; c < 3; ++c) {
           if (!(s.components & (1u << c))) continue;
-          std::vector<std::pair<int, double>> sources;
-          if (el.derived == 1)
-            for (int k = 0; k < el.sources; ++k) sources.emplace_back(1 + k, el.Z(0, k));
-          derive(0, t, c, sources);  // degree 1: no sources, held at rest
+          for (int l = 0; l < el.held; ++l) derive(l, t, c, {});
+          for (int d = 0; d < el.derived; ++d) {
+            std::vector<std::pair<int, double>> sources;
+            for (int k = 0; k < el.sources; ++k) sources.emplace_back(el.held + el.derived + k, el.Z(d, k));
+            derive(el.held + d, t, c, sources);
+          }
         }
       continue;
     }

@@ -8,6 +8,9 @@
 ///    n outer layers, so coordinate c of the outermost layer is derived from coordinate c of the
 ///    n - 1 next ones with SIMPLY_SUPPORTED's weights Z (EdgeLayers): P₀c = R₀c + Σ Z_s (P_sc − R_sc);
 ///    the other components move freely (degree 1: coordinate c of the outer layer is held).
+///  - Clamp (`BUILT_IN` with `holdUMin ...`): the same for the edge curve and its cross
+///    derivative, with BUILT_IN's layers (EdgeLayers: the two outer layers' coordinate c derived
+///    from the n - 2 next ones; degree 2 and 1 hold their layers' coordinate c).
 ///  - Symmetry (`SYMMETRY`): the rest surface is mirror-symmetric about a coordinate plane
 ///    x_a = x0 through the edge, and so is the solution. On a uniform knot grid the B-spline of
 ///    net layer i mirrors that of layer n - 1 - i about the edge, so the outer layers
@@ -34,10 +37,11 @@ struct SideSupport {
   enum class Kind {
     None,      ///< nothing here (the space's boundary kind alone)
     Hinge,     ///< the edge curve's `components` held (a diaphragm, a roller)
+    Clamp,     ///< the edge curve's and the cross derivative's `components` held (BUILT_IN's)
     Symmetry,  ///< a symmetry plane through the edge
   };
   Kind kind = Kind::None;
-  unsigned components = 7;  ///< Hinge: bit 0 x, bit 1 y, bit 2 z
+  unsigned components = 7;  ///< Hinge, Clamp: bit 0 x, bit 1 y, bit 2 z
 };
 
 /// The four sides in the order uMin, uMax, vMin, vMax.
