@@ -411,7 +411,12 @@ void Simulation::applyStartRule() {
       if (!m_pinMask[size_t(r)]) m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta) * acceleration.row(f);
     }
     holdPins(m_previous);  // held coordinates
-    m_space.completeNet(m_previous, &m_rest);
+    if (m_components) {  // the coordinates supports per component constrain follow the others
+      ControlNet x = m_space.gatherMoving(m_previous);
+      completeUnknowns(x, m_previous);
+    } else {
+      m_space.completeNet(m_previous, &m_rest);
+    }
     m_stepper->invalidate();
     return;
   }
@@ -427,10 +432,10 @@ void Simulation::applyStartRule() {
 
 std::string Simulation::refusal() const {
   const bool partial = (m_params.pinComponents != 7u && !m_params.pins.empty()) || m_components;
-  if (partial && m_params.integrator != Integrator::BackwardEuler)
-    return "supports per component (holdUMin ..., SIMPLY_SUPPORTED holding some of X, Y, Z), SYMMETRY sides and "
-           "pins holding some components (holdPins) are taken by the static solve, arc length and integrator "
-           "BACKWARD_EULER only, not yet by EXPLICIT or IMPLICIT";
+  if (partial && m_params.integrator == Integrator::Explicit)
+    return "supports per component (holdUMin ..., SIMPLY_SUPPORTED or BUILT_IN holding some of X, Y, Z), SYMMETRY "
+           "sides and pins holding some components (holdPins) are taken by the static solve, arc length and the "
+           "integrators BACKWARD_EULER and IMPLICIT, not yet by EXPLICIT";
   std::ostringstream os;
   os.precision(6);
   const double dt = m_params.timeStep;

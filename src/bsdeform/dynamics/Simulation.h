@@ -91,13 +91,13 @@ struct ModelParameters {
     int axis = 0;
   };
   std::vector<HeldCoordinate> heldCoordinates;
-  /// SHELL, the static solve and arc length: per side (uMin, uMax, vMin, vMax), a support that
+  /// SHELL: per side (uMin, uMax, vMin, vMax), a support that
   /// holds chosen world components of the edge curve (a diaphragm, a roller) or a symmetry
-  /// plane through it (SideSupports.h); such a side is FREE in `boundaries`. The time steppers
-  /// refuse a model with one (Status::Refused, saying so).
+  /// plane through it (SideSupports.h); such a side is FREE in `boundaries`. BACKWARD_EULER and
+  /// IMPLICIT take them; EXPLICIT refuses a model with one (Status::Refused, saying so).
   SideSupports sideSupports;
-  /// SHELL, the static solve and arc length: the world components the pins hold (bit 0 x,
-  /// 1 y, 2 z; 7 all, the default). The time steppers refuse pins holding fewer.
+  /// SHELL: the world components the pins hold (bit 0 x,
+  /// 1 y, 2 z; 7 all, the default). EXPLICIT refuses pins holding fewer.
   unsigned pinComponents = 7;
   Weights weights;               ///< omega_10 .. omega_02
   MassModel massModel = MassModel::Nodal;

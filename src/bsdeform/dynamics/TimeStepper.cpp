@@ -290,11 +290,13 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     for (const Force* f : stateForces) f->addLoad(ctx, Lv);
     return Lv;
   };
+  ControlNet xc;  // xi with the coordinates constrained by supports per component completed
   auto residual = [&](const ControlNet& xi, ControlNet& gi, ControlNet& Ri) {
-    s.m_space.scatterMoving(xi, net);
-    s.m_space.completeNet(net, &s.m_rest);
+    xc = xi;
+    s.completeUnknowns(xc, net);
     s.shellGradient(net, gi);
-    Ri = a * s.shellApplyMass(xi - P) + 0.25 * gi - fixed - stateLoad(xi);
+    Ri = a * s.shellApplyMass(xc - P) + 0.25 * gi - fixed - stateLoad(xc);
+    if (s.m_components) s.m_components->fold(Ri);  // onto the free coordinates
     for (Eigen::Index f = 0; f < Ri.rows(); ++f)
       for (int c = 0; c < 3; ++c)
         if (s.heldCoordinate(f, c)) Ri(f, c) = 0.0;
@@ -332,9 +334,10 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     double shift = a;
     for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
       const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
-      factored = m_newton->factor(s.shellTangent(net, 0.25, shift,
-                                                 attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
-                                                 stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25));
+      const Eigen::SparseMatrix<double>& K =
+          s.shellTangent(net, 0.25, shift, attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
+                         stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25);
+      factored = m_newton->factor(s.m_components ? s.m_components->foldTangent(K, s.m_heldMask) : K);
       shift *= 4.0;
     }
     if (!factored) {
@@ -365,6 +368,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     if (alpha == 1.0 && step.cwiseAbs().maxCoeff() <= 1e-11 * x.cwiseAbs().maxCoeff()) break;
   }
   m_newtonIterations = it;
+  if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only
   bool ok = true;
   for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
   s.m_space.scatterMoving(x, s.m_previous);
