@@ -1079,3 +1079,26 @@ TEST_CASE("Editing: a shipped scene opens as a template, Save never writes over 
   REQUIRE(w.openScene(copy));
   CHECK_FALSE(w.isTemplate());
 }
+
+TEST_CASE("Field editor: a bit mask (holdVMax) is one check box per component, and a click edits the field", "[ui]") {
+  ensureApp();
+  auto w = makeWindow("scordelis_lo_roof.iv");
+  auto* roof = static_cast<SoBSplineDeformSurface*>(SoNode::getByName("Roof"));
+  REQUIRE(roof);
+  REQUIRE(w->selectNode(roof));
+  bsdeform::FieldEditor& ed = w->fieldEditor();
+  QWidget* editor = ed.editorOf(QStringLiteral("holdVMax"));
+  REQUIRE(editor);
+  const auto boxes = editor->findChildren<QCheckBox*>();
+  REQUIRE(boxes.size() == 3);
+  QCheckBox *x = nullptr, *y = nullptr, *z = nullptr;
+  for (QCheckBox* b : boxes) (b->text() == QLatin1String("X") ? x : b->text() == QLatin1String("Y") ? y : z) = b;
+  REQUIRE((x && y && z));
+  CHECK(x->isChecked());  // the diaphragm: X | Z
+  CHECK(!y->isChecked());
+  CHECK(z->isChecked());
+  y->click();
+  CHECK(roof->holdVMax.getValue() == (SoBSplineDeformSurface::X | SoBSplineDeformSurface::Y | SoBSplineDeformSurface::Z));
+  x->click();
+  CHECK(roof->holdVMax.getValue() == (SoBSplineDeformSurface::Y | SoBSplineDeformSurface::Z));
+}
