@@ -437,3 +437,26 @@ TEST_CASE("The static Newton's convergence does not depend on the load's size: a
   }
   CHECK(first == Approx(0.093).epsilon(0.01));
 }
+
+TEST_CASE("A plate on one edge holding Z only: its free x slide is refused by name, and its free rotation about the "
+          "edge is named when Newton fails",
+          "[shell][supports]") {
+  // a sheet in the plane z = 0, its side u = 0 (the line x = 0) holding z: it may slide in x and
+  // y, turn about z, and turn about the edge itself
+  ModelParameters p = shell(6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
+                            ShellMaterial{1e6, 0.3, 0.01, 1.0});
+  p.sideSupports[0] = hinge(4);
+  // a push along the free x slide: refused at once
+  Simulation pushed(p);
+  pushed.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(1.0, 0, 0)));
+  CHECK_THROWS_WITH(pushed.solveStatic(1e-10, 100, LinearSolver::Automatic, 1),
+                    Catch::Contains("the translation along x is free"));
+  // a downward load turns it about the edge: no equilibrium, and the failure says which motion
+  Simulation sheet(p);
+  sheet.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -1.0)));
+  CHECK(sheet.freeRigidMotionLoaded(sheet.loadVector(), false).empty());  // no translation
+  CHECK_THAT(sheet.freeRigidMotionLoaded(sheet.loadVector(), true),
+             Catch::Contains("the rotation about the axis (0, 1, 0) through (0, ") && Catch::Contains(", 0) is free"));
+  CHECK_THROWS_WITH(sheet.solveStatic(1e-10, 20, LinearSolver::Automatic, 1),
+                    Catch::Contains("perhaps because the rotation about the axis (0, 1, 0)"));
+}

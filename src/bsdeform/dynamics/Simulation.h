@@ -292,6 +292,10 @@ class Simulation {
   /// where nothing holds the surface), `maxLoadIterations` Newton iterations per increment.
   StaticResult solveStatic(double tolerance = 1e-10, int maxLoadIterations = 100,
                            LinearSolver solver = LinearSolver::Automatic, int loadSteps = 1) const;
+  /// A rigid motion the held and constrained coordinates leave free (to first order) and
+  /// `load` (on the unknowns) does work on, named ("the translation along y is free ..."), or
+  /// ""; translations only unless `rotations`.
+  std::string freeRigidMotionLoaded(const ControlNet& load, bool rotations) const;
   /// SHELL: the static equilibrium path by arc-length continuation (ArcLength.h, Crisfield's
   /// cylindrical form) from the rest state, the loads at time 0 scaled by the load factor:
   /// one StaticResult::Increment per converged point (its load factor, net, relative residual

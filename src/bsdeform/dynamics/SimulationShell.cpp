@@ -4,6 +4,7 @@
 // bound at the state, and the nonlinear static problem by Newton with load increments. Its
 // time steppers are in TimeStepper.cpp.
 #include <Eigen/CholmodSupport>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
@@ -203,23 +204,15 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     }
   } else if (conservative && loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax)) {
     // held only in some components (supports per component, SYMMETRY, pins holding some, held
-    // coordinates): a translation along an axis no constraint touches is still free, and a
-    // constant load along it has no equilibrium (a spring or contact may still hold it)
-    const ControlNet Lrest = loadAt(net, 0.0);
-    const Eigen::RowVector3d resultant = Lrest.colwise().sum();
-    const double size = Lrest.cwiseAbs().sum();
-    for (int a = 0; a < 3; ++a) {
-      bool touched = false;
-      for (size_t d = size_t(a); d < m_heldMask.size(); d += 3) touched |= m_heldMask[d] != 0;
-      if (!touched && std::abs(resultant[a]) > 1e-8 * size) {
-        const char axis[] = {char('x' + a), '\0'};
-        throw std::runtime_error(std::string("static solve: the translation along ") + axis +
-                                 " is free (no support, symmetry side or pin holds a " + axis +
-                                 " component) and the loads' resultant along it at rest, " + numberText(resultant[a]) +
-                                 ", is not zero: there is no equilibrium; hold " + axis +
-                                 " somewhere (holdPins, a side's hold components)");
-      }
-    }
+    // coordinates): a rigid motion the constraints leave free, on which the constant loads do
+    // work, has no equilibrium (a spring or contact may still hold it: not checked then)
+    // translations only: a rotation that is free to first order may still be held by the
+    // geometric nonlinearity (a flat sheet whose y is held everywhere cannot turn about x
+    // without stretching); it is named below if Newton then fails
+    const std::string free = freeRigidMotionLoaded(loadAt(net, 0.0), false);
+    if (!free.empty())
+      throw std::runtime_error("static solve: " + free +
+                               ": there is no equilibrium; hold it somewhere (holdPins, a side's hold components)");
   }
   // the total potential W(x) - L·x at load factor `loadFactor` (its gradient the residual
   // R = dW/dx - L, held coordinates zeroed) when every load is constant; ||R|| otherwise
@@ -340,11 +333,14 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     totalIterations += used;
     if (!ok) {
       delta = 0.25 * (factor - done);
-      if (delta < 1e-7 / loadSteps || totalIterations > maxIterations * loadSteps * 4)
+      if (delta < 1e-7 / loadSteps || totalIterations > maxIterations * loadSteps * 4) {
+        const std::string free = conservative ? freeRigidMotionLoaded(L0, true) : std::string();
         throw std::runtime_error("static solve: Newton's method did not reach the equilibrium of load factor " +
                                  numberText(factor) + " (relative residual " + numberText(cur.norm / cur.scale) + ", tolerance " +
                                  numberText(tolerance) + ", " + std::to_string(totalIterations) +
-                                 " iterations in all); run the dynamics with damping to find this equilibrium");
+                                 " iterations in all); " + (free.empty() ? "" : "perhaps because " + free + "; ") +
+                                 "run the dynamics with damping to find this equilibrium");
+      }
       continue;
     }
     previous = x;
@@ -467,6 +463,83 @@ void Simulation::completeUnknowns(ControlNet& x, ControlNet& net) const {
   if (m_components) m_components->complete(x);
   m_space.scatterMoving(x, net);
   m_space.completeNet(net, &m_rest);
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+// The rigid motions of the unknowns: translations along x, y, z and rotations about the axes
+// through the rest centroid. A motion is free when every held coordinate stays and every
+// constrained one follows its row (ComponentConstraints::complete of rest + motion gives it
+// back); the free ones are the null space of those violations (the eigenvectors of VᵀV with a
+// negligible eigenvalue). One on which `load` (on the unknowns) does work is named.
+std::string Simulation::freeRigidMotionLoaded(const ControlNet& load, bool rotations) const {
+  const ControlNet x0 = m_space.gatherMoving(m_rest);
+  const Eigen::RowVector3d c = x0.colwise().mean();
+  const double size = (x0.colwise().maxCoeff() - x0.colwise().minCoeff()).norm() + 1e-300;
+  std::vector<ControlNet> motions;
+  for (int a = 0; a < 3; ++a) {
+    ControlNet t = ControlNet::Zero(x0.rows(), 3);
+    t.col(a).setOnes();
+    motions.push_back(t);
+  }
+  for (int a = 0; a < 3; ++a) {  // rotation about axis a, scaled to a unit motion at the size
+    ControlNet r(x0.rows(), 3);
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
+    for (Eigen::Index f = 0; f < x0.rows(); ++f) r.row(f) = e.cross((x0.row(f) - c).transpose()).transpose() / size;
+    motions.push_back(r);
+  }
+  // violations of each motion, one column per motion
+  Eigen::MatrixXd V(3 * x0.rows(), 6);
+  for (int k = 0; k < 6; ++k) {
+    ControlNet moved = x0 + motions[size_t(k)];
+    if (m_components) m_components->complete(moved);
+    const ControlNet violation = (x0 + motions[size_t(k)]) - moved;  // constrained coordinates
+    for (Eigen::Index d = 0; d < V.rows(); ++d) {
+      const bool constrained = m_components && m_components->constrained(d);
+      V(d, k) = constrained ? violation(d / 3, int(d % 3))
+                            : (m_heldMask[size_t(d)] ? motions[size_t(k)](d / 3, int(d % 3)) : 0.0);
+    }
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig((V.transpose() * V).eval());
+  const double largest = std::max(eig.eigenvalues().maxCoeff(), 1.0);
+  const double loadSize = load.cwiseAbs().sum() + 1e-300;
+  for (int k = 0; k < 6; ++k) {
+    if (eig.eigenvalues()[k] > 1e-16 * largest) continue;  // blocked
+    const Eigen::Matrix<double, 6, 1> alpha = eig.eigenvectors().col(k);
+    ControlNet delta = ControlNet::Zero(x0.rows(), 3);
+    for (int j = 0; j < 6; ++j) delta += alpha[j] * motions[size_t(j)];
+    const double work = (load.array() * delta.array()).sum();
+    if (std::abs(work) <= 1e-8 * loadSize * delta.cwiseAbs().maxCoeff()) continue;
+    const Eigen::Vector3d t = alpha.head<3>(), w = alpha.tail<3>();
+    if (!rotations && w.norm() > 1e-6 * alpha.norm()) continue;
+    std::ostringstream os;
+    if (w.norm() <= 1e-6 * alpha.norm()) {
+      const Eigen::Vector3d dir = t.normalized();
+      Eigen::Index axis = 0;
+      if (dir.cwiseAbs().maxCoeff(&axis) < 1.0 - 1e-9) axis = -1;  // not along a coordinate axis
+      if (axis >= 0)
+        os << "the translation along " << char('x' + axis);
+      else
+        os << "the translation along (" << numberText(dir.x()) << ", " << numberText(dir.y()) << ", "
+           << numberText(dir.z()) << ")";
+      os << " is free (no support, symmetry side or pin holds it) and the loads do work on it";
+    } else {
+      // velocity t + ω × (x − c) with ω = w / size: the axis passes through c + ω × t / |ω|²
+      const Eigen::Vector3d omega = w / size, axis = w.normalized();
+      const Eigen::Vector3d through = c.transpose() + omega.cross(t) / omega.squaredNorm();
+      // rounding noise said as 0 (below 1e-9 of a unit direction, of the size for a point)
+      auto unit = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
+      auto point = [size](double v) { return std::abs(v) < 1e-9 * size ? 0.0 : v; };
+      os << "the rotation about the axis (" << numberText(unit(axis.x())) << ", " << numberText(unit(axis.y())) << ", "
+         << numberText(unit(axis.z())) << ") through (" << numberText(point(through.x())) << ", "
+         << numberText(point(through.y())) << ", " << numberText(point(through.z()))
+         << ") is free (no support, symmetry side or pin holds it) and the loads do work on it";
+    }
+    return os.str();
+  }
+  return std::string();
 }
 
 }  // namespace bsdeform
