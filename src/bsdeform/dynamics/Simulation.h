@@ -453,6 +453,12 @@ class Simulation {
   std::vector<char> m_tangentHeldMask;  ///< m_heldMask without m_components' coordinates (folded later)
   /// The unknowns x (constrained coordinates completed) into the full net `net`.
   void completeUnknowns(ControlNet& x, ControlNet& net) const;
+  /// Whether every side is FREE or PERIODIC in the space (supports per component and SYMMETRY
+  /// sides are FREE there).
+  bool sidesHoldNothing() const;
+  /// ... and no coordinate is held or constrained either (pins, held coordinates, supports per
+  /// component): the surface is a free body.
+  bool holdsNothing() const;
   /// The scheme (TimeStepper.h): created by init() and initShell().
   std::unique_ptr<TimeStepper> m_stepper;
   friend class PaperExplicitStepper;

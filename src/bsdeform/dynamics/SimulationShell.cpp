@@ -186,10 +186,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   // with a resultant have no equilibrium (said at once, not after a minute of cut increments),
   // and an equilibrium found is one of a family of rigid motions, brought back to the rest
   // position below.
-  const Boundaries& b = m_space.boundaries();
-  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
-  bool heldByNothing = loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
-  for (char held : m_heldMask) heldByNothing &= held == 0;
+  const bool heldByNothing = holdsNothing();
   if (heldByNothing) {
     const ControlNet Lrest = loadAt(net, 0.0);
     const Eigen::RowVector3d resultant = Lrest.colwise().sum();
@@ -202,7 +199,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
          << "), is not zero: there is no equilibrium; hold the surface (a side, a pin) or run the dynamics";
       throw std::runtime_error(os.str());
     }
-  } else if (conservative && loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax)) {
+  } else if (conservative && sidesHoldNothing()) {
     // held only in some components (supports per component, SYMMETRY, pins holding some, held
     // coordinates): a rigid motion the constraints leave free, on which the constant loads do
     // work, has no equilibrium (a spring or contact may still hold it: not checked then)
@@ -385,18 +382,11 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   return result;
 }
 
-}  // namespace bsdeform
-
-namespace bsdeform {
 
 StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
                                               const std::function<void(const StaticResult::Increment&)>& each) const {
   if (!m_shell) throw std::runtime_error("arc length: only the SHELL energy (energy SHELL) traces equilibrium paths");
-  const Boundaries& b = m_space.boundaries();
-  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
-  bool heldByNothing = loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
-  for (char held : m_heldMask) heldByNothing &= held == 0;
-  if (heldByNothing)
+  if (holdsNothing())
     throw std::runtime_error("arc length: nothing holds the surface (every side FREE or PERIODIC, no pin): its "
                              "rigid motions leave the tangent singular; hold a side or pin a point");
   const Eigen::Index n = m_space.numMoving();
@@ -455,9 +445,16 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   return result;
 }
 
-}  // namespace bsdeform
 
-namespace bsdeform {
+bool Simulation::sidesHoldNothing() const {
+  const Boundaries& b = m_space.boundaries();
+  auto loose = [](Boundary side) { return side == Boundary::Free || side == Boundary::Periodic; };
+  return loose(b.uMin) && loose(b.uMax) && loose(b.vMin) && loose(b.vMax);
+}
+
+bool Simulation::holdsNothing() const {
+  return sidesHoldNothing() && std::none_of(m_heldMask.begin(), m_heldMask.end(), [](char held) { return held != 0; });
+}
 
 void Simulation::completeUnknowns(ControlNet& x, ControlNet& net) const {
   if (m_components) m_components->complete(x);
@@ -465,9 +462,6 @@ void Simulation::completeUnknowns(ControlNet& x, ControlNet& net) const {
   m_space.completeNet(net, &m_rest);
 }
 
-}  // namespace bsdeform
-
-namespace bsdeform {
 
 // The rigid motions of the unknowns: translations along x, y, z and rotations about the axes
 // through the rest centroid. A motion is free when every held coordinate stays and every
