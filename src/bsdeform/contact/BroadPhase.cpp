@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 
 namespace bsdeform {
 
@@ -13,11 +12,11 @@ namespace detail {
 struct SweepItem {
   double lo, hi, lo1, hi1, lo2, hi2;
   int index;
-  bool second;  ///< from the second set
 };
 
-/// Sweep and prune on the axis along which the box centres spread most (docs/benchmarks.md,
-/// issue 35); `b` null for one set against itself.
+/// Sweep and prune on the axis along which the box centres spread most; `b` null for one set
+/// against itself. Faster than a uniform grid (cells of the median box size, keyed by sorting) on
+/// a cloth draped over a box and on the cloth against itself (docs/benchmarks.md, issue 35).
 void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inflation,
                 std::vector<std::pair<int, int>>& out) {
   out.clear();
@@ -35,13 +34,13 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
   int axis = 0;
   (cmax - cmin).maxCoeff(&axis);
   const int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
-  const auto sorted = [&](const std::vector<Box>& set, bool second) {
+  const auto sorted = [&](const std::vector<Box>& set) {
     std::vector<SweepItem> items;
     items.reserve(set.size());
     for (int i = 0; i < int(set.size()); ++i) {
       const Box& box = set[i];
       items.push_back({box.lo[axis] - inflation, box.hi[axis] + inflation, box.lo[axis1] - inflation,
-                       box.hi[axis1] + inflation, box.lo[axis2] - inflation, box.hi[axis2] + inflation, i, second});
+                       box.hi[axis1] + inflation, box.lo[axis2] - inflation, box.hi[axis2] + inflation, i});
     }
     std::sort(items.begin(), items.end(), [](const SweepItem& x, const SweepItem& y) { return x.lo < y.lo; });
     return items;
@@ -50,7 +49,7 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
     return x.lo1 <= y.hi1 && y.lo1 <= x.hi1 && x.lo2 <= y.hi2 && y.lo2 <= x.hi2;
   };
   if (!b) {
-    const std::vector<SweepItem> items = sorted(a, false);
+    const std::vector<SweepItem> items = sorted(a);
     const int n = int(items.size());
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n && items[j].lo <= items[i].hi; ++j)
@@ -60,7 +59,7 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
   }
   // Two sorted lists: each item scans only the other list, from the first item starting at or
   // after its own start (ties: the first list's item scans), so a pair is found once.
-  const std::vector<SweepItem> x = sorted(a, false), y = sorted(*b, true);
+  const std::vector<SweepItem> x = sorted(a), y = sorted(*b);
   const int nx = int(x.size()), ny = int(y.size());
   int jx = 0, jy = 0;
   while (jx < nx || jy < ny) {
@@ -74,88 +73,6 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
         if (overlapOthers(item, x[k])) out.emplace_back(x[k].index, item.index);
     }
   }
-}
-
-/// A uniform grid keyed by sorting (cell, box) entries: boxes sharing a cell are tested, a pair
-/// reported only in the cell holding the lower corner of the boxes' intersection.
-void gridPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inflation,
-               std::vector<std::pair<int, int>>& out) {
-  out.clear();
-  const int na = int(a.size()), nb = b ? int(b->size()) : 0;
-  const int n = na + nb;
-  if (n == 0) return;
-  std::vector<Box> boxes(n);
-  for (int i = 0; i < n; ++i) {
-    const Box& box = i < na ? a[i] : (*b)[i - na];
-    boxes[i] = {box.lo.array() - inflation, box.hi.array() + inflation};
-  }
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  std::vector<double> sizes(n);
-  for (int i = 0; i < n; ++i) {
-    lo = lo.cwiseMin(boxes[i].lo);
-    hi = hi.cwiseMax(boxes[i].hi);
-    sizes[i] = (boxes[i].hi - boxes[i].lo).maxCoeff();
-  }
-  // Cells of the median box size; at most 2^20 along an axis (the key packs 21 bits each).
-  std::nth_element(sizes.begin(), sizes.begin() + n / 2, sizes.end());
-  const double h = std::max({sizes[n / 2], (hi - lo).maxCoeff() / double(1 << 20), 1e-300});
-  std::vector<std::array<int, 6>> cells(n);  // lo and hi cell per axis
-  std::vector<std::pair<std::uint64_t, int>> entries;
-  std::vector<int> large;  // boxes over too many cells: tested against all others
-  constexpr std::int64_t kMaxCells = 4096;
-  for (int i = 0; i < n; ++i) {
-    std::array<int, 6>& c = cells[i];
-    std::int64_t count = 1;
-    for (int k = 0; k < 3; ++k) {
-      c[k] = int(std::floor((boxes[i].lo[k] - lo[k]) / h));
-      c[3 + k] = int(std::floor((boxes[i].hi[k] - lo[k]) / h));
-      count *= c[3 + k] - c[k] + 1;
-    }
-    if (count > kMaxCells) {
-      large.push_back(i);
-      continue;
-    }
-    for (int x = c[0]; x <= c[3]; ++x)
-      for (int y = c[1]; y <= c[4]; ++y)
-        for (int z = c[2]; z <= c[5]; ++z)
-          entries.emplace_back((std::uint64_t(x) << 42) | (std::uint64_t(y) << 21) | std::uint64_t(z), i);
-  }
-  std::sort(entries.begin(), entries.end());
-  const auto overlap = [&](int i, int j) {
-    return (boxes[i].lo.array() <= boxes[j].hi.array()).all() && (boxes[j].lo.array() <= boxes[i].hi.array()).all();
-  };
-  const auto emit = [&](int i, int j) {  // i, j in the combined numbering
-    if (!b)
-      out.emplace_back(std::min(i, j), std::max(i, j));
-    else if (i < na)
-      out.emplace_back(i, j - na);
-    else
-      out.emplace_back(j, i - na);
-  };
-  for (std::size_t begin = 0; begin < entries.size();) {
-    std::size_t end = begin + 1;
-    while (end < entries.size() && entries[end].first == entries[begin].first) ++end;
-    const std::uint64_t key = entries[begin].first;
-    const int cx = int(key >> 42), cy = int((key >> 21) & 0x1FFFFF), cz = int(key & 0x1FFFFF);
-    for (std::size_t p = begin; p < end; ++p)
-      for (std::size_t q = p + 1; q < end; ++q) {
-        const int i = entries[p].second, j = entries[q].second;
-        if (b && (i < na) == (j < na)) continue;
-        const std::array<int, 6>&ci = cells[i], &cj = cells[j];
-        if (std::max(ci[0], cj[0]) != cx || std::max(ci[1], cj[1]) != cy || std::max(ci[2], cj[2]) != cz) continue;
-        if (overlap(i, j)) emit(i, j);
-      }
-    begin = end;
-  }
-  // Large boxes against every box (another large one only once).
-  std::vector<char> isLarge(n, 0);
-  for (int i : large) isLarge[i] = 1;
-  for (int i : large)
-    for (int j = 0; j < n; ++j) {
-      if (j == i || (isLarge[j] && j < i)) continue;
-      if (b && (i < na) == (j < na)) continue;
-      if (overlap(i, j)) emit(i, j);
-    }
 }
 
 }  // namespace detail
