@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file BroadPhase.h
+/// The broad phase of barrier contact: which primitive pairs can come close over a step, from
+/// axis-aligned boxes. Narrow phase: Distance.h (distances), AdditiveCCD.h (times of impact).
+
+#include <Eigen/Core>
+#include <array>
+#include <utility>
+#include <vector>
+
+namespace bsdeform {
+
+/// An axis-aligned box, lo ≤ hi componentwise.
+struct Box {
+  Eigen::Vector3d lo, hi;
+};
+
+/// Every (i, j) with a[i] and b[j] overlapping (closed boxes: touching counts) after both are
+/// inflated by `inflation` on every side, i.e. whose gap is at most 2·inflation. Appends to
+/// `out` after clearing it, in no particular order.
+void overlappingPairs(const std::vector<Box>& a, const std::vector<Box>& b, double inflation,
+                      std::vector<std::pair<int, int>>& out);
+
+/// Every (i, j), i < j, of one set, as overlappingPairs.
+void selfOverlappingPairs(const std::vector<Box>& a, double inflation, std::vector<std::pair<int, int>>& out);
+
+/// A triangle mesh whose vertices move on straight lines over a step.
+struct ContactMesh {
+  Eigen::MatrixX3d start, end;  ///< vertex positions at t = 0 and t = 1 (equal for a static obstacle)
+  Eigen::MatrixX3i triangles;
+  Eigen::MatrixX2i edges;  ///< each undirected edge once
+};
+
+/// Primitive pairs for the narrow phase, by index into the meshes' vertices, triangles and edges.
+struct ContactCandidates {
+  std::vector<std::array<int, 2>> vertexTriangle;  ///< (vertex of the first mesh, triangle of the second)
+  std::vector<std::array<int, 2>> triangleVertex;  ///< (triangle of the first mesh, vertex of the second)
+  std::vector<std::array<int, 2>> edgeEdge;        ///< (edge of the first, edge of the second)
+};
+
+/// Pairs whose boxes (each swept from start to end) come within `inflation` of each other.
+void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation, ContactCandidates& out);
+
+/// A mesh against itself, leaving out pairs that share a vertex: each unordered edge pair once
+/// (first < second), and vertexTriangle then holds all vertex–triangle pairs (triangleVertex
+/// stays empty).
+void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out);
+
+}  // namespace bsdeform
