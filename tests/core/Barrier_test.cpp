@@ -131,7 +131,7 @@ double thresholdOf(const Vec12& rest) {
 
 }  // namespace
 
-TEST_CASE("Barrier: b' and b'' equal differences of b and b'; b is 0 from ŝ on and +inf from 0 down", "[contact]") {
+TEST_CASE("Barrier: b' and b'' equal differences of b and b', b is 0 from ŝ on and +inf from 0 down", "[contact]") {
   for (double sHat : {1e-6, 0.06, 1.0}) {
     for (double u = 0.01; u < 1.0; u += 0.0245) {
       const double s = u * sHat, h = 1e-6 * s;
@@ -145,7 +145,7 @@ TEST_CASE("Barrier: b' and b'' equal differences of b and b'; b is 0 from ŝ on 
       CHECK(b1 < 0.0);
       CHECK(b2 > 0.0);
     }
-    // C² at ŝ from below (b, b' vanish; b'' tends to 2 ln 1 ... = 0 by the formula's value at ŝ)
+    // C² at ŝ: b and b' vanish there from below (and b''(ŝ) = 3 - 0 - 3 = 0).
     CHECK(bsdeform::barrier(sHat, sHat) == 0.0);
     CHECK(bsdeform::barrier(2.0 * sHat, sHat) == 0.0);
     CHECK(std::abs(bsdeform::barrier(sHat * (1.0 - 1e-6), sHat)) <= 1e-17 * sHat * sHat);
@@ -241,7 +241,7 @@ TEST_CASE("Barrier: the edge-edge potential's derivatives equal differences, mol
   CHECK(nearParallelLines >= 5);
 }
 
-TEST_CASE("Barrier: the mollifier's derivatives equal differences; m is C1 at x = ε", "[contact]") {
+TEST_CASE("Barrier: the mollifier's derivatives equal differences, m is C1 at x = ε", "[contact]") {
   std::mt19937 rng(47);
   int checked = 0;
   for (int trial = 0; trial < 400 && checked < 30; ++trial) {
@@ -390,7 +390,7 @@ TEST_CASE("Barrier: the mollified edge-edge barrier is continuous as the edges b
   CHECK(std::abs(above - below) <= 1e-9 * unmollified);
 }
 
-TEST_CASE("Barrier: initial adaptive stiffness balances the gradients within [κ_min, 100 κ_min]", "[contact]") {
+TEST_CASE("Barrier: initial adaptive stiffness balances the gradients within κ_min to 100 κ_min", "[contact]") {
   const double bbox = 2.0, dhat = 1e-3, mass = 0.5;
   // κ_min by IPC's rule, written out: d0 = 1e-8 bbox, s0 = d0², ŝ = d̂², r = ŝ / s0,
   // b''(s0) = r² + 2r - 2 ln(1/r) - 3.
