@@ -4,7 +4,8 @@
 /// Squared distances between the primitives of barrier contact (docs/math.md §18): a point and a
 /// triangle, two segments (edges). Each distance is classified by the features its closest points
 /// lie on, as ipc-toolkit does, so that it is one smooth formula within a class (point–point,
-/// point–line, point–plane, line–line) whose derivatives Distance derivatives give.
+/// point–line, point–plane, line–line); each formula comes with its exact gradient and Hessian
+/// (hand-derived, fixed size, no allocation: they run once per contact pair and Newton iteration).
 
 #include <Eigen/Core>
 
@@ -51,5 +52,43 @@ double edgeEdgeDistanceSquared(const Eigen::Vector3d& a0, const Eigen::Vector3d&
                                const Eigen::Vector3d& b1);
 double edgeEdgeDistanceSquared(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                                const Eigen::Vector3d& b1, EdgeEdgeType type);
+
+/// @name Gradients and Hessians of the four formulas
+/// Each returns the squared distance and writes its gradient and Hessian with respect to the
+/// coordinates of its arguments in the order given (x, y, z of the first point, then the second...).
+/// The Hessians are exact and symmetric; they are not positive semidefinite in general.
+///@{
+double pointPointDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
+                                            Eigen::Matrix<double, 6, 1>& grad, Eigen::Matrix<double, 6, 6>& hess);
+double pointLineDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& e0,
+                                           const Eigen::Vector3d& e1, Eigen::Matrix<double, 9, 1>& grad,
+                                           Eigen::Matrix<double, 9, 9>& hess);
+double pointPlaneDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
+                                            const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
+                                            Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess);
+/// @pre the lines are not parallel (edgeEdgeType never gives EA_EB for those)
+double lineLineDistanceSquaredDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
+                                          const Eigen::Vector3d& b0, const Eigen::Vector3d& b1,
+                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess);
+///@}
+
+/// The squared point–triangle distance of the class `type` (pointTriangleDistanceSquared with a
+/// class), its gradient and Hessian in the coordinates (p, t0, t1, t2); the rows and columns of
+/// points the class does not involve are zero.
+double pointTriangleDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
+                                               const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
+                                               PointTriangleType type, Eigen::Matrix<double, 12, 1>& grad,
+                                               Eigen::Matrix<double, 12, 12>& hess);
+/// The squared segment–segment distance of the class `type`, its gradient and Hessian in the
+/// coordinates (a0, a1, b0, b1), zero for the points the class does not involve.
+double edgeEdgeDistanceSquaredDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
+                                          const Eigen::Vector3d& b0, const Eigen::Vector3d& b1, EdgeEdgeType type,
+                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess);
+
+/// x = |(a1 - a0) x (b1 - b0)|², the quantity the edge–edge mollifier (Barrier.h) smooths, with its
+/// gradient and Hessian in (a0, a1, b0, b1).
+double edgeEdgeCrossSquaredNormDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
+                                           const Eigen::Vector3d& b0, const Eigen::Vector3d& b1,
+                                           Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess);
 
 }  // namespace bsdeform
