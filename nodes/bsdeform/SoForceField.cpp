@@ -20,6 +20,7 @@
 
 #include "bsdeform/CoinEigen.h"
 #include "bsdeform/forces/Force.h"
+#include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/contact/Contact.h"
 #include "bsdeform/forces/ForceLaws.h"
 #include "bsdeform/FieldInfo.h"
@@ -182,6 +183,10 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(thickness, (0.02));
   SO_ENGINE_ADD_INPUT(damping, (0.0));
   SO_ENGINE_ADD_INPUT(friction, (0.0));
+  SO_ENGINE_ADD_INPUT(method, (PENALTY));
+  SO_ENGINE_ADD_INPUT(dhat, (0.001));
+  SO_ENGINE_ADD_INPUT(selfContact, (FALSE));
+  SO_ENGINE_ADD_INPUT(proxySamples, (2));
   SO_ENGINE_ADD_INPUT(frame, (WORLD));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
@@ -200,6 +205,9 @@ SoForceField::SoForceField() {
   SO_ENGINE_DEFINE_ENUM_VALUE(Frame, WORLD);
   SO_ENGINE_DEFINE_ENUM_VALUE(Frame, LOCAL);
   SO_ENGINE_SET_SF_ENUM_TYPE(frame, Frame);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Method, PENALTY);
+  SO_ENGINE_DEFINE_ENUM_VALUE(Method, BARRIER);
+  SO_ENGINE_SET_SF_ENUM_TYPE(method, Method);
 
   // three components by default, so that the written form is a complete expression
   expression.setNum(3);
@@ -293,6 +301,15 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
         if (!info.contact) {
           error = "COLLISION needs the surface's obstacles";
           return nullptr;
+        }
+        if (method.getValue() == BARRIER) {
+          BarrierContactParameters bp;
+          bp.offset = thickness.getValue();
+          bp.dhat = dhat.getValue();
+          bp.selfContact = selfContact.getValue();
+          bp.samplesPerSpan = proxySamples.getValue();
+          bp.mass = info.massDensity * info.areaScale;
+          return std::make_shared<BarrierContactForce>(info.contact, bp);
         }
         ContactParameters cp;
         cp.thickness = thickness.getValue();

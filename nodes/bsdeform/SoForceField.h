@@ -105,6 +105,11 @@ class SoForceField : public SoEngine {
     SPHERE_COLLISION,  ///< penalty pushing out of the sphere (center, radius) (SphereContactForce)
     COLLISION,         ///< penalty, damping and friction against the `obstacles` (CollisionForce)
   };
+  /// COLLISION: how contact is enforced.
+  enum Method {
+    PENALTY,  ///< a force proportional to the depth at quadrature points (CollisionForce); every integrator
+    BARRIER   ///< IPC's barrier on a collision proxy with CCD-bounded steps (BarrierContactForce); BACKWARD_EULER
+  };
   /// In which frame the vectors and points of the fields are given.
   enum Frame {
     WORLD,  ///< the world's, whatever Transforms are above the surface (default)
@@ -136,6 +141,10 @@ class SoForceField : public SoEngine {
   SoSFDouble thickness;     ///< COLLISION: contact offset (world units); 0.02
   SoSFDouble damping;       ///< COLLISION: normal damping, per unit world area (pressure per approach speed); 0
   SoSFDouble friction;      ///< COLLISION: Coulomb coefficient mu; 0
+  SoSFEnum method;          ///< COLLISION: PENALTY (default) or BARRIER
+  SoSFDouble dhat;          ///< COLLISION BARRIER: the barrier acts from thickness to thickness + dhat (m); 0.001
+  SoSFBool selfContact;     ///< COLLISION BARRIER: the surface also collides with itself; FALSE
+  SoSFInt32 proxySamples;   ///< COLLISION BARRIER: collision proxy intervals per knot span and direction; 2
   /// WORLD: force, anchor, center, normal, radius and the EXPRESSION's x y z and result are in
   /// world coordinates, converted through the Transforms above the surface; LOCAL: in the
   /// surface's own coordinates. WORLD by default. (COLLISION is always in the world.)

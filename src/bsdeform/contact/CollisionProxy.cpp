@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/LU>
+
 #include "bsdeform/forces/LoadQuadrature.h"
 
 namespace bsdeform {
@@ -15,6 +17,7 @@ namespace {
 // function that starts there at tau ~ 1e-16, where it is ~1e-48): leaving them out keeps every
 // triangle's vertices on the control points of its own element.
 constexpr double kZeroWeight = 1e-14;
+Eigen::MatrixXd bsplineToBezier(int p);
 }  // namespace
 
 CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
@@ -80,6 +83,7 @@ CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
       if (j + 1 < nv || pv) edges.emplace_back(vertex(i, j), vertex(i, j + 1));
       if ((i + 1 < nu || pu) && (j + 1 < nv || pv)) edges.emplace_back(vertex(i, j), vertex(i + 1, j + 1));
     }
+  for (int p = 0; p <= std::max(space.degreeU(), space.degreeV()); ++p) m_bezier.push_back(bsplineToBezier(p));
   m_edges.resize(Eigen::Index(edges.size()), 2);
   for (size_t e = 0; e < edges.size(); ++e) m_edges.row(Eigen::Index(e)) = edges[e].transpose();
 }
@@ -100,21 +104,74 @@ void CollisionProxy::addVertexForces(const Eigen::MatrixX3d& f, ControlNet& load
   }
 }
 
-double CollisionProxy::deviationBound(const ControlNet& net) const {
-  const int rows = m_space.netRows(), cols = m_space.netCols();
-  auto P = [&](int i, int j) { return net.row(Eigen::Index(i) * cols + j); };
-  double uu = 0.0, uv = 0.0, vv = 0.0;
-  for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j) {
-      if (i >= 1 && i + 1 < rows) uu = std::max(uu, (P(i + 1, j) - 2.0 * P(i, j) + P(i - 1, j)).norm());
-      if (j >= 1 && j + 1 < cols) vv = std::max(vv, (P(i, j + 1) - 2.0 * P(i, j) + P(i, j - 1)).norm());
-      if (i + 1 < rows && j + 1 < cols) uv = std::max(uv, (P(i + 1, j + 1) - P(i + 1, j) - P(i, j + 1) + P(i, j)).norm());
+namespace {
+/// Bézier coefficients of the p + 1 uniform B-splines of one span: b_i = Σ_j M(j, i) B_j^p, so the
+/// Bézier coefficients of Σ_i c_i b_i are M c. Found by interpolation at p + 1 points of the span.
+Eigen::MatrixXd bsplineToBezier(int p) {
+  if (p == 0) return Eigen::MatrixXd::Identity(1, 1);
+  const BSplineBasis1D basis(p, p + 1);  // any span of a uniform spline has the same functions
+  const int span = p;
+  Eigen::MatrixXd B(p + 1, p + 1), V(p + 1, p + 1);
+  LocalBasis lb;
+  for (int k = 0; k <= p; ++k) {
+    const double t = (k + 0.5) / (p + 1);
+    basis.evaluateInSpan(span, (span + t) * basis.spacing(), 0, lb);
+    for (int i = 0; i <= p; ++i) V(k, i) = lb.d[0][i];
+    double binom = 1.0;
+    for (int j = 0; j <= p; ++j) {
+      B(k, j) = binom * std::pow(t, j) * std::pow(1.0 - t, p - j);
+      binom = binom * (p - j) / (j + 1);
     }
-  // degree 1 in a direction: the surface is linear along it inside a span, and the proxy's
-  // vertices lie on the knots, so that direction's second derivative never enters
-  if (m_space.degreeU() < 2) uu = 0.0;
-  if (m_space.degreeV() < 2) vv = 0.0;
-  return (uu + 2.0 * uv + vv) / (8.0 * m_samples * m_samples);
+  }
+  return B.partialPivLu().solve(V);
+}
+
+/// The largest norm of the Bézier coefficients of Σ c_ab β_a(u) γ_b(v) over one span, given the
+/// coefficients c (rows × cols of 3-vectors, row-major) and the two directions' matrices.
+double bezierMaxNorm(const std::vector<Eigen::Vector3d>& c, int rows, int cols, const Eigen::MatrixXd& Mu,
+                     const Eigen::MatrixXd& Mv) {
+  double worst = 0.0;
+  for (int a = 0; a < rows; ++a)
+    for (int b = 0; b < cols; ++b) {
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      for (int i = 0; i < rows; ++i)
+        for (int j = 0; j < cols; ++j) x += Mu(a, i) * Mv(b, j) * c[size_t(i * cols + j)];
+      worst = std::max(worst, x.norm());
+    }
+  return worst;
+}
+}  // namespace
+
+double CollisionProxy::deviationBound(const ControlNet& net) const {
+  const int nu = m_space.degreeU(), nv = m_space.degreeV(), cols = m_space.netCols();
+  const int spansU = m_space.basisU().numSpans(), spansV = m_space.basisV().numSpans();
+  auto M = [&](int p) -> const Eigen::MatrixXd& { return m_bezier[size_t(p)]; };
+  double worst = 0.0;
+  std::vector<Eigen::Vector3d> c;
+  for (int e1 = 0; e1 < spansU; ++e1)
+    for (int e2 = 0; e2 < spansV; ++e2) {
+      // the span's control points are net layers e1 .. e1 + nu, e2 .. e2 + nv
+      auto P = [&](int i, int j) { return Eigen::Vector3d(net.row(Eigen::Index(e1 + i) * cols + (e2 + j)).transpose()); };
+      double uu = 0.0, uv = 0.0, vv = 0.0;
+      if (nu >= 2) {  // h² S_uu: second differences along u, degree (nu - 2, nv)
+        c.clear();
+        for (int i = 0; i + 2 <= nu; ++i)
+          for (int j = 0; j <= nv; ++j) c.push_back(P(i + 2, j) - 2.0 * P(i + 1, j) + P(i, j));
+        uu = bezierMaxNorm(c, nu - 1, nv + 1, M(nu - 2), M(nv));
+      }
+      if (nv >= 2) {
+        c.clear();
+        for (int i = 0; i <= nu; ++i)
+          for (int j = 0; j + 2 <= nv; ++j) c.push_back(P(i, j + 2) - 2.0 * P(i, j + 1) + P(i, j));
+        vv = bezierMaxNorm(c, nu + 1, nv - 1, M(nu), M(nv - 2));
+      }
+      c.clear();  // h_u h_v S_uv: mixed differences, degree (nu - 1, nv - 1)
+      for (int i = 0; i + 1 <= nu; ++i)
+        for (int j = 0; j + 1 <= nv; ++j) c.push_back(P(i + 1, j + 1) - P(i + 1, j) - P(i, j + 1) + P(i, j));
+      uv = bezierMaxNorm(c, nu, nv, M(nu - 1), M(nv - 1));
+      worst = std::max(worst, uu + 2.0 * uv + vv);
+    }
+  return worst / (8.0 * m_samples * m_samples);
 }
 
 }  // namespace bsdeform

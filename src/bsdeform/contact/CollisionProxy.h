@@ -47,8 +47,9 @@ class CollisionProxy {
   void addVertexForces(const Eigen::MatrixX3d& f, ControlNet& load) const;
 
   /// An upper bound of the distance between the surface of `net` and the proxy, at every (u, v):
-  /// (1 / (8 r²)) (max |Δ²_u P| + 2 max |Δ_u Δ_v P| + max |Δ²_v P|) over the net's second
-  /// differences, r = samplesPerSpan (docs/math.md §18.1).
+  /// the largest over the knot spans of (1 / (8 r²)) (max |Δ²_u| + 2 max |Δ_u Δ_v| + max |Δ²_v|),
+  /// r = samplesPerSpan, the maxima taken over the Bézier coefficients of the span's differenced
+  /// net (h² S_uu, h_u h_v S_uv, h² S_vv on the span; docs/math.md §18.1).
   double deviationBound(const ControlNet& net) const;
 
  private:
@@ -60,6 +61,9 @@ class CollisionProxy {
   Eigen::MatrixX3i m_triangles;
   Eigen::MatrixX2i m_edges;
   std::vector<std::pair<int, int>> m_triangleElement;
+  /// B-spline to Bézier coefficients on one span of a uniform spline, degree p at index p:
+  /// Bézier = m_bezier[p] · (the span's p + 1 B-spline coefficients).
+  std::vector<Eigen::MatrixXd> m_bezier;
 };
 
 }  // namespace bsdeform

@@ -53,7 +53,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // The factorisation of an earlier iterate is kept while the iterates contract fast with it;
     // a new one is made when the last update shrank by less than half, or the search refused a
     // kept one's step.
-    const bool fresh = refactor;
+    const bool fresh = refactor || !options.chordSteps;
     if (fresh) {
       if (!factor()) {
         out.failure = "the Newton matrix is not positive definite even with the element Hessians projected";
@@ -67,7 +67,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     const double slope = (step.array() * cur.g.array()).sum();
     const double stepSize = step.cwiseAbs().maxCoeff();
     const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
-    double alpha = 1.0;
+    // a barrier's bound first (never try a step that crosses), then the backtracking
+    double alpha = problem.maxStep ? std::min(1.0, problem.maxStep(x, step)) : 1.0;
     bool accepted = false;
     // at most 30 halvings on the potential; 10 on the residual's norm (a norm that a
     // thousandth of the step does not lower sits on its rounding: a stall, not progress)

@@ -48,6 +48,9 @@ class NewtonMinimizer {
     /// Optional: the update tolerance at the iterate x (a length), in place of
     /// Options::updateTolerance (the static solve's is relative to the displacement so far).
     std::function<double(const ControlNet& x)> updateTolerance;
+    /// Optional: the largest fraction in (0, 1] of the step from x to x + step the search may
+    /// try (a barrier's continuous collision check); every trial lies within it.
+    std::function<double(const ControlNet& x, const ControlNet& step)> maxStep;
   };
   struct Options {
     int maxIterations = 30;
@@ -62,6 +65,9 @@ class NewtonMinimizer {
     /// minimize() start from the projected one with a quarter of the last extra shift
     /// (Levenberg–Marquardt's lowering: a free body stays singular near its rigid motions).
     bool rememberShift = false;
+    /// Keep a factorisation while the iterates contract fast with it (chord steps); false: a new
+    /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).
+    bool chordSteps = true;
   };
   struct Outcome {
     bool converged = false;

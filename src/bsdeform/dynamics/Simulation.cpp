@@ -436,6 +436,9 @@ std::string Simulation::refusal() const {
     return "supports per component (holdUMin ..., SIMPLY_SUPPORTED or BUILT_IN holding some of X, Y, Z), SYMMETRY "
            "sides and pins holding some components (holdPins) are taken by the static solve, arc length and the "
            "integrators BACKWARD_EULER and IMPLICIT, not yet by EXPLICIT";
+  if (m_params.integrator != Integrator::BackwardEuler)
+    for (const auto& f : m_forces)
+      if (const char* why = f->backwardEulerOnly()) return why;
   std::ostringstream os;
   os.precision(6);
   const double dt = m_params.timeStep;
@@ -796,6 +799,8 @@ std::string Simulation::freeMotions() const {
 StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, LinearSolver solver,
                                      int loadSteps) const {
   if (loadSteps < 1) throw std::invalid_argument("load steps must be >= 1, got " + std::to_string(loadSteps));
+  for (const auto& f : m_forces)
+    if (const char* why = f->backwardEulerOnly()) throw std::runtime_error(std::string("static solve: ") + why);
   if (m_shell) return solveStaticShell(tolerance, maxLoadIterations, loadSteps);
   StaticResult result;
   for (int step = 1; step <= loadSteps; ++step) {

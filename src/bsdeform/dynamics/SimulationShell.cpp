@@ -386,6 +386,8 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
 StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
                                               const std::function<void(const StaticResult::Increment&)>& each) const {
   if (!m_shell) throw std::runtime_error("arc length: only the SHELL energy (energy SHELL) traces equilibrium paths");
+  for (const auto& f : m_forces)
+    if (const char* why = f->backwardEulerOnly()) throw std::runtime_error(std::string("arc length: ") + why);
   if (holdsNothing())
     throw std::runtime_error("arc length: nothing holds the surface (every side FREE or PERIODIC, no pin): its "
                              "rigid motions leave the tangent singular; hold a side or pin a point");

@@ -457,6 +457,19 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   ControlNet fixedLoad = s.m_constantLoad;
   std::vector<const Force*> stateForces;
   splitLoads(s.m_forces, s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
+  // forces with a state between steps (a barrier's stiffness) adapt it, and refuse a start state
+  // they cannot take (a surface inside an obstacle)
+  bool barrier = false;
+  {
+    const LoadContext startCtx = s.loadContext(startNet, startNet, h, tNew);
+    for (const Force* f : stateForces) {
+      if (std::string why = f->beginStep(startCtx); !why.empty()) {
+        m_solveFailure = why;
+        return false;
+      }
+      barrier |= f->limitsSteps();
+    }
+  }
   if (!m_hasReference) {
     m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
   }
@@ -507,6 +520,20 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   for (Eigen::Index f = 0; f < x.rows(); ++f)
     for (int k = 0; k < 3; ++k)
       if (held(f, k)) x(f, k) = P(f, k);
+  // The largest fraction of the move from `from` (unknowns) by `step` that no barrier refuses.
+  ControlNet fromNet = startNet, toNet = startNet, xs;
+  auto admissible = [&](const ControlNet& from, const ControlNet& step) {
+    xs = from;
+    s.completeUnknowns(xs, fromNet);
+    xs = from + step;
+    s.completeUnknowns(xs, toNet);
+    const LoadContext ctx = s.loadContext(fromNet, startNet, h, tNew);
+    double fraction = 1.0;
+    for (const Force* f : stateForces) fraction = std::min(fraction, f->admissibleFraction(ctx, toNet));
+    return fraction;
+  };
+  // with a barrier the first iterate is the prediction cut to where nothing crosses
+  if (barrier) x = P + admissible(P, x - P) * (x - P);
   NewtonPoint cur;
   evaluate(x, cur);
   const double forceScale = (s.m_constantLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
@@ -533,10 +560,12 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     return folded;
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.m_params.newtonTolerance * forceScale; };
+  if (barrier) problem.maxStep = admissible;
   NewtonMinimizer::Options options;
   options.maxIterations = s.m_params.maxNewtonIterations;
   options.updateTolerance = s.m_params.newtonVelocityTolerance * h;
   options.shift = massShift;
+  options.chordSteps = !barrier;
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   const NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
   if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "bsdeform/spline/SplineSpace.h"
 
@@ -105,6 +106,26 @@ class Force {
     value = 0.0;
     return false;
   }
+  /// The largest fraction t in (0, 1] of the move from the state of `ctx` (ctx.current) to the
+  /// full net `to` over which the force stays finite (barrier contact: no pair crosses); 1 for
+  /// forces without a barrier. The implicit step's line search never tries beyond it.
+  virtual double admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {
+    (void)ctx;
+    (void)to;
+    return 1.0;
+  }
+  /// Whether admissibleFraction() can be below 1 (the implicit step then checks every trial).
+  virtual bool limitsSteps() const { return false; }
+  /// Called by the implicit steppers at the start of every step, at the step's start state:
+  /// adapts what is adapted between steps (a barrier's stiffness), and returns why the state is
+  /// not admissible (a surface that starts inside an obstacle), empty when it is.
+  virtual std::string beginStep(const LoadContext& ctx) const {
+    (void)ctx;
+    return std::string();
+  }
+  /// Why only BACKWARD_EULER can take this force (it needs the line search that admissibleFraction()
+  /// bounds), or null when every integrator can.
+  virtual const char* backwardEulerOnly() const { return nullptr; }
   /// For the implicit steppers' energy check: the energy the force stores at the state, when the
   /// rest of its load can only dissipate (damping, friction); false when it can do work on the
   /// surface (a follower pressure, a callable, a load that depends on time). The default: the

@@ -1,0 +1,339 @@
+// SPDX-License-Identifier: MIT
+#include "bsdeform/contact/BarrierContact.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "bsdeform/base/NumberText.h"
+#include "bsdeform/contact/AdditiveCCD.h"
+#include "bsdeform/contact/Barrier.h"
+#include "bsdeform/contact/BroadPhase.h"
+#include "bsdeform/contact/Distance.h"
+
+namespace bsdeform {
+
+namespace {
+
+using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+
+/// The unique undirected edges of a triangle list.
+Eigen::MatrixX2i edgesOf(const std::vector<Eigen::Vector3i>& triangles) {
+  std::vector<std::pair<int, int>> e;
+  e.reserve(triangles.size() * 3);
+  for (const Eigen::Vector3i& t : triangles)
+    for (int c = 0; c < 3; ++c) {
+      const int a = t[c], b = t[(c + 1) % 3];
+      e.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  std::sort(e.begin(), e.end());
+  e.erase(std::unique(e.begin(), e.end()), e.end());
+  Eigen::MatrixX2i out(Eigen::Index(e.size()), 2);
+  for (size_t i = 0; i < e.size(); ++i) out.row(Eigen::Index(i)) << e[i].first, e[i].second;
+  return out;
+}
+
+}  // namespace
+
+/// What stays between evaluations: the proxy (made at the first call, when the space is known),
+/// the obstacles as ContactMeshes, the barrier stiffness and what adapts it.
+struct BarrierContactForce::State {
+  std::unique_ptr<CollisionProxy> proxy;
+  const SplineSpace* space = nullptr;
+  Eigen::MatrixX3d restWorld;  ///< the proxy at the rest net (or the first state), world frame
+  struct Obstacle {
+    const TriangleTree* tree = nullptr;
+    std::uint64_t version = ~std::uint64_t(0);
+    ContactMesh mesh;
+  };
+  std::vector<Obstacle> obstacles;
+  double kappa = 0.0, kappaMax = 0.0;
+  double previousMinimum = std::numeric_limits<double>::infinity();
+  double minimum = std::numeric_limits<double>::infinity();
+  double deviation = 0.0;
+  int closestObstacle = -1;      ///< of the closest pair at the last evaluation (obstacles.size(): self)
+  Eigen::Index closestVertex = -1;
+  bool seenTaken = false;
+  std::vector<std::uint64_t> seenVersions;
+  Eigen::Matrix3d seenLinear = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d seenOffset = Eigen::Vector3d::Zero();
+};
+
+/// The proxy at one state in world coordinates, and the pairs near it.
+struct BarrierContactForce::Pairs {
+  ContactMesh proxy;  ///< start = end = the proxy's vertices, world frame
+  /// per obstacle, and the self pairs last
+  std::vector<ContactCandidates> candidates;
+};
+
+BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
+    : m_world(std::move(world)), m_params(p), m_state(std::make_shared<State>()) {
+  auto positive = [](double x, const char* name) {
+    if (!(x > 0.0) || !std::isfinite(x)) {
+      std::ostringstream os;
+      os << "barrier contact: " << name << " must be positive and finite, got " << numberText(x);
+      throw std::invalid_argument(os.str());
+    }
+  };
+  if (!m_world) throw std::invalid_argument("barrier contact: no obstacle world");
+  positive(p.offset, "thickness (the offset)");
+  positive(p.dhat, "dhat");
+  positive(p.mass, "mass");
+  if (p.samplesPerSpan < 1 || p.samplesPerSpan > 16)
+    throw std::invalid_argument("barrier contact: proxySamples must be 1..16, got " + std::to_string(p.samplesPerSpan));
+}
+
+BarrierContactForce::~BarrierContactForce() = default;
+
+double BarrierContactForce::stiffness() const { return m_state->kappa; }
+double BarrierContactForce::lastMinimumDistance() const { return m_state->minimum; }
+double BarrierContactForce::lastDeviationBound() const { return m_state->deviation; }
+
+void BarrierContactForce::prepare(const LoadContext& ctx) const {
+  State& st = *m_state;
+  const ContactWorld& w = *m_world;
+  if (!st.proxy || st.space != &ctx.space) {
+    st.proxy = std::make_unique<CollisionProxy>(ctx.space, m_params.samplesPerSpan);
+    st.space = &ctx.space;
+    Eigen::MatrixX3d rest;
+    st.proxy->positions(ctx.rest ? *ctx.rest : ctx.current, rest);
+    st.restWorld = (rest * w.linear.transpose()).rowwise() + w.offset.transpose();
+  }
+  st.obstacles.resize(w.obstacles.size());
+  for (size_t o = 0; o < w.obstacles.size(); ++o) {
+    State::Obstacle& ob = st.obstacles[o];
+    const TriangleTree* tree = w.obstacles[o].tree.get();
+    if (!tree) continue;
+    if (ob.tree == tree && ob.version == tree->version()) continue;
+    ob.tree = tree;
+    ob.version = tree->version();
+    const TriangleMesh& m = tree->mesh();
+    ob.mesh.start.resize(Eigen::Index(m.vertices.size()), 3);
+    for (size_t v = 0; v < m.vertices.size(); ++v) ob.mesh.start.row(Eigen::Index(v)) = m.vertices[v].transpose();
+    ob.mesh.end = ob.mesh.start;
+    ob.mesh.triangles.resize(Eigen::Index(m.triangles.size()), 3);
+    for (size_t t = 0; t < m.triangles.size(); ++t) ob.mesh.triangles.row(Eigen::Index(t)) = m.triangles[t].transpose();
+    ob.mesh.edges = edgesOf(m.triangles);
+  }
+}
+
+void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const {
+  const ContactWorld& w = *m_world;
+  Eigen::MatrixX3d local;
+  m_state->proxy->positions(net, local);
+  out = (local * w.linear.transpose()).rowwise() + w.offset.transpose();
+}
+
+void BarrierContactForce::gather(const LoadContext& ctx, Pairs& pairs) const {
+  prepare(ctx);
+  State& st = *m_state;
+  const CollisionProxy& proxy = *st.proxy;
+  proxyWorld(ctx.current, pairs.proxy.start);
+  pairs.proxy.end = pairs.proxy.start;
+  pairs.proxy.triangles = proxy.triangles();
+  pairs.proxy.edges = proxy.edges();
+  const double reach = m_params.offset + m_params.dhat;
+  pairs.candidates.assign(st.obstacles.size() + 1, ContactCandidates());
+  for (size_t o = 0; o < st.obstacles.size(); ++o)
+    if (st.obstacles[o].tree) candidatePairs(pairs.proxy, st.obstacles[o].mesh, reach, pairs.candidates[o]);
+  if (m_params.selfContact) candidatePairs(pairs.proxy, reach, pairs.candidates.back());
+}
+
+void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const {
+  State& st = *m_state;
+  Pairs pairs;
+  gather(ctx, pairs);
+  BarrierParameters bp;
+  bp.offset = m_params.offset;
+  bp.dhat = m_params.dhat;
+  bp.stiffness = st.kappa;
+  const Eigen::MatrixX3d& V = pairs.proxy.start;
+  Term term;
+  Vector12d* grad = order >= 1 ? &term.grad : nullptr;
+  Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
+  const BarrierHessian mode = m_params.projectHessian ? BarrierHessian::ProjectedPsd : BarrierHessian::Exact;
+  double minimum = std::numeric_limits<double>::infinity();
+  size_t where = 0;  // which obstacle (or self) the current pair is with
+  auto emit = [&](double distanceSquared) {
+    const double d = std::sqrt(std::max(distanceSquared, 0.0));
+    if (d < minimum) {
+      minimum = d;
+      st.closestObstacle = int(where);
+      st.closestVertex = *std::max_element(term.vertex.begin(), term.vertex.end());
+    }
+    if (term.value != 0.0 || (grad && !term.grad.isZero(0.0))) fn(term);
+  };
+  auto pointTriangle = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
+                           const Eigen::Vector3d& t2) {
+    term.value = pointTriangleBarrier(p, t0, t1, t2, bp, grad, hess, mode);
+    emit(pointTriangleDistanceSquared(p, t0, t1, t2));
+  };
+  auto edgeEdge = [&](const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
+                      const Eigen::Vector3d& b1, double threshold) {
+    term.value = edgeEdgeBarrier(a0, a1, b0, b1, threshold, bp, grad, hess, mode);
+    emit(edgeEdgeDistanceSquared(a0, a1, b0, b1));
+  };
+  const Eigen::MatrixX3i& T = pairs.proxy.triangles;
+  const Eigen::MatrixX2i& E = pairs.proxy.edges;
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  for (size_t o = 0; o <= st.obstacles.size(); ++o) {
+    where = o;
+    const ContactCandidates& c = pairs.candidates[o];
+    const bool self = o == st.obstacles.size();
+    const ContactMesh* ob = self ? &pairs.proxy : &st.obstacles[o].mesh;
+    const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;  // rest positions of the second mesh
+    const Eigen::MatrixX3d& W = self ? V : ob->start;
+    for (const auto& [v, t] : c.vertexTriangle) {
+      const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
+      term.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
+      term.split = 1;
+      pointTriangle(row(V, v), row(W, tri[0]), row(W, tri[1]), row(W, tri[2]));
+    }
+    for (const auto& [t, v] : c.triangleVertex) {  // an obstacle's vertex and a proxy triangle
+      const Eigen::Vector3i tri = T.row(t).transpose();
+      term.vertex = {-1, tri[0], tri[1], tri[2]};
+      term.split = 1;
+      pointTriangle(row(W, v), row(V, tri[0]), row(V, tri[1]), row(V, tri[2]));
+    }
+    for (const auto& [ea, eb] : c.edgeEdge) {
+      const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
+      const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
+      term.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
+      term.split = 2;
+      const double threshold =
+          edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
+      edgeEdge(row(V, a0), row(V, a1), row(W, b0), row(W, b1), threshold);
+    }
+  }
+  st.minimum = minimum;
+}
+
+bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {
+  value = 0.0;
+  terms(ctx, 0, [&](const Term& t) { value += t.value; });
+  return true;
+}
+
+bool BarrierContactForce::storedEnergy(const LoadContext& ctx, double& value) const {
+  value = 0.0;
+  State& st = *m_state;
+  const ContactWorld& w = *m_world;
+  std::vector<std::uint64_t> versions;
+  for (const ContactWorld::Obstacle& o : w.obstacles) versions.push_back(o.tree ? o.tree->version() : 0);
+  if (!st.seenTaken) {
+    st.seenTaken = true;
+    st.seenVersions = versions;
+    st.seenLinear = w.linear;
+    st.seenOffset = w.offset;
+  } else if (st.seenVersions != versions || st.seenLinear != w.linear || st.seenOffset != w.offset) {
+    return false;  // a moving obstacle does work on the surface
+  }
+  return potential(ctx, value);
+}
+
+void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  const ContactWorld& w = *m_world;
+  Eigen::MatrixX3d f;
+  bool any = false;
+  terms(ctx, 1, [&](const Term& t) {
+    if (!any) {
+      f = Eigen::MatrixX3d::Zero(m_state->proxy->numVertices(), 3);
+      any = true;
+    }
+    for (int k = 0; k < 4; ++k)
+      if (t.vertex[size_t(k)] >= 0)
+        f.row(t.vertex[size_t(k)]) -= (w.linear.transpose() * t.grad.segment<3>(3 * k)).transpose();
+  });
+  if (any) m_state->proxy->addVertexForces(f, load);
+}
+
+void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+  (void)velocityScale;
+  const ContactWorld& w = *m_world;
+  const CollisionProxy* proxy = nullptr;
+  terms(ctx, 2, [&](const Term& t) {
+    if (!proxy) proxy = m_state->proxy.get();
+    // blocks between proxy points of one primitive only: its first point or first two (the
+    // vertex or edge of the first primitive) and the rest (the second's), which share no
+    // element in self-contact (see the header)
+    const int split = t.split;
+    for (int a = 0; a < 4; ++a) {
+      if (t.vertex[size_t(a)] < 0) continue;
+      for (int b = 0; b < 4; ++b) {
+        if (t.vertex[size_t(b)] < 0) continue;
+        if ((a < split) != (b < split)) continue;
+        const Eigen::Matrix3d H = w.linear.transpose() * t.hess.block<3, 3>(3 * a, 3 * b) * w.linear;
+        for (const auto& wa : proxy->netWeights(t.vertex[size_t(a)]))
+          for (const auto& wb : proxy->netWeights(t.vertex[size_t(b)])) sink.add(wa.index, wb.index, wa.weight * wb.weight * H);
+      }
+    }
+  });
+}
+
+double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {
+  prepare(ctx);
+  const State& st = *m_state;
+  ContactMesh moving;
+  proxyWorld(ctx.current, moving.start);
+  proxyWorld(to, moving.end);
+  moving.triangles = st.proxy->triangles();
+  moving.edges = st.proxy->edges();
+  double t = 1.0;
+  for (const State::Obstacle& ob : st.obstacles)
+    if (ob.tree) t = std::min(t, collisionFreeFraction(moving, ob.mesh, m_params.offset));
+  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(moving, m_params.offset));
+  return t;
+}
+
+std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
+  prepare(ctx);
+  State& st = *m_state;
+  const ContactWorld& w = *m_world;
+  // the spline lies within `deviation` of its proxy (docs/math.md §18.1): the offset must exceed
+  // it, or the spline could reach an obstacle while its proxy keeps the offset
+  // (through the frame: its largest singular value bounds how far a distance can stretch)
+  const double stretch = Eigen::JacobiSVD<Eigen::Matrix3d>(w.linear).singularValues()(0);
+  st.deviation = st.proxy->deviationBound(ctx.current) * stretch;
+  std::ostringstream os;
+  if (!(st.deviation < m_params.offset)) {
+    os << "the surface has curved so much that it may lie " << numberText(st.deviation)
+       << " m from its collision proxy, as much as the contact offset thickness " << numberText(m_params.offset)
+       << " m; raise proxySamples (now " << m_params.samplesPerSpan << ") or thickness";
+    return os.str();
+  }
+  const double diagonal = (st.restWorld.colwise().maxCoeff() - st.restWorld.colwise().minCoeff()).norm();
+  if (st.kappa == 0.0) {
+    // IPC's potential is h² times ours (its inertia ½|x - x̂|²_M against our ½|x - x̂|²_M / h²):
+    // its κ over h² here. The gradients are not balanced (κ_min, IPC's choice without them).
+    const double averageMass = m_params.mass / double(st.proxy->numVertices());
+    const Eigen::VectorXd none = Eigen::VectorXd::Zero(1);
+    const double h2 = ctx.stepSize * ctx.stepSize;
+    st.kappa = initialBarrierStiffness(diagonal, m_params.dhat, averageMass, none, none, st.kappaMax, 1e11,
+                                       m_params.offset) / h2;
+    st.kappaMax /= h2;
+  }
+  double value = 0.0;
+  potential(ctx, value);  // also finds the smallest distance
+  if (!(st.minimum > m_params.offset)) {
+    const Eigen::Vector2d uv = st.proxy->parameters(std::max<Eigen::Index>(st.closestVertex, 0));
+    os << "the surface is within the contact offset thickness " << numberText(m_params.offset) << " m of ";
+    if (st.closestObstacle == int(st.obstacles.size()))
+      os << "itself";
+    else
+      os << "obstacle " << st.closestObstacle + 1;
+    os << " near (u, v) = (" << numberText(uv.x()) << ", " << numberText(uv.y()) << "): distance " << numberText(st.minimum)
+       << " m; start it clear of obstacles and of itself";
+    return os.str();
+  }
+  updateBarrierStiffness(st.previousMinimum - m_params.offset, st.minimum - m_params.offset, st.kappaMax, st.kappa,
+                         diagonal);
+  st.previousMinimum = st.minimum;
+  return std::string();
+}
+
+}  // namespace bsdeform

@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+/// @file BarrierContact.h
+/// Barrier contact (Incremental Potential Contact; Li et al. 2020, C-IPC: Li, Kaufman, Jiang 2021)
+/// of a spline surface with the obstacles of a ContactWorld and, when asked, with itself,
+/// through its CollisionProxy (docs/math.md §18). A force with a potential, a gradient and a
+/// positive semidefinite Hessian, for the implicit steps, and a bound on every trial step:
+/// admissibleFraction() cuts a step to the largest fraction over which no proxy vertex, edge or
+/// triangle comes within the offset of an obstacle's or of another part of the proxy (additive
+/// CCD), so the line search of the implicit step never crosses.
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bsdeform/contact/CollisionProxy.h"
+#include "bsdeform/contact/Contact.h"
+#include "bsdeform/forces/Force.h"
+
+namespace bsdeform {
+
+struct BarrierContactParameters {
+  double offset = 0.01;    ///< ξ > 0, metres (world): the proxy keeps this far from obstacles and itself
+  double dhat = 1e-3;      ///< d̂ > 0, metres: the barrier acts between ξ and ξ + d̂
+  bool selfContact = false;
+  int samplesPerSpan = 2;  ///< the proxy's resolution (CollisionProxy)
+  double mass = 1.0;       ///< the surface's mass (kg), for the barrier stiffness's scale
+  /// false only for tests: the pair Hessians as they are (the exact Hessian of the potential for
+  /// obstacle contact), instead of projected to positive semidefinite
+  bool projectHessian = true;
+};
+
+class BarrierContactForce : public Force {
+ public:
+  /// @throws std::invalid_argument naming the parameter and the value
+  BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p);
+  ~BarrierContactForce() override;
+
+  unsigned dependence() const override { return kDependsOnPosition; }
+  /// -∂Φ/∂P, Φ = κ Σ_pairs b (the mollified edge–edge pairs times their mollifier).
+  void addLoad(const LoadContext& ctx, ControlNet& load) const override;
+  /// Each pair's Hessian, projected to PSD, pushed to the control points through the proxy's
+  /// weights. Self-contact pairs couple two parts of the surface that share no element; their
+  /// cross blocks are left out (the block diagonal of a PSD matrix is PSD: a descent direction
+  /// still, Newton then converges linearly in those pairs, and the tangent's pattern stays fixed).
+  bool hasJacobian() const override { return true; }
+  void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
+  bool potential(const LoadContext& ctx, double& value) const override;
+  /// The potential, unless an obstacle or the frame moved since the first call.
+  bool storedEnergy(const LoadContext& ctx, double& value) const override;
+  double admissibleFraction(const LoadContext& ctx, const ControlNet& to) const override;
+  bool limitsSteps() const override { return true; }
+  std::string beginStep(const LoadContext& ctx) const override;
+  const char* backwardEulerOnly() const override {
+    return "barrier contact (COLLISION with method BARRIER) needs integrator BACKWARD_EULER: the explicit scheme "
+           "has no line search to keep the proxy from crossing";
+  }
+
+  const BarrierContactParameters& parameters() const { return m_params; }
+  /// The barrier stiffness κ now (adapted between steps, docs/math.md §18).
+  double stiffness() const;
+  /// The smallest distance of a pair at the last evaluation (infinity when no pair is near).
+  double lastMinimumDistance() const;
+  /// The proxy's deviation bound at the last beginStep().
+  double lastDeviationBound() const;
+
+ private:
+  struct State;
+  struct Pairs;
+  /// One pair's barrier: its points (proxy vertices, -1 for an obstacle's), value, and gradient
+  /// and Hessian over the 4 points' 12 world coordinates; points [0, split) are one primitive.
+  struct Term {
+    std::array<Eigen::Index, 4> vertex{};
+    int split = 1;
+    double value = 0.0;
+    Eigen::Matrix<double, 12, 1> grad;
+    Eigen::Matrix<double, 12, 12> hess;
+  };
+  void prepare(const LoadContext& ctx) const;
+  void proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const;
+  void gather(const LoadContext& ctx, Pairs& pairs) const;
+  /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`.
+  void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const;
+  std::shared_ptr<const ContactWorld> m_world;
+  BarrierContactParameters m_params;
+  std::shared_ptr<State> m_state;  // mutable: the proxy, κ, caches (the force is const in a step)
+};
+
+}  // namespace bsdeform

@@ -1,0 +1,230 @@
+// SPDX-License-Identifier: MIT
+// Barrier contact (BarrierContact.h, docs/math.md §18) inside BACKWARD_EULER: its derivatives
+// against differences, a fast fall onto a thin plate that does not pass through, a folded sheet
+// whose layers do not pass through each other (and do without self-contact), and the refusals
+// (another integrator, a start inside an obstacle).
+#include <Eigen/Dense>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+
+#include "../support/ForceFieldCheck.h"
+#include "../support/ObstacleMeshes.h"
+#include "bsdeform/contact/BarrierContact.h"
+#include "bsdeform/contact/BroadPhase.h"
+#include "bsdeform/contact/CollisionProxy.h"
+#include "bsdeform/contact/Distance.h"
+#include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/forces/ForceLaws.h"
+
+using namespace bsdeform;
+using bsdeform::test::box;
+using bsdeform::test::worldOf;
+
+namespace {
+const ShellMaterial kCotton{0.821e6, 0.243, 0.318e-3, 472.6};
+
+ModelParameters clothModel(int n, double dt) {
+  ModelParameters p;
+  p.numU = p.numV = n;
+  p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
+  p.energy = EnergyModel::Shell;
+  p.material = kCotton;
+  p.damping = 0.0;
+  p.timeStep = dt;
+  p.integrator = Integrator::BackwardEuler;
+  return p;
+}
+
+double rhoT() { return kCotton.density * kCotton.thickness; }
+
+/// The smallest distance between the proxy of `net` and the mesh, over every vertex–triangle and
+/// edge–edge pair within `reach` (the broad phase's candidates; brute force in distance).
+double proxyClearance(const SplineSpace& s, const ControlNet& net, const TriangleMesh& mesh, double reach, int samples) {
+  const CollisionProxy proxy(s, samples);
+  ContactMesh a, b;
+  proxy.positions(net, a.start);
+  a.end = a.start;
+  a.triangles = proxy.triangles();
+  a.edges = proxy.edges();
+  b.start.resize(Eigen::Index(mesh.vertices.size()), 3);
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) b.start.row(Eigen::Index(v)) = mesh.vertices[v].transpose();
+  b.end = b.start;
+  b.triangles.resize(Eigen::Index(mesh.triangles.size()), 3);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) b.triangles.row(Eigen::Index(t)) = mesh.triangles[t].transpose();
+  b.edges.resize(Eigen::Index(3 * mesh.triangles.size()), 2);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int c = 0; c < 3; ++c) b.edges.row(Eigen::Index(3 * t + c)) << mesh.triangles[t][c], mesh.triangles[t][(c + 1) % 3];
+  ContactCandidates c;
+  candidatePairs(a, b, reach, c);
+  double d2 = reach * reach;
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  for (const auto& [v, t] : c.vertexTriangle)
+    d2 = std::min(d2, pointTriangleDistanceSquared(row(a.start, v), row(b.start, b.triangles(t, 0)),
+                                                   row(b.start, b.triangles(t, 1)), row(b.start, b.triangles(t, 2))));
+  for (const auto& [t, v] : c.triangleVertex)
+    d2 = std::min(d2, pointTriangleDistanceSquared(row(b.start, v), row(a.start, a.triangles(t, 0)),
+                                                   row(a.start, a.triangles(t, 1)), row(a.start, a.triangles(t, 2))));
+  for (const auto& [ea, eb] : c.edgeEdge)
+    d2 = std::min(d2, edgeEdgeDistanceSquared(row(a.start, a.edges(ea, 0)), row(a.start, a.edges(ea, 1)),
+                                              row(b.start, b.edges(eb, 0)), row(b.start, b.edges(eb, 1))));
+  return std::sqrt(d2);
+}
+
+/// The same for the proxy against itself (pairs that share no vertex).
+double selfClearance(const SplineSpace& s, const ControlNet& net, double reach) {
+  const CollisionProxy proxy(s, 2);
+  ContactMesh a;
+  proxy.positions(net, a.start);
+  a.end = a.start;
+  a.triangles = proxy.triangles();
+  a.edges = proxy.edges();
+  ContactCandidates c;
+  candidatePairs(a, reach, c);
+  double d2 = reach * reach;
+  auto row = [&](Eigen::Index i) { return Eigen::Vector3d(a.start.row(i).transpose()); };
+  for (const auto& [v, t] : c.vertexTriangle)
+    d2 = std::min(d2, pointTriangleDistanceSquared(row(v), row(a.triangles(t, 0)), row(a.triangles(t, 1)),
+                                                   row(a.triangles(t, 2))));
+  for (const auto& [ea, eb] : c.edgeEdge)
+    d2 = std::min(d2, edgeEdgeDistanceSquared(row(a.edges(ea, 0)), row(a.edges(ea, 1)), row(a.edges(eb, 0)),
+                                              row(a.edges(eb, 1))));
+  return std::sqrt(d2);
+}
+}  // namespace
+
+TEST_CASE("BarrierContactForce: load, potential and Hessian against differences", "[core][contact]") {
+  // a wavy sheet over a plate and a blade whose vertices poke toward it: point–plane,
+  // point–edge, point–point and edge–edge pairs, all within reach of the barrier
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  ControlNet net = s.grevillePlane();
+  // (shifted off the diagonal of the plate's top: a vertex right above an edge shared by two
+  // triangles sits where its distances change class, and the Hessian jumps there)
+  for (Eigen::Index r = 0; r < net.rows(); ++r) {
+    net(r, 0) += 0.0137;
+    net(r, 2) = 0.0062 + 0.0004 * std::sin(7.0 * net(r, 0) + 3.0 * net(r, 1));
+  }
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  auto world = worldOf(plate);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.projectHessian = false;
+  const BarrierContactForce force(world, bp);
+  const LoadContext ctx{s, net, net, 0.02, 0.0};
+  REQUIRE(force.beginStep(ctx).empty());
+  REQUIRE(force.stiffness() > 0.0);
+  double phi = 0.0;
+  REQUIRE(force.potential(ctx, phi));
+  CHECK(phi > 0.0);
+  test::ForceFieldCheck check = test::forForce("barrier over a plate", force, s, net);
+  test::useOwnDerivatives(check, force, s, net);
+  check.step = 1e-7;
+  check.tolerance = 1e-5;
+  check.run();
+}
+
+TEST_CASE("BarrierContactForce: a sheet falling at 5 m/s onto a 2 mm plate does not pass through", "[core][contact]") {
+  Simulation sim(clothModel(6, 0.02));
+  sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
+  const double top = -0.05;
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, top - 0.002), Eigen::Vector3d(1.5, 1.5, top));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.mass = rhoT();
+  bp.samplesPerSpan = 4;  // the free edges whip on impact: a finer proxy keeps the spline close
+  auto contact = std::make_shared<BarrierContactForce>(worldOf(plate), bp);
+  sim.addForce(contact);
+  ControlNet previous = sim.rest();
+  previous.col(2).array() += 0.1;  // one step of 5 m/s: twice the gap, fifty times the plate's thickness
+  sim.setState(sim.rest(), previous, 0.0, 0);
+  double lowest = 1e300;
+  for (int step = 0; step < 25; ++step) {
+    const Status status = sim.step();
+    INFO("step " << step << ": " << sim.statusMessage());
+    REQUIRE(status == Status::Ok);
+    const double clearance = proxyClearance(sim.space(), sim.current(), plate, 1.0, bp.samplesPerSpan);
+    CHECK(clearance >= bp.offset * (1.0 - 1e-9));
+    lowest = std::min(lowest, clearance);
+    // the spline itself: within the proxy's deviation bound of it
+    for (int i = 0; i <= 10; ++i)
+      for (int j = 0; j <= 10; ++j)
+        CHECK(sim.evaluate(i / 10.0, j / 10.0).position.z() - top >= bp.offset - contact->lastDeviationBound());
+  }
+  // it reached the plate and rests on it (within the barrier's reach)
+  CHECK(lowest < bp.offset + bp.dhat);
+}
+
+TEST_CASE("BarrierContactForce: the layers of a folded sheet stay apart with selfContact, and cross without",
+          "[core][contact]") {
+  // rest: the flat sheet; start: folded along u over a bend of radius 0.1 (a U lying on its
+  // side), the upper layer 0.2 above the lower one, which lies on a plate; gravity brings the
+  // upper layer down onto the lower
+  constexpr double kPi = 3.14159265358979323846;
+  const double R = 0.1, straight = 0.4;
+  auto folded = [&](double u) {
+    if (u <= straight) return Eigen::Vector2d(u, 0.0);
+    const double a = (u - straight) / R;
+    if (a <= kPi) return Eigen::Vector2d(straight + R * std::sin(a), R - R * std::cos(a));
+    return Eigen::Vector2d(straight - (u - straight - kPi * R), 2.0 * R);
+  };
+  const TriangleMesh plate = box(Eigen::Vector3d(-1.0, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, -0.008));
+  auto run = [&](bool self, double& lowestSelf, double& lastTopMinusBottom) {
+    ModelParameters mp = clothModel(10, 0.02);
+    mp.damping = 1.0;
+    Simulation sim(mp);
+    ControlNet start = sim.rest();
+    for (Eigen::Index r = 0; r < start.rows(); ++r) {
+      const Eigen::Vector2d xz = folded(sim.rest()(r, 0));
+      start(r, 0) = xz.x();
+      start(r, 2) = xz.y();
+    }
+    sim.setState(start, start, 0.0, 0);
+    sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
+    BarrierContactParameters bp;
+    bp.offset = 0.005;
+    bp.dhat = 0.002;
+    bp.mass = rhoT();
+    bp.selfContact = self;
+    sim.addForce(std::make_shared<BarrierContactForce>(worldOf(plate), bp));
+    lowestSelf = 1e300;
+    for (int step = 0; step < 40; ++step) {
+      const Status status = sim.step();
+      INFO("step " << step << ": " << sim.statusMessage());
+      REQUIRE(status == Status::Ok);
+      lowestSelf = std::min(lowestSelf, selfClearance(sim.space(), sim.current(), 0.05));
+    }
+    // the upper layer's middle (u = 0.85) against the lower layer's (u = 0.15), same v
+    lastTopMinusBottom = sim.evaluate(0.85, 0.5).position.z() - sim.evaluate(0.15, 0.5).position.z();
+  };
+  double lowest = 0.0, gap = 0.0;
+  run(true, lowest, gap);
+  CHECK(lowest >= 0.005 * (1.0 - 1e-9));
+  CHECK(gap > 0.0);
+  CHECK(gap < 0.05);  // it came down onto the lower layer
+  run(false, lowest, gap);
+  CHECK(gap < 0.0);  // without self-contact the upper layer falls through the lower one
+}
+
+TEST_CASE("BarrierContactForce: refused by other integrators and when the surface starts inside the offset",
+          "[core][contact]") {
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, -0.002));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  {
+    ModelParameters mp = clothModel(5, 0.01);
+    mp.integrator = Integrator::Explicit;
+    Simulation sim(mp);
+    sim.addForce(std::make_shared<BarrierContactForce>(worldOf(box(Eigen::Vector3d(0, 0, -1), Eigen::Vector3d(1, 1, -0.5))), bp));
+    CHECK(sim.step() == Status::Refused);
+    CHECK_THAT(sim.statusMessage(), Catch::Contains("BACKWARD_EULER"));
+  }
+  {
+    Simulation sim(clothModel(5, 0.01));
+    sim.addForce(std::make_shared<BarrierContactForce>(worldOf(plate), bp));
+    CHECK(sim.step() != Status::Ok);
+    CHECK_THAT(sim.statusMessage(), Catch::Contains("within the contact offset") && Catch::Contains("obstacle 1") &&
+                                        Catch::Contains("(u, v)"));
+  }
+}
