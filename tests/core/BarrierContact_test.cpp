@@ -157,7 +157,7 @@ TEST_CASE("BarrierContactForce: a sheet falling at 5 m/s onto a 2 mm plate does 
 }
 
 TEST_CASE("BarrierContactForce: the layers of a folded sheet stay apart with selfContact, and cross without",
-          "[core][contact]") {
+          "[core][contact][slow]") {
   // rest: the flat sheet; start: folded along u over a bend of radius 0.1 (a U lying on its
   // side), the upper layer 0.2 above the lower one, which lies on a plate; gravity brings the
   // upper layer down onto the lower
