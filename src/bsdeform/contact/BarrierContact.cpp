@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -23,7 +22,7 @@ using Vector12d = Eigen::Matrix<double, 12, 1>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
 
 /// The unique undirected edges of a triangle list.
-Eigen::MatrixX2i edgesOf(const std::vector<Eigen::Vector3i>& triangles) {
+Eigen::MatrixX2i uniqueEdges(const std::vector<Eigen::Vector3i>& triangles) {
   std::vector<std::pair<int, int>> e;
   e.reserve(triangles.size() * 3);
   for (const Eigen::Vector3i& t : triangles)
@@ -40,10 +39,24 @@ Eigen::MatrixX2i edgesOf(const std::vector<Eigen::Vector3i>& triangles) {
 
 }  // namespace
 
+ContactMesh staticContactMesh(const TriangleMesh& m) {
+  ContactMesh out;
+  out.start.resize(Eigen::Index(m.vertices.size()), 3);
+  for (size_t v = 0; v < m.vertices.size(); ++v) out.start.row(Eigen::Index(v)) = m.vertices[v].transpose();
+  out.end = out.start;
+  out.triangles.resize(Eigen::Index(m.triangles.size()), 3);
+  for (size_t t = 0; t < m.triangles.size(); ++t) out.triangles.row(Eigen::Index(t)) = m.triangles[t].transpose();
+  out.edges = uniqueEdges(m.triangles);
+  return out;
+}
+
 /// What stays between evaluations: the proxy (made at the first call, when the space is known),
 /// the obstacles as ContactMeshes, the barrier stiffness and what adapts it.
 struct BarrierContactForce::State {
   std::unique_ptr<CollisionProxy> proxy;
+  /// The proxy as a ContactMesh: its triangles and edges (set with the proxy) and the vertex
+  /// positions in the world of the last evaluation (start = end) or CCD (start to end).
+  ContactMesh mesh;
   const SplineSpace* space = nullptr;
   Eigen::MatrixX3d restWorld;  ///< the proxy at the rest net (or the first state), world frame
   struct Obstacle {
@@ -58,17 +71,7 @@ struct BarrierContactForce::State {
   double deviation = 0.0;
   int closestObstacle = -1;      ///< of the closest pair at the last evaluation (obstacles.size(): self)
   Eigen::Index closestVertex = -1;
-  bool seenTaken = false;
-  std::vector<std::uint64_t> seenVersions;
-  Eigen::Matrix3d seenLinear = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d seenOffset = Eigen::Vector3d::Zero();
-};
-
-/// The proxy at one state in world coordinates, and the pairs near it.
-struct BarrierContactForce::Pairs {
-  ContactMesh proxy;  ///< start = end = the proxy's vertices, world frame
-  /// per obstacle, and the self pairs last
-  std::vector<ContactCandidates> candidates;
+  ContactWorldSnapshot seen;  ///< for storedEnergy()
 };
 
 BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
@@ -100,9 +103,9 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
   if (!st.proxy || st.space != &ctx.space) {
     st.proxy = std::make_unique<CollisionProxy>(ctx.space, m_params.samplesPerSpan);
     st.space = &ctx.space;
-    Eigen::MatrixX3d rest;
-    st.proxy->positions(ctx.rest ? *ctx.rest : ctx.current, rest);
-    st.restWorld = (rest * w.linear.transpose()).rowwise() + w.offset.transpose();
+    st.mesh.triangles = st.proxy->triangles();
+    st.mesh.edges = st.proxy->edges();
+    proxyWorld(ctx.rest ? *ctx.rest : ctx.current, st.restWorld);
   }
   st.obstacles.resize(w.obstacles.size());
   for (size_t o = 0; o < w.obstacles.size(); ++o) {
@@ -112,13 +115,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     if (ob.tree == tree && ob.version == tree->version()) continue;
     ob.tree = tree;
     ob.version = tree->version();
-    const TriangleMesh& m = tree->mesh();
-    ob.mesh.start.resize(Eigen::Index(m.vertices.size()), 3);
-    for (size_t v = 0; v < m.vertices.size(); ++v) ob.mesh.start.row(Eigen::Index(v)) = m.vertices[v].transpose();
-    ob.mesh.end = ob.mesh.start;
-    ob.mesh.triangles.resize(Eigen::Index(m.triangles.size()), 3);
-    for (size_t t = 0; t < m.triangles.size(); ++t) ob.mesh.triangles.row(Eigen::Index(t)) = m.triangles[t].transpose();
-    ob.mesh.edges = edgesOf(m.triangles);
+    ob.mesh = staticContactMesh(tree->mesh());
   }
 }
 
@@ -129,30 +126,27 @@ void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& ou
   out = (local * w.linear.transpose()).rowwise() + w.offset.transpose();
 }
 
-void BarrierContactForce::gather(const LoadContext& ctx, Pairs& pairs) const {
+void BarrierContactForce::gather(const LoadContext& ctx, std::vector<ContactCandidates>& candidates) const {
   prepare(ctx);
   State& st = *m_state;
-  const CollisionProxy& proxy = *st.proxy;
-  proxyWorld(ctx.current, pairs.proxy.start);
-  pairs.proxy.end = pairs.proxy.start;
-  pairs.proxy.triangles = proxy.triangles();
-  pairs.proxy.edges = proxy.edges();
+  proxyWorld(ctx.current, st.mesh.start);
+  st.mesh.end = st.mesh.start;
   const double reach = m_params.offset + m_params.dhat;
-  pairs.candidates.assign(st.obstacles.size() + 1, ContactCandidates());
+  candidates.assign(st.obstacles.size() + 1, ContactCandidates());
   for (size_t o = 0; o < st.obstacles.size(); ++o)
-    if (st.obstacles[o].tree) candidatePairs(pairs.proxy, st.obstacles[o].mesh, reach, pairs.candidates[o]);
-  if (m_params.selfContact) candidatePairs(pairs.proxy, reach, pairs.candidates.back());
+    if (st.obstacles[o].tree) candidatePairs(st.mesh, st.obstacles[o].mesh, reach, candidates[o]);
+  if (m_params.selfContact) candidatePairs(st.mesh, reach, candidates.back());
 }
 
 void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const {
   State& st = *m_state;
-  Pairs pairs;
-  gather(ctx, pairs);
+  std::vector<ContactCandidates> candidates;
+  gather(ctx, candidates);
   BarrierParameters bp;
   bp.offset = m_params.offset;
   bp.dhat = m_params.dhat;
   bp.stiffness = st.kappa;
-  const Eigen::MatrixX3d& V = pairs.proxy.start;
+  const Eigen::MatrixX3d& V = st.mesh.start;
   Term term;
   Vector12d* grad = order >= 1 ? &term.grad : nullptr;
   Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
@@ -178,14 +172,14 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     term.value = edgeEdgeBarrier(a0, a1, b0, b1, threshold, bp, grad, hess, mode);
     emit(edgeEdgeDistanceSquared(a0, a1, b0, b1));
   };
-  const Eigen::MatrixX3i& T = pairs.proxy.triangles;
-  const Eigen::MatrixX2i& E = pairs.proxy.edges;
+  const Eigen::MatrixX3i& T = st.mesh.triangles;
+  const Eigen::MatrixX2i& E = st.mesh.edges;
   auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
   for (size_t o = 0; o <= st.obstacles.size(); ++o) {
     where = o;
-    const ContactCandidates& c = pairs.candidates[o];
+    const ContactCandidates& c = candidates[o];
     const bool self = o == st.obstacles.size();
-    const ContactMesh* ob = self ? &pairs.proxy : &st.obstacles[o].mesh;
+    const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
     const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;  // rest positions of the second mesh
     const Eigen::MatrixX3d& W = self ? V : ob->start;
     for (const auto& [v, t] : c.vertexTriangle) {
@@ -221,18 +215,7 @@ bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const
 
 bool BarrierContactForce::storedEnergy(const LoadContext& ctx, double& value) const {
   value = 0.0;
-  State& st = *m_state;
-  const ContactWorld& w = *m_world;
-  std::vector<std::uint64_t> versions;
-  for (const ContactWorld::Obstacle& o : w.obstacles) versions.push_back(o.tree ? o.tree->version() : 0);
-  if (!st.seenTaken) {
-    st.seenTaken = true;
-    st.seenVersions = versions;
-    st.seenLinear = w.linear;
-    st.seenOffset = w.offset;
-  } else if (st.seenVersions != versions || st.seenLinear != w.linear || st.seenOffset != w.offset) {
-    return false;  // a moving obstacle does work on the surface
-  }
+  if (!m_state->seen.unchangedSinceFirst(*m_world)) return false;  // a moving obstacle does work on the surface
   return potential(ctx, value);
 }
 
@@ -277,16 +260,13 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
 
 double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {
   prepare(ctx);
-  const State& st = *m_state;
-  ContactMesh moving;
-  proxyWorld(ctx.current, moving.start);
-  proxyWorld(to, moving.end);
-  moving.triangles = st.proxy->triangles();
-  moving.edges = st.proxy->edges();
+  State& st = *m_state;
+  proxyWorld(ctx.current, st.mesh.start);
+  proxyWorld(to, st.mesh.end);
   double t = 1.0;
   for (const State::Obstacle& ob : st.obstacles)
-    if (ob.tree) t = std::min(t, collisionFreeFraction(moving, ob.mesh, m_params.offset));
-  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(moving, m_params.offset));
+    if (ob.tree) t = std::min(t, collisionFreeFraction(st.mesh, ob.mesh, m_params.offset));
+  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(st.mesh, m_params.offset));
   return t;
 }
 

@@ -13,12 +13,17 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "bsdeform/contact/BroadPhase.h"
 #include "bsdeform/contact/CollisionProxy.h"
 #include "bsdeform/contact/Contact.h"
 #include "bsdeform/forces/Force.h"
 
 namespace bsdeform {
+
+/// A mesh that does not move over the step (start = end), each undirected edge once.
+ContactMesh staticContactMesh(const TriangleMesh& mesh);
 
 struct BarrierContactParameters {
   double offset = 0.01;    ///< ξ > 0, metres (world): the proxy keeps this far from obstacles and itself
@@ -67,7 +72,6 @@ class BarrierContactForce : public Force {
 
  private:
   struct State;
-  struct Pairs;
   /// One pair's barrier: its points (proxy vertices, -1 for an obstacle's), value, and gradient
   /// and Hessian over the 4 points' 12 world coordinates; points [0, split) are one primitive.
   struct Term {
@@ -79,7 +83,9 @@ class BarrierContactForce : public Force {
   };
   void prepare(const LoadContext& ctx) const;
   void proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const;
-  void gather(const LoadContext& ctx, Pairs& pairs) const;
+  /// The proxy at ctx.current (world frame) and the candidate pairs within reach of it: one set
+  /// per obstacle, the self pairs last.
+  void gather(const LoadContext& ctx, std::vector<ContactCandidates>& candidates) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`.
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const;
   std::shared_ptr<const ContactWorld> m_world;

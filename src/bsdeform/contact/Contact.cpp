@@ -353,18 +353,24 @@ struct CollisionForce::Cache {
   }
 };
 
-struct CollisionForce::Seen {
-  bool taken = false;
+bool ContactWorldSnapshot::unchangedSinceFirst(const ContactWorld& w) {
   std::vector<std::uint64_t> versions;
-  Eigen::Matrix3d linear = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
-};
+  for (const ContactWorld::Obstacle& o : w.obstacles) versions.push_back(o.tree ? o.tree->version() : 0);
+  if (!m_taken) {
+    m_taken = true;
+    m_versions = std::move(versions);
+    m_linear = w.linear;
+    m_offset = w.offset;
+    return true;
+  }
+  return m_versions == versions && m_linear == w.linear && m_offset == w.offset;
+}
 
 CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const ContactParameters& p)
     : m_world(std::move(world)),
       m_params(p),
       m_cache(std::make_shared<Cache>()),
-      m_seen(std::make_shared<Seen>()) {
+      m_seen(std::make_shared<ContactWorldSnapshot>()) {
   if (!m_world) throw std::invalid_argument("collision: no obstacle world");
   checked(p.thickness, "thickness", true);
   checked(p.stiffness, "stiffness", false);
@@ -561,14 +567,7 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
 bool CollisionForce::storedEnergy(const LoadContext& ctx, double& value) const {
   value = 0.0;
   const ContactWorld& w = *m_world;
-  std::vector<std::uint64_t> versions;
-  for (const ContactWorld::Obstacle& o : w.obstacles) versions.push_back(o.tree ? o.tree->version() : 0);
-  Seen& seen = *m_seen;
-  if (!seen.taken) {
-    seen = Seen{true, versions, w.linear, w.offset};
-  } else if (seen.versions != versions || seen.linear != w.linear || seen.offset != w.offset) {
-    return false;
-  }
+  if (!m_seen->unchangedSinceFirst(w)) return false;
   if (w.obstacles.empty()) return true;
   Cache& c = *m_cache;
   c.fitQuadrature(ctx.space);

@@ -6,6 +6,7 @@
 /// coordinates into a ContactWorld and keeps it current; CollisionForce reads it in every step.
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -26,6 +27,21 @@ struct ContactWorld {
   std::vector<Obstacle> obstacles;
   Eigen::Matrix3d linear = Eigen::Matrix3d::Identity();  ///< A
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();       ///< b
+};
+
+/// Whether a ContactWorld's obstacles or frame have moved: the obstacles' versions and the frame
+/// when first asked. A moving obstacle does work on the surface, so a contact force stores energy
+/// only while nothing moved.
+class ContactWorldSnapshot {
+ public:
+  /// Takes the snapshot at the first call; afterwards whether `w` is as it was then.
+  bool unchangedSinceFirst(const ContactWorld& w);
+
+ private:
+  bool m_taken = false;
+  std::vector<std::uint64_t> m_versions;
+  Eigen::Matrix3d m_linear = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d m_offset = Eigen::Vector3d::Zero();
 };
 
 /// Contact law parameters (world units; densities per unit parameter area as every
@@ -151,8 +167,7 @@ class CollisionForce : public Force {
   ContactParameters m_params;
   std::shared_ptr<Cache> m_cache;  // mutable state of addLoad (the force is const in a step)
   /// The obstacles' versions and the frame when storedEnergy() was first asked.
-  struct Seen;
-  std::shared_ptr<Seen> m_seen;
+  std::shared_ptr<ContactWorldSnapshot> m_seen;
 };
 
 }  // namespace bsdeform
