@@ -117,10 +117,14 @@ TEST_CASE("Scenes: every scene loads without warnings and runs with finite resul
     // each surface knows its scene, as SceneRunner and the front ends set it: obstacles are then
     // taken in their frames from the first step (a barrier refuses a cloth inside an untransformed Cube)
     for (SoBSplineDeformSurface* s : surfs) s->setScene(root);
-#ifdef BSDEFORM_SANITIZED_BUILD
-    const int steps = 4;  // under the sanitizers: the same code, a fifth of the steps
-#else
     const int steps = 20;
+#ifdef BSDEFORM_SANITIZED_BUILD
+    // under the sanitizers: the same code, a fifth of the steps, unless a scene has not moved by
+    // then (rising_sphere's sphere reaches the membrane later: with its frame known from the
+    // first step, nothing touches it in 4)
+    const int fewerSteps = 4;
+#else
+    const int fewerSteps = steps;
 #endif
     for (SoBSplineDeformSurface* s : surfs) {
       bsdeform::test::FpTrapScope traps;  // Debug builds: a NaN in our numerics raises SIGFPE
@@ -133,7 +137,7 @@ TEST_CASE("Scenes: every scene loads without warnings and runs with finite resul
         CHECK(s->simulation().deformationNorm() > 0.0);
         continue;
       }
-      for (int i = 0; i < steps; ++i) {
+      for (int i = 0; i < steps && (i < fewerSteps || s->simulation().deformationNorm() == 0.0); ++i) {
         realTime->setValue(SbTime(s->simulation().time() + s->simulation().parameters().timeStep));
         const bool stepped = s->stepSimulation(1);
         INFO(s->simulation().statusMessage());
