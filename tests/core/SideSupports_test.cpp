@@ -363,7 +363,7 @@ TEST_CASE("BACKWARD_EULER and IMPLICIT take supports per component and SYMMETRY 
 
 TEST_CASE("Supports per component on BUILT_IN sides: all three are BUILT_IN, Z alone keeps the edge's height and "
           "slope at rest",
-          "[shell][supports]") {
+          "[shell][supports][slow]") {  // 76 s under the sanitizers
   const ShellMaterial m{1e6, 0.3, 0.01, 1.0};
   ModelParameters bi = shell(8, 8, Boundaries{Boundary::BuiltIn, Boundary::Free, Boundary::Free, Boundary::Free}, m);
   Simulation a(bi);
