@@ -98,11 +98,12 @@ std::vector<FieldInfo> makeTable() {
       {F, "obstacleNames", "COLLISION: DEF names of further obstacles, looked up in the surface's scene.", "", "", "", 0, 0, bit(SoForceField::COLLISION), false, false},
       {F, "thickness", "COLLISION: contact offset from the obstacles.", "length", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "damping", "COLLISION: normal damping per unit world area (pressure per approach speed).", "pressure per speed", "", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
-      {F, "friction", "COLLISION: Coulomb friction coefficient.", "", "μ", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
+      {F, "friction", "COLLISION: Coulomb friction coefficient (PENALTY: the law of docs/math.md §13; BARRIER: IPC's lagged smooth friction, §18.3).", "", "μ", ">= 0", 0, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "method", "COLLISION: PENALTY, a force proportional to the depth (every integrator); BARRIER, IPC's barrier on a collision proxy of the spline with steps cut by continuous collision checks, so nothing ever crosses (BACKWARD_EULER only).", "", "", "PENALTY, BARRIER", 0, 0, bit(SoForceField::COLLISION), false, false},
       {F, "dhat", "COLLISION BARRIER: the barrier acts between thickness and thickness + dhat from an obstacle (or the surface itself).", "m", "d̂", "> 0", 1e-300, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "selfContact", "COLLISION BARRIER: the surface also collides with itself (proxy triangles that share no vertex).", "", "", "TRUE, FALSE", 0, 0, bit(SoForceField::COLLISION), false, false},
       {F, "proxySamples", "COLLISION BARRIER: intervals of the collision proxy per knot span and direction; the spline lies within (max|Δ²P| terms)/(8 r²) of it, which must stay below thickness.", "", "r", "1..16", 1, 16, bit(SoForceField::COLLISION), false, false},
+      {F, "epsv", "COLLISION BARRIER: friction's velocity threshold: slips slower than epsv are static friction, smoothed (the force grows from 0 to friction times the normal force over a slip of epsv times the time step).", "m/s", "ε_v", "> 0", 1e-300, kOpen, bit(SoForceField::COLLISION), false, false},
       {F, "frame", "WORLD: force, anchor, center, normal, radius and the expression's x y z and result are in world coordinates, through the Transforms above the surface. LOCAL: in the surface's own coordinates (its control net's).", "", "", "WORLD, LOCAL", 0, 0, kScaled | bit(SoForceField::POINT) | bit(SoForceField::EXPRESSION) | bit(SoForceField::SPRING) | kPenalty, false, false},
   };
 }

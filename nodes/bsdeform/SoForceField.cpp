@@ -187,6 +187,7 @@ SoForceField::SoForceField() {
   SO_ENGINE_ADD_INPUT(dhat, (0.001));
   SO_ENGINE_ADD_INPUT(selfContact, (FALSE));
   SO_ENGINE_ADD_INPUT(proxySamples, (2));
+  SO_ENGINE_ADD_INPUT(epsv, (0.001));
   SO_ENGINE_ADD_INPUT(frame, (WORLD));
   SO_ENGINE_ADD_OUTPUT(revision, SoSFInt32);
 
@@ -308,6 +309,8 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
           bp.dhat = dhat.getValue();
           bp.selfContact = selfContact.getValue();
           bp.samplesPerSpan = proxySamples.getValue();
+          bp.friction = friction.getValue();
+          bp.epsv = epsv.getValue();
           bp.mass = info.massDensity * info.areaScale;
           return std::make_shared<BarrierContactForce>(info.contact, bp);
         }

@@ -145,6 +145,7 @@ class SoForceField : public SoEngine {
   SoSFDouble dhat;          ///< COLLISION BARRIER: the barrier acts from thickness to thickness + dhat (m); 0.001
   SoSFBool selfContact;     ///< COLLISION BARRIER: the surface also collides with itself; FALSE
   SoSFInt32 proxySamples;   ///< COLLISION BARRIER: collision proxy intervals per knot span and direction; 2
+  SoSFDouble epsv;          ///< COLLISION BARRIER: friction's velocity threshold ε_v (m/s), slower slips are static; 0.001
   /// WORLD: force, anchor, center, normal, radius and the EXPRESSION's x y z and result are in
   /// world coordinates, converted through the Transforms above the surface; LOCAL: in the
   /// surface's own coordinates. WORLD by default. (COLLISION is always in the world.)

@@ -104,6 +104,97 @@ TEST_CASE("BarrierContactForce: load, potential and Hessian against differences"
   check.run();
 }
 
+TEST_CASE("BarrierContactForce with friction: load, potential and Hessian against differences", "[core][contact]") {
+  // the wavy sheet of the case above, frozen at its start, then slid and turned over the plate:
+  // every pair's slip over the step, some below the smoothing's epsilon (sticking) and some above
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  ControlNet start = s.grevillePlane();
+  for (Eigen::Index r = 0; r < start.rows(); ++r) {
+    start(r, 0) += 0.0137;
+    start(r, 2) = 0.0062 + 0.0004 * std::sin(7.0 * start(r, 0) + 3.0 * start(r, 1));
+  }
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.friction = 0.4;
+  bp.epsv = 0.05;  // epsilon = epsv h = 1 mm of slip
+  bp.projectHessian = false;  // the barrier's exact Hessian (friction's is PSD as it is)
+  const double h = 0.02;
+  const BarrierContactForce force(worldOf(plate), bp);
+  REQUIRE(force.beginStep(LoadContext{s, start, start, h, 0.0}).empty());
+  REQUIRE(force.frictionPairCount() > 0);
+  CHECK(force.frictionNormalForce() > 0.0);
+  ControlNet net = start;
+  for (Eigen::Index r = 0; r < net.rows(); ++r) {  // a slip growing from 0 to 2.5 mm across the sheet
+    const double y = start(r, 1);
+    net(r, 0) += 0.0025 * y * y;
+    net(r, 1) -= 0.0012 * start(r, 0);
+    net(r, 2) += 0.0001 * y;
+  }
+  const BarrierContactForce frictionless(worldOf(plate), [&] {
+    BarrierContactParameters q = bp;
+    q.friction = 0.0;
+    return q;
+  }());
+  REQUIRE(frictionless.beginStep(LoadContext{s, start, start, h, 0.0}).empty());
+  ControlNet with = ControlNet::Zero(s.numMoving(), 3), without = with;
+  force.addLoad(LoadContext{s, net, start, h, 0.0}, with);
+  frictionless.addLoad(LoadContext{s, net, start, h, 0.0}, without);
+  // friction opposes the slip: its load does negative work on the move from the start
+  const ControlNet slip = s.gatherMoving(net) - s.gatherMoving(start);
+  CHECK(((with - without).array() * slip.array()).sum() < 0.0);
+  test::ForceFieldCheck check = test::forForce("barrier and friction over a plate", force, s, net, &start, h);
+  test::useOwnDerivatives(check, force, s, net, &start, h);
+  check.step = 1e-7;
+  check.tolerance = 1e-5;
+  check.run();
+}
+
+TEST_CASE("BarrierContactForce with friction: on a slope a sheet sticks when tan(theta) < mu and slides at "
+          "g (sin(theta) - mu cos(theta)) when tan(theta) > mu",
+          "[core][contact]") {
+  // The slope's frame, as the penalty's test: the plate horizontal and gravity tilted by theta
+  const double mu = 0.5, top = -0.004, dt = 0.01;
+  const TriangleMesh plate = box(Eigen::Vector3d(-20, -20, top - 0.1), Eigen::Vector3d(20, 20, top));
+  for (double tanTheta : {0.3, 0.7}) {
+    const double theta = std::atan(tanTheta);
+    ModelParameters mp = clothModel(4, dt);
+    mp.material = ShellMaterial{1.495e6, 0.495, 1e-3, 950.0};  // a rubber sheet: flat, no wrinkles
+    Simulation sim(mp);
+    const double rhoT = 950.0 * 1e-3;
+    sim.addForce(std::make_shared<GravityForce>(rhoT, 9.81 * Eigen::Vector3d(std::sin(theta), 0, -std::cos(theta))));
+    BarrierContactParameters bp;
+    bp.offset = 0.003;
+    bp.dhat = 0.002;
+    bp.mass = rhoT;
+    bp.friction = mu;
+    bp.epsv = 1e-3;
+    auto contact = std::make_shared<BarrierContactForce>(worldOf(plate), bp);
+    sim.addForce(contact);
+    std::vector<double> x;  // the middle's x after each step
+    for (int step = 0; step < 40; ++step) {
+      const Status status = sim.step();
+      INFO("tan(theta) " << tanTheta << ", step " << step << ": " << sim.statusMessage());
+      REQUIRE(status == Status::Ok);
+      x.push_back(sim.evaluate(0.5, 0.5).position.x());
+    }
+    // the plate carries the weight's normal part: the frozen normal forces sum to it
+    CHECK(contact->frictionNormalForce() == Approx(rhoT * 9.81 * std::cos(theta)).epsilon(0.05));
+    const double frictionless = 0.5 * 9.81 * std::sin(theta) * 0.4 * 0.4;
+    INFO("tan(theta) " << tanTheta << ": moved " << x.back() - x.front() << " (frictionless " << frictionless << ")");
+    if (tanTheta < mu) {
+      // held: smoothed static friction lets it creep at a fraction of epsv (here 0.37 epsv)
+      CHECK(std::abs(x.back() - x.front()) < bp.epsv * 0.4);
+    } else {
+      // sliding: backward Euler's velocity grows by h a per step, exactly, under a constant force
+      const double a = 9.81 * (std::sin(theta) - mu * std::cos(theta));
+      const double v1 = (x[19] - x[18]) / dt, v2 = (x[39] - x[38]) / dt;
+      CHECK((v2 - v1) / (20 * dt) == Approx(a).epsilon(0.03));
+    }
+  }
+}
+
 TEST_CASE("BarrierContactForce: a sheet falling at 5 m/s onto a 2 mm plate does not pass through", "[core][contact]") {
   Simulation sim(clothModel(6, 0.02));
   sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));

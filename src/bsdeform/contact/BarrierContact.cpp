@@ -13,6 +13,7 @@
 #include "bsdeform/contact/Barrier.h"
 #include "bsdeform/contact/BroadPhase.h"
 #include "bsdeform/contact/Distance.h"
+#include "bsdeform/contact/Friction.h"
 
 namespace bsdeform {
 
@@ -72,6 +73,8 @@ struct BarrierContactForce::State {
   int closestObstacle = -1;      ///< of the closest pair at the last evaluation (obstacles.size(): self)
   Eigen::Index closestVertex = -1;
   ContactWorldSnapshot seen;  ///< for storedEnergy()
+  std::vector<FrictionPair> friction;  ///< frozen at the last beginStep()
+  Eigen::MatrixX3d previousWorld;      ///< the proxy at ctx.previous (friction's slip)
 };
 
 BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
@@ -87,13 +90,26 @@ BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> wor
   positive(p.offset, "thickness (the offset)");
   positive(p.dhat, "dhat");
   positive(p.mass, "mass");
+  positive(p.epsv, "epsv");
+  if (!(p.friction >= 0.0) || !std::isfinite(p.friction))
+    throw std::invalid_argument("barrier contact: friction must be 0 or more, got " + numberText(p.friction));
   if (p.samplesPerSpan < 1 || p.samplesPerSpan > 16)
     throw std::invalid_argument("barrier contact: proxySamples must be 1..16, got " + std::to_string(p.samplesPerSpan));
 }
 
 BarrierContactForce::~BarrierContactForce() = default;
 
+unsigned BarrierContactForce::dependence() const {
+  return kDependsOnPosition | (m_params.friction > 0.0 ? kDependsOnVelocity : 0u);
+}
+
 double BarrierContactForce::stiffness() const { return m_state->kappa; }
+size_t BarrierContactForce::frictionPairCount() const { return m_state->friction.size(); }
+double BarrierContactForce::frictionNormalForce() const {
+  double sum = 0.0;
+  for (const FrictionPair& f : m_state->friction) sum += f.normalForce;
+  return sum;
+}
 double BarrierContactForce::lastMinimumDistance() const { return m_state->minimum; }
 double BarrierContactForce::lastDeviationBound() const { return m_state->deviation; }
 
@@ -138,7 +154,8 @@ void BarrierContactForce::gather(const LoadContext& ctx, std::vector<ContactCand
   if (m_params.selfContact) candidatePairs(st.mesh, reach, candidates.back());
 }
 
-void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const {
+void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
+                                bool withFriction) const {
   State& st = *m_state;
   std::vector<ContactCandidates> candidates;
   gather(ctx, candidates);
@@ -151,6 +168,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   Vector12d* grad = order >= 1 ? &term.grad : nullptr;
   Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
   const BarrierHessian mode = m_params.projectHessian ? BarrierHessian::ProjectedPsd : BarrierHessian::Exact;
+  term.friction = false;
   double minimum = std::numeric_limits<double>::infinity();
   size_t where = 0;  // which obstacle (or self) the current pair is with
   auto emit = [&](double distanceSquared) {
@@ -205,6 +223,86 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     }
   }
   st.minimum = minimum;
+  if (!withFriction || st.friction.empty()) return;
+  // friction: each frozen pair's slip r = Σ c_k (x_k - x_k(previous)) over its moving points
+  proxyWorld(ctx.previous, st.previousWorld);
+  const double epsilon = m_params.epsv * ctx.stepSize;
+  Eigen::Vector3d gr;
+  Eigen::Matrix3d hr;
+  for (const FrictionPair& f : st.friction) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    for (size_t k = 0; k < 4; ++k)
+      if (f.vertex[k] >= 0) r += f.coefficient[k] * (row(V, f.vertex[k]) - row(st.previousWorld, f.vertex[k]));
+    term.vertex = f.vertex;
+    term.split = f.split;
+    term.friction = true;
+    term.value = frictionPotential(f, r, m_params.friction, epsilon, grad ? &gr : nullptr, hess ? &hr : nullptr);
+    for (int k = 0; k < 4 && grad; ++k) term.grad.segment<3>(3 * k) = f.coefficient[size_t(k)] * gr;
+    for (int k = 0; k < 4 && hess; ++k)
+      for (int l = 0; l < 4; ++l)
+        term.hess.block<3, 3>(3 * k, 3 * l) = (f.coefficient[size_t(k)] * f.coefficient[size_t(l)]) * hr;
+    fn(term);
+  }
+}
+
+void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
+  State& st = *m_state;
+  st.friction.clear();
+  if (!(m_params.friction > 0.0)) return;
+  std::vector<ContactCandidates> candidates;
+  gather(ctx, candidates);
+  BarrierParameters bp;
+  bp.offset = m_params.offset;
+  bp.dhat = m_params.dhat;
+  const double sHat = barrierSquaredActivation(bp), xi2 = m_params.offset * m_params.offset;
+  const Eigen::MatrixX3d& V = st.mesh.start;
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  // λ = -κ b'(s) ∂s/∂d = -2 d κ b'(d² - ξ²) (ipc-toolkit's normal force magnitude), times the
+  // mollifier for edge–edge pairs (their barrier's force is scaled by it; ipc-toolkit leaves it out)
+  auto normalForce = [&](double d2) { return -2.0 * std::sqrt(d2) * st.kappa * barrierFirstDerivative(d2 - xi2, sHat); };
+  FrictionPair f;
+  for (size_t o = 0; o <= st.obstacles.size(); ++o) {
+    const ContactCandidates& c = candidates[o];
+    const bool self = o == st.obstacles.size();
+    const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
+    const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;
+    const Eigen::MatrixX3d& W = self ? V : ob->start;
+    for (const auto& [v, t] : c.vertexTriangle) {
+      const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
+      const Eigen::Vector3d p = row(V, v), t0 = row(W, tri[0]), t1 = row(W, tri[1]), t2 = row(W, tri[2]);
+      const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2);
+      if (!(d2 - xi2 < sHat)) continue;
+      f.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
+      f.normalForce = normalForce(d2);
+      pointTriangleFrame(p, t0, t1, t2, f);
+      st.friction.push_back(f);
+    }
+    for (const auto& [t, v] : c.triangleVertex) {
+      const Eigen::Vector3i tri = st.mesh.triangles.row(t).transpose();
+      const Eigen::Vector3d p = row(W, v), t0 = row(V, tri[0]), t1 = row(V, tri[1]), t2 = row(V, tri[2]);
+      const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2);
+      if (!(d2 - xi2 < sHat)) continue;
+      f.vertex = {-1, tri[0], tri[1], tri[2]};
+      f.normalForce = normalForce(d2);
+      pointTriangleFrame(p, t0, t1, t2, f);
+      st.friction.push_back(f);
+    }
+    for (const auto& [ea, eb] : c.edgeEdge) {
+      const Eigen::Index a0 = st.mesh.edges(ea, 0), a1 = st.mesh.edges(ea, 1);
+      const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
+      const Eigen::Vector3d pa0 = row(V, a0), pa1 = row(V, a1), pb0 = row(W, b0), pb1 = row(W, b1);
+      const double d2 = edgeEdgeDistanceSquared(pa0, pa1, pb0, pb1);
+      if (!(d2 - xi2 < sHat)) continue;
+      const double threshold =
+          edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
+      const double m = edgeEdgeMollifier((pa1 - pa0).cross(pb1 - pb0).squaredNorm(), threshold);
+      if (!(m > 0.0)) continue;
+      f.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
+      f.normalForce = m * normalForce(d2);
+      edgeEdgeFrame(pa0, pa1, pb0, pb1, f);
+      st.friction.push_back(f);
+    }
+  }
 }
 
 bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {
@@ -216,7 +314,8 @@ bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const
 bool BarrierContactForce::storedEnergy(const LoadContext& ctx, double& value) const {
   value = 0.0;
   if (!m_state->seen.unchangedSinceFirst(*m_world)) return false;  // a moving obstacle does work on the surface
-  return potential(ctx, value);
+  terms(ctx, 0, [&](const Term& t) { value += t.value; }, false);
+  return true;
 }
 
 void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
@@ -236,10 +335,12 @@ void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) cons
 }
 
 void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
-  (void)velocityScale;
   const ContactWorld& w = *m_world;
   const CollisionProxy* proxy = nullptr;
+  // friction is a function of the slip x - x(previous) = h v alone: its K = -s ∂L/∂v = s h ∂²D/∂x²
+  const double frictionScale = velocityScale * ctx.stepSize;
   terms(ctx, 2, [&](const Term& t) {
+    const double scale = t.friction ? frictionScale : 1.0;
     if (!proxy) proxy = m_state->proxy.get();
     // blocks between proxy points of one primitive only: its first point or first two (the
     // vertex or edge of the first primitive) and the rest (the second's), which share no
@@ -250,7 +351,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
       for (int b = 0; b < 4; ++b) {
         if (t.vertex[size_t(b)] < 0) continue;
         if ((a < split) != (b < split)) continue;
-        const Eigen::Matrix3d H = w.linear.transpose() * t.hess.block<3, 3>(3 * a, 3 * b) * w.linear;
+        const Eigen::Matrix3d H = scale * (w.linear.transpose() * t.hess.block<3, 3>(3 * a, 3 * b) * w.linear);
         for (const auto& wa : proxy->netWeights(t.vertex[size_t(a)]))
           for (const auto& wb : proxy->netWeights(t.vertex[size_t(b)])) sink.add(wa.index, wb.index, wa.weight * wb.weight * H);
       }
@@ -297,8 +398,7 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
                                        m_params.offset) / h2;
     st.kappaMax /= h2;
   }
-  double value = 0.0;
-  potential(ctx, value);  // also finds the smallest distance
+  terms(ctx, 0, [](const Term&) {}, false);  // finds the smallest distance
   if (!(st.minimum > m_params.offset)) {
     const Eigen::Vector2d uv = st.proxy->parameters(std::max<Eigen::Index>(st.closestVertex, 0));
     os << "the surface is within the contact offset thickness " << numberText(m_params.offset) << " m of ";
@@ -313,6 +413,7 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   updateBarrierStiffness(st.previousMinimum - m_params.offset, st.minimum - m_params.offset, st.kappaMax, st.kappa,
                          diagonal);
   st.previousMinimum = st.minimum;
+  freezeFriction(ctx);
   return std::string();
 }
 

@@ -30,6 +30,12 @@ struct BarrierContactParameters {
   double dhat = 1e-3;      ///< d̂ > 0, metres: the barrier acts between ξ and ξ + d̂
   bool selfContact = false;
   int samplesPerSpan = 2;  ///< the proxy's resolution (CollisionProxy)
+  /// μ ≥ 0: IPC's lagged smooth friction (Friction.h) on the pairs in contact at the start of each
+  /// step; 0: none
+  double friction = 0.0;
+  /// ε_v > 0, m/s: slips slower than this are smoothed static friction (the force grows from 0 to
+  /// μλ over a slip of ε_v h in a step)
+  double epsv = 1e-3;
   double mass = 1.0;       ///< the surface's mass (kg), for the barrier stiffness's scale
   /// false only for tests: the pair Hessians as they are (the exact Hessian of the potential for
   /// obstacle contact), instead of projected to positive semidefinite
@@ -42,20 +48,28 @@ class BarrierContactForce : public Force {
   BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p);
   ~BarrierContactForce() override;
 
-  unsigned dependence() const override { return kDependsOnPosition; }
-  /// -∂Φ/∂P, Φ = κ Σ_pairs b (the mollified edge–edge pairs times their mollifier).
+  /// On the position; with friction also on the velocity (the slip over the step).
+  unsigned dependence() const override;
+  /// -∂Φ/∂P, Φ = κ Σ_pairs b (the mollified edge–edge pairs times their mollifier), plus the
+  /// friction potential Σ μ λ f0(|u|) of the pairs frozen at beginStep() (Friction.h), u their
+  /// tangential slip from ctx.previous to ctx.current.
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
   /// Each pair's Hessian, projected to PSD, pushed to the control points through the proxy's
   /// weights. Self-contact pairs couple two parts of the surface that share no element; their
   /// cross blocks are left out (the block diagonal of a PSD matrix is PSD: a descent direction
   /// still, Newton then converges linearly in those pairs, and the tangent's pattern stays fixed).
+  /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its
+  /// share is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
   bool potential(const LoadContext& ctx, double& value) const override;
-  /// The potential, unless an obstacle or the frame moved since the first call.
+  /// The barrier's potential (friction stores none), unless an obstacle or the frame moved since
+  /// the first call.
   bool storedEnergy(const LoadContext& ctx, double& value) const override;
   double admissibleFraction(const LoadContext& ctx, const ControlNet& to) const override;
   bool limitsSteps() const override { return true; }
+  /// Checks the deviation bound and the start's clearance, adapts κ, and freezes the friction
+  /// pairs (those within the barrier's reach, with their normal forces at this state).
   std::string beginStep(const LoadContext& ctx) const override;
   const char* backwardEulerOnly() const override {
     return "barrier contact (COLLISION with method BARRIER) needs integrator BACKWARD_EULER: the explicit scheme "
@@ -69,6 +83,9 @@ class BarrierContactForce : public Force {
   double lastMinimumDistance() const;
   /// The proxy's deviation bound at the last beginStep().
   double lastDeviationBound() const;
+  /// The friction pairs frozen at the last beginStep(), and the sum of their normal forces (N).
+  size_t frictionPairCount() const;
+  double frictionNormalForce() const;
 
  private:
   struct State;
@@ -77,6 +94,7 @@ class BarrierContactForce : public Force {
   struct Term {
     std::array<Eigen::Index, 4> vertex{};
     int split = 1;
+    bool friction = false;  ///< a friction pair's (its Hessian is in the slip: addJacobian())
     double value = 0.0;
     Eigen::Matrix<double, 12, 1> grad;
     Eigen::Matrix<double, 12, 12> hess;
@@ -86,8 +104,12 @@ class BarrierContactForce : public Force {
   /// The proxy at ctx.current (world frame) and the candidate pairs within reach of it: one set
   /// per obstacle, the self pairs last.
   void gather(const LoadContext& ctx, std::vector<ContactCandidates>& candidates) const;
-  /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`.
-  void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn) const;
+  /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
+  /// when `withFriction`, for every frozen friction pair.
+  void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
+             bool withFriction = true) const;
+  /// Freezes the friction pairs at ctx.current (beginStep()).
+  void freezeFriction(const LoadContext& ctx) const;
   std::shared_ptr<const ContactWorld> m_world;
   BarrierContactParameters m_params;
   std::shared_ptr<State> m_state;  // mutable: the proxy, κ, caches (the force is const in a step)
