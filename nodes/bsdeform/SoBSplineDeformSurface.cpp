@@ -95,6 +95,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(previousNet, (SbVec3d(0, 0, 0)));
   SO_NODE_ADD_FIELD(simulationTime, (0.0));
   SO_NODE_ADD_FIELD(stepCount, (0));
+  SO_NODE_ADD_FIELD(forceState, (0.0));
   SO_NODE_ADD_FIELD(forces, (nullptr));
   fieldData->addEnumValue("Energy", "PAPER", PAPER_ENERGY);
   SO_NODE_DEFINE_ENUM_VALUE(Energy, SHELL);
@@ -147,6 +148,8 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
     f->setNum(0);
     f->setDefault(TRUE);
   }
+  forceState.setNum(0);
+  forceState.setDefault(TRUE);
   forces.setNum(0);
   forces.setDefault(TRUE);
 
@@ -488,7 +491,7 @@ void SoBSplineDeformSurface::connectForces() {
 void SoBSplineDeformSurface::notify(SoNotList* list) {
   SoField* f = list->getLastField();
   if (f && !m_syncing) {
-    if (f == &controlNet || f == &previousNet || f == &simulationTime || f == &stepCount) {
+    if (f == &controlNet || f == &previousNet || f == &simulationTime || f == &stepCount || f == &forceState) {
       m_stateDirty = true;
     } else if (f == &reset) {
       resetSimulation();  // touch()es: the notification goes on from there
@@ -520,14 +523,20 @@ void SoBSplineDeformSurface::syncStateFields() {
     previousNet.setNum(0);
     simulationTime.setValue(0.0);
     stepCount.setValue(0);
+    forceState.setNum(0);
     for (SoField* f : {static_cast<SoField*>(&controlNet), static_cast<SoField*>(&previousNet),
-                       static_cast<SoField*>(&simulationTime), static_cast<SoField*>(&stepCount)})
+                       static_cast<SoField*>(&simulationTime), static_cast<SoField*>(&stepCount),
+                       static_cast<SoField*>(&forceState)})
       f->setDefault(TRUE);
   } else {
     bsdeform::netToField(s.current(), controlNet);
     bsdeform::netToField(s.previous(), previousNet);
     simulationTime.setValue(snap15(s.time()));
     stepCount.setValue(int(s.stepCount()));
+    const std::vector<double> adapted = bsdeform::forceStatesOf(s);
+    forceState.setValues(0, int(adapted.size()), adapted.data());
+    forceState.setNum(int(adapted.size()));
+    forceState.setDefault(adapted.empty());
   }
   m_syncing = false;
 }

@@ -69,6 +69,7 @@
 ///   previousNet [ ]       # state one sub-step earlier; empty: controlNet (at rest)
 ///   simulationTime 0      # [t] simulated time of controlNet
 ///   stepCount 0           # steps taken
+///   forceState [ ]        # what the forces adapt between steps (barrier contact's stiffness)
 ///   forces [ ]            # SoForceField engines acting on the surface
 /// }
 /// \endcode
@@ -76,6 +77,7 @@
 #include <Inventor/fields/SoMFEngine.h>
 #include <Inventor/fields/SoMFVec2d.h>
 #include <Inventor/fields/SoSFVec3d.h>
+#include <Inventor/fields/SoMFDouble.h>
 #include <Inventor/fields/SoMFVec3d.h>
 #include <Inventor/fields/SoSFBitMask.h>
 #include <Inventor/fields/SoSFBool.h>
@@ -186,6 +188,9 @@ class SoBSplineDeformSurface : public SoShape {
   SoMFVec3d previousNet;        ///< net one sub-step before (state), empty for controlNet
   SoSFDouble simulationTime;    ///< simulated time of the current state (live: set after every step and reset); 0
   SoSFInt32 stepCount;          ///< steps taken (live, like simulationTime); 0
+  /// What the forces adapt between steps (state, written with the nets: a barrier's stiffness),
+  /// per force its count and its values (bsdeform::forceStatesOf()); empty: as made
+  SoMFDouble forceState;
   SoMFEngine forces;            ///< SoForceField engines acting on this surface
 
   /// What is wrong with the surface now: a front end shows it at its place from these fields

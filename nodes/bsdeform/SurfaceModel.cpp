@@ -12,6 +12,7 @@
 #include "bsdeform/FieldInfo.h"
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/base/ParameterError.h"
+#include "bsdeform/dynamics/SimulationState.h"
 #include "bsdeform/spline/RestShape.h"
 #include "bsdeform/SceneObstacles.h"
 #include "bsdeform/SceneText.h"
@@ -274,6 +275,7 @@ bool startState(Simulation& sim, const Surface& n, bool stateFromFields, const S
       else  // released from rest at controlNet
         sim.setState(cur, n.simulationTime.getValue(), n.stepCount.getValue());
     }
+    restoreForceStates(sim, std::vector<double>(n.forceState.getValues(0), n.forceState.getValues(0) + n.forceState.getNum()));
     return false;
   }
   if (!old || old->current().rows() != sim.current().rows() || old->rest() != sim.rest()) return false;

@@ -15,6 +15,7 @@
 #include "bsdeform/contact/CollisionProxy.h"
 #include "bsdeform/contact/Distance.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/SimulationState.h"
 #include "bsdeform/forces/ForceLaws.h"
 
 using namespace bsdeform;
@@ -299,4 +300,52 @@ TEST_CASE("BarrierContactForce: refused by other integrators and when the surfac
     CHECK_THAT(sim.statusMessage(), Catch::Contains("within the contact offset") && Catch::Contains("obstacle 1") &&
                                         Catch::Contains("(u, v)"));
   }
+}
+
+TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, the adapted stiffness with it",
+          "[core][contact]") {
+  const double top = -0.02;
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, top - 0.05), Eigen::Vector3d(1.5, 1.5, top));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.mass = rhoT();
+  bp.friction = 0.3;
+  auto make = [&](std::shared_ptr<BarrierContactForce>& contact) {
+    auto sim = std::make_unique<Simulation>(clothModel(4, 0.02));
+    sim->addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0.3, 0, -9.81)));
+    contact = std::make_shared<BarrierContactForce>(worldOf(plate), bp);
+    sim->addForce(contact);
+    return sim;
+  };
+  std::shared_ptr<BarrierContactForce> ca, cb;
+  auto a = make(ca);
+  REQUIRE(a->advance(8) == Status::Ok);  // landed (t = 0.07) and sliding
+  REQUIRE(ca->frictionPairCount() > 0);
+  // κ as the adaptive rule leaves it after gaps that keep shrinking below its threshold
+  std::vector<double> adapted = ca->adaptedState();
+  REQUIRE(adapted.size() == 3);
+  adapted[0] *= 4.0;
+  adapted[1] = std::max(adapted[1], adapted[0]);
+  ca->setAdaptedState(adapted);
+  const SimulationState saved = stateOf(*a);
+  CHECK(saved.forces == std::vector<double>{0.0, 3.0, adapted[0], adapted[1], adapted[2]});
+  auto b = make(cb);
+  restoreState(*b, saved);
+  CHECK(cb->stiffness() == ca->stiffness());
+  REQUIRE(a->advance(5) == Status::Ok);
+  REQUIRE(b->advance(5) == Status::Ok);
+  CHECK(sameBits(stateOf(*a), stateOf(*b)));
+  // and without it the resumed run parts from the first (so the comparison above can fail)
+  auto c = make(cb);
+  SimulationState plain = saved;
+  plain.forces.clear();
+  restoreState(*c, plain);
+  REQUIRE(c->advance(5) == Status::Ok);
+  CHECK_FALSE(sameBits(stateOf(*a), stateOf(*c)));
+  // Reset forgets it; a malformed state is refused by name
+  a->reset();
+  CHECK(ca->adaptedState().empty());
+  CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 2.0, 1.0}), Catch::Contains("forceState") && Catch::Contains("force 2"));
+  CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 3.0, -1.0, 1.0, 1.0}), Catch::Contains("stiffness > 0"));
 }

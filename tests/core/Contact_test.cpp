@@ -266,7 +266,7 @@ TEST_CASE("CollisionForce: skipping far elements and points gives the load of ev
 
 TEST_CASE("Contact: a cotton cloth dropped on a box with BACKWARD_EULER stays bounded for 10 s and rests on the box",
           "[core][slow]") {
-  // cloth_on_cube's cotton (SHELL), a coarser net; the implicit step freezing the penalty used
+  // cloth_on_cube_penalty's cotton (SHELL), a coarser net; the implicit step freezing the penalty used
   // to gain energy without bound here (7e9 J after 2 s)
   ModelParameters mp;
   mp.numU = mp.numV = 8;

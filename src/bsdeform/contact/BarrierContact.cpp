@@ -104,6 +104,32 @@ unsigned BarrierContactForce::dependence() const {
 }
 
 double BarrierContactForce::stiffness() const { return m_state->kappa; }
+
+std::vector<double> BarrierContactForce::adaptedState() const {
+  const State& st = *m_state;
+  if (st.kappa == 0.0) return {};
+  return {st.kappa, st.kappaMax, std::isfinite(st.previousMinimum) ? st.previousMinimum : -1.0};
+}
+
+void BarrierContactForce::setAdaptedState(const std::vector<double>& state) const {
+  State& st = *m_state;
+  if (state.empty()) {
+    st.kappa = st.kappaMax = 0.0;
+    st.previousMinimum = std::numeric_limits<double>::infinity();
+    return;
+  }
+  if (state.size() != 3 || !(state[0] > 0.0) || !(state[1] >= state[0]) || !std::isfinite(state[1]) ||
+      !(state[2] == -1.0 || state[2] >= 0.0) || !std::isfinite(state[2])) {
+    std::ostringstream os;
+    os << "barrier contact: its adapted state is 3 values (stiffness > 0, its cap >= it, the last smallest distance "
+          ">= 0 or -1), got " << state.size() << ":";
+    for (double v : state) os << ' ' << numberText(v);
+    throw std::invalid_argument(os.str());
+  }
+  st.kappa = state[0];
+  st.kappaMax = state[1];
+  st.previousMinimum = state[2] < 0.0 ? std::numeric_limits<double>::infinity() : state[2];
+}
 size_t BarrierContactForce::frictionPairCount() const { return m_state->friction.size(); }
 double BarrierContactForce::frictionNormalForce() const {
   double sum = 0.0;

@@ -71,6 +71,9 @@ class BarrierContactForce : public Force {
   /// Checks the deviation bound and the start's clearance, adapts κ, and freezes the friction
   /// pairs (those within the barrier's reach, with their normal forces at this state).
   std::string beginStep(const LoadContext& ctx) const override;
+  /// {κ, its cap, the last smallest distance (-1: none yet)} once κ is set; empty before.
+  std::vector<double> adaptedState() const override;
+  void setAdaptedState(const std::vector<double>& state) const override;
   const char* backwardEulerOnly() const override {
     return "barrier contact (COLLISION with method BARRIER) needs integrator BACKWARD_EULER: the explicit scheme "
            "has no line search to keep the proxy from crossing";

@@ -522,6 +522,7 @@ void Simulation::reset() {
   m_status = Status::Ok;
   m_statusMessage.clear();
   m_startPending = true;
+  for (const auto& f : m_forces) f->setAdaptedState({});  // what they adapted belongs to the old run
 }
 
 void Simulation::setState(const ControlNet& current, const ControlNet& previous, double time, long steps,

@@ -189,7 +189,7 @@ class Simulation {
   Status step();
   /// Advances by `steps` Delta t; stops early on failure.
   Status advance(long steps);
-  /// Back to the rest state at t = 0, status Ok.
+  /// Back to the rest state at t = 0, status Ok; the forces forget what they adapted.
   void reset();
   /// Sets the state (e.g. read back from a file). `previous` is the net one step of size
   /// `previousStepSize` before `current` (0: the current sub-step size); it is rescaled to the

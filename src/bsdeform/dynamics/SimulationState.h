@@ -7,6 +7,7 @@
 /// timeline, bsdeform-run --keep-states).
 
 #include <cstddef>
+#include <vector>
 
 #include "bsdeform/spline/SplineSpace.h"
 
@@ -21,7 +22,17 @@ struct SimulationState {
   long steps = 0;            ///< Simulation::stepCount()
   double subStepSize = 0.0;  ///< the sub-step `previous` is one of (Simulation::subStepSize())
   bool startPending = true;  ///< released from rest: the start rule applies at the next step
+  std::vector<double> forces;  ///< forceStatesOf(): what the forces adapt between steps
 };
+
+/// What the simulation's forces adapt between steps (Force::adaptedState()), in their order, each
+/// as its count followed by its values; empty when no force has any.
+std::vector<double> forceStatesOf(const Simulation& sim);
+/// Gives each force its part of `states` (forceStatesOf()); a force past the end, or every force
+/// when `states` is empty, goes back to the state it was made with.
+/// @throws std::invalid_argument naming the problem (a count that runs past the end, a state a
+///         force refuses)
+void restoreForceStates(const Simulation& sim, const std::vector<double>& states);
 
 /// The state of `sim` now.
 SimulationState stateOf(const Simulation& sim);

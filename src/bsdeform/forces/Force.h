@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bsdeform/spline/SplineSpace.h"
 
@@ -126,6 +128,14 @@ class Force {
   /// Why only BACKWARD_EULER can take this force (it needs the line search that admissibleFraction()
   /// bounds), or null when every integrator can.
   virtual const char* backwardEulerOnly() const { return nullptr; }
+  /// What the force adapts between steps (a barrier's stiffness), so that a saved and resumed run
+  /// takes the same steps as one that went on (SimulationState): empty while nothing is adapted.
+  virtual std::vector<double> adaptedState() const { return {}; }
+  /// Puts back what adaptedState() gave; empty: the state the force was made with.
+  /// @throws std::invalid_argument naming what is wrong with `state`
+  virtual void setAdaptedState(const std::vector<double>& state) const {
+    if (!state.empty()) throw std::invalid_argument("this force adapts nothing between steps, yet was given a state");
+  }
   /// For the implicit steppers' energy check: the energy the force stores at the state, when the
   /// rest of its load can only dissipate (damping, friction); false when it can do work on the
   /// surface (a follower pressure, a callable, a load that depends on time). The default: the
