@@ -124,8 +124,9 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
         point.x = x;
         point.iterations = it;
         // the next arc length aims at 4 iterations (Crisfield's Δl sqrt(I_d / I), between half
-        // and twice this one, at most 1000 times the first)
-        dl = std::min(dl * std::clamp(std::sqrt(4.0 / std::max(it, 1)), 0.5, 2.0), 1000.0 * firstLength);
+        // and twice this one, at most maxArcLength or else 1000 times the first)
+        dl = std::min(dl * std::clamp(std::sqrt(4.0 / std::max(it, 1)), 0.5, 2.0),
+                      options.maxArcLength > 0.0 ? options.maxArcLength : 1000.0 * firstLength);
         break;
       }
     }

@@ -15,7 +15,8 @@
 /// smaller angle with the step's increment so far). K is factorised as an LU (SparseLU,
 /// pivoting): beyond a limit point it is indefinite. A step that does not converge is retried
 /// with half the arc length; the next step's length aims at 4 iterations (Δl sqrt(4 / I),
-/// between half and twice the last, at most 1000 times the first).
+/// between half and twice the last, at most ArcLengthOptions::maxArcLength or else 1000 times
+/// the first).
 
 #include <Eigen/SparseCore>
 #include <functional>
@@ -39,6 +40,9 @@ struct ArcLengthOptions {
   /// The arc length Δl; 0: the length of the linear response to a load factor of
   /// maxLoad / maxSteps (so that a linear structure reaches maxLoad in maxSteps steps).
   double arcLength = 0.0;
+  /// The longest arc length a step may grow to; 0: 1000 times the first. A cap of the first
+  /// length keeps the points evenly spaced along the path (e.g. to compare it with a table).
+  double maxArcLength = 0.0;
   double tolerance = 1e-8;   ///< relative residual |g − λF| / (|g| + |λF|)
   double updateTolerance = 0.0;  ///< or a Newton correction below this length (largest component)
   int maxIterations = 25;    ///< per step, before the step is retried shorter
