@@ -349,3 +349,80 @@ TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, 
   CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 2.0, 1.0}), Catch::Contains("forceState") && Catch::Contains("force 2"));
   CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 3.0, -1.0, 1.0, 1.0}), Catch::Contains("stiffness > 0"));
 }
+
+TEST_CASE("BarrierContactForce: an obstacle moved between steps is swept into place, pushing the sheet without "
+          "anything crossing",
+          "[core][contact][slow]") {
+  // a sheet resting on a plate; the plate then rises by `lift` per step (a Transform an engine
+  // drives moves the obstacle's triangles between steps; TriangleTree::update here)
+  auto run = [](double lift, int steps, double& rise) {
+    const double top0 = -0.0065;
+    TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, top0 - 0.05), Eigen::Vector3d(1.5, 1.5, top0));
+    auto tree = std::make_shared<TriangleTree>(plate);
+    auto world = std::make_shared<ContactWorld>();
+    world->obstacles.push_back({tree, true});
+    Simulation sim(clothModel(4, 0.02));
+    sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
+    BarrierContactParameters bp;
+    bp.offset = 0.005;
+    bp.dhat = 0.002;
+    bp.mass = rhoT();
+    sim.addForce(std::make_shared<BarrierContactForce>(world, bp));
+    REQUIRE(sim.advance(5) == Status::Ok);  // settles on the plate
+    const double start = sim.evaluate(0.5, 0.5).position.z();
+    for (int step = 0; step < steps; ++step) {
+      for (Eigen::Vector3d& v : plate.vertices) v.z() += lift;
+      tree->update(plate.vertices);
+      const Status status = sim.step();
+      INFO("lift " << lift << ", step " << step << ": " << sim.statusMessage());
+      REQUIRE(status == Status::Ok);
+      const ContactMesh obstacle = staticContactMesh(plate);
+      CHECK(clearance(proxyMesh(sim.space(), sim.current(), bp.samplesPerSpan), &obstacle, 1.0) >= bp.offset * (1.0 - 1e-9));
+    }
+    rise = sim.evaluate(0.5, 0.5).position.z() - start;
+  };
+  double rise = 0.0;
+  run(0.005, 10, rise);  // 0.25 m/s: carried up with the plate
+  CHECK(rise == Approx(0.05).epsilon(0.05));
+  run(0.04, 4, rise);  // 2 m/s, 8 times the barrier's reach per step: still nothing crosses
+  CHECK(rise == Approx(0.16).epsilon(0.05));
+}
+
+TEST_CASE("BarrierContactForce: friction acts on the slip relative to a moving obstacle: a plate sliding sideways "
+          "carries a sheet with friction and leaves it without",
+          "[core][contact]") {
+  auto run = [](double mu) {
+    const double top0 = -0.0065;
+    TriangleMesh plate = box(Eigen::Vector3d(-2, -0.5, top0 - 0.05), Eigen::Vector3d(3, 1.5, top0));
+    auto tree = std::make_shared<TriangleTree>(plate);
+    auto world = std::make_shared<ContactWorld>();
+    world->obstacles.push_back({tree, true});
+    ModelParameters mp = clothModel(4, 0.02);
+    mp.material = ShellMaterial{1.495e6, 0.495, 1e-3, 950.0};  // rubber: stays flat
+    Simulation sim(mp);
+    const double rhoT = 0.95;
+    sim.addForce(std::make_shared<GravityForce>(rhoT, Eigen::Vector3d(0, 0, -9.81)));
+    BarrierContactParameters bp;
+    bp.offset = 0.005;
+    bp.dhat = 0.002;
+    bp.mass = rhoT;
+    bp.friction = mu;
+    sim.addForce(std::make_shared<BarrierContactForce>(world, bp));
+    REQUIRE(sim.advance(5) == Status::Ok);
+    const double start = sim.evaluate(0.5, 0.5).position.x();
+    for (int step = 0; step < 10; ++step) {  // 5 mm per step: 0.25 m/s
+      for (Eigen::Vector3d& v : plate.vertices) v.x() += 0.005;
+      tree->update(plate.vertices);
+      INFO("step " << step << ": " << sim.statusMessage());
+      REQUIRE(sim.step() == Status::Ok);
+    }
+    return sim.evaluate(0.5, 0.5).position.x() - start;
+  };
+  // it starts at rest on a plate that jumps to 0.25 m/s: friction accelerates it at mu g until it
+  // sticks, then it rides along; backward Euler's velocities are min(n h mu g, 0.25) and each step
+  // moves it h times its velocity (4.1 mm behind the plate, 6.4 mm in continuous time)
+  double expected = 0.0;
+  for (int n = 1; n <= 10; ++n) expected += 0.02 * std::min(n * 0.02 * 0.5 * 9.81, 0.25);
+  CHECK(run(0.5) == Approx(expected).epsilon(0.02));
+  CHECK(std::abs(run(0.0)) < 1e-3);
+}

@@ -63,7 +63,9 @@ struct BarrierContactForce::State {
   struct Obstacle {
     const TriangleTree* tree = nullptr;
     std::uint64_t version = ~std::uint64_t(0);
-    ContactMesh mesh;
+    ContactMesh mesh;          ///< start = end: where the obstacle is in the step now
+    Eigen::MatrixX3d target;   ///< its pose now (the tree's); mesh.start sweeps toward it
+    double remaining = 0.0;    ///< the fraction of the sweep still to go
   };
   std::vector<Obstacle> obstacles;
   double kappa = 0.0, kappaMax = 0.0;
@@ -155,9 +157,21 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     const TriangleTree* tree = w.obstacles[o].tree.get();
     if (!tree) continue;
     if (ob.tree == tree && ob.version == tree->version()) continue;
+    ContactMesh fresh = staticContactMesh(tree->mesh());
+    // the same triangles at new positions (a Transform or an engine moved it, another surface
+    // stepped): swept from where it is toward them by advanceObstacles(); anything else: taken as it is
+    const bool moved = ob.tree == tree && ob.mesh.start.rows() == fresh.start.rows() &&
+                       ob.mesh.triangles.rows() == fresh.triangles.rows() && ob.mesh.triangles == fresh.triangles;
     ob.tree = tree;
     ob.version = tree->version();
-    ob.mesh = staticContactMesh(tree->mesh());
+    if (moved && ob.mesh.start != fresh.start) {
+      ob.target = fresh.start;
+      ob.remaining = 1.0;
+    } else {
+      ob.mesh = std::move(fresh);
+      ob.target = ob.mesh.start;
+      ob.remaining = 0.0;
+    }
   }
 }
 
@@ -256,7 +270,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   Eigen::Vector3d gr;
   Eigen::Matrix3d hr;
   for (const FrictionPair& f : st.friction) {
-    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    Eigen::Vector3d r = f.slip;
     for (size_t k = 0; k < 4; ++k)
       if (f.vertex[k] >= 0) r += f.coefficient[k] * (row(V, f.vertex[k]) - row(st.previousWorld, f.vertex[k]));
     term.vertex = f.vertex;
@@ -293,6 +307,15 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
     const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
     const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;
     const Eigen::MatrixX3d& W = self ? V : ob->start;
+    // a moving obstacle's points move over the step by its sweep (§18.4): friction acts on the
+    // slip relative to them
+    const Eigen::MatrixX3d* move = nullptr;
+    Eigen::MatrixX3d sweep;
+    if (!self && st.obstacles[o].remaining > 0.0) {
+      sweep = st.obstacles[o].target - ob->start;
+      move = &sweep;
+    }
+    auto moved = [&](Eigen::Index i) { return move ? row(*move, i) : Eigen::Vector3d::Zero().eval(); };
     for (const auto& [v, t] : c.vertexTriangle) {
       const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
       const Eigen::Vector3d p = row(V, v), t0 = row(W, tri[0]), t1 = row(W, tri[1]), t2 = row(W, tri[2]);
@@ -301,6 +324,9 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
       f.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
       f.normalForce = normalForce(d2);
       pointTriangleFrame(p, t0, t1, t2, f);
+      f.slip = self ? Eigen::Vector3d::Zero().eval()
+                    : Eigen::Vector3d(f.coefficient[1] * moved(tri[0]) + f.coefficient[2] * moved(tri[1]) +
+                                      f.coefficient[3] * moved(tri[2]));
       st.friction.push_back(f);
     }
     for (const auto& [t, v] : c.triangleVertex) {
@@ -311,6 +337,7 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
       f.vertex = {-1, tri[0], tri[1], tri[2]};
       f.normalForce = normalForce(d2);
       pointTriangleFrame(p, t0, t1, t2, f);
+      f.slip = f.coefficient[0] * moved(v);
       st.friction.push_back(f);
     }
     for (const auto& [ea, eb] : c.edgeEdge) {
@@ -326,6 +353,8 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
       f.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
       f.normalForce = m * normalForce(d2);
       edgeEdgeFrame(pa0, pa1, pb0, pb1, f);
+      f.slip = self ? Eigen::Vector3d::Zero().eval()
+                    : Eigen::Vector3d(f.coefficient[2] * moved(b0) + f.coefficient[3] * moved(b1));
       st.friction.push_back(f);
     }
   }
@@ -395,6 +424,34 @@ double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const Con
     if (ob.tree) t = std::min(t, collisionFreeFraction(st.mesh, ob.mesh, m_params.offset));
   if (m_params.selfContact) t = std::min(t, collisionFreeFraction(st.mesh, m_params.offset));
   return t;
+}
+
+double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
+  prepare(ctx);
+  State& st = *m_state;
+  double remaining = 0.0;
+  bool any = false;
+  for (State::Obstacle& ob : st.obstacles) {
+    if (!ob.tree || ob.remaining == 0.0) continue;
+    if (!any) {
+      proxyWorld(ctx.current, st.mesh.start);
+      st.mesh.end = st.mesh.start;
+      any = true;
+    }
+    ContactMesh sweep = ob.mesh;
+    sweep.end = ob.target;
+    const double t = collisionFreeFraction(st.mesh, sweep, m_params.offset);
+    if (t >= 1.0) {
+      ob.mesh.start = ob.target;
+      ob.remaining = 0.0;
+    } else {
+      ob.mesh.start += t * (ob.target - ob.mesh.start);
+      ob.remaining *= 1.0 - t;
+    }
+    ob.mesh.end = ob.mesh.start;
+    remaining = std::max(remaining, ob.remaining);
+  }
+  return remaining;
 }
 
 std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {

@@ -67,6 +67,10 @@ class BarrierContactForce : public Force {
   /// the first call.
   bool storedEnergy(const LoadContext& ctx, double& value) const override;
   double admissibleFraction(const LoadContext& ctx, const ControlNet& to) const override;
+  /// An obstacle that moved since the last step (its TriangleTree refitted: the same triangles,
+  /// new positions) is swept from its pose at the end of the last step to its pose now: each call
+  /// moves it as far as additive CCD lets it with the proxy at ctx.current (docs/math.md §18.4).
+  double advanceObstacles(const LoadContext& ctx) const override;
   bool limitsSteps() const override { return true; }
   /// Checks the deviation bound and the start's clearance, adapts κ, and freezes the friction
   /// pairs (those within the barrier's reach, with their normal forces at this state).

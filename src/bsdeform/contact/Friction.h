@@ -36,6 +36,9 @@ struct FrictionPair {
   int split = 1;                    ///< points [0, split) belong to the first primitive
   Eigen::Matrix<double, 3, 2> basis;  ///< orthonormal, spans the plane normal to the pair's normal
   double normalForce = 0.0;         ///< λ, newtons (the barrier's force on the pair)
+  /// The part of r from points that do not move with the unknowns (a moving obstacle's, over the
+  /// whole step): r = slip + Σ over the moving points
+  Eigen::Vector3d slip = Eigen::Vector3d::Zero();
 };
 
 /// The closest points of a point p and the triangle (t0, t1, t2): coefficients (1, -β0, -β1, -β2)

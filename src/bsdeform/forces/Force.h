@@ -116,6 +116,15 @@ class Force {
     (void)to;
     return 1.0;
   }
+  /// Moves what the force sweeps within a step (obstacles that moved since the last step, from
+  /// where the surface last saw them toward their poses now) as far as it can without anything
+  /// crossing while the surface stays at the state of `ctx`; returns the fraction of that move
+  /// still to go (0: none, or all done). The implicit step alternates it with Newton solves
+  /// until it is 0.
+  virtual double advanceObstacles(const LoadContext& ctx) const {
+    (void)ctx;
+    return 0.0;
+  }
   /// Whether admissibleFraction() can be below 1 (the implicit step then checks every trial).
   virtual bool limitsSteps() const { return false; }
   /// Called by the implicit steppers at the start of every step, at the step's start state:
