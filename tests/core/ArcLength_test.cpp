@@ -8,8 +8,10 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "bsdeform/base/NumberText.h"
 #include "bsdeform/dynamics/ArcLength.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/forces/Force.h"
@@ -104,6 +106,53 @@ TEST_CASE("Arc length refuses what it cannot do, naming it", "[arclength]") {
   };
   o.maxLoad = 1.0;
   CHECK_THROWS_WITH(arcLengthPath(Eigen::Vector2d::Zero(), loose, o), Catch::Contains("cannot be factorised"));
+  o.minArcLength = -1.0;
+  CHECK_THROWS_WITH(arcLengthPath(Eigen::Vector2d::Zero(), t.problem(), o), Catch::Contains("smallest arc length"));
+}
+
+TEST_CASE("Arc length ends a path that stalls, naming the load factor reached, instead of accepting steps that do "
+          "not move",
+          "[arclength]") {
+  // The truss's bars break past w = 0.3 (beyond the limit point): no equilibrium there (the
+  // internal force is not finite). Steps are cut until they fit before it, each next one a little
+  // shorter: the path would creep on towards the wall, its steps halving, until maxSteps ran out.
+  const Truss t;
+  const double wall = 0.3;
+  ArcLengthProblem broken = t.problem();
+  broken.evaluate = [&t, wall](const Eigen::VectorXd& x, Eigen::VectorXd& g, Eigen::VectorXd& F) {
+    t.problem().evaluate(x, g, F);
+    if (x[0] > wall) g.setConstant(std::numeric_limits<double>::quiet_NaN());
+  };
+  ArcLengthOptions o;
+  o.maxSteps = 2000;
+  o.maxLoad = 0.06;
+  o.arcLength = 0.02;
+  o.tolerance = 1e-12;
+  std::vector<ArcLengthPoint> seen;
+  std::string message;
+  try {
+    arcLengthPath(Eigen::Vector2d::Zero(), broken, o, [&](const ArcLengthPoint& p) { seen.push_back(p); });
+  } catch (const std::runtime_error& e) {
+    message = e.what();
+  }
+  CAPTURE(message, seen.size());
+  REQUIRE(!seen.empty());
+  CHECK(seen.size() < 200);  // not 2000 steps creeping on
+  CHECK(message.find("the path stalls at load factor " + numberText(seen.back().loadFactor)) != std::string::npos);
+  CHECK(message.find("below the smallest, " + numberText(1e-4 * o.arcLength)) != std::string::npos);  // 1e-4 of the first
+  CHECK(message.find(std::to_string(seen.size()) + " points found") != std::string::npos);
+  CHECK(seen.back().x[0] < wall);
+  CHECK(seen.back().x[0] > wall - 1e-5);  // up to the wall, on the path
+  CHECK(seen.back().loadFactor == Approx(t.lambdaOf(seen.back().x[0])).margin(1e-9));
+  for (size_t i = 1; i < seen.size(); ++i) CHECK((seen[i].x - seen[i - 1].x).norm() >= 2e-6);  // each moved
+  // a larger smallest arc length ends it sooner, before the steps have shrunk as far
+  o.minArcLength = 1e-3;
+  std::vector<ArcLengthPoint> sooner;
+  CHECK_THROWS_WITH(
+      arcLengthPath(Eigen::Vector2d::Zero(), broken, o, [&](const ArcLengthPoint& p) { sooner.push_back(p); }),
+      Catch::Contains("below the smallest, 0.001"));
+  CHECK(sooner.size() < seen.size());
+  CHECK(sooner.back().x[0] < wall - 1e-4);
 }
 
 
@@ -227,10 +276,7 @@ std::vector<LoadDeflection> roofPath(double thickness, int spans, double maxLoad
   ArcLengthOptions o;
   o.maxSteps = 1000;
   o.maxLoad = maxLoad;
-  o.tolerance = 1e-9;
-  // near a zero load the relative residual has a rounding floor (the snapped roof's internal
-  // forces are large and cancel): a Newton correction below 1e-8 is converged too
-  o.updateTolerance = 1e-8;
+  o.tolerance = 1e-9;  // and a Newton correction below 1e-9 of the displacement (solveStaticArcLength)
   o.arcLength = o.maxArcLength = 2.0;  // evenly spaced points, ~0.2-0.5 of deflection apart
   const StaticResult r = roof.solveStaticArcLength(o);
   const double z0 = roof.space().evaluate(roof.rest(), 0.5, 0.5, 0).position.z();
@@ -329,4 +375,37 @@ TEST_CASE("Arc length refuses the paper's energy and a surface nothing holds, na
   p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
   Simulation loose(p);
   CHECK_THROWS_WITH(loose.solveStaticArcLength(ArcLengthOptions()), Catch::Contains("nothing holds the surface"));
+}
+
+TEST_CASE("Arc length on a SHELL: the t = 6.35 roof at 16 x 16 passes the zero load with the options bsdeform-run "
+          "sets, where the relative residual's rounding floor is above the tolerance",
+          "[arclength][shell]") {
+  // bsdeform-run --static --arc-length: --load-steps points at most (default 50), --max-load,
+  // the surface's newtonTolerance as the tolerance, the first arc length the linear response's.
+  // Near a zero load on the way down the snapped roof's internal forces are large and cancel:
+  // the residual relative to them has a rounding floor, about 1e-12 / |λ| here, above 1e-10 for
+  // |λ| < 0.01. With the relative residual alone the path stalled there (λ = 0.0099, steps cut
+  // to nothing and accepted without moving until the 50 ran out, no error); a Newton correction
+  // below the tolerance times the displacement (plus 1e-11 of the roof's size), as in the static
+  // Newton, passes it.
+  Simulation roof = hingedRoof(16, 6.35);
+  roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -3000.0), ParamRect{0.5, 0.5, 0.5, 0.5}));
+  ArcLengthOptions o;
+  o.maxSteps = 50;
+  o.maxLoad = 1.2;
+  o.tolerance = 1e-10;
+  const StaticResult path = roof.solveStaticArcLength(o);
+  const double z0 = roof.space().evaluate(roof.rest(), 0.5, 0.5, 0).position.z();
+  double lowest = 0.0, previous = 0.0;
+  for (size_t i = 0; i < path.increments.size(); ++i) {
+    const StaticResult::Increment& inc = path.increments[i];
+    const double w = z0 - roof.space().evaluate(inc.net, 0.5, 0.5, 0).position.z();
+    CAPTURE(i, inc.loadFactor, w, inc.residual, inc.iterations);
+    CHECK(std::abs(w - previous) + std::abs(inc.loadFactor - (i ? path.increments[i - 1].loadFactor : 0.0)) > 1e-3);
+    lowest = std::min(lowest, inc.loadFactor);
+    previous = w;
+  }
+  CHECK(lowest < -0.12);  // through the zero load to the snap-back's negative loads (Sze: -0.1288)
+  CHECK(path.increments.back().loadFactor > o.maxLoad);
+  CHECK(path.increments.size() < size_t(o.maxSteps));
 }

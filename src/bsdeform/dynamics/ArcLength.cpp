@@ -44,6 +44,7 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
                                           const std::function<void(const ArcLengthPoint&)>& each) {
   if (!(options.maxLoad > 0.0)) throw std::invalid_argument("arc length: the largest load factor must be > 0");
   if (options.maxSteps < 1) throw std::invalid_argument("arc length: the number of steps must be >= 1");
+  if (!(options.minArcLength >= 0.0)) throw std::invalid_argument("arc length: the smallest arc length must be >= 0");
   std::vector<ArcLengthPoint> path;
   Factor lu;
   Eigen::VectorXd x = x0, g, F;
@@ -70,9 +71,24 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
     double sign = 1.0;
     if (lastIncrement.size()) sign = dt.dot(lastIncrement) < 0.0 ? -1.0 : 1.0;
     else if (lastLoadIncrement < 0.0) sign = -1.0;
+    // the shortest step: one below it moves by no more than the corrector's own tolerances
+    // and would let the path creep on without moving (a stall, e.g. where the residual has a
+    // rounding floor); it ends the path instead
+    const double minLength = options.minArcLength > 0.0 ? options.minArcLength : 1e-4 * firstLength;
     bool converged = false;
     ArcLengthPoint point;
-    for (int cut = 0; cut <= options.maxCuts && !converged; ++cut, dl *= 0.5) {
+    for (int cut = 0; !converged; ++cut, dl *= 0.5) {
+      if (cut > options.maxCuts)
+        throw std::runtime_error("arc length: step " + std::to_string(step) + " from load factor " +
+                                 numberText(lambda) + " did not converge even at 2^-" +
+                                 std::to_string(options.maxCuts) + " of the arc length (" +
+                                 std::to_string(path.size()) + " points found)");
+      if (dl < minLength)
+        throw std::runtime_error("arc length: the path stalls at load factor " + numberText(lambda) + ": step " +
+                                 std::to_string(step) + " was cut to an arc length of " + numberText(dl) +
+                                 ", below the smallest, " + numberText(minLength) +
+                                 ", without converging (" + std::to_string(path.size()) +
+                                 " points found; a looser tolerance or update tolerance may pass it)");
       double dLambda = sign * dl / dt.norm();
       Eigen::VectorXd dx = dLambda * dt;
       Eigen::VectorXd xi = x + dx;
@@ -105,7 +121,12 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
         dx += correction;
         li += s;
         xi = x + dx;
-        if (options.updateTolerance > 0.0 && correction.cwiseAbs().maxCoeff() <= options.updateTolerance) {
+        // or converged when the correction is below the update tolerance: the relative residual
+        // has a rounding floor where large internal forces cancel (it then stays above the
+        // tolerance however close the point is), a Newton correction's length does not
+        const double updateTolerance =
+            std::max(options.updateTolerance, problem.updateTolerance ? problem.updateTolerance(xi) : 0.0);
+        if (updateTolerance > 0.0 && correction.cwiseAbs().maxCoeff() <= updateTolerance) {
           problem.evaluate(xi, g, F);
           if (g.allFinite()) {
             converged = true;
@@ -124,16 +145,13 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
         point.x = x;
         point.iterations = it;
         // the next arc length aims at 4 iterations (Crisfield's Δl sqrt(I_d / I), between half
-        // and twice this one, at most maxArcLength or else 1000 times the first)
-        dl = std::min(dl * std::clamp(std::sqrt(4.0 / std::max(it, 1)), 0.5, 2.0),
-                      options.maxArcLength > 0.0 ? options.maxArcLength : 1000.0 * firstLength);
+        // and twice this one, at most maxArcLength or else 1000 times the first, at least the
+        // shortest: only a cut goes below it)
+        dl = std::max(minLength, std::min(dl * std::clamp(std::sqrt(4.0 / std::max(it, 1)), 0.5, 2.0),
+                                          options.maxArcLength > 0.0 ? options.maxArcLength : 1000.0 * firstLength));
         break;
       }
     }
-    if (!converged)
-      throw std::runtime_error("arc length: step " + std::to_string(step) + " from load factor " + numberText(lambda) +
-                               " did not converge even at 2^-" + std::to_string(options.maxCuts) +
-                               " of the arc length");
     path.push_back(point);
     if (each) each(path.back());
   }

@@ -422,6 +422,15 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   };
   problem.lowerOnly = !m_components;
   const ControlNet x0 = m_space.gatherMoving(m_rest);
+  // a point is converged, as in the static Newton (solveStaticShell), also when a Newton
+  // correction is below the tolerance times the displacement from rest, with a floor of 1e-11
+  // of the surface's size: the relative residual alone has a rounding floor where the snapped
+  // shell's large internal forces cancel near a zero load, and the path would stall there
+  const double extent = (m_rest.colwise().maxCoeff() - m_rest.colwise().minCoeff()).norm();
+  const Eigen::Map<const Eigen::VectorXd> rest(x0.data(), x0.size());
+  problem.updateTolerance = [&](const Eigen::VectorXd& x) {
+    return options.tolerance * (x - rest).cwiseAbs().maxCoeff() + 1e-11 * extent;
+  };
   StaticResult result;
   result.method = "arc length (Crisfield, SparseLU)";
   int total = 0;
@@ -435,7 +444,7 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
     total += p.iterations;
     return inc;
   };
-  arcLengthPath(Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size()), problem, options,
+  arcLengthPath(rest, problem, options,
                 [&](const ArcLengthPoint& p) {
                   result.increments.push_back(increment(p));
                   if (each) each(result.increments.back());
