@@ -57,10 +57,29 @@ struct Gathered {
   SoNode* self;
   TriangleMesh mesh;
   std::vector<std::string> skipped;  // indexed shapes refused by checkIndices
+  bool proxies = false;              // other surfaces as their collision proxies
 };
 
-SoCallbackAction::Response pruneSelf(void* data, SoCallbackAction*, const SoNode* node) {
-  return node == static_cast<Gathered*>(data)->self ? SoCallbackAction::PRUNE : SoCallbackAction::CONTINUE;
+// The surface itself is never an obstacle. Another surface is its tessellation (its shape's
+// triangles), or, for barrier contact, its collision proxy: the triangles its own barrier keeps
+// the offset with, so that two surfaces measure the same distances to each other.
+SoCallbackAction::Response surfaceObstacle(void* data, SoCallbackAction* action, const SoNode* node) {
+  auto* g = static_cast<Gathered*>(data);
+  if (node == g->self) return SoCallbackAction::PRUNE;
+  if (!g->proxies) return SoCallbackAction::CONTINUE;
+  auto* surface = const_cast<SoBSplineDeformSurface*>(static_cast<const SoBSplineDeformSurface*>(node));
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  surface->collisionProxyMesh(vertices, triangles);
+  const SbMatrix& m = action->getModelMatrix();  // row vectors: x_world = x m
+  const int first = int(g->mesh.vertices.size());
+  for (const Eigen::Vector3d& p : vertices) {
+    Eigen::Vector3d w;
+    for (int j = 0; j < 3; ++j) w[j] = p.x() * m[0][j] + p.y() * m[1][j] + p.z() * m[2][j] + m[3][j];
+    g->mesh.vertices.push_back(w);
+  }
+  for (const Eigen::Vector3i& t : triangles) g->mesh.triangles.emplace_back(t + Eigen::Vector3i::Constant(first));
+  return SoCallbackAction::PRUNE;
 }
 
 // Coin's indexed shapes read coordinates and normals at their indices without a range check
@@ -160,9 +179,9 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
     e->node = node;
     node->ref();
     e->path = firstPath(sceneRoot, node);
-    Gathered g{self, {}, {}};
+    Gathered g{self, {}, {}, m_surfaceProxies};
     SoCallbackAction cb;
-    cb.addPreCallback(SoBSplineDeformSurface::getClassTypeId(), pruneSelf, &g);
+    cb.addPreCallback(SoBSplineDeformSurface::getClassTypeId(), surfaceObstacle, &g);
     cb.addPreCallback(SoIndexedShape::getClassTypeId(), checkIndices, &g);
     cb.addTriangleCallback(SoShape::getClassTypeId(), addTriangle, &g);
     if (e->path)
@@ -233,7 +252,7 @@ bool surfaceFrame(SoNode* sceneRoot, SoNode* surface, Eigen::Matrix3d& linear, E
 }
 
 void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
-                            bool obstaclesChanged, std::vector<std::string>& warnings) {
+                            bool obstaclesChanged, std::vector<std::string>& warnings, bool surfaceProxies) {
   // the surface's own frame
   Eigen::Matrix3d linear;
   Eigen::Vector3d offset;
@@ -243,6 +262,10 @@ void SceneObstacles::update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
   }
   if (sceneRoot != m_root) {
     m_root = sceneRoot;
+    m_dirty = true;
+  }
+  if (surfaceProxies != m_surfaceProxies) {
+    m_surfaceProxies = surfaceProxies;
     m_dirty = true;
   }
   if (m_dirty || obstaclesChanged) {

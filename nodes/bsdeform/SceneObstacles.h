@@ -50,9 +50,11 @@ class SceneObstacles {
   /// that DEF name under `sceneRoot`, depth first). `self` is never gathered (self-collision is
   /// not supported). Problems (a NULL entry, a name not in the scene, the surface itself, an
   /// empty subgraph, dropped triangles) are appended to `warnings`, naming the field entry; the
-  /// valid obstacles are used.
+  /// valid obstacles are used. Another SoBSplineDeformSurface among them is its shape's
+  /// triangles, or with `surfaceProxies` (barrier contact) its collision proxy
+  /// (SoBSplineDeformSurface::collisionProxyMesh()).
   void update(SoNode* sceneRoot, SoNode* self, const SoMFNode& obstacles, const SoMFString& names,
-              bool obstaclesChanged, std::vector<std::string>& warnings);
+              bool obstaclesChanged, std::vector<std::string>& warnings, bool surfaceProxies = false);
 
   /// How often obstacle trees were built from scratch and refitted (moved vertices).
   int builds() const { return m_builds; }
@@ -68,6 +70,7 @@ class SceneObstacles {
   std::vector<std::unique_ptr<Entry>> m_entries;
   SoNode* m_root = nullptr;
   bool m_dirty = true;
+  bool m_surfaceProxies = false;
   int m_builds = 0, m_refits = 0;
 };
 

@@ -26,6 +26,7 @@
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/contact/CollisionProxy.h"
 #include "bsdeform/dynamics/SimulationState.h"
 #include "bsdeform/spline/Tessellation.h"
 #include "bsdeform/SoForceField.h"
@@ -279,6 +280,30 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     report(Problem::STATE, "restNet", os.str());
   }
   return true;
+}
+
+void SoBSplineDeformSurface::collisionProxyMesh(std::vector<Eigen::Vector3d>& vertices,
+                                                std::vector<Eigen::Vector3i>& triangles) {
+  if (!m_building) ensureSimulation();
+  const bsdeform::Simulation& sim = m_building ? *m_building : *m_sim;
+  int samples = 2;
+  for (int i = 0; i < forces.getNum(); ++i) {
+    SoEngine* e = forces[i];
+    if (!e || !e->isOfType(SoForceField::getClassTypeId())) continue;
+    const auto* ff = static_cast<const SoForceField*>(e);
+    if (ff->type.getValue() == SoForceField::COLLISION && ff->method.getValue() == SoForceField::BARRIER) {
+      samples = std::clamp(int(ff->proxySamples.getValue()), 1, 16);
+      break;
+    }
+  }
+  const bsdeform::CollisionProxy proxy(sim.space(), samples);
+  Eigen::MatrixX3d at;
+  proxy.positions(sim.current(), at);
+  vertices.resize(size_t(at.rows()));
+  for (Eigen::Index i = 0; i < at.rows(); ++i) vertices[size_t(i)] = at.row(i).transpose();
+  const Eigen::MatrixX3i& t = proxy.triangles();
+  triangles.resize(size_t(t.rows()));
+  for (Eigen::Index i = 0; i < t.rows(); ++i) triangles[size_t(i)] = t.row(i).transpose();
 }
 
 void SoBSplineDeformSurface::ensureSimulation() {

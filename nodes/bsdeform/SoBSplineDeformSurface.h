@@ -243,6 +243,11 @@ class SoBSplineDeformSurface : public SoShape {
 
   /// The simulation built from the fields (rebuilt lazily after field changes); never null.
   const bsdeform::Simulation& simulation();
+  /// The surface's collision proxy now, in its own coordinates: the triangles its barrier contact
+  /// keeps the offset with (bsdeform::CollisionProxy at the `proxySamples` of its first COLLISION
+  /// force field with method BARRIER, 2 without one). Another surface's barrier contact sees this
+  /// surface through them (SceneObstacles), so that both measure the same distances.
+  void collisionProxyMesh(std::vector<Eigen::Vector3d>& vertices, std::vector<Eigen::Vector3i>& triangles);
   /// Advances by `steps` steps of Delta t now, whatever `on` says. Returns false on blow-up.
   bool stepSimulation(int steps = 1);
   /// Advances by `seconds` of realTime (times `speed`) in whole steps of Delta t, keeping the

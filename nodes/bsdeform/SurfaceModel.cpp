@@ -382,7 +382,8 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
       if (!slot.obstacles || slot.engine != ff) slot.obstacles = std::make_shared<SceneObstacles>();
       std::vector<std::string> problems;
       slot.obstacles->update(scene, self, ff->obstacles, ff->obstacleNames,
-                             stale && slot.geometryRevision != ff->getGeometryRevision(), problems);
+                             stale && slot.geometryRevision != ff->getGeometryRevision(), problems,
+                             ff->method.getValue() == SoForceField::BARRIER);
       slot.geometryRevision = ff->getGeometryRevision();
       for (const std::string& p : problems)
         report(Problem::OBSTACLE, "obstacles", "SoForceField '" + nameOf(ff) + "': " + p, nameOf(ff));

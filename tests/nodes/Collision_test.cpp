@@ -9,7 +9,9 @@
 #include <cmath>
 
 #include "NodesTestUtil.h"
+#include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/contact/Contact.h"
+#include "bsdeform/contact/Distance.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneObstacles.h"
@@ -317,5 +319,82 @@ TEST_CASE("Collision: method BARRIER reads its fields, keeps a SHELL cloth off a
   s = prepare(root);
   CHECK_FALSE(s->stepSimulation(1));
   CHECK_THAT(s->simulation().statusMessage(), Catch::Contains("BACKWARD_EULER"));
+  root->unref();
+}
+
+TEST_CASE("Collision: two surfaces with method BARRIER, one dropped on the other, never come within the offset",
+          "[nodes][slow]") {
+  // the lower sheet lies on a plate; the upper, turned by 45 degrees, falls onto it; each lists
+  // the other (the lower by name: a file cannot USE a node before its definition)
+  using namespace bsdeform;
+  const std::string sheet = "  on FALSE numUControlPoints 6 numVControlPoints 6\n"
+                            "  boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE\n"
+                            "  energy SHELL youngsModulus 0.821e6 poissonRatio 0.243 thickness 0.318e-3 density 472.6\n"
+                            "  damping 1 timeStep 0.02 integrator BACKWARD_EULER maxNewtonIterations 200\n";
+  const std::string contact = " method BARRIER thickness 0.01 dhat 0.002 proxySamples 3 friction 0.3 }";
+  SoSeparator* root = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator {\n"
+      "DEF Plate Separator { Transform { translation 0.5 0.5 -0.1 } Cube { width 3 height 3 depth 0.17 } }\n"
+      "DEF Lower SoBSplineDeformSurface {\n" + sheet +
+      "  forces [ SoForceField { type GRAVITY force 0 0 -9.81 },\n"
+      "           SoForceField { type COLLISION obstacles [ USE Plate ] obstacleNames \"Upper\"" + contact + " ]\n}\n"
+      "Separator { Transform { translation 0.5 0.5 0.06 rotation 0 0 1 0.785 } Transform { translation -0.5 -0.5 0 }\n"
+      "DEF Upper SoBSplineDeformSurface {\n" + sheet +
+      "  forces [ SoForceField { type GRAVITY force 0 0 -9.81 },\n"
+      "           SoForceField { type COLLISION obstacles [ USE Plate, USE Lower ]" + contact + " ]\n}\n}\n}\n");
+  REQUIRE(root);
+  prepare(root);
+  const std::vector<SoBSplineDeformSurface*> surfaces = bsdeform::sceneSurfaces(root);
+  REQUIRE(surfaces.size() == 2);
+  // a surface's proxy in the world
+  auto proxy = [&](SoBSplineDeformSurface* s, ContactMesh& m) {
+    std::vector<Eigen::Vector3d> v;
+    std::vector<Eigen::Vector3i> t;
+    s->collisionProxyMesh(v, t);
+    Eigen::Matrix3d A;
+    Eigen::Vector3d b;
+    REQUIRE(bsdeform::surfaceFrame(root, s, A, b));
+    m.start.resize(Eigen::Index(v.size()), 3);
+    for (size_t i = 0; i < v.size(); ++i) m.start.row(Eigen::Index(i)) = (A * v[i] + b).transpose();
+    m.end = m.start;
+    TriangleMesh tm;
+    tm.vertices = v;
+    tm.triangles = t;
+    const ContactMesh shape = staticContactMesh(tm);
+    m.triangles = shape.triangles;
+    m.edges = shape.edges;
+  };
+  auto clearance = [](const ContactMesh& a, const ContactMesh& b) {  // brute force, every pair
+    auto row = [](const ContactMesh& m, Eigen::Index i) { return Eigen::Vector3d(m.start.row(i).transpose()); };
+    double d2 = 1e300;
+    for (int k = 0; k < 2; ++k) {
+      const ContactMesh& p = k ? b : a;
+      const ContactMesh& q = k ? a : b;
+      for (Eigen::Index v = 0; v < p.start.rows(); ++v)
+        for (Eigen::Index t = 0; t < q.triangles.rows(); ++t)
+          d2 = std::min(d2, pointTriangleDistanceSquared(row(p, v), row(q, q.triangles(t, 0)), row(q, q.triangles(t, 1)),
+                                                         row(q, q.triangles(t, 2))));
+    }
+    for (Eigen::Index e = 0; e < a.edges.rows(); ++e)
+      for (Eigen::Index f = 0; f < b.edges.rows(); ++f)
+        d2 = std::min(d2, edgeEdgeDistanceSquared(row(a, a.edges(e, 0)), row(a, a.edges(e, 1)), row(b, b.edges(f, 0)),
+                                                  row(b, b.edges(f, 1))));
+    return std::sqrt(d2);
+  };
+  double gap = 0.0;
+  for (int k = 0; k < 25; ++k) {  // 0.5 s: the upper sheet lands at about t = 0.2
+    for (SoBSplineDeformSurface* s : surfaces) {
+      const bool ok = s->stepSimulation(1);
+      INFO("step " << k << ", " << s->getName().getString() << ": " << s->simulation().statusMessage());
+      REQUIRE(ok);
+    }
+    ContactMesh lower, upper;
+    proxy(surfaces[0], lower);
+    proxy(surfaces[1], upper);
+    gap = clearance(lower, upper);
+    INFO("step " << k);
+    CHECK(gap >= 0.01 * (1.0 - 1e-9));
+  }
+  CHECK(gap < 0.01 + 0.002 + 0.002);  // it came down and lies on the lower sheet
   root->unref();
 }

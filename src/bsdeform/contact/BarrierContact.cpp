@@ -77,6 +77,11 @@ struct BarrierContactForce::State {
   ContactWorldSnapshot seen;  ///< for storedEnergy()
   std::vector<FrictionPair> friction;  ///< frozen at the last beginStep()
   Eigen::MatrixX3d previousWorld;      ///< the proxy at ctx.previous (friction's slip)
+  struct Block {
+    Eigen::Index a, b;
+    Eigen::Matrix3d h;
+  };
+  std::vector<Block> blocks;  ///< addJacobian()'s scratch
 };
 
 BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
@@ -391,12 +396,16 @@ void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) cons
 
 void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
   const ContactWorld& w = *m_world;
-  const CollisionProxy* proxy = nullptr;
   // friction is a function of the slip x - x(previous) = h v alone: its K = -s ∂L/∂v = s h ∂²D/∂x²
   const double frictionScale = velocityScale * ctx.stepSize;
+  // The pairs' 3 x 3 blocks between proxy vertices, summed per vertex pair first (a vertex is in
+  // several pairs: against neighbouring triangles and edges, barrier and friction), then each
+  // pushed once through the weights: 16 x 16 control-point blocks per vertex pair, not per pair.
+  using Block = State::Block;
+  std::vector<Block>& blocks = m_state->blocks;
+  blocks.clear();
   terms(ctx, 2, [&](const Term& t) {
     const double scale = t.friction ? frictionScale : 1.0;
-    if (!proxy) proxy = m_state->proxy.get();
     // blocks between proxy points of one primitive only: its first point or first two (the
     // vertex or edge of the first primitive) and the rest (the second's), which share no
     // element in self-contact (see the header)
@@ -406,12 +415,22 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
       for (int b = 0; b < 4; ++b) {
         if (t.vertex[size_t(b)] < 0) continue;
         if ((a < split) != (b < split)) continue;
-        const Eigen::Matrix3d H = scale * (w.linear.transpose() * t.hess.block<3, 3>(3 * a, 3 * b) * w.linear);
-        for (const auto& wa : proxy->netWeights(t.vertex[size_t(a)]))
-          for (const auto& wb : proxy->netWeights(t.vertex[size_t(b)])) sink.add(wa.index, wb.index, wa.weight * wb.weight * H);
+        blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
       }
     }
   });
+  if (blocks.empty()) return;
+  std::sort(blocks.begin(), blocks.end(), [](const Block& x, const Block& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  const CollisionProxy& proxy = *m_state->proxy;
+  for (size_t i = 0; i < blocks.size();) {
+    Eigen::Matrix3d sum = blocks[i].h;
+    size_t j = i + 1;
+    for (; j < blocks.size() && blocks[j].a == blocks[i].a && blocks[j].b == blocks[i].b; ++j) sum += blocks[j].h;
+    const Eigen::Matrix3d H = w.linear.transpose() * sum * w.linear;
+    for (const auto& wa : proxy.netWeights(blocks[i].a))
+      for (const auto& wb : proxy.netWeights(blocks[i].b)) sink.add(wa.index, wb.index, wa.weight * wb.weight * H);
+    i = j;
+  }
 }
 
 double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {
