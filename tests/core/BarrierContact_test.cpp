@@ -426,3 +426,33 @@ TEST_CASE("BarrierContactForce: friction acts on the slip relative to a moving o
   CHECK(run(0.5) == Approx(expected).epsilon(0.02));
   CHECK(std::abs(run(0.0)) < 1e-3);
 }
+
+TEST_CASE("BarrierContactForce: a step taken again from its start (a failed attempt) sweeps a moved obstacle again "
+          "from where it was",
+          "[core][contact]") {
+  // the obstacle rises 4 cm into a sheet 6.5 mm above it; a first attempt carries the sheet
+  // (and so the obstacle) up 3 cm and fails; the step is taken again from the start, where the
+  // obstacle, left where the attempt brought it, would be inside the sheet
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet start = s.grevillePlane();
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, -0.0065));
+  auto tree = std::make_shared<TriangleTree>(plate);
+  auto world = std::make_shared<ContactWorld>();
+  world->obstacles.push_back({tree, true});
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  const BarrierContactForce force(world, bp);
+  const LoadContext atStart{s, start, start, 0.02, 0.0};
+  REQUIRE(force.beginStep(atStart).empty());
+  for (Eigen::Vector3d& v : plate.vertices) v.z() += 0.04;
+  tree->update(plate.vertices);
+  REQUIRE(force.beginStep(atStart).empty());
+  ControlNet lifted = start;
+  lifted.col(2).array() += 0.03;
+  CHECK(force.advanceObstacles(LoadContext{s, lifted, start, 0.02, 0.0}) > 0.0);  // up to the lifted sheet
+  CHECK(force.beginStep(atStart).empty());  // again from the start: the plate back where it was
+  CHECK(force.lastMinimumDistance() == Approx(0.0065).epsilon(1e-6));
+  CHECK(force.advanceObstacles(atStart) > 0.0);  // and it sweeps from there
+  CHECK(force.lastMinimumDistance() >= bp.offset);
+}

@@ -65,8 +65,13 @@ struct BarrierContactForce::State {
     std::uint64_t version = ~std::uint64_t(0);
     ContactMesh mesh;          ///< start = end: where the obstacle is in the step now
     Eigen::MatrixX3d target;   ///< its pose now (the tree's); mesh.start sweeps toward it
+    Eigen::MatrixX3d origin;   ///< where the sweep began: the pose the surface last saw
     double remaining = 0.0;    ///< the fraction of the sweep still to go
   };
+  /// The start state of the step the obstacles' sweeps began in: a step taken again from it (a
+  /// failed attempt, retaken in pieces) sweeps them again from their origins.
+  ControlNet sweepStart;
+  bool sweepStartPending = false;
   std::vector<Obstacle> obstacles;
   double kappa = 0.0, kappaMax = 0.0;
   double previousMinimum = std::numeric_limits<double>::infinity();
@@ -170,11 +175,13 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     ob.tree = tree;
     ob.version = tree->version();
     if (moved && ob.mesh.start != fresh.start) {
+      ob.origin = ob.mesh.start;
       ob.target = fresh.start;
       ob.remaining = 1.0;
+      m_state->sweepStartPending = true;
     } else {
       ob.mesh = std::move(fresh);
-      ob.target = ob.mesh.start;
+      ob.target = ob.origin = ob.mesh.start;
       ob.remaining = 0.0;
     }
   }
@@ -476,6 +483,17 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
 std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   prepare(ctx);
   State& st = *m_state;
+  if (st.sweepStartPending) {
+    st.sweepStart = ctx.current;
+    st.sweepStartPending = false;
+  } else if (st.sweepStart.rows() == ctx.current.rows() && st.sweepStart == ctx.current) {
+    // the step the sweeps began in, taken again: from where they began
+    for (State::Obstacle& ob : st.obstacles)
+      if (ob.tree && ob.origin.rows() == ob.mesh.start.rows() && ob.origin != ob.target) {
+        ob.mesh.start = ob.mesh.end = ob.origin;
+        ob.remaining = 1.0;
+      }
+  }
   const ContactWorld& w = *m_world;
   // the spline lies within `deviation` of its proxy (docs/math.md §18.1): the offset must exceed
   // it, or the spline could reach an obstacle while its proxy keeps the offset
