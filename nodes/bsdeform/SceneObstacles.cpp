@@ -193,7 +193,7 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
     // The same triangles as before (a moved Transform, the other surface's next step): refit.
     for (auto& p : previous) {
       if (!p || p->node != node || !p->tree || p->tree->mesh().vertices.size() != mesh.vertices.size()) continue;
-      if (p->tree->droppedTriangles() == 0 && p->tree->mesh().triangles == mesh.triangles) {
+      if (p->tree->mesh().triangles == mesh.triangles) {  // update() re-selects degenerate ones
         p->tree->update(mesh.vertices);
         e->tree = p->tree;
         ++m_refits;

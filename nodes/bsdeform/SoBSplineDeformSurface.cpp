@@ -26,6 +26,7 @@
 #include "bsdeform/SceneRunner.h"
 #include "bsdeform/SceneText.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/contact/CollisionProxy.h"
 #include "bsdeform/dynamics/SimulationState.h"
 #include "bsdeform/spline/Tessellation.h"
@@ -286,17 +287,25 @@ void SoBSplineDeformSurface::collisionProxyMesh(std::vector<Eigen::Vector3d>& ve
                                                 std::vector<Eigen::Vector3i>& triangles) {
   if (!m_building) ensureSimulation();
   const bsdeform::Simulation& sim = m_building ? *m_building : *m_sim;
-  int samples = 2;
+  int samples = bsdeform::BarrierContactParameters().samplesPerSpan;
   for (int i = 0; i < forces.getNum(); ++i) {
     SoEngine* e = forces[i];
     if (!e || !e->isOfType(SoForceField::getClassTypeId())) continue;
     const auto* ff = static_cast<const SoForceField*>(e);
     if (ff->type.getValue() == SoForceField::COLLISION && ff->method.getValue() == SoForceField::BARRIER) {
-      samples = std::clamp(int(ff->proxySamples.getValue()), 1, 16);
+      samples = int(ff->proxySamples.getValue());
       break;
     }
   }
-  const bsdeform::CollisionProxy proxy(sim.space(), samples);
+  vertices.clear();
+  triangles.clear();
+  std::unique_ptr<bsdeform::CollisionProxy> made;
+  try {
+    made = std::make_unique<bsdeform::CollisionProxy>(sim.space(), samples);
+  } catch (const std::invalid_argument&) {
+    return;  // a proxySamples the core refuses: that force field is refused by name, no triangles here
+  }
+  const bsdeform::CollisionProxy& proxy = *made;
   Eigen::MatrixX3d at;
   proxy.positions(sim.current(), at);
   vertices.resize(size_t(at.rows()));

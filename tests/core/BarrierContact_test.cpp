@@ -456,3 +456,46 @@ TEST_CASE("BarrierContactForce: a step taken again from its start (a failed atte
   CHECK(force.advanceObstacles(atStart) > 0.0);  // and it sweeps from there
   CHECK(force.lastMinimumDistance() >= bp.offset);
 }
+
+TEST_CASE("BarrierContactForce: a retaken step rewinds only what moved in it, and a state put back forgets the sweep",
+          "[core][contact]") {
+  // a plate under the sheet and a box far from it; in step n the plate rises 2 cm, the sheet
+  // with it; in step n + 1 only the box moves, and that step is retaken
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet start = s.grevillePlane();
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, -0.0065));
+  TriangleMesh far = box(Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(6, 6, 6));
+  auto plateTree = std::make_shared<TriangleTree>(plate);
+  auto farTree = std::make_shared<TriangleTree>(far);
+  auto world = std::make_shared<ContactWorld>();
+  world->obstacles.push_back({plateTree, true});
+  world->obstacles.push_back({farTree, true});
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  const BarrierContactForce force(world, bp);
+  REQUIRE(force.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+  // step n: the plate rises 2 cm; the step ends with the sheet 2 cm up and the plate swept there
+  for (Eigen::Vector3d& v : plate.vertices) v.z() += 0.02;
+  plateTree->update(plate.vertices);
+  REQUIRE(force.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+  ControlNet up = start;
+  up.col(2).array() += 0.02;
+  CHECK(force.advanceObstacles(LoadContext{s, up, start, 0.02, 0.0}) == 0.0);
+  // step n + 1 from there: the box moves, the step is retaken
+  for (Eigen::Vector3d& v : far.vertices) v.x() += 0.1;
+  farTree->update(far.vertices);
+  const LoadContext next{s, up, up, 0.02, 0.0};
+  REQUIRE(force.beginStep(next).empty());
+  CHECK(force.advanceObstacles(next) == 0.0);
+  CHECK(force.beginStep(next).empty());
+  CHECK(force.lastMinimumDistance() == Approx(0.0065).epsilon(1e-6));  // the plate stayed where step n left it
+  CHECK(force.advanceObstacles(next) == 0.0);
+  // a state put back (reset, the timeline): the obstacles are taken where they are, no sweep
+  force.setAdaptedState({});
+  for (Eigen::Vector3d& v : plate.vertices) v.z() -= 0.02;
+  plateTree->update(plate.vertices);
+  CHECK(force.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+  CHECK(force.advanceObstacles(LoadContext{s, start, start, 0.02, 0.0}) == 0.0);
+  CHECK(force.lastMinimumDistance() == Approx(0.0065).epsilon(1e-6));
+}

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/contact/BarrierContact.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -45,9 +46,19 @@ ContactMesh staticContactMesh(const TriangleMesh& m) {
   out.start.resize(Eigen::Index(m.vertices.size()), 3);
   for (size_t v = 0; v < m.vertices.size(); ++v) out.start.row(Eigen::Index(v)) = m.vertices[v].transpose();
   out.end = out.start;
-  out.triangles.resize(Eigen::Index(m.triangles.size()), 3);
-  for (size_t t = 0; t < m.triangles.size(); ++t) out.triangles.row(Eigen::Index(t)) = m.triangles[t].transpose();
-  out.edges = uniqueEdges(m.triangles);
+  // degenerate triangles (a cone's apex welded to one vertex) have no distance class: left out,
+  // with their edges (a degenerate triangle's nonzero edges belong to its neighbours too)
+  std::vector<Eigen::Vector3i> kept;
+  kept.reserve(m.triangles.size());
+  for (const Eigen::Vector3i& t : m.triangles) {
+    const Eigen::Vector3d a = m.vertices[size_t(t[0])], b = m.vertices[size_t(t[1])], c = m.vertices[size_t(t[2])];
+    const double area2 = (b - a).cross(c - a).squaredNorm();
+    const double scale = std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    if (std::isfinite(area2) && area2 > 1e-24 * scale * scale) kept.push_back(t);
+  }
+  out.triangles.resize(Eigen::Index(kept.size()), 3);
+  for (size_t t = 0; t < kept.size(); ++t) out.triangles.row(Eigen::Index(t)) = kept[t].transpose();
+  out.edges = uniqueEdges(kept);
   return out;
 }
 
@@ -125,6 +136,12 @@ std::vector<double> BarrierContactForce::adaptedState() const {
 
 void BarrierContactForce::setAdaptedState(const std::vector<double>& state) const {
   State& st = *m_state;
+  // a state put back (reset, the timeline, a file): the obstacles are taken as they are at the
+  // next step, not swept from where the abandoned run last saw them, and nothing is lagged
+  for (State::Obstacle& ob : st.obstacles) ob.tree = nullptr;
+  st.sweepStart.resize(0, 3);
+  st.sweepStartPending = false;
+  st.friction.clear();
   if (state.empty()) {
     st.kappa = st.kappaMax = 0.0;
     st.previousMinimum = std::numeric_limits<double>::infinity();
@@ -483,16 +500,20 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
 std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   prepare(ctx);
   State& st = *m_state;
-  if (st.sweepStartPending) {
+  const bool retaken = !st.sweepStartPending && st.sweepStart.rows() == ctx.current.rows() && st.sweepStart == ctx.current;
+  if (retaken) {
+    // the step taken again from the same start (a failed attempt, retaken in pieces): every
+    // obstacle from where it was when the step began
+    for (State::Obstacle& ob : st.obstacles)
+      if (ob.tree && ob.origin.rows() == ob.mesh.start.rows() && ob.origin != ob.mesh.start) {
+        ob.mesh.start = ob.mesh.end = ob.origin;
+        ob.remaining = ob.origin == ob.target ? 0.0 : 1.0;
+      }
+  } else {
+    // a new step: where each obstacle is now is where the surface last saw it
     st.sweepStart = ctx.current;
     st.sweepStartPending = false;
-  } else if (st.sweepStart.rows() == ctx.current.rows() && st.sweepStart == ctx.current) {
-    // the step the sweeps began in, taken again: from where they began
-    for (State::Obstacle& ob : st.obstacles)
-      if (ob.tree && ob.origin.rows() == ob.mesh.start.rows() && ob.origin != ob.target) {
-        ob.mesh.start = ob.mesh.end = ob.origin;
-        ob.remaining = 1.0;
-      }
+    for (State::Obstacle& ob : st.obstacles) ob.origin = ob.mesh.start;
   }
   const ContactWorld& w = *m_world;
   // the spline lies within `deviation` of its proxy (docs/math.md §18.1): the offset must exceed
