@@ -348,6 +348,14 @@ TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, 
   CHECK(ca->adaptedState().empty());
   CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 2.0, 1.0}), Catch::Contains("forceState") && Catch::Contains("force 2"));
   CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 3.0, -1.0, 1.0, 1.0}), Catch::Contains("stiffness > 0"));
+  // a state with a force state refused is not half put back: nets and stiffness stay as they were
+  restoreState(*b, saved);
+  const SimulationState kept = stateOf(*b);
+  SimulationState bad = saved;
+  bad.current.array() += 0.01;
+  bad.forces = {0.0, 3.0, -1.0, 1.0, 1.0};
+  CHECK_THROWS(restoreState(*b, bad));
+  CHECK(sameBits(stateOf(*b), kept));
 }
 
 TEST_CASE("BarrierContactForce: an obstacle moved between steps is swept into place, pushing the sheet without "

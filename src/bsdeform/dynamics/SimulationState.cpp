@@ -53,16 +53,23 @@ void restoreForceStates(const Simulation& sim, const std::vector<double>& states
 }
 
 void restoreState(Simulation& sim, const SimulationState& state) {
-  // HeldPoints::Check: the held points were taken from a model with this rest net, so they
-  // pass the check and are put back as the same bits.
-  if (state.startPending) {
-    sim.setState(state.current, state.time, state.steps);
-  } else {
-    // previousStepSize = the sub-step the state was taken at: nothing is rescaled while the
-    // model's sub-step is the same, so `previous` comes back bit for bit
-    sim.setState(state.current, state.previous, state.time, state.steps, state.subStepSize);
+  // all or nothing: a force state or a net refused leaves the simulation as it was
+  const std::vector<double> before = forceStatesOf(sim);
+  try {
+    restoreForceStates(sim, state.forces);
+    // HeldPoints::Check: the held points were taken from a model with this rest net, so they
+    // pass the check and are put back as the same bits.
+    if (state.startPending) {
+      sim.setState(state.current, state.time, state.steps);
+    } else {
+      // previousStepSize = the sub-step the state was taken at: nothing is rescaled while the
+      // model's sub-step is the same, so `previous` comes back bit for bit
+      sim.setState(state.current, state.previous, state.time, state.steps, state.subStepSize);
+    }
+  } catch (...) {
+    restoreForceStates(sim, before);
+    throw;
   }
-  restoreForceStates(sim, state.forces);
 }
 
 std::size_t bytesOf(const SimulationState& state) {

@@ -40,7 +40,8 @@ SimulationState stateOf(const Simulation& sim);
 /// stateOf(sim) equals `state` bit for bit, and the next steps are those the simulation took
 /// from it. The status goes back to Ok.
 /// @throws std::invalid_argument as Simulation::setState (a net of another size, NaN, held
-///         points that differ from this model's rest net)
+///         points that differ from this model's rest net) or restoreForceStates(); the
+///         simulation is then as it was
 void restoreState(Simulation& sim, const SimulationState& state);
 /// Bytes the state holds (both nets and the scalars).
 std::size_t bytesOf(const SimulationState& state);
