@@ -307,7 +307,13 @@ void SoBSplineDeformSurface::collisionProxyMesh(std::vector<Eigen::Vector3d>& ve
   }
   const bsdeform::CollisionProxy& proxy = *made;
   Eigen::MatrixX3d at;
-  proxy.positions(sim.current(), at);
+  // asked for while this surface is being built (another surface gathering it from within our
+  // rebuild): the simulation is still at rest, its state not yet put back; the state is the
+  // fields' then (a file's controlNet)
+  if (m_building && m_stateDirty && controlNet.getNum() == int(sim.current().rows()))
+    proxy.positions(bsdeform::netFromField(controlNet), at);
+  else
+    proxy.positions(sim.current(), at);
   vertices.resize(size_t(at.rows()));
   for (Eigen::Index i = 0; i < at.rows(); ++i) vertices[size_t(i)] = at.row(i).transpose();
   const Eigen::MatrixX3i& t = proxy.triangles();
