@@ -324,12 +324,17 @@ TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, 
   REQUIRE(ca->frictionPairCount() > 0);
   // κ as the adaptive rule leaves it after gaps that keep shrinking below its threshold
   std::vector<double> adapted = ca->adaptedState();
-  REQUIRE(adapted.size() == 3);
+  REQUIRE(adapted.size() == 3 + 2 + 3 * 8);  // κ, cap, distance; one obstacle of 8 vertices
   adapted[0] *= 4.0;
   adapted[1] = std::max(adapted[1], adapted[0]);
   ca->setAdaptedState(adapted);
   const SimulationState saved = stateOf(*a);
-  CHECK(saved.forces == std::vector<double>{0.0, 3.0, adapted[0], adapted[1], adapted[2]});
+  // gravity adapts nothing; the barrier: κ, its cap, the last distance, and the plate's last pose
+  REQUIRE(saved.forces.size() == 2 + adapted.size());
+  CHECK(std::vector<double>(saved.forces.begin(), saved.forces.begin() + 5) ==
+        std::vector<double>{0.0, double(adapted.size()), adapted[0], adapted[1], adapted[2]});
+  CHECK(saved.forces[5] == 1.0);  // one obstacle
+  CHECK(saved.forces[6] == 8.0);
   auto b = make(cb);
   restoreState(*b, saved);
   CHECK(cb->stiffness() == ca->stiffness());
@@ -347,7 +352,9 @@ TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, 
   a->reset();
   CHECK(ca->adaptedState().empty());
   CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 2.0, 1.0}), Catch::Contains("forceState") && Catch::Contains("force 2"));
-  CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 3.0, -1.0, 1.0, 1.0}), Catch::Contains("stiffness > 0"));
+  CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 3.0, -1.0, 1.0, 1.0}), Catch::Contains("stiffness (> 0)"));
+  CHECK_THROWS_WITH(restoreForceStates(*b, {0.0, 6.0, 1.0, 1.0, -1.0, 1.0, 2.0, 0.5}),
+                    Catch::Contains("vertex count runs past the end"));
   // a state with a force state refused is not half put back: nets and stiffness stay as they were
   restoreState(*b, saved);
   const SimulationState kept = stateOf(*b);

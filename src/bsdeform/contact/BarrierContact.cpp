@@ -83,6 +83,8 @@ struct BarrierContactForce::State {
   /// failed attempt, retaken in pieces) sweeps them again from their origins.
   ControlNet sweepStart;
   bool sweepStartPending = false;
+  /// Obstacle poses a state put back gives (setAdaptedState()), taken at the next prepare()
+  std::vector<Eigen::MatrixX3d> restoredPoses;
   std::vector<Obstacle> obstacles;
   double kappa = 0.0, kappaMax = 0.0;
   double previousMinimum = std::numeric_limits<double>::infinity();
@@ -131,14 +133,59 @@ double BarrierContactForce::stiffness() const { return m_state->kappa; }
 std::vector<double> BarrierContactForce::adaptedState() const {
   const State& st = *m_state;
   if (st.kappa == 0.0) return {};
-  return {st.kappa, st.kappaMax, std::isfinite(st.previousMinimum) ? st.previousMinimum : -1.0};
+  std::vector<double> out{st.kappa, st.kappaMax, std::isfinite(st.previousMinimum) ? st.previousMinimum : -1.0};
+  // where each obstacle was when the surface last saw it: a resumed run sweeps it from there
+  // (a pose put back and not yet taken up counts as where it was seen)
+  const size_t count = std::max(st.obstacles.size(), st.restoredPoses.size());
+  out.push_back(double(count));
+  for (size_t o = 0; o < count; ++o) {
+    const bool seen = o < st.obstacles.size() && st.obstacles[o].tree;
+    const bool pending = o < st.restoredPoses.size() && st.restoredPoses[o].rows() > 0;
+    const Eigen::MatrixX3d* pose = seen ? &st.obstacles[o].mesh.start : pending ? &st.restoredPoses[o] : nullptr;
+    out.push_back(pose ? double(pose->rows()) : 0.0);
+    for (Eigen::Index v = 0; pose && v < pose->rows(); ++v)
+      for (int k = 0; k < 3; ++k) out.push_back((*pose)(v, k));
+  }
+  return out;
 }
 
 void BarrierContactForce::setAdaptedState(const std::vector<double>& state) const {
   State& st = *m_state;
-  // a state put back (reset, the timeline, a file): the obstacles are taken as they are at the
-  // next step, not swept from where the abandoned run last saw them, and nothing is lagged
+  auto refuse = [&](const char* why) {
+    std::ostringstream os;
+    os << "barrier contact: its adapted state is the stiffness (> 0), its cap (>= it), the last smallest distance "
+          "(>= 0 or -1), then the obstacles' last poses (a count, and per obstacle its vertex count and coordinates): "
+       << why << " (" << state.size() << " values:";
+    for (size_t k = 0; k < std::min<size_t>(state.size(), 6); ++k) os << ' ' << numberText(state[k]);
+    os << (state.size() > 6 ? " ...)" : ")");
+    throw std::invalid_argument(os.str());
+  };
+  std::vector<Eigen::MatrixX3d> poses;
+  if (!state.empty()) {
+    if (state.size() < 3 || !(state[0] > 0.0) || !(state[1] >= state[0]) || !std::isfinite(state[1]) ||
+        !(state[2] == -1.0 || state[2] >= 0.0) || !std::isfinite(state[2]))
+      refuse("the first three are not that");
+    size_t at = 3;
+    if (at < state.size()) {
+      const double count = state[at++];
+      if (!(count >= 0.0) || count != std::floor(count) || count > 1e6) refuse("the obstacle count is not a count");
+      for (size_t o = 0; o < size_t(count); ++o) {
+        if (at >= state.size()) refuse("it ends before the obstacles do");
+        const double n = state[at++];
+        if (!(n >= 0.0) || n != std::floor(n) || 3.0 * n > double(state.size() - at)) refuse("a vertex count runs past the end");
+        Eigen::MatrixX3d pose(Eigen::Index(n), 3);
+        for (Eigen::Index v = 0; v < pose.rows(); ++v)
+          for (int k = 0; k < 3; ++k) pose(v, k) = state[at++];
+        if (!pose.allFinite()) refuse("a pose is not finite");
+        poses.push_back(std::move(pose));
+      }
+      if (at != state.size()) refuse("values are left after the obstacles");
+    }
+  }
+  // a state put back (reset, the timeline, a file): the obstacles are taken where they are at the
+  // next step (swept from the poses the state gives, when it gives them), nothing is lagged
   for (State::Obstacle& ob : st.obstacles) ob.tree = nullptr;
+  st.restoredPoses = std::move(poses);
   st.sweepStart.resize(0, 3);
   st.sweepStartPending = false;
   st.friction.clear();
@@ -147,18 +194,11 @@ void BarrierContactForce::setAdaptedState(const std::vector<double>& state) cons
     st.previousMinimum = std::numeric_limits<double>::infinity();
     return;
   }
-  if (state.size() != 3 || !(state[0] > 0.0) || !(state[1] >= state[0]) || !std::isfinite(state[1]) ||
-      !(state[2] == -1.0 || state[2] >= 0.0) || !std::isfinite(state[2])) {
-    std::ostringstream os;
-    os << "barrier contact: its adapted state is 3 values (stiffness > 0, its cap >= it, the last smallest distance "
-          ">= 0 or -1), got " << state.size() << ":";
-    for (double v : state) os << ' ' << numberText(v);
-    throw std::invalid_argument(os.str());
-  }
   st.kappa = state[0];
   st.kappaMax = state[1];
   st.previousMinimum = state[2] < 0.0 ? std::numeric_limits<double>::infinity() : state[2];
 }
+
 size_t BarrierContactForce::frictionPairCount() const { return m_state->friction.size(); }
 double BarrierContactForce::frictionNormalForce() const {
   double sum = 0.0;
@@ -191,7 +231,17 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
                        ob.mesh.triangles.rows() == fresh.triangles.rows() && ob.mesh.triangles == fresh.triangles;
     ob.tree = tree;
     ob.version = tree->version();
-    if (moved && ob.mesh.start != fresh.start) {
+    // a state put back that says where the surface last saw this obstacle: swept from there
+    const bool restored = o < st.restoredPoses.size() && st.restoredPoses[o].rows() > 0 &&
+                          st.restoredPoses[o].rows() == fresh.start.rows();
+    if (restored) {
+      ob.target = fresh.start;
+      ob.mesh = std::move(fresh);
+      ob.origin = ob.mesh.start = ob.mesh.end = st.restoredPoses[o];
+      ob.remaining = ob.origin == ob.target ? 0.0 : 1.0;
+      if (ob.remaining > 0.0) st.sweepStartPending = true;
+      st.restoredPoses[o].resize(0, 3);  // taken
+    } else if (moved && ob.mesh.start != fresh.start) {
       ob.origin = ob.mesh.start;
       ob.target = fresh.start;
       ob.remaining = 1.0;
