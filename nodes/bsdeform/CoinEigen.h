@@ -6,6 +6,7 @@
 /// (SbVec3f, SbVec2f) widen exactly on the way in and round to nearest on the way out.
 
 #include <Eigen/Core>
+#include <Inventor/SbMatrix.h>
 #include <Inventor/SbVec2d.h>
 #include <Inventor/SbVec2f.h>
 #include <Inventor/SbVec3d.h>
@@ -42,6 +43,21 @@ void setFromEigen(SoMFVec3d& f, const Eigen::MatrixBase<Derived>& m) {
   SbVec3d* v = f.startEditing();
   for (Eigen::Index i = 0; i < m.rows(); ++i) v[i].setValue(m(i, 0), m(i, 1), m(i, 2));
   f.finishEditing();
+}
+
+/// The affine map of a Coin matrix (row vectors, x_world = x m) as x_world = linear x + offset:
+/// offset the image of the origin, linear's columns the images of the unit vectors less it (each
+/// image through SbMatrix::multVecMatrix, and the difference, in float, as Coin maps points).
+inline void affineOf(const SbMatrix& m, Eigen::Matrix3d& linear, Eigen::Vector3d& offset) {
+  SbVec3f o, e;
+  m.multVecMatrix(SbVec3f(0, 0, 0), o);
+  offset = toEigen(o);
+  for (int j = 0; j < 3; ++j) {
+    SbVec3f unit(0, 0, 0);
+    unit[j] = 1.0f;
+    m.multVecMatrix(unit, e);
+    linear.col(j) = toEigen(e - o);  // the difference in float, as Coin's own vectors
+  }
 }
 
 }  // namespace bsdeform

@@ -18,6 +18,7 @@
 #include <Inventor/sensors/SoNodeSensor.h>
 #include <Inventor/sensors/SoPathSensor.h>
 
+#include "bsdeform/CoinEigen.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {
@@ -71,13 +72,11 @@ SoCallbackAction::Response surfaceObstacle(void* data, SoCallbackAction* action,
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> triangles;
   surface->collisionProxyMesh(vertices, triangles);
-  const SbMatrix& m = action->getModelMatrix();  // row vectors: x_world = x m
+  Eigen::Matrix3d linear;
+  Eigen::Vector3d offset;
+  affineOf(action->getModelMatrix(), linear, offset);
   const int first = int(g->mesh.vertices.size());
-  for (const Eigen::Vector3d& p : vertices) {
-    Eigen::Vector3d w;
-    for (int j = 0; j < 3; ++j) w[j] = p.x() * m[0][j] + p.y() * m[1][j] + p.z() * m[2][j] + m[3][j];
-    g->mesh.vertices.push_back(w);
-  }
+  for (const Eigen::Vector3d& p : vertices) g->mesh.vertices.push_back(linear * p + offset);
   for (const Eigen::Vector3i& t : triangles) g->mesh.triangles.emplace_back(t + Eigen::Vector3i::Constant(first));
   return SoCallbackAction::PRUNE;
 }
@@ -238,16 +237,7 @@ bool surfaceFrame(SoNode* sceneRoot, SoNode* surface, Eigen::Matrix3d& linear, E
   SoGetMatrixAction ma(SbViewportRegion(1, 1));
   ma.apply(path);
   path->unref();
-  const SbMatrix& m = ma.getMatrix();
-  SbVec3f o, e;
-  m.multVecMatrix(SbVec3f(0, 0, 0), o);
-  offset = Eigen::Vector3d(o[0], o[1], o[2]);
-  for (int j = 0; j < 3; ++j) {
-    SbVec3f unit(0, 0, 0);
-    unit[j] = 1.0f;
-    m.multVecMatrix(unit, e);
-    linear.col(j) = Eigen::Vector3d(e[0] - o[0], e[1] - o[1], e[2] - o[2]);
-  }
+  affineOf(ma.getMatrix(), linear, offset);
   return true;
 }
 

@@ -62,6 +62,19 @@ double clearance(const ContactMesh& a, const ContactMesh* b, double reach) {
   return std::sqrt(d2);
 }
 
+/// A wavy free sheet 6 to 7 mm over the top (z = 0) of a plate: point–plane, point–edge,
+/// point–point and edge–edge pairs within the barrier's reach (offset 5 mm, dhat 2 mm). Shifted
+/// off the diagonal of the plate's top: a vertex right above an edge shared by two triangles sits
+/// where its distances change class, and the Hessian jumps there.
+ControlNet wavySheet(const SplineSpace& s) {
+  ControlNet net = s.grevillePlane();
+  for (Eigen::Index r = 0; r < net.rows(); ++r) {
+    net(r, 0) += 0.0137;
+    net(r, 2) = 0.0062 + 0.0004 * std::sin(7.0 * net(r, 0) + 3.0 * net(r, 1));
+  }
+  return net;
+}
+
 /// The proxy of `net` (`samples` per span) as a ContactMesh at rest.
 ContactMesh proxyMesh(const SplineSpace& s, const ControlNet& net, int samples) {
   const CollisionProxy proxy(s, samples);
@@ -78,13 +91,7 @@ TEST_CASE("BarrierContactForce: load, potential and Hessian against differences"
   // a wavy sheet over a plate and a blade whose vertices poke toward it: point–plane,
   // point–edge, point–point and edge–edge pairs, all within reach of the barrier
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
-  ControlNet net = s.grevillePlane();
-  // (shifted off the diagonal of the plate's top: a vertex right above an edge shared by two
-  // triangles sits where its distances change class, and the Hessian jumps there)
-  for (Eigen::Index r = 0; r < net.rows(); ++r) {
-    net(r, 0) += 0.0137;
-    net(r, 2) = 0.0062 + 0.0004 * std::sin(7.0 * net(r, 0) + 3.0 * net(r, 1));
-  }
+  const ControlNet net = wavySheet(s);
   TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
   auto world = worldOf(plate);
   BarrierContactParameters bp;
@@ -109,11 +116,7 @@ TEST_CASE("BarrierContactForce with friction: load, potential and Hessian agains
   // the wavy sheet of the case above, frozen at its start, then slid and turned over the plate:
   // every pair's slip over the step, some below the smoothing's epsilon (sticking) and some above
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
-  ControlNet start = s.grevillePlane();
-  for (Eigen::Index r = 0; r < start.rows(); ++r) {
-    start(r, 0) += 0.0137;
-    start(r, 2) = 0.0062 + 0.0004 * std::sin(7.0 * start(r, 0) + 3.0 * start(r, 1));
-  }
+  const ControlNet start = wavySheet(s);
   const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
   BarrierContactParameters bp;
   bp.offset = 0.005;

@@ -245,7 +245,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
       ob.origin = ob.mesh.start;
       ob.target = fresh.start;
       ob.remaining = 1.0;
-      m_state->sweepStartPending = true;
+      st.sweepStartPending = true;
     } else {
       ob.mesh = std::move(fresh);
       ob.target = ob.origin = ob.mesh.start;
