@@ -144,6 +144,57 @@ void Simulation::holdPins(ControlNet& net) const {
   for (const ModelParameters::HeldCoordinate& h : m_params.heldCoordinates) net(h.point, h.axis) = m_rest(h.point, h.axis);
 }
 
+void Simulation::setSideMotion(int side, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset) {
+  require(side >= 0 && side < 4, "setSideMotion: side must be 0..3, got " + std::to_string(side));
+  static const char* names[4] = {"u = 0", "u = 1", "v = 0", "v = 1"};
+  const Boundary kinds[4] = {m_space.boundaries().uMin, m_space.boundaries().uMax, m_space.boundaries().vMin,
+                             m_space.boundaries().vMax};
+  require(kinds[side] == Boundary::Clamped, std::string("side ") + names[side] + " is " + boundaryName(kinds[side]) +
+                                                ": only a CLAMPED side (its n layers held) can be moved");
+  require(linear.allFinite() && offset.allFinite(), std::string("the motion of side ") + names[side] + " is not finite");
+  m_sideMoved[size_t(side)] = true;
+  m_sideMap[size_t(side)] << linear, offset;
+  for (Eigen::Index r : m_sideRows[size_t(side)])
+    m_heldTarget.row(r) = (linear * m_rest.row(r).transpose() + offset).transpose();
+}
+
+void Simulation::clearSideMotion(int side) {
+  require(side >= 0 && side < 4, "clearSideMotion: side must be 0..3, got " + std::to_string(side));
+  if (!m_sideMoved[size_t(side)]) return;
+  m_sideMoved[size_t(side)] = false;
+  for (Eigen::Index r : m_sideRows[size_t(side)]) m_heldTarget.row(r) = m_rest.row(r);
+  // a corner row that a neighbour still moves stays where that neighbour puts it
+  for (int other = 0; other < 4; ++other)
+    if (m_sideMoved[size_t(other)]) {
+      const Eigen::Matrix3d linear = m_sideMap[size_t(other)].leftCols<3>();
+      const Eigen::Vector3d offset = m_sideMap[size_t(other)].col(3);
+      for (Eigen::Index r : m_sideRows[size_t(other)])
+        m_heldTarget.row(r) = (linear * m_rest.row(r).transpose() + offset).transpose();
+    }
+}
+
+bool Simulation::heldRowsMoved(const ControlNet& net) const {
+  for (const std::vector<Eigen::Index>& rows : m_sideRows)
+    for (Eigen::Index r : rows)
+      if (net.row(r) != m_heldTarget.row(r)) return true;
+  return false;
+}
+
+void Simulation::placeHeldRows(const ControlNet& from, double alpha, ControlNet& net) const {
+  for (const std::vector<Eigen::Index>& rows : m_sideRows)
+    for (Eigen::Index r : rows) {
+      if (alpha >= 1.0)
+        net.row(r) = m_heldTarget.row(r);
+      else
+        net.row(r) = from.row(r) + alpha * (m_heldTarget.row(r) - from.row(r));
+    }
+}
+
+void Simulation::copyHeldRows(const ControlNet& from, ControlNet& net) const {
+  for (const std::vector<Eigen::Index>& rows : m_sideRows)
+    for (Eigen::Index r : rows) net.row(r) = from.row(r);
+}
+
 double Simulation::dampingPerPoint() const {
   if (m_params.energy == EnergyModel::Shell) return m_params.damping * massPerPoint();
   return m_params.massModel == MassModel::Nodal
@@ -207,6 +258,26 @@ void Simulation::init() {
     for (Eigen::Index d = 0; d < 3 * m_space.numMoving(); ++d)
       if (m_components->constrained(d)) m_heldMask[size_t(d)] = 1;
   }
+
+  // the layers each side holds, from its edge inwards (EdgeLayers::held), and where: at rest
+  const Boundary kinds[4] = {m_space.boundaries().uMin, m_space.boundaries().uMax, m_space.boundaries().vMin,
+                             m_space.boundaries().vMax};
+  for (int side = 0; side < 4; ++side) {
+    std::vector<Eigen::Index>& rows = m_sideRows[size_t(side)];
+    rows.clear();
+    const bool alongU = side < 2;
+    const int held = edgeLayers(kinds[side], alongU ? m_space.degreeU() : m_space.degreeV()).held;
+    const int layers = alongU ? m_space.netRows() : m_space.netCols();
+    for (int k = 0; k < held; ++k) {
+      const int layer = side % 2 == 0 ? k : layers - 1 - k;
+      if (alongU)
+        for (int j = 0; j < m_space.netCols(); ++j) rows.push_back(Eigen::Index(layer) * m_space.netCols() + j);
+      else
+        for (int i = 0; i < m_space.netRows(); ++i) rows.push_back(Eigen::Index(i) * m_space.netCols() + layer);
+    }
+    m_sideMoved[size_t(side)] = false;
+  }
+  m_heldTarget = m_rest;
 
   allocateNet(m_current, m_rest.rows());
   allocateNet(m_previous, m_rest.rows());
@@ -439,6 +510,27 @@ std::string Simulation::refusal() const {
   if (m_params.integrator != Integrator::BackwardEuler)
     for (const auto& f : m_forces)
       if (const char* why = f->backwardEulerOnly()) return why;
+  static const char* motionFields[4] = {"motionUMin", "motionUMax", "motionVMin", "motionVMax"};
+  for (int side = 0; side < 4; ++side) {
+    if (!m_sideMoved[size_t(side)]) continue;
+    if (m_params.integrator != Integrator::BackwardEuler || m_params.energy != EnergyModel::Shell)
+      return std::string("a moved side (") + motionFields[side] +
+             ") is taken by the SHELL energy's integrator BACKWARD_EULER only";
+    if (m_components)
+      return std::string("a moved side (") + motionFields[side] +
+             ") is not taken beside supports per component or SYMMETRY sides";
+    // the corners: rows both this side and a neighbour hold, or derive
+    const Boundary kinds[4] = {m_space.boundaries().uMin, m_space.boundaries().uMax, m_space.boundaries().vMin,
+                               m_space.boundaries().vMax};
+    for (int other : side < 2 ? std::array<int, 2>{2, 3} : std::array<int, 2>{0, 1}) {
+      const Boundary k = kinds[other];
+      if (k == Boundary::Free || k == Boundary::Periodic) continue;
+      if (m_sideMoved[size_t(other)] && m_sideMap[size_t(other)] == m_sideMap[size_t(side)]) continue;
+      return std::string("the side moved by ") + motionFields[side] + " shares its corners with the " +
+             boundaryName(k) + " side of " + motionFields[other] +
+             ", which does not move with it: make that side FREE, or move it by the same map";
+    }
+  }
   std::ostringstream os;
   os.precision(6);
   const double dt = m_params.timeStep;
@@ -537,6 +629,11 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
   const double seam = std::max(m_space.closePeriodic(cur), m_space.closePeriodic(prev));
   // Held points must be the rest net's. A state read back from text differs from the computed
   // rest in the last digits, so they are compared to 1e-12 and then restored exactly.
+  // (The layers of a side setSideMotion() moves may be anywhere: they move to its map from there.)
+  std::vector<char> movedRow(size_t(m_space.netSize()), 0);
+  for (int side = 0; side < 4; ++side)
+    if (m_sideMoved[size_t(side)])
+      for (Eigen::Index r : m_sideRows[size_t(side)]) movedRow[size_t(r)] = 1;
   for (int i = 0; i < m_space.netRows(); ++i)
     for (int j = 0; j < m_space.netCols(); ++j) {
       const int mi = m_space.movingLayerU(i), mj = m_space.movingLayerV(j);
@@ -546,6 +643,7 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
       // ("clamped": held by its side, CLAMPED or SIMPLY_SUPPORTED/BUILT_IN of low degree)
       if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
+      if (movedRow[size_t(r)]) continue;  // a moved side's layer: where the state has it
       if (held == HeldPoints::Check) {
         const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
         require((cur.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol &&
@@ -802,6 +900,9 @@ StaticResult Simulation::solveStatic(double tolerance, int maxLoadIterations, Li
   if (loadSteps < 1) throw std::invalid_argument("load steps must be >= 1, got " + std::to_string(loadSteps));
   for (const auto& f : m_forces)
     if (const char* why = f->backwardEulerOnly()) throw std::runtime_error(std::string("static solve: ") + why);
+  if (std::find(m_sideMoved.begin(), m_sideMoved.end(), true) != m_sideMoved.end())
+    throw std::runtime_error("static solve: a moved side (motionUMin ...) belongs to a BACKWARD_EULER run; the static "
+                             "solve holds every side at rest");
   if (m_shell) return solveStaticShell(tolerance, maxLoadIterations, loadSteps);
   StaticResult result;
   for (int step = 1; step <= loadSteps; ++step) {

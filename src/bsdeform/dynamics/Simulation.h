@@ -11,6 +11,7 @@
 /// advances the state one sub-step (TimeStepper.h, not installed: the paper's and the shell's
 /// explicit and implicit schemes, each with its own data).
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -198,6 +199,21 @@ class Simulation {
   /// @throws std::invalid_argument for wrong sizes, NaN, or (Check) changed held points
   void setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
                 double previousStepSize = 0.0, HeldPoints held = HeldPoints::Check);
+  /// A CLAMPED side moved by a prescribed map (SHELL, BACKWARD_EULER: a sheet twisted by
+  /// turning one edge). From the next step on, the n layers side `side` (0 u = 0, 1 u = 1,
+  /// 2 v = 0, 3 v = 1) holds are held at `map` applied to their rest positions: reached at the end
+  /// of that step (a step retaken in pieces moves them linearly over its pieces), the move checked
+  /// first by every barrier's continuous collision check (a move that would cross is refused
+  /// as the step's failure). The sides next to a moved side must be FREE or PERIODIC, or moved
+  /// by the same map (else the step is refused, see refusal()). A state given to setState() may
+  /// hold a moved side's layers anywhere (they move from there to the map at the next step).
+  /// @throws std::invalid_argument naming the side when it is not CLAMPED, and for a map that is
+  ///         not finite
+  void setSideMotion(int side, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset);
+  /// The side held at rest again, and no longer moved: reached at the end of the next step.
+  void clearSideMotion(int side);
+  /// Whether setSideMotion() moves `side`.
+  bool sideMoved(int side) const { return m_sideMoved[size_t(side)]; }
   /// Sets the state released from rest at `current` (velocity zero; the start rule applies).
   void setState(const ControlNet& current, double time, long steps, HeldPoints held = HeldPoints::Check);
   /// Largest coordinate difference between the first and last n layers of a periodic direction
@@ -438,6 +454,19 @@ class Simulation {
   std::unique_ptr<ElasticEnergy> m_energy;
   const PaperEnergy* m_paper = nullptr;  ///< m_energy for the paper's model, else null
 
+  /// Net rows of the layers each side holds (CLAMPED: n layers; low-degree SIMPLY_SUPPORTED and
+  /// BUILT_IN hold some too), per side; and where those rows are held: m_rest's rows, moved
+  /// sides' rows mapped (setSideMotion()).
+  std::array<std::vector<Eigen::Index>, 4> m_sideRows;
+  std::array<bool, 4> m_sideMoved{};
+  std::array<Eigen::Matrix<double, 3, 4>, 4> m_sideMap;
+  ControlNet m_heldTarget;
+  /// Whether some row a side holds is not at m_heldTarget's in `net`.
+  bool heldRowsMoved(const ControlNet& net) const;
+  /// net's held-layer rows := from's + alpha (m_heldTarget's - from's) (alpha 1: exactly the target's).
+  void placeHeldRows(const ControlNet& from, double alpha, ControlNet& net) const;
+  /// net's held-layer rows := from's.
+  void copyHeldRows(const ControlNet& from, ControlNet& net) const;
   // SHELL
   const ShellModelEnergy* m_shellModel = nullptr;  ///< m_energy for SHELL, else null
   const ShellEnergy* m_shell = nullptr;            ///< its ShellEnergy

@@ -388,6 +388,9 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   if (!m_shell) throw std::runtime_error("arc length: only the SHELL energy (energy SHELL) traces equilibrium paths");
   for (const auto& f : m_forces)
     if (const char* why = f->backwardEulerOnly()) throw std::runtime_error(std::string("arc length: ") + why);
+  if (std::find(m_sideMoved.begin(), m_sideMoved.end(), true) != m_sideMoved.end())
+    throw std::runtime_error("arc length: a moved side (motionUMin ...) belongs to a BACKWARD_EULER run; arc length "
+                             "holds every side at rest");
   if (holdsNothing())
     throw std::runtime_error("arc length: nothing holds the surface (every side FREE or PERIODIC, no pin): its "
                              "rigid motions leave the tangent singular; hold a side or pin a point");

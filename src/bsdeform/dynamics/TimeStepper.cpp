@@ -434,6 +434,9 @@ bool ShellBackwardEulerStepper::subStep(double t) {
   Simulation& s = m_sim;
   const double dt = s.m_params.timeStep;
   const ControlNet start = s.m_current, before = s.m_previous;
+  m_stepStart = t;
+  m_stepLength = dt;
+  m_stepFrom = start;
   if (stepOf(t, dt)) return true;
   return retakeInPieces(
       s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); }, [] {},
@@ -448,6 +451,16 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   Simulation& s = m_sim;
   const SplineSpace& sp = s.m_space;
   const double c = s.m_params.damping, tNew = t + h;
+  // Sides moved by a prescribed map: their held layers go where the map puts them at the end of
+  // this step (of this piece: the fraction of the whole step's move its end has reached); the
+  // move is checked below against the barriers' CCD before anything is solved
+  ControlNet heldBefore;
+  const bool heldMoves = s.heldRowsMoved(s.m_current);
+  if (heldMoves) {
+    heldBefore = s.m_current;
+    const double alpha = m_stepLength > 0.0 ? (tNew - m_stepStart) / m_stepLength : 1.0;
+    s.placeHeldRows(m_stepFrom, alpha >= 1.0 - 1e-12 ? 1.0 : alpha, s.m_current);
+  }
   const ControlNet P = sp.gatherMoving(s.m_current), Pm = sp.gatherMoving(s.m_previous);
   const ControlNet xhat = 2.0 * P - Pm;  // P + h v
   const ControlNet startNet = s.m_current;
@@ -461,16 +474,31 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   // they cannot take (a surface inside an obstacle)
   bool barrier = false;
   {
-    const LoadContext startCtx = s.loadContext(startNet, startNet, h, tNew);
+    // (a barrier knows the step by the net it starts from: the one before the held layers moved)
+    const LoadContext startCtx = s.loadContext(heldMoves ? heldBefore : startNet, startNet, h, tNew);
     for (const Force* f : stateForces) {
       if (std::string why = f->beginStep(startCtx); !why.empty()) {
+        if (heldMoves) s.m_current = heldBefore;
         m_solveFailure = why;
         return false;
       }
       barrier |= f->limitsSteps();
     }
+    if (heldMoves && barrier) {
+      double fraction = 1.0;
+      for (const Force* f : stateForces) fraction = std::min(fraction, f->admissibleFraction(startCtx, startNet));
+      if (fraction < 1.0) {
+        s.m_current = heldBefore;
+        std::ostringstream os;
+        os << "a moved side's layers would cross an obstacle or the surface itself within this step (CCD allows "
+           << fraction << " of their move): move it more slowly, or take smaller steps";
+        m_solveFailure = os.str();
+        return false;
+      }
+    }
   }
-  if (!m_hasReference) {
+  if (heldMoves) m_hasReference = false;  // the moved side does work: no energy check this step
+  if (!m_hasReference && !heldMoves) {
     m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
   }
   ControlNet net = s.m_current;
@@ -616,6 +644,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
   sp.scatterMoving(x, s.m_previous);
   s.holdPins(s.m_previous);
+  s.copyHeldRows(startNet, s.m_previous);
   sp.completeNet(s.m_previous, &s.m_rest);
   s.m_current.swap(s.m_previous);
   if (ok && m_hasReference) {

@@ -156,6 +156,11 @@ class ShellBackwardEulerStepper final : public TimeStepper {
   bool stepOf(double t, double h);
 
   std::unique_ptr<NewtonMinimizer> m_newton;  ///< its symbolic factorisation kept
+  /// The step subStep() takes (its start time and length) and the net it starts from: a step
+  /// retaken in pieces moves the held layers of moved sides (Simulation::setSideMotion) linearly
+  /// from that net's over its pieces
+  double m_stepStart = 0.0, m_stepLength = 0.0;
+  ControlNet m_stepFrom;
   long m_factorisations = 0;
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;
