@@ -82,6 +82,10 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(holdVMin, (X | Y | Z));
   SO_NODE_ADD_FIELD(holdVMax, (X | Y | Z));
   SO_NODE_ADD_FIELD(holdPins, (X | Y | Z));
+  SO_NODE_ADD_FIELD(motionUMin, (SbMatrix::identity()));
+  SO_NODE_ADD_FIELD(motionUMax, (SbMatrix::identity()));
+  SO_NODE_ADD_FIELD(motionVMin, (SbMatrix::identity()));
+  SO_NODE_ADD_FIELD(motionVMax, (SbMatrix::identity()));
   SO_NODE_ADD_FIELD(pins, (SbVec2d(0, 0)));
   SO_NODE_ADD_FIELD(start, (SECOND_ORDER));
   SO_NODE_ADD_FIELD(restShape, (PLANE));
@@ -261,6 +265,7 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     oldSlots.swap(*m_forces);
     reportedBefore = m_reports;
     updateForces(*sim);
+    bsdeform::applySideMotions(*sim, *this);  // before the state: a moved side's layers are the state's
     m_stateKept = bsdeform::startState(*sim, *this, m_stateDirty, m_sim.get());
     m_sim = std::move(sim);
   } catch (const bsdeform::ParameterError& e) {
@@ -356,6 +361,16 @@ void SoBSplineDeformSurface::updateForces(bsdeform::Simulation& sim) {
 bool SoBSplineDeformSurface::stepSimulation(int steps) {
   ensureSimulation();
   updateForces(*m_sim);
+  // the moved sides' poses at the end of these steps (reached in the first: the clock read once);
+  // not on the stand-in of a model the fields describe wrongly (refused, named already)
+  if (m_refusals.empty()) {
+    try {
+      bsdeform::applySideMotions(*m_sim, *this);
+    } catch (const std::invalid_argument& e) {  // a side the rest shape made other than CLAMPED
+      report(Problem::FIELD, "motionUMin", e.what());
+      return false;
+    }
+  }
   bool ok = true;
   if (steps > 0) {
     // one at a time when someone listens (the same numbers: Simulation::advance steps one by
@@ -538,6 +553,12 @@ void SoBSplineDeformSurface::notify(SoNotList* list) {
       return;
     } else if (f == &on || f == &speed) {
       updateClock();
+    } else if (f == &motionUMin || f == &motionUMax || f == &motionVMin || f == &motionVMax) {
+      // a moved side's pose: read before the next step; nothing to rebuild or draw yet (a
+      // clock-driven engine would otherwise ask for a redraw at every tick while paused)
+      const int side = f == &motionUMin ? 0 : f == &motionUMax ? 1 : f == &motionVMin ? 2 : 3;
+      if (m_sim && bsdeform::sideMotionSet(*static_cast<SoSFMatrix*>(f)) == m_sim->sideMoved(side)) return;
+      m_modelDirty = true;  // moved or no longer: the fields are checked again (a side that is not CLAMPED)
     } else if (f == &forces) {
       connectForces();  // the slots are compared with the list before the next step
     } else if (f == &m_forcesChanged) {

@@ -50,6 +50,10 @@
 ///   holdVMin (X | Y | Z)  #   holdVMax alike
 ///   holdVMax (X | Y | Z)
 ///   holdPins (X | Y | Z)  # SHELL, static: the components the pins hold
+///   motionUMin (identity) # SHELL, BACKWARD_EULER: a CLAMPED side's held layers follow this
+///   motionUMax (identity) #   map of their rest positions (connect a ComposeMatrix driven by the
+///   motionVMin (identity) #   clock: a sheet twisted by turning one edge); read before each
+///   motionVMax (identity) #   step, reached at its end; motionUMax, ... alike
 ///   pins [ ]              # (u, v) in [0,1]^2: each holds the control points of its knot span
 ///   start SECOND_ORDER    # SECOND_ORDER: P(-dt) = P(0) + dt^2/2 a(0) | PAPER: P(-dt) = P(0)
 ///   restShape PLANE       # rest net when restNet is empty: PLANE (u, v, 0) | CYLINDER | CONE |
@@ -85,6 +89,7 @@
 #include <Inventor/fields/SoSFEnum.h>
 #include <Inventor/fields/SoSFFloat.h>
 #include <Inventor/fields/SoSFInt32.h>
+#include <Inventor/fields/SoSFMatrix.h>
 #include <Inventor/fields/SoSFTrigger.h>
 #include <Inventor/nodes/SoShape.h>
 #include <Inventor/nodes/SoSubNode.h>
@@ -173,6 +178,13 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFBitMask holdVMin;         ///< as holdUMin, side v = 0
   SoSFBitMask holdVMax;         ///< as holdUMin, side v = 1
   SoSFBitMask holdPins;         ///< SHELL, static: the world components pins hold (X | Y | Z)
+  /// SHELL, BACKWARD_EULER: the map (row vectors, as SoTransform's) whose image of their rest
+  /// positions the n layers a CLAMPED side u = 0 holds are held at; identity and unconnected:
+  /// held at rest. Read before every step, reached at its end (Simulation::setSideMotion).
+  SoSFMatrix motionUMin;
+  SoSFMatrix motionUMax;  ///< as motionUMin, side u = 1
+  SoSFMatrix motionVMin;  ///< as motionUMin, side v = 0
+  SoSFMatrix motionVMax;  ///< as motionUMin, side v = 1
   SoMFVec2d pins;               ///< pinned parameter points (u, v); empty
   SoSFEnum start;               ///< SECOND_ORDER (consistent release from rest) or PAPER; SECOND_ORDER
   SoSFEnum restShape;           ///< rest net generated when restNet is empty; PLANE

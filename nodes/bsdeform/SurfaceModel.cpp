@@ -120,6 +120,23 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   for (const auto& side : sides)
     check(side.first->getValue() != Surface::SYMMETRY || n.energy.getValue() == Surface::SHELL, side.second,
           std::string("field '") + side.second + "' SYMMETRY: only the SHELL energy takes symmetry sides");
+  // motionUMin ... : a CLAMPED side moved by a map (SHELL, BACKWARD_EULER)
+  const SoSFMatrix* motions[] = {&n.motionUMin, &n.motionUMax, &n.motionVMin, &n.motionVMax};
+  const char* motionNames[] = {"motionUMin", "motionUMax", "motionVMin", "motionVMax"};
+  for (int k = 0; k < 4; ++k) {
+    if (!sideMotionSet(*motions[k])) continue;
+    const char* field = motionNames[k];
+    const SbMatrix& m = motions[k]->getValue();
+    bool finite = true;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) finite &= std::isfinite(m[i][j]);
+    check(finite && m[0][3] == 0.0f && m[1][3] == 0.0f && m[2][3] == 0.0f && m[3][3] == 1.0f, field,
+          "field '" + std::string(field) + "' must be an affine map (last column 0 0 0 1, every entry finite)");
+    check(sides[k].first->getValue() == Surface::CLAMPED, field,
+          "field '" + std::string(field) + "' moves the layers a CLAMPED side holds; " + sides[k].second + " is not CLAMPED");
+    check(n.energy.getValue() == Surface::SHELL && n.integrator.getValue() == Surface::BACKWARD_EULER, field,
+          "field '" + std::string(field) + "' (a moved side): only the SHELL energy's integrator BACKWARD_EULER takes it");
+  }
   const unsigned pinMask = unsigned(n.holdPins.getValue());
   check((pinMask & ~all) == 0 && pinMask != 0, "holdPins",
         "field 'holdPins' must hold one or more of X, Y, Z, got " + std::to_string(pinMask));
@@ -306,6 +323,30 @@ StaticResult solveStaticInto(Simulation& sim, int loadSteps,
     }
   sim.setState(r.net, r.net, 0.0, 0, 0.0, HeldPoints::Check);
   return r;
+}
+
+bool sideMotionSet(const SoSFMatrix& field) {
+  return field.isConnected() || field.getValue() != SbMatrix::identity();
+}
+
+void applySideMotions(Simulation& sim, const Surface& n) {
+  const SoSFMatrix* motions[] = {&n.motionUMin, &n.motionUMax, &n.motionVMin, &n.motionVMax};
+  for (int side = 0; side < 4; ++side) {
+    if (!sideMotionSet(*motions[side])) {
+      if (sim.sideMoved(side)) sim.clearSideMotion(side);
+      continue;
+    }
+    // Coin's matrices act on row vectors (x' = x m): the linear part is m's upper 3 x 3
+    // transposed, the offset its last row
+    const SbMatrix& m = motions[side]->getValue();
+    Eigen::Matrix3d linear;
+    Eigen::Vector3d offset;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) linear(r, c) = m[c][r];
+      offset(r) = m[3][r];
+    }
+    sim.setSideMotion(side, linear, offset);
+  }
 }
 
 int stepsDue(double seconds, double speed, double dt, double& owed) {

@@ -58,6 +58,13 @@ FieldRefusal refusalOf(const ParameterError& e);
 /// was carried over.
 bool startState(Simulation& sim, const SoBSplineDeformSurface& node, bool stateFromFields, const Simulation* old);
 
+/// Whether a side's motion field (motionUMin ...) moves it: connected (to an engine, a clock) or
+/// set to other than the identity.
+bool sideMotionSet(const SoSFMatrix& field);
+/// Hands `node`'s motionUMin ... to `sim` (Simulation::setSideMotion, clearSideMotion): the
+/// pose its moved sides reach at the end of the next step. modelFromFields has checked them.
+void applySideMotions(Simulation& sim, const SoBSplineDeformSurface& node);
+
 /// The paper's static problem solved for `sim`'s current loads (SHELL: Newton to
 /// newtonTolerance; the paper's model: the linear solve to 1e-10), in `loadSteps` increments,
 /// `each` called with every increment while the state holds it; the last becomes the state.

@@ -22,6 +22,7 @@
 #include "NodesTestUtil.h"
 #include "bsdeform/OffscreenRenderer.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/SceneRunner.h"
 #include "bsdeform/SoForceField.h"
 
 using testutil::Coin;
@@ -844,4 +845,87 @@ TEST_CASE("SoBSplineDeformSurface: every refused field is listed, not only the f
   CHECK(s->refusals().empty());
   CHECK(s->problem().kind == SoBSplineDeformSurface::Problem::NONE);
   root->unref();
+}
+
+TEST_CASE("SoBSplineDeformSurface: motionUMax moves a CLAMPED side, set or driven by an engine on the clock, its "
+          "state writes back and reads in, misuse is refused naming the field",
+          "[nodes]") {
+  const std::string strip =
+      "energy SHELL numUControlPoints 6 numVControlPoints 3 boundaryVMin FREE boundaryVMax FREE "
+      "youngsModulus 1e6 thickness 0.01 density 1000 damping 10 timeStep 0.01 integrator BACKWARD_EULER on FALSE ";
+  auto heldGap = [](SoBSplineDeformSurface* s, const Eigen::Vector3d& lift) {
+    // the three layers side u = 1 holds, against rest + lift
+    const bsdeform::Simulation& sim = s->simulation();
+    const int cols = sim.space().netCols(), rows = sim.space().netRows();
+    double gap = 0.0;
+    for (int i = rows - 3; i < rows; ++i)
+      for (int j = 0; j < cols; ++j) {
+        const Eigen::Index r = Eigen::Index(i) * cols + j;
+        gap = std::max(gap, (sim.current().row(r) - sim.rest().row(r) - lift.transpose()).norm());
+      }
+    return gap;
+  };
+  {  // a set map: reached at the end of the first step, kept
+    SoSeparator* root = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { " + strip +
+                                       "motionUMax 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0.25 1 } }");
+    REQUIRE(root);
+    auto* s = testutil::find<SoBSplineDeformSurface>(root);
+    REQUIRE(s->stepSimulation(3));
+    CHECK(s->simulation().sideMoved(1));
+    CHECK(!s->simulation().sideMoved(0));
+    CHECK(heldGap(s, Eigen::Vector3d(0, 0, 0.25)) == 0.0);
+    // written with its state (the moved layers off rest) and read in: the same net
+    s->syncStateFields();
+    const std::string text = testutil::write(root);
+    CHECK(text.find("motionUMax") != std::string::npos);
+    SoSeparator* again = testutil::read(text);
+    REQUIRE(again);
+    auto* t = testutil::find<SoBSplineDeformSurface>(again);
+    CHECK(t->lastWarning().empty());
+    CHECK((t->simulation().current() - s->simulation().current()).cwiseAbs().maxCoeff() < 1e-12);
+    again->unref();
+    // back to the identity: the side returns to rest in the next step
+    s->motionUMax.setValue(SbMatrix::identity());
+    REQUIRE(s->stepSimulation(1));
+    CHECK(!s->simulation().sideMoved(1));
+    CHECK(heldGap(s, Eigen::Vector3d::Zero()) == 0.0);
+    root->unref();
+  }
+  {  // driven by the clock through ComposeMatrix (its MFMatrix output into the SFMatrix field)
+    // the clock from 0, as bsdeform-run sets it before reading a scene (SoElapsedTime counts from
+    // the realTime it was made at)
+    static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime")))->setValue(SbTime(0.0));
+    SoSeparator* root = testutil::read(
+        "#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { " + strip +
+        "motionUMax 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1 = ComposeMatrix { translation 0 0 0 = Calculator { "
+        "a 0 = ElapsedTime { } . timeOut expression \"oA = vec3f(0, 0, 0.1 * a)\" } . oA } . matrix } }");
+    REQUIRE(root);
+    auto* s = testutil::find<SoBSplineDeformSurface>(root);
+    s->on = TRUE;
+    {
+      bsdeform::SceneRunner runner(root);
+      const bool ok = runner.advanceTo(0.2);
+      INFO(s->lastWarning() << " / " << s->simulation().statusMessage());
+      REQUIRE(ok);
+      CHECK(s->simulation().stepCount() == 20);
+      CHECK(heldGap(s, Eigen::Vector3d(0, 0, 0.02)) < 1e-8);  // the matrix is float
+      REQUIRE(runner.advanceTo(0.5));
+      CHECK(heldGap(s, Eigen::Vector3d(0, 0, 0.05)) < 1e-8);
+    }
+    root->unref();
+  }
+  auto refusedField = [&strip](const std::string& fields) {
+    SoSeparator* r = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { " + strip + fields +
+                                    " motionUMax 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0.1 1 } }");
+    REQUIRE(r);
+    auto* n = testutil::find<SoBSplineDeformSurface>(r);
+    n->stepSimulation(1);
+    const std::string w = n->lastWarning();
+    r->unref();
+    return w;
+  };
+  CHECK_THAT(refusedField("boundaryUMax FREE"), Catch::Contains("field 'motionUMax'") && Catch::Contains("CLAMPED"));
+  CHECK_THAT(refusedField("integrator EXPLICIT"),
+             Catch::Contains("field 'motionUMax'") && Catch::Contains("BACKWARD_EULER"));
+  CHECK_THAT(refusedField("boundaryVMin CLAMPED"), Catch::Contains("motionUMax") && Catch::Contains("make that side FREE"));
 }
