@@ -515,3 +515,26 @@ TEST_CASE("CCD: one mesh's two layers falling through each other stop short (sel
     }
   }
 }
+
+TEST_CASE("trianglesMeet (the tests' exact check): crossing, touching, apart, and triangles in one plane", "[core][contact]") {
+  using V = Eigen::Vector3d;
+  const V a0(0, 0, 0), a1(1, 0, 0), a2(0, 1, 0);
+  // through the plane of a: crossing, touching at a vertex, just apart (1e-12; the expansions are
+  // exact while nothing underflows)
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.2, 0.2, -1), V(0.3, 0.2, 1), V(0.2, 0.3, 1)));
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.25, 0.25, 0), V(0.3, 0.2, 1), V(0.2, 0.3, 1)));
+  CHECK_FALSE(test::trianglesMeet(a0, a1, a2, V(0.25, 0.25, 1e-12), V(0.3, 0.2, 1), V(0.2, 0.3, 1)));
+  // in the plane of a: overlapping, sharing an edge, beside it, inside it, a sliver off its hypotenuse
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.5, -0.5, 0), V(0.5, 0.5, 0), V(2, 0, 0)));
+  CHECK(test::trianglesMeet(a0, a1, a2, V(1, 0, 0), V(0, 1, 0), V(1, 1, 0)));
+  CHECK_FALSE(test::trianglesMeet(a0, a1, a2, V(2, 0, 0), V(3, 0, 0), V(2, 1, 0)));
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.1, 0.1, 0), V(0.2, 0.1, 0), V(0.1, 0.2, 0)));
+  CHECK_FALSE(test::trianglesMeet(a0, a1, a2, V(1, 1e-12, 0), V(1, 1, 0), V(1e-12, 1, 0)));
+  CHECK(test::trianglesMeet(a0, a1, a2, V(1, 0, 0), V(1, 1, 0), V(1e-12, 1, 0)));
+  // collinear edges in one plane: overlapping and apart along the line
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.5, 0, 0), V(2, 0, 0), V(1, -1, 0)));
+  CHECK_FALSE(test::trianglesMeet(a0, a1, a2, V(1.5, 0, 0), V(2, 0, 0), V(1.7, -1, 0)));
+  // an edge lying in the other's plane, outside it and crossing it
+  CHECK_FALSE(test::trianglesMeet(a0, a1, a2, V(2, 2, 0), V(3, 2, 0), V(2, 2, 1)));
+  CHECK(test::trianglesMeet(a0, a1, a2, V(0.2, -1, 0), V(0.2, 2, 0), V(0.2, 0.5, 1)));
+}

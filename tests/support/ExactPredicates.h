@@ -8,6 +8,8 @@
 /// largest is the sign of the sum. No filter: slow, and plenty fast for tests.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -85,13 +87,39 @@ inline int orient3d(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return sign(ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx));
 }
 
-/// Whether the closed segment pq meets the closed triangle abc; a segment in the triangle's plane
-/// counts as meeting it (conservative: the tests ask for no crossing).
+/// The exact sign of det[a - c; b - c] of 2D points: positive when a, b, c turn counterclockwise.
+inline int orient2d(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c) {
+  return sign(difference(a.x(), c.x()) * difference(b.y(), c.y()) - difference(a.y(), c.y()) * difference(b.x(), c.x()));
+}
+
+/// Whether the closed 2D segments pq and rs meet (exactly, collinear overlaps included).
+inline bool segmentsMeet2d(const Eigen::Vector2d& p, const Eigen::Vector2d& q, const Eigen::Vector2d& r,
+                           const Eigen::Vector2d& s) {
+  const int o1 = orient2d(p, q, r), o2 = orient2d(p, q, s), o3 = orient2d(r, s, p), o4 = orient2d(r, s, q);
+  if (o1 == 0 && o2 == 0) {  // collinear: the intervals overlap along an axis that separates them
+    const int k = p.x() != q.x() || r.x() != s.x() ? 0 : 1;
+    return std::max(std::min(p[k], q[k]), std::min(r[k], s[k])) <= std::min(std::max(p[k], q[k]), std::max(r[k], s[k]));
+  }
+  return o1 * o2 <= 0 && o3 * o4 <= 0;
+}
+
+/// Whether the closed segment pq meets the closed triangle abc, exactly; a segment in the
+/// triangle's plane is tested in that plane (projected along the axis the triangle faces most:
+/// an affine bijection of the plane, so meeting is preserved).
 inline bool segmentMeetsTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
                                  const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const int op = orient3d(a, b, c, p), oq = orient3d(a, b, c, q);
   if (op * oq > 0) return false;  // both strictly on one side
-  if (op == 0 && oq == 0) return true;
+  if (op == 0 && oq == 0) {
+    Eigen::Index drop = 0;
+    (b - a).cross(c - a).cwiseAbs().maxCoeff(&drop);
+    const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+    auto flat = [i, j](const Eigen::Vector3d& x) { return Eigen::Vector2d(x[i], x[j]); };
+    const Eigen::Vector2d P = flat(p), Q = flat(q), A = flat(a), B = flat(b), C = flat(c);
+    const int s1 = orient2d(A, B, P), s2 = orient2d(B, C, P), s3 = orient2d(C, A, P);
+    if ((s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0)) return true;  // p inside
+    return segmentsMeet2d(P, Q, A, B) || segmentsMeet2d(P, Q, B, C) || segmentsMeet2d(P, Q, C, A);
+  }
   const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
   return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
 }
