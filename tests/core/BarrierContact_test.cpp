@@ -517,3 +517,53 @@ TEST_CASE("BarrierContactForce: a retaken step rewinds only what moved in it, an
   CHECK(force.advanceObstacles(LoadContext{s, start, start, 0.02, 0.0}) == 0.0);
   CHECK(force.lastMinimumDistance() == Approx(0.0065).epsilon(1e-6));
 }
+
+TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same bits as a fresh search, and are "
+          "searched again once the proxy moved more than the skin",
+          "[core][contact]") {
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet net0 = wavySheet(s);
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  auto world = worldOf(plate);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.selfContact = true;
+  const BarrierContactForce kept(world, bp);
+  REQUIRE(kept.beginStep(LoadContext{s, net0, net0, 0.02, 0.0}).empty());
+  const long searches = kept.candidateSearches();
+  // moved by up to 1.8 mm (the skin is half the reach, 3.5 mm): answered from the kept pairs
+  ControlNet net1 = net0;
+  for (Eigen::Index r = 0; r < net1.rows(); ++r)
+    net1.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -std::sin(2.0 * r + 1.0));
+  ControlNet net2 = net1;
+  net2.col(2).array() -= 0.004;  // toward the plate: CCD cuts it
+  const LoadContext at1{s, net1, net0, 0.02, 0.0};
+  double phiKept = 0.0, phiFresh = 0.0;
+  REQUIRE(kept.potential(at1, phiKept));
+  ControlNet loadKept = ControlNet::Zero(s.numMoving(), 3), loadFresh = loadKept;
+  kept.addLoad(at1, loadKept);
+  const double fractionKept = kept.admissibleFraction(at1, net2);
+  CHECK(kept.candidateSearches() == searches);
+  // a force that searches at net1 itself, with the same adapted stiffness
+  const BarrierContactForce fresh(world, bp);
+  REQUIRE(fresh.beginStep(LoadContext{s, net0, net0, 0.02, 0.0}).empty());
+  fresh.setAdaptedState(kept.adaptedState());
+  ControlNet far = net0;
+  far.col(2).array() += 1.0;  // a search far from net1, so that fresh's kept pairs are useless there
+  double unused = 0.0;
+  fresh.potential(LoadContext{s, far, far, 0.02, 0.0}, unused);
+  REQUIRE(fresh.potential(at1, phiFresh));
+  fresh.addLoad(at1, loadFresh);
+  const double fractionFresh = fresh.admissibleFraction(at1, net2);
+  CHECK(phiKept > 0.0);
+  CHECK(phiKept == phiFresh);
+  CHECK(loadKept == loadFresh);
+  CHECK(fractionKept < 1.0);
+  CHECK(fractionKept == fractionFresh);
+  // moved by more than the skin: searched again
+  ControlNet net3 = net0;
+  net3.col(0).array() += 0.01;
+  kept.potential(LoadContext{s, net3, net0, 0.02, 0.0}, unused);
+  CHECK(kept.candidateSearches() == searches + 1);
+}

@@ -125,6 +125,11 @@ void lowerByEdgeEdge(const ContactMesh& am, int e, const ContactMesh& bm, int g,
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset) {
   ContactCandidates candidates;
   candidatePairs(a, b, offset, candidates);
+  return collisionFreeFraction(a, b, candidates, offset);
+}
+
+double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, const ContactCandidates& candidates,
+                             double offset) {
   double t = 1.0;
   for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, b, f, offset, t);
   for (const auto& [f, v] : candidates.triangleVertex) lowerByPointTriangle(b, v, a, f, offset, t);
@@ -135,6 +140,10 @@ double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double 
 double collisionFreeFraction(const ContactMesh& a, double offset) {
   ContactCandidates candidates;
   candidatePairs(a, offset, candidates);
+  return collisionFreeFraction(a, candidates, offset);
+}
+
+double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset) {
   double t = 1.0;
   for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, a, f, offset, t);
   for (const auto& [e, g] : candidates.edgeEdge) lowerByEdgeEdge(a, e, a, g, offset, t);

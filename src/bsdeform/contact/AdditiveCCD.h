@@ -66,5 +66,9 @@ bool edgeEdgeCCD(const Eigen::Vector3d& a00, const Eigen::Vector3d& a10, const E
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset);
 /// A mesh against itself (pairs sharing a vertex left out).
 double collisionFreeFraction(const ContactMesh& a, double offset);
+/// The same over the pairs `candidates` (what candidatePairs() would give, found beforehand).
+double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, const ContactCandidates& candidates,
+                             double offset);
+double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset);
 
 }  // namespace bsdeform

@@ -100,6 +100,23 @@ struct BarrierContactForce::State {
     Eigen::Matrix3d h;
   };
   std::vector<Block> blocks;  ///< addJacobian()'s scratch
+  /// Counts the times the proxy or an obstacle's triangles were made anew (the cache below
+  /// belongs to one generation).
+  std::uint64_t generation = 0;
+  /// Candidate pairs kept across evaluations (a Verlet list): found around the proxy at `ref`
+  /// with the reach widened by two skins, the obstacles where they were then. While no proxy
+  /// vertex is more than a skin from `ref` (at both ends of a CCD query) and no obstacle moved,
+  /// every pair within the reach now (or within the offset along the step) is among them, and
+  /// narrowCandidates() picks exactly those the broad phase would find now: the same pairs in
+  /// the same order, so nothing computed depends on when they were found.
+  struct Candidates {
+    bool valid = false;
+    std::uint64_t generation = 0;
+    Eigen::MatrixX3d ref;
+    std::vector<Eigen::MatrixX3d> obstacles;
+    std::vector<ContactCandidates> wide, now;
+    long builds = 0;
+  } candidates;
 };
 
 BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
@@ -217,6 +234,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     st.mesh.triangles = st.proxy->triangles();
     st.mesh.edges = st.proxy->edges();
     proxyWorld(ctx.rest ? *ctx.rest : ctx.current, st.restWorld);
+    ++st.generation;
   }
   st.obstacles.resize(w.obstacles.size());
   for (size_t o = 0; o < w.obstacles.size(); ++o) {
@@ -225,6 +243,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     if (!tree) continue;
     if (ob.tree == tree && ob.version == tree->version()) continue;
     ContactMesh fresh = staticContactMesh(tree->mesh());
+    ++st.generation;
     // the same triangles at new positions (a Transform or an engine moved it, another surface
     // stepped): swept from where it is toward them by advanceObstacles(); anything else: taken as it is
     const bool moved = ob.tree == tree && ob.mesh.start.rows() == fresh.start.rows() &&
@@ -261,23 +280,84 @@ void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& ou
   out = (local * w.linear.transpose()).rowwise() + w.offset.transpose();
 }
 
-void BarrierContactForce::gather(const LoadContext& ctx, std::vector<ContactCandidates>& candidates) const {
+const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(double inflation) const {
+  State& st = *m_state;
+  State::Candidates& c = st.candidates;
+  const double reach = m_params.offset + m_params.dhat, skin = 0.5 * reach;
+  auto near = [&](const Eigen::MatrixX3d& x) {
+    return x.rows() == c.ref.rows() && x.rows() > 0 && (x - c.ref).rowwise().norm().maxCoeff() <= skin;
+  };
+  auto obstaclesAsThen = [&] {
+    if (c.obstacles.size() != st.obstacles.size()) return false;
+    for (size_t o = 0; o < st.obstacles.size(); ++o) {
+      const State::Obstacle& ob = st.obstacles[o];
+      const Eigen::MatrixX3d& then = c.obstacles[o];
+      if (!ob.tree) {
+        if (then.rows() != 0) return false;
+        continue;
+      }
+      if (ob.mesh.start.rows() != then.rows() || ob.mesh.end.rows() != then.rows() || ob.mesh.start != then ||
+          ob.mesh.end != then)
+        return false;
+    }
+    return true;
+  };
+  if (!(c.valid && c.generation == st.generation && obstaclesAsThen() && near(st.mesh.start))) {
+    // found again around where the proxy starts, the obstacles where they are (a moving
+    // obstacle mid-sweep, start and end apart: not kept)
+    c.ref = st.mesh.start;
+    c.generation = st.generation;
+    c.valid = true;
+    ContactMesh at;
+    at.start = at.end = c.ref;
+    at.triangles = st.mesh.triangles;
+    at.edges = st.mesh.edges;
+    c.wide.assign(st.obstacles.size() + 1, ContactCandidates());
+    c.obstacles.assign(st.obstacles.size(), Eigen::MatrixX3d());
+    for (size_t o = 0; o < st.obstacles.size(); ++o) {
+      const State::Obstacle& ob = st.obstacles[o];
+      if (!ob.tree) continue;
+      c.valid &= ob.mesh.start == ob.mesh.end;
+      c.obstacles[o] = ob.mesh.start;
+      candidatePairs(at, ob.mesh, reach + 2.0 * skin, c.wide[o]);
+    }
+    if (m_params.selfContact) candidatePairs(at, reach + 2.0 * skin, c.wide.back());
+    ++c.builds;
+  }
+  c.now.resize(st.obstacles.size() + 1);
+  const bool kept = c.valid && near(st.mesh.end);
+  for (size_t o = 0; o < st.obstacles.size(); ++o) {
+    c.now[o] = ContactCandidates();
+    if (!st.obstacles[o].tree) continue;
+    if (kept)
+      narrowCandidates(st.mesh, st.obstacles[o].mesh, inflation, c.wide[o], c.now[o]);
+    else  // a step longer than the skin: the broad phase itself
+      candidatePairs(st.mesh, st.obstacles[o].mesh, inflation, c.now[o]);
+  }
+  c.now.back() = ContactCandidates();
+  if (m_params.selfContact) {
+    if (kept)
+      narrowCandidates(st.mesh, inflation, c.wide.back(), c.now.back());
+    else
+      candidatePairs(st.mesh, inflation, c.now.back());
+  }
+  return c.now;
+}
+
+long BarrierContactForce::candidateSearches() const { return m_state->candidates.builds; }
+
+const std::vector<ContactCandidates>& BarrierContactForce::gather(const LoadContext& ctx) const {
   prepare(ctx);
   State& st = *m_state;
   proxyWorld(ctx.current, st.mesh.start);
   st.mesh.end = st.mesh.start;
-  const double reach = m_params.offset + m_params.dhat;
-  candidates.assign(st.obstacles.size() + 1, ContactCandidates());
-  for (size_t o = 0; o < st.obstacles.size(); ++o)
-    if (st.obstacles[o].tree) candidatePairs(st.mesh, st.obstacles[o].mesh, reach, candidates[o]);
-  if (m_params.selfContact) candidatePairs(st.mesh, reach, candidates.back());
+  return candidatesWithin(m_params.offset + m_params.dhat);
 }
 
 void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
                                 bool withFriction) const {
   State& st = *m_state;
-  std::vector<ContactCandidates> candidates;
-  gather(ctx, candidates);
+  const std::vector<ContactCandidates>& candidates = gather(ctx);
   BarrierParameters bp;
   bp.offset = m_params.offset;
   bp.dhat = m_params.dhat;
@@ -368,8 +448,7 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
   State& st = *m_state;
   st.friction.clear();
   if (!(m_params.friction > 0.0)) return;
-  std::vector<ContactCandidates> candidates;
-  gather(ctx, candidates);
+  const std::vector<ContactCandidates>& candidates = gather(ctx);
   BarrierParameters bp;
   bp.offset = m_params.offset;
   bp.dhat = m_params.dhat;
@@ -512,10 +591,12 @@ double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const Con
   State& st = *m_state;
   proxyWorld(ctx.current, st.mesh.start);
   proxyWorld(to, st.mesh.end);
+  const std::vector<ContactCandidates>& candidates = candidatesWithin(m_params.offset);
   double t = 1.0;
-  for (const State::Obstacle& ob : st.obstacles)
-    if (ob.tree) t = std::min(t, collisionFreeFraction(st.mesh, ob.mesh, m_params.offset));
-  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(st.mesh, m_params.offset));
+  for (size_t o = 0; o < st.obstacles.size(); ++o)
+    if (st.obstacles[o].tree)
+      t = std::min(t, collisionFreeFraction(st.mesh, st.obstacles[o].mesh, candidates[o], m_params.offset));
+  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(st.mesh, candidates.back(), m_params.offset));
   return t;
 }
 

@@ -90,6 +90,9 @@ class BarrierContactForce : public Force {
   double lastMinimumDistance() const;
   /// The proxy's deviation bound at the last beginStep().
   double lastDeviationBound() const;
+  /// How many times the candidate pairs were searched for anew (the rest of the queries were
+  /// answered from the kept ones: State::Candidates).
+  long candidateSearches() const;
   /// The friction pairs frozen at the last beginStep(), and the sum of their normal forces (N).
   size_t frictionPairCount() const;
   double frictionNormalForce() const;
@@ -109,8 +112,11 @@ class BarrierContactForce : public Force {
   void prepare(const LoadContext& ctx) const;
   void proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const;
   /// The proxy at ctx.current (world frame) and the candidate pairs within reach of it: one set
-  /// per obstacle, the self pairs last.
-  void gather(const LoadContext& ctx, std::vector<ContactCandidates>& candidates) const;
+  /// per obstacle, the self pairs last (valid until the next call).
+  const std::vector<ContactCandidates>& gather(const LoadContext& ctx) const;
+  /// The pairs the broad phase finds with `inflation` between the proxy's mesh (start to end)
+  /// and each obstacle, and itself: from the kept candidates when they cover them (State).
+  const std::vector<ContactCandidates>& candidatesWithin(double inflation) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
   /// when `withFriction`, for every frozen friction pair.
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,

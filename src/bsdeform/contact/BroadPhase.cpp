@@ -115,6 +115,14 @@ struct SweptBoxes {
   }
 };
 
+/// In index order: the pairs a sum over them visits come in an order that does not depend on
+/// how the boxes were found (a cache's wider boxes find more, never the same ones differently).
+void sortCandidates(ContactCandidates& c) {
+  std::sort(c.vertexTriangle.begin(), c.vertexTriangle.end());
+  std::sort(c.triangleVertex.begin(), c.triangleVertex.end());
+  std::sort(c.edgeEdge.begin(), c.edgeEdge.end());
+}
+
 void toArrays(const std::vector<std::pair<int, int>>& pairs, std::vector<std::array<int, 2>>& out) {
   out.clear();
   out.reserve(pairs.size());
@@ -134,6 +142,7 @@ void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation
   toArrays(pairs, out.triangleVertex);
   overlappingPairs(boxesA.edges, boxesB.edges, half, pairs);
   toArrays(pairs, out.edgeEdge);
+  sortCandidates(out);
 }
 
 void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out) {
@@ -151,6 +160,44 @@ void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& o
     const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
     if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1) out.edgeEdge.push_back({e, g});
   }
+  sortCandidates(out);
+}
+
+}  // namespace bsdeform
+
+namespace bsdeform {
+
+namespace {
+/// Whether two swept boxes overlap once each is inflated by `half`: the test the sweep makes
+/// (the same bounds, the same comparisons).
+bool boxesMeet(const Box& x, const Box& y, double half) {
+  for (int k = 0; k < 3; ++k)
+    if (!(x.lo[k] - half <= y.hi[k] + half && y.lo[k] - half <= x.hi[k] + half)) return false;
+  return true;
+}
+
+void narrowWith(const SweptBoxes& a, const SweptBoxes& b, double half, const ContactCandidates& wide,
+                ContactCandidates& out) {
+  out.vertexTriangle.clear();
+  out.triangleVertex.clear();
+  out.edgeEdge.clear();
+  for (const auto& [v, f] : wide.vertexTriangle)
+    if (boxesMeet(a.vertices[size_t(v)], b.triangles[size_t(f)], half)) out.vertexTriangle.push_back({v, f});
+  for (const auto& [f, v] : wide.triangleVertex)
+    if (boxesMeet(a.triangles[size_t(f)], b.vertices[size_t(v)], half)) out.triangleVertex.push_back({f, v});
+  for (const auto& [e, g] : wide.edgeEdge)
+    if (boxesMeet(a.edges[size_t(e)], b.edges[size_t(g)], half)) out.edgeEdge.push_back({e, g});
+}
+}  // namespace
+
+void narrowCandidates(const ContactMesh& a, const ContactMesh& b, double inflation, const ContactCandidates& wide,
+                      ContactCandidates& out) {
+  narrowWith(SweptBoxes(a), SweptBoxes(b), 0.5 * inflation, wide, out);
+}
+
+void narrowCandidates(const ContactMesh& a, double inflation, const ContactCandidates& wide, ContactCandidates& out) {
+  const SweptBoxes boxes(a);
+  narrowWith(boxes, boxes, 0.5 * inflation, wide, out);
 }
 
 }  // namespace bsdeform

@@ -47,4 +47,14 @@ void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation
 /// stays empty).
 void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out);
 
+/// The pairs of `wide` that candidatePairs(a, b, inflation) finds at the meshes' positions now,
+/// in the same (index) order: the same set when `wide` holds every one of them (pairs found with
+/// a larger inflation at positions that have since moved less than the difference allows, as a
+/// cache of candidates keeps them). So a sum or a minimum over the pairs does not depend on
+/// when `wide` was found.
+void narrowCandidates(const ContactMesh& a, const ContactMesh& b, double inflation, const ContactCandidates& wide,
+                      ContactCandidates& out);
+/// A mesh against itself, as candidatePairs(a, inflation).
+void narrowCandidates(const ContactMesh& a, double inflation, const ContactCandidates& wide, ContactCandidates& out);
+
 }  // namespace bsdeform
