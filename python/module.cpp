@@ -442,10 +442,11 @@ error), method ('CHOLMOD Cholesky' or 'multigrid-preconditioned CG'), load_itera
 iterations of position-dependent loads; SHELL: Newton iterations), increments (one dict per load
 step of ``load_steps``: load_factor, norm, strain, strain_membrane, strain_bending, residual,
 iterations: a load-displacement curve; and reactions, a dict of the force (x, y, z) each held
-side ('umin', 'umax', 'vmin', 'vmax': CLAMPED, SIMPLY_SUPPORTED, BUILT_IN) and pin ('pin0', ...)
-exerts on the surface, and applied, the sum of the loads: they balance, applied + the reactions
+side ('umin', 'umax', 'vmin', 'vmax': CLAMPED, SIMPLY_SUPPORTED, BUILT_IN, SYMMETRY; a side's
+components only those it holds, a corner's shared by the sides holding that component) and pin
+('pin0', ...) exerts on the surface, and applied, the sum of the loads: they balance, applied + the reactions
 = 0, as the runner's reaction_* and applied_* columns). Raises SimulationError naming the free motions when
-nothing holds the surface, or when position-dependent loads (or SHELL's Newton) do not settle;
+nothing holds the surface or a translation is left free (loaded or not: hold it with a pin, holdPins), or when position-dependent loads (or SHELL's Newton) do not settle;
 the state is then left alone. ``arc_length=True`` (SHELL): the equilibrium path by arc-length
 continuation instead (Crisfield's, as ``bsdeform-run --static --arc-length``), through limit
 points and snap-backs: at most ``load_steps`` points, until the load factor passes ``max_load``;

@@ -44,12 +44,14 @@
 ///   boundaryVMin CLAMPED  #   a rest net that closes: the last n layers repeat the first n) |
 ///   boundaryVMax CLAMPED  #   SIMPLY_SUPPORTED (edge curve held, a hinge) | BUILT_IN (edge curve
 ///                         #   and cross derivative held, an engineering clamp) | SYMMETRY (SHELL,
-///                         #   static: a symmetry plane through the edge); u = 1, v = 0, v = 1 alike
+///                         #   static, arc length, BACKWARD_EULER, IMPLICIT: a symmetry plane
+///                         #   through the edge); u = 1, v = 0, v = 1 alike
 ///   holdUMin (X | Y | Z)  # SHELL: the components a SIMPLY_SUPPORTED or BUILT_IN side holds (a rigid
 ///   holdUMax (X | Y | Z)  #   diaphragm: two of them, a roller: one); holdUMax, holdVMin,
 ///   holdVMin (X | Y | Z)  #   holdVMax alike
 ///   holdVMax (X | Y | Z)
-///   holdPins (X | Y | Z)  # SHELL, static: the components the pins hold
+///   holdPins (X | Y | Z)  # SHELL, static, arc length, BACKWARD_EULER, IMPLICIT: the components
+///                         #   the pins hold (one pin holding Y: a roof's last free slide)
 ///   motionUMin (identity) # SHELL, BACKWARD_EULER: a CLAMPED side's held layers follow this
 ///   motionUMax (identity) #   map of their rest positions (connect a ComposeMatrix driven by the
 ///   motionVMin (identity) #   clock: a sheet twisted by turning one edge); read before each
@@ -177,7 +179,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFBitMask holdUMax;         ///< as holdUMin, side u = 1
   SoSFBitMask holdVMin;         ///< as holdUMin, side v = 0
   SoSFBitMask holdVMax;         ///< as holdUMin, side v = 1
-  SoSFBitMask holdPins;         ///< SHELL, static: the world components pins hold (X | Y | Z)
+  SoSFBitMask holdPins;         ///< SHELL (static, arc length, BACKWARD_EULER, IMPLICIT): the world components pins hold (X | Y | Z)
   /// SHELL, BACKWARD_EULER: the map (row vectors, as SoTransform's) whose image of their rest
   /// positions the n layers a CLAMPED side u = 0 holds are held at; identity and unconnected:
   /// held at rest. Read before every step, reached at its end (Simulation::setSideMotion).

@@ -203,6 +203,74 @@ TEST_CASE("Scordelis-Lo roof as a quarter model: two SYMMETRY sides and a rigid 
     }
 }
 
+TEST_CASE("Diaphragms against fully held ends: the Scordelis-Lo roof on rigid diaphragms gives the thin-shell value, "
+          "on ends held in all three components a stiffer roof",
+          "[shell][supports]") {
+  // the quarter of the test above (linear: 1e-4 of the weight), its end v = 1 once on a rigid
+  // diaphragm (x and z held, the axial y free) and once SIMPLY_SUPPORTED in all three: holding
+  // the axial slide too lets the ends carry the roof's bending as a thrust, and the free edge
+  // deflects about half as much (0.51 of the reference, as issue 36 measured)
+  const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0, scale = 1e-4;
+  auto solve = [&](unsigned endHolds, double& axial) {
+    ModelParameters p = shell(12, 12, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
+                              ShellMaterial{4.32e8, 0.0, 0.25, 1.0});
+    p.sideSupports[0] = symmetry();
+    p.sideSupports[2] = symmetry();
+    p.sideSupports[3] = hinge(endHolds);
+    const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
+    ControlNet rest(s.netSize(), 3);
+    for (int i = 0; i < s.netRows(); ++i)
+      for (int j = 0; j < s.netCols(); ++j) {
+        const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
+        rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
+      }
+    Simulation roof(p, rest);
+    roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -90.0 * scale)));
+    const StaticResult r = roof.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
+    axial = 0.0;  // the end curve's largest axial displacement
+    for (double u : {0.0, 0.25, 0.5, 0.75, 1.0})
+      axial = std::max(axial, std::abs(s.evaluate(r.net, u, 1.0, 0).position.y() - s.evaluate(rest, u, 1.0, 0).position.y()));
+    return (s.evaluate(rest, 1.0, 0.0, 0).position.z() - s.evaluate(r.net, 1.0, 0.0, 0).position.z()) / scale;
+  };
+  double axialDiaphragm = 0.0, axialHeld = 0.0;
+  const double diaphragm = solve(1 | 4, axialDiaphragm), held = solve(1 | 2 | 4, axialHeld);
+  CAPTURE(diaphragm, held, held / diaphragm, axialDiaphragm, axialHeld);
+  CHECK(diaphragm == Approx(0.3006).epsilon(0.005));
+  CHECK(held / 0.3006 == Approx(0.51).epsilon(0.01));  // 0.1544, 0.514
+  CHECK(axialDiaphragm > 1e-2 * diaphragm * scale);     // the end slides along the axis
+  CHECK(axialHeld <= 1e-12 * halfL);                     // held: at rest to rounding
+  // the pinched cylinder's octant (the test above, 32² spans) alike: 0.83 of 1.8248e-5 held
+  const double Rc = 300.0;
+  auto pinch = [&](unsigned endHolds, double& axial) {
+    ModelParameters p = shell(32, 32, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
+                              ShellMaterial{3e6, 0.3, 3.0, 1.0});
+    p.sideSupports[0] = symmetry();
+    p.sideSupports[1] = symmetry();
+    p.sideSupports[2] = symmetry();
+    p.sideSupports[3] = hinge(endHolds);
+    const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
+    ControlNet rest(s.netSize(), 3);
+    for (int i = 0; i < s.netRows(); ++i)
+      for (int j = 0; j < s.netCols(); ++j) {
+        const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = 0.5 * kPi * u;
+        rest.row(Eigen::Index(i) * s.netCols() + j) << Rc * std::sin(a), Rc * v, Rc * std::cos(a);
+      }
+    Simulation cyl(p, rest);
+    cyl.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -0.25), ParamRect{0.0, 0.0, 0.0, 0.0}));
+    const StaticResult r = cyl.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
+    axial = 0.0;
+    for (double u : {0.0, 0.25, 0.5, 0.75, 1.0})
+      axial = std::max(axial, std::abs(s.evaluate(r.net, u, 1.0, 0).position.y() - s.evaluate(rest, u, 1.0, 0).position.y()));
+    return s.evaluate(rest, 0.0, 0.0, 0).position.z() - s.evaluate(r.net, 0.0, 0.0, 0).position.z();
+  };
+  const double pinchedDiaphragm = pinch(1 | 4, axialDiaphragm), pinchedHeld = pinch(1 | 2 | 4, axialHeld);
+  CAPTURE(pinchedDiaphragm, pinchedHeld, pinchedHeld / 1.8248e-5, axialDiaphragm, axialHeld);
+  CHECK(pinchedDiaphragm == Approx(1.8248e-5).epsilon(0.005));
+  CHECK(pinchedHeld / 1.8248e-5 == Approx(0.83).epsilon(0.01));
+  CHECK(axialDiaphragm > 1e-2 * pinchedDiaphragm);
+  CHECK(axialHeld <= 1e-12 * Rc);
+}
+
 TEST_CASE("Supports per component refuse what they cannot do, naming it", "[shell][supports]") {
   ModelParameters p = shell(6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
                             ShellMaterial{1e6, 0.3, 0.01, 1.0});
@@ -305,13 +373,89 @@ TEST_CASE("A roof on two diaphragms: its free axial slide is named when loaded, 
   CHECK(roof.step() == Status::Refused);  // pins holding some components: not with EXPLICIT
 }
 
+TEST_CASE("A pin holding some components: setState checks and restores the held ones, the free ones are state",
+          "[shell][supports]") {
+  // a sheet on a CLAMPED side, one pin holding z only: its 16 control points may move in x and y
+  ModelParameters p = shell(6, 6, Boundaries{Boundary::Clamped, Boundary::Free, Boundary::Free, Boundary::Free},
+                            ShellMaterial{1e6, 0.3, 0.01, 1.0});
+  p.pins = {Eigen::Vector2d(0.6, 0.5)};
+  p.pinComponents = 4;
+  Simulation sim(p);
+  sim.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(2.0, 1.0, -5.0)));
+  // the static solve's equilibrium moves the pinned points in x and y: a state setState takes
+  // as it is (the runner and Python set it on the node, and a saved final.iv reads it back)
+  const StaticResult r = sim.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
+  const SplineSpace& s = sim.space();
+  const int su = s.basisU().span(0.6), sv = s.basisV().span(0.5);
+  const Eigen::Index pinned = s.movingToNet(s.movingIndex(su, sv));
+  REQUIRE(std::abs(r.net(pinned, 0) - sim.rest()(pinned, 0)) > 1e-6);
+  REQUIRE(r.net(pinned, 2) == sim.rest()(pinned, 2));
+  CHECK_NOTHROW(sim.setState(r.net, 0.0, 0));
+  CHECK(sim.current() == r.net);
+  // a held component moved is refused, naming it; Reset puts that one back and keeps the others
+  ControlNet moved = r.net;
+  moved(pinned, 2) += 1e-3;
+  moved(pinned, 1) += 2e-3;
+  CHECK_THROWS_WITH(sim.setState(moved, 0.0, 0), Catch::Contains("pinned control point") && Catch::Contains("in z"));
+  sim.setState(moved, 0.0, 0, HeldPoints::Reset);
+  CHECK(sim.current()(pinned, 2) == sim.rest()(pinned, 2));
+  CHECK(sim.current()(pinned, 1) == moved(pinned, 1));
+  CHECK(sim.current()(pinned, 0) == r.net(pinned, 0));
+}
+
+TEST_CASE("Reactions of the Scordelis-Lo quarter: a SYMMETRY plane carries no force along itself, and the reactions "
+          "balance the weight",
+          "[shell][supports]") {
+  // the quarter of "Scordelis-Lo roof as a quarter model" under its full weight: the crown's
+  // plane x = 0 (umin) and the mid-span plane y = 0 (vmin) meet the diaphragm (vmax, x and z)
+  // at corners; a corner point's component goes only to the sides that hold it
+  const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0;
+  ModelParameters p = shell(8, 8, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
+                            ShellMaterial{4.32e8, 0.0, 0.25, 1.0});
+  p.sideSupports[0] = symmetry();
+  p.sideSupports[2] = symmetry();
+  p.sideSupports[3] = hinge(1 | 4);
+  const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
+  ControlNet rest(s.netSize(), 3);
+  for (int i = 0; i < s.netRows(); ++i)
+    for (int j = 0; j < s.netCols(); ++j) {
+      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
+      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
+    }
+  Simulation roof(p, rest);
+  roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -90.0)));
+  const StaticResult r = roof.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
+  const SupportReactions sr = supportReactions(roof, r.net);
+  REQUIRE(sr.sides.size() == 3);
+  const double size = sr.applied.norm();
+  CAPTURE(sr.applied.transpose(), sr.imbalance().transpose(), sr.elsewhere.transpose());
+  CHECK(sr.imbalance().norm() <= 1e-6 * size);
+  for (const SupportReactions::Side& side : sr.sides) {
+    CAPTURE(side.name, side.force.transpose());
+    if (side.name == "umin") {  // the plane x = 0: the thrust across the crown (x) only
+      CHECK(std::abs(side.force.y()) <= 1e-8 * size);
+      CHECK(std::abs(side.force.z()) <= 1e-8 * size);
+      CHECK(std::abs(side.force.x()) > 0.1 * size);
+    } else if (side.name == "vmin") {  // the plane y = 0: the axial force across mid-span only
+      CHECK(std::abs(side.force.x()) <= 1e-8 * size);
+      CHECK(std::abs(side.force.z()) <= 1e-8 * size);
+    } else {  // the diaphragm: the whole weight, nothing along the axis it leaves free
+      CHECK(side.name == "vmax");
+      CHECK(side.force.z() == Approx(-sr.applied.z()).epsilon(1e-6));
+      CHECK(std::abs(side.force.y()) <= 1e-8 * size);
+    }
+  }
+}
+
 TEST_CASE("Pinched hemisphere with an 18 degree hole as a quarter with two SYMMETRY sides: 0.094", "[shell][supports]") {
   // MacNeal and Harder 1985: R = 10, t = 0.04, E = 6.825e7, nu = 0.3, open 18 degrees round the
   // pole, free equator; loads of 2 at the equator, outward along x, inward along y (and the
   // opposite ones); the linear radial displacement under a load is 0.094 (Kirchhoff-Love). The
   // quarter: u round 90 degrees between the planes y = 0 and x = 0 (SYMMETRY, each through a
-  // load: half of it here), v from the equator to the hole. z translation is free and unloaded.
-  // Bicubic: 8 spans 0.0880, 16 0.09297, 32 0.09342.
+  // load: half of it here), v from the equator to the hole. The loads have no z resultant and
+  // nothing else holds z: the z of one control point is held (net layers (1, 1), on the plane
+  // y = 0 at the equator), as the static solve asks. Bicubic: 8 spans 0.0880, 16 0.09297, 32
+  // 0.09342.
   const double R = 10.0, top = 72.0 * kPi / 180.0;
   const int spans = 32;
   ModelParameters p = shell(spans, spans, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
@@ -326,6 +470,7 @@ TEST_CASE("Pinched hemisphere with an 18 degree hole as a quarter with two SYMME
       rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::cos(lat) * std::cos(phi),
           R * std::cos(lat) * std::sin(phi), R * std::sin(lat);
     }
+  p.heldCoordinates.push_back({Eigen::Index(1) * s.netCols() + 1, 2});
   Simulation h(p, rest);
   const double scale = 1e-3;  // linear
   h.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(1.0 * scale, 0, 0), ParamRect{0.0, 0.0, 0.0, 0.0}));
@@ -459,11 +604,18 @@ TEST_CASE("Supports per component on BUILT_IN sides: all three are BUILT_IN, Z a
       CAPTURE(u, v);
       CHECK((a.space().evaluate(ra.net, u, v, 0).position - b.space().evaluate(rb.net, u, v, 0).position).norm() <= 1e-9);
     }
-  // Z only on both u sides (x, y free: a sheet on two clamping rails it may slide along)
+  // Z only on both u sides (x, y free: a sheet on two clamping rails it may slide along; the
+  // slides and the turn about z held at two control points of the middle row, x and y at one, x
+  // at the other, as the static solve asks)
   ModelParameters z = comp;
   z.boundaries.uMax = Boundary::Free;
   z.sideSupports[0] = SideSupport{SideSupport::Kind::Clamp, 4};
   z.sideSupports[1] = SideSupport{SideSupport::Kind::Clamp, 4};
+  {
+    const SplineSpace zs(3, 3, z.numU, z.numV, z.boundaries);
+    const Eigen::Index a = Eigen::Index(zs.netRows() / 2) * zs.netCols() + 3, b = a + zs.netCols() - 6;
+    z.heldCoordinates = {{a, 0}, {a, 1}, {b, 0}};
+  }
   Simulation c(z);
   c.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -2.0)));
   const StaticResult rc = c.solveStatic(1e-11, 100, LinearSolver::Automatic, 2);
@@ -487,7 +639,7 @@ TEST_CASE("The static Newton's convergence does not depend on the load's size: a
   // shell under a small load sits on a rounding floor (7e-3 at 1e-6 of the load: a solve judged
   // by it never ends); the update, judged against the displacement, does not, so each load
   // converges in a few iterations and the scaled displacements agree (at 1e-2 of the load the
-  // geometric nonlinearity shows, 5e-5)
+  // geometric nonlinearity shows, 5e-5); z held at one control point, as in the test above
   const double R = 10.0, top = 72.0 * kPi / 180.0;
   ModelParameters p = shell(16, 16, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
                             ShellMaterial{6.825e7, 0.3, 0.04, 1.0});
@@ -501,6 +653,7 @@ TEST_CASE("The static Newton's convergence does not depend on the load's size: a
       rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::cos(lat) * std::cos(phi),
           R * std::cos(lat) * std::sin(phi), R * std::sin(lat);
     }
+  p.heldCoordinates.push_back({Eigen::Index(1) * s.netCols() + 1, 2});
   double first = 0.0;
   for (double scale : {1e-6, 1e-4}) {
     Simulation h(p, rest);
@@ -517,8 +670,8 @@ TEST_CASE("The static Newton's convergence does not depend on the load's size: a
   CHECK(first == Approx(0.093).epsilon(0.01));
 }
 
-TEST_CASE("A plate on one edge holding Z only: its free x slide is refused by name, and its free rotation about the "
-          "edge is named when Newton fails",
+TEST_CASE("A plate on one edge holding Z only: its free x slide is refused by name, pushed or not, and its free "
+          "rotation about the edge is named when Newton fails",
           "[shell][supports]") {
   // a sheet in the plane z = 0, its side u = 0 (the line x = 0) holding z: it may slide in x and
   // y, turn about z, and turn about the edge itself
@@ -530,7 +683,17 @@ TEST_CASE("A plate on one edge holding Z only: its free x slide is refused by na
   pushed.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(1.0, 0, 0)));
   CHECK_THROWS_WITH(pushed.solveStatic(1e-10, 100, LinearSolver::Automatic, 1),
                     Catch::Contains("the translation along x is free"));
-  // a downward load turns it about the edge: no equilibrium, and the failure says which motion
+  // a downward load alone does no work on the slides, but they leave the equilibrium undecided:
+  // refused as well, naming one
+  Simulation unpushed(p);
+  unpushed.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -1.0)));
+  CHECK_THROWS_WITH(unpushed.solveStatic(1e-10, 100, LinearSolver::Automatic, 1),
+                    Catch::Contains("the translation along x is free") && Catch::Contains("the loads do no work on it"));
+  // held as an engineer would (x and y of one control point, y of another: the slides and the
+  // turn about z), the load turns it about the edge: no equilibrium, and the failure says which
+  const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
+  const Eigen::Index a = Eigen::Index(3) * s.netCols() + 3, b = Eigen::Index(6) * s.netCols() + 3;
+  p.heldCoordinates = {{a, 0}, {a, 1}, {b, 1}};
   Simulation sheet(p);
   sheet.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -1.0)));
   CHECK(sheet.freeRigidMotionLoaded(sheet.loadVector(), false).empty());  // no translation

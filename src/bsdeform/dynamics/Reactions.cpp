@@ -120,29 +120,48 @@ SupportReactions supportReactions(const Simulation& sim, const ControlNet& net, 
       }
   }
 
+  // the world components each side holds: every one for a side of the space (CLAMPED,
+  // SIMPLY_SUPPORTED, BUILT_IN), the chosen ones for a support per component, the plane's
+  // normal for a SYMMETRY side (its plane carries no force along itself)
+  unsigned sideHolds[4] = {7u, 7u, 7u, 7u};
+  for (int k = 0; k < 4; ++k) {
+    const SideSupport& support = sim.parameters().sideSupports[size_t(k)];
+    if (support.kind == SideSupport::Kind::Hinge || support.kind == SideSupport::Kind::Clamp)
+      sideHolds[k] = support.components;
+    else if (support.kind == SideSupport::Kind::Symmetry && sim.componentConstraints())
+      sideHolds[k] = 1u << sim.componentConstraints()->planes()[size_t(k)].axis;
+  }
+  const unsigned pinHolds = sim.parameters().pinComponents;
+
   const LayerRange &mu = s.movingU(), &mv = s.movingV();
+  static const std::vector<int> noPins;
   for (int i = 0; i < rows; ++i)
     for (int j = 0; j < cols; ++j) {
       const Eigen::Index k = Eigen::Index(i) * cols + j;
-      const Eigen::Vector3d fk = f.row(k).transpose();
       // the unknown this point is (itself or, for a periodic copy, the one it repeats): pinned?
       const int li = s.movingLayerU(i), lj = s.movingLayerV(j);
-      if (li >= 0 && lj >= 0) {
-        const std::vector<int>& of = pinsOf[size_t(Eigen::Index(li - mu.first) * mv.count + (lj - mv.first))];
-        if (!of.empty()) {
-          for (int p : of) r.pins[size_t(p)] += fk / double(of.size());
-          continue;
-        }
-      }
+      const std::vector<int>& of =
+          li >= 0 && lj >= 0 ? pinsOf[size_t(Eigen::Index(li - mu.first) * mv.count + (lj - mv.first))] : noPins;
       const bool in[4] = {i < bands[0].width, i >= rows - bands[1].width, j < bands[2].width,
                           j >= cols - bands[3].width};
-      const int count = int(in[0]) + int(in[1]) + int(in[2]) + int(in[3]);
-      if (count == 0) {
-        r.elsewhere += fk;
-        continue;
+      // component c goes to the pins and sides that hold c, in equal shares; a pinned point
+      // whose pins hold c belongs to them alone (their points are left out of the bands); what
+      // nothing here holds is the equilibrium's residual
+      for (int c = 0; c < 3; ++c) {
+        const double fc = f(k, c);
+        if (!of.empty() && (pinHolds & (1u << c))) {
+          for (int p : of) r.pins[size_t(p)][c] += fc / double(of.size());
+          continue;
+        }
+        int count = 0;
+        for (int side = 0; side < 4; ++side) count += in[side] && (sideHolds[side] & (1u << c)) ? 1 : 0;
+        if (count == 0) {
+          r.elsewhere[c] += fc;
+          continue;
+        }
+        for (int side = 0; side < 4; ++side)
+          if (in[side] && (sideHolds[side] & (1u << c))) r.sides[size_t(sideOf[side])].force[c] += fc / double(count);
       }
-      for (int side = 0; side < 4; ++side)
-        if (in[side]) r.sides[size_t(sideOf[side])].force += fk / double(count);
     }
   return r;
 }

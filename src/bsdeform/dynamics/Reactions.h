@@ -9,9 +9,13 @@
 /// every point of the full net, L the loads on the full net (\f$L_k = \int f B_k\f$ over every
 /// B-spline k). A supported side's *band* is its outer layers: the n layers whose B-splines do
 /// not vanish on the edge (n the degree across it) and any further layer the side holds (BUILT_IN
-/// of degree 1 also holds layer k = 0). The reaction of a side is \f$\sum f_k\f$ over its band; a
-/// point in the bands of two sides (a corner) is split equally between them; pinned points are
-/// left out of the bands and make up their pin's reaction (a point two pins hold, split equally).
+/// of degree 1 also holds layer k = 0). The reaction of a side is \f$\sum f_k\f$ over its band,
+/// component by component: component c of \f$f_k\f$ goes to the sides whose band holds k and
+/// which hold c (every component for CLAMPED, SIMPLY_SUPPORTED and BUILT_IN, the chosen ones
+/// for a support per component, the plane's normal for SYMMETRY), split equally among them at a
+/// corner; a point no side holds in c adds it to `elsewhere`. Pinned points are left out of the
+/// bands in the components the pins hold (ModelParameters::pinComponents) and make up their pin's
+/// reaction there (a point two pins hold, split equally).
 ///
 /// Sign: a reaction is the force the support exerts ON the surface. At a held point the elastic
 /// force \f$-\partial W/\partial P_k\f$, the load \f$L_k\f$ and the support's force \f$R_k\f$
@@ -36,7 +40,8 @@
 
 namespace bsdeform {
 
-/// Whether a side holds anything, and so has a reaction: CLAMPED, SIMPLY_SUPPORTED, BUILT_IN.
+/// Whether a side of the spline space holds anything, and so has a reaction: CLAMPED,
+/// SIMPLY_SUPPORTED, BUILT_IN (a FREE side with a support per component or SYMMETRY has one too).
 bool sideHoldsSomething(Boundary side);
 
 /// The reactions of an equilibrium (see the file comment for the definition and the sign).
@@ -45,7 +50,8 @@ struct SupportReactions {
     std::string name;  ///< "umin", "umax", "vmin" or "vmax"
     Eigen::Vector3d force = Eigen::Vector3d::Zero();
   };
-  /// Every side that holds something (sideHoldsSomething()), in the order umin, umax, vmin, vmax.
+  /// Every side that holds something (sideHoldsSomething(), or a support per component or
+  /// SYMMETRY in ModelParameters::sideSupports), in the order umin, umax, vmin, vmax.
   std::vector<Side> sides;
   /// One per ModelParameters::pins entry, in that order (zero for a pin whose points are all
   /// held by a side: its share is the side's).

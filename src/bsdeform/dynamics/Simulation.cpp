@@ -644,16 +644,20 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
       if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
       if (movedRow[size_t(r)]) continue;  // a moved side's layer: where the state has it
-      if (held == HeldPoints::Check) {
-        const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
-        require((cur.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol &&
-                    (prev.row(r) - m_rest.row(r)).cwiseAbs().maxCoeff() <= tol,
-                std::string(mi < 0 || mj < 0 ? "clamped" : "pinned") + " control point (" +
-                    std::to_string(i - m_space.degreeU()) + ", " + std::to_string(j - m_space.degreeV()) +
-                    ") of the state differs from the rest net");
+      // a pin holds the components pinComponents names; its free ones are state
+      const unsigned components = sideHeld ? 7u : m_params.pinComponents;
+      const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
+      for (int c = 0; c < 3; ++c) {
+        if (!(components & (1u << c))) continue;
+        if (held == HeldPoints::Check)
+          require(std::abs(cur(r, c) - m_rest(r, c)) <= tol && std::abs(prev(r, c) - m_rest(r, c)) <= tol,
+                  std::string(mi < 0 || mj < 0 ? "clamped" : "pinned") + " control point (" +
+                      std::to_string(i - m_space.degreeU()) + ", " + std::to_string(j - m_space.degreeV()) +
+                      ") of the state differs from the rest net" +
+                      (components == 7u ? std::string() : std::string(" in ") + "xyz"[c]));
+        cur(r, c) = m_rest(r, c);
+        prev(r, c) = m_rest(r, c);
       }
-      cur.row(r) = m_rest.row(r);
-      prev.row(r) = m_rest.row(r);
     }
   // Derived layers (SIMPLY_SUPPORTED, BUILT_IN sides) must follow their sources, then are
   // recomputed exactly.

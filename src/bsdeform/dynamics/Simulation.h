@@ -194,8 +194,9 @@ class Simulation {
   void reset();
   /// Sets the state (e.g. read back from a file). `previous` is the net one step of size
   /// `previousStepSize` before `current` (0: the current sub-step size); it is rescaled to the
-  /// current sub-step keeping the velocity. Held points (clamped layers, pins) are set to the
-  /// rest values exactly, after the check `held` asks for. Periodic copies: the first n layers win.
+  /// current sub-step keeping the velocity. Held points (clamped layers, pins in the components
+  /// they hold: ModelParameters::pinComponents) are set to the rest values exactly, after the
+  /// check `held` asks for. Periodic copies: the first n layers win.
   /// @throws std::invalid_argument for wrong sizes, NaN, or (Check) changed held points
   void setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
                 double previousStepSize = 0.0, HeldPoints held = HeldPoints::Check);
@@ -312,6 +313,10 @@ class Simulation {
   /// `load` (on the unknowns) does work on, named ("the translation along y is free ..."), or
   /// ""; translations only unless `rotations`.
   std::string freeRigidMotionLoaded(const ControlNet& load, bool rotations) const;
+  /// Why the static solve and arc length refuse this model, or "": a translation the held and
+  /// constrained coordinates leave free (to first order), named, whether `load` (on the unknowns)
+  /// does work on it (no equilibrium) or not (a family of them); with the way to hold it.
+  std::string freeTranslationRefusal(const ControlNet& load) const;
   /// SHELL: the static equilibrium path by arc-length continuation (ArcLength.h, Crisfield's
   /// cylindrical form) from the rest state, the loads at time 0 scaled by the load factor:
   /// one StaticResult::Increment per converged point (its load factor, net, relative residual
@@ -332,6 +337,9 @@ class Simulation {
   const ElasticEnergy& energy() const { return *m_energy; }
   /// The shell energy (null for the paper's model).
   const ShellEnergy* shell() const { return m_shell; }
+  /// The supports per component and SYMMETRY sides (ModelParameters::sideSupports), or null
+  /// when no side has one.
+  const ComponentConstraints* componentConstraints() const { return m_components.get(); }
   /// SHELL: membrane and bending energy of the current state (zeros for the paper's model).
   ShellEnergies shellEnergies() const;
   /// SHELL, implicit: Newton iterations of the last step.
@@ -488,6 +496,9 @@ class Simulation {
   /// ... and no coordinate is held or constrained either (pins, held coordinates, supports per
   /// component): the surface is a free body.
   bool holdsNothing() const;
+  /// A rigid motion the held and constrained coordinates leave free and `load` does work on
+  /// (any free one when `load` is null), named, or "" (freeRigidMotionLoaded()).
+  std::string freeRigidMotion(const ControlNet* load, bool rotations) const;
   /// The scheme (TimeStepper.h): created by init() and initShell().
   std::unique_ptr<TimeStepper> m_stepper;
   friend class PaperExplicitStepper;

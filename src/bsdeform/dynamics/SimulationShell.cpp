@@ -201,15 +201,14 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     }
   } else if (conservative && sidesHoldNothing()) {
     // held only in some components (supports per component, SYMMETRY, pins holding some, held
-    // coordinates): a rigid motion the constraints leave free, on which the constant loads do
-    // work, has no equilibrium (a spring or contact may still hold it: not checked then)
-    // translations only: a rotation that is free to first order may still be held by the
-    // geometric nonlinearity (a flat sheet whose y is held everywhere cannot turn about x
-    // without stretching); it is named below if Newton then fails
-    const std::string free = freeRigidMotionLoaded(loadAt(net, 0.0), false);
-    if (!free.empty())
-      throw std::runtime_error("static solve: " + free +
-                               ": there is no equilibrium; hold it somewhere (holdPins, a side's hold components)");
+    // coordinates): a translation the constraints leave free has no equilibrium if the constant
+    // loads do work on it, and a family of them (any slide along it) if not: refused either
+    // way (a spring or contact may still hold it: not checked then). Translations only: a
+    // rotation that is free to first order may still be held by the geometric nonlinearity (a
+    // flat sheet whose y is held everywhere cannot turn about x without stretching); it is
+    // named below if Newton then fails
+    const std::string free = freeTranslationRefusal(loadAt(net, 0.0));
+    if (!free.empty()) throw std::runtime_error("static solve: " + free);
   }
   // the total potential W(x) - L·x at load factor `loadFactor` (its gradient the residual
   // R = dW/dx - L, held coordinates zeroed) when every load is constant; ||R|| otherwise
@@ -394,6 +393,12 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   if (holdsNothing())
     throw std::runtime_error("arc length: nothing holds the surface (every side FREE or PERIODIC, no pin): its "
                              "rigid motions leave the tangent singular; hold a side or pin a point");
+  bool constantLoads = true;
+  for (const auto& f : m_forces) constantLoads &= (f->dependence() & ~unsigned(kDependsOnTime)) == 0;
+  if (constantLoads && sidesHoldNothing()) {  // as the static solve (solveStaticShell)
+    const std::string free = freeTranslationRefusal(loadAt(m_rest, 0.0));
+    if (!free.empty()) throw std::runtime_error("arc length: " + free);
+  }
   const Eigen::Index n = m_space.numMoving();
   ControlNet net = m_rest, grad;
   auto toNet = [&](const Eigen::VectorXd& x) {
@@ -481,8 +486,10 @@ void Simulation::completeUnknowns(ControlNet& x, ControlNet& net) const {
 // through the rest centroid. A motion is free when every held coordinate stays and every
 // constrained one follows its row (ComponentConstraints::complete of rest + motion gives it
 // back); the free ones are the null space of those violations (the eigenvectors of VᵀV with a
-// negligible eigenvalue). One on which `load` (on the unknowns) does work is named.
-std::string Simulation::freeRigidMotionLoaded(const ControlNet& load, bool rotations) const {
+// negligible eigenvalue). One on which `load` (on the unknowns; null: any) does work is named.
+// Translations alone are judged on the translations' block of V: a free translation is then
+// found however the free rotations mix with it.
+std::string Simulation::freeRigidMotion(const ControlNet* load, bool rotations) const {
   const ControlNet x0 = m_space.gatherMoving(m_rest);
   const Eigen::RowVector3d c = x0.colwise().mean();
   const double size = (x0.colwise().maxCoeff() - x0.colwise().minCoeff()).norm() + 1e-300;
@@ -510,43 +517,83 @@ std::string Simulation::freeRigidMotionLoaded(const ControlNet& load, bool rotat
                             : (m_heldMask[size_t(d)] ? motions[size_t(k)](d / 3, int(d % 3)) : 0.0);
     }
   }
+  const double loadSize = load ? load->cwiseAbs().sum() + 1e-300 : 0.0;
+  auto loaded = [&](const ControlNet& delta) {
+    return !load || std::abs((load->array() * delta.array()).sum()) > 1e-8 * loadSize * delta.cwiseAbs().maxCoeff();
+  };
+  auto translation = [](const Eigen::Vector3d& t) {
+    const Eigen::Vector3d dir = t.normalized();
+    Eigen::Index axis = 0;
+    std::ostringstream os;
+    if (dir.cwiseAbs().maxCoeff(&axis) >= 1.0 - 1e-9)
+      os << "the translation along " << char('x' + axis);
+    else
+      os << "the translation along (" << numberText(dir.x()) << ", " << numberText(dir.y()) << ", "
+         << numberText(dir.z()) << ")";
+    os << " is free (no support, symmetry side or pin holds it)";
+    return os.str();
+  };
+  if (!rotations) {
+    const Eigen::Matrix3d VtV = V.leftCols<3>().transpose() * V.leftCols<3>();
+    const double largest = std::max(VtV.diagonal().maxCoeff(), 1.0);
+    // the coordinate axes first (the constraints act on world components: the free
+    // translations are spanned by the axes they leave alone), then any other free direction
+    std::vector<Eigen::Vector3d> free;
+    for (int a = 0; a < 3; ++a)
+      if (VtV(a, a) <= 1e-16 * largest) free.push_back(Eigen::Vector3d::Unit(a));
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(VtV);
+    for (int k = 0; k < 3; ++k)
+      if (eig.eigenvalues()[k] <= 1e-16 * largest) free.push_back(eig.eigenvectors().col(k));
+    for (const Eigen::Vector3d& t : free) {
+      const ControlNet delta = t.x() * motions[0] + t.y() * motions[1] + t.z() * motions[2];
+      if (loaded(delta)) return translation(t) + (load ? " and the loads do work on it" : "");
+    }
+    return std::string();
+  }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig((V.transpose() * V).eval());
   const double largest = std::max(eig.eigenvalues().maxCoeff(), 1.0);
-  const double loadSize = load.cwiseAbs().sum() + 1e-300;
   for (int k = 0; k < 6; ++k) {
     if (eig.eigenvalues()[k] > 1e-16 * largest) continue;  // blocked
     const Eigen::Matrix<double, 6, 1> alpha = eig.eigenvectors().col(k);
     ControlNet delta = ControlNet::Zero(x0.rows(), 3);
     for (int j = 0; j < 6; ++j) delta += alpha[j] * motions[size_t(j)];
-    const double work = (load.array() * delta.array()).sum();
-    if (std::abs(work) <= 1e-8 * loadSize * delta.cwiseAbs().maxCoeff()) continue;
+    if (!loaded(delta)) continue;
     const Eigen::Vector3d t = alpha.head<3>(), w = alpha.tail<3>();
-    if (!rotations && w.norm() > 1e-6 * alpha.norm()) continue;
+    const std::string onIt = load ? " and the loads do work on it" : "";
+    if (w.norm() <= 1e-6 * alpha.norm()) return translation(t) + onIt;
+    // velocity t + ω × (x − c) with ω = w / size: the axis passes through c + ω × t / |ω|²
+    const Eigen::Vector3d omega = w / size;
+    Eigen::Index lead = 0;  // the axis said with its largest component positive (either sense turns)
+    w.cwiseAbs().maxCoeff(&lead);
+    const Eigen::Vector3d axis = w[lead] < 0.0 ? Eigen::Vector3d(-w.normalized()) : w.normalized();
+    const Eigen::Vector3d through = c.transpose() + omega.cross(t) / omega.squaredNorm();
+    // rounding noise said as 0 (below 1e-9 of a unit direction, of the size for a point)
+    auto unit = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
+    auto point = [size](double v) { return std::abs(v) < 1e-9 * size ? 0.0 : v; };
     std::ostringstream os;
-    if (w.norm() <= 1e-6 * alpha.norm()) {
-      const Eigen::Vector3d dir = t.normalized();
-      Eigen::Index axis = 0;
-      if (dir.cwiseAbs().maxCoeff(&axis) < 1.0 - 1e-9) axis = -1;  // not along a coordinate axis
-      if (axis >= 0)
-        os << "the translation along " << char('x' + axis);
-      else
-        os << "the translation along (" << numberText(dir.x()) << ", " << numberText(dir.y()) << ", "
-           << numberText(dir.z()) << ")";
-      os << " is free (no support, symmetry side or pin holds it) and the loads do work on it";
-    } else {
-      // velocity t + ω × (x − c) with ω = w / size: the axis passes through c + ω × t / |ω|²
-      const Eigen::Vector3d omega = w / size, axis = w.normalized();
-      const Eigen::Vector3d through = c.transpose() + omega.cross(t) / omega.squaredNorm();
-      // rounding noise said as 0 (below 1e-9 of a unit direction, of the size for a point)
-      auto unit = [](double v) { return std::abs(v) < 1e-9 ? 0.0 : v; };
-      auto point = [size](double v) { return std::abs(v) < 1e-9 * size ? 0.0 : v; };
-      os << "the rotation about the axis (" << numberText(unit(axis.x())) << ", " << numberText(unit(axis.y())) << ", "
-         << numberText(unit(axis.z())) << ") through (" << numberText(point(through.x())) << ", "
-         << numberText(point(through.y())) << ", " << numberText(point(through.z()))
-         << ") is free (no support, symmetry side or pin holds it) and the loads do work on it";
-    }
+    os << "the rotation about the axis (" << numberText(unit(axis.x())) << ", " << numberText(unit(axis.y())) << ", "
+       << numberText(unit(axis.z())) << ") through (" << numberText(point(through.x())) << ", "
+       << numberText(point(through.y())) << ", " << numberText(point(through.z()))
+       << ") is free (no support, symmetry side or pin holds it)" << onIt;
     return os.str();
   }
+  return std::string();
+}
+
+std::string Simulation::freeRigidMotionLoaded(const ControlNet& load, bool rotations) const {
+  return freeRigidMotion(&load, rotations);
+}
+
+std::string Simulation::freeTranslationRefusal(const ControlNet& load) const {
+  const std::string loaded = freeRigidMotion(&load, false);
+  if (!loaded.empty())
+    return loaded + ": there is no equilibrium; hold it somewhere (a pin holding that component: pins and holdPins; "
+                    "a side's hold components)";
+  const std::string free = freeRigidMotion(nullptr, false);
+  if (!free.empty())
+    return free + ": the loads do no work on it, but any slide along it is an equilibrium as well, so there is no "
+                  "unique one; hold it somewhere (a pin holding that component: pins and holdPins; a side's hold "
+                  "components)";
   return std::string();
 }
 
