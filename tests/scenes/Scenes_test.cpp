@@ -1360,8 +1360,13 @@ TEST_CASE("bsdeform-run --static --arc-length: the hinged roof's path through it
   CHECK(*peak > 0.7);
   CHECK(*peak < 0.8);
   CHECK(*std::min_element(peak, loads.end()) < 0.5 * *peak);
-  CHECK(loads.back() > 1.0);
+  CHECK(loads.back() == 1.0);  // ends at --max-load (default 1) exactly, not past it
+  CHECK(r.err.find("warning") == std::string::npos);
   CHECK(!slurp(dir.path + "/arc/Roof_load_path.png").empty());
+  // a path that runs out of steps before the largest load factor says so
+  const Run shortPath = run(scene("hinged_roof_snap.iv") + " --static --arc-length --load-steps 8 -o short", dir.path);
+  CHECK(shortPath.code == 0);
+  CHECK(shortPath.err.find("below --max-load 1; raise --load-steps") != std::string::npos);
   // refusals, naming the option
   const Run noStatic = run(scene("hinged_roof_snap.iv") + " --arc-length -o x", dir.path);
   CHECK(noStatic.code == 2);

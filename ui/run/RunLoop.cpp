@@ -398,6 +398,12 @@ Failure RunLoop::runStatic() {
                                   ? QStringLiteral(", %1 fixed-point iterations of the position-dependent loads").arg(r.loadIterations)
                                   : QString())
                   + QStringLiteral("; the reactions balance the applied loads to %1 of them").arg(imbalance, 0, 'g', 3);
+    // a path that ran out of steps before the largest load factor: the answer is partial, say so
+    if (o.arcLength && shell && !r.increments.empty() && r.increments.back().loadFactor < o.maxLoad)
+      std::fprintf(stderr,
+                   "bsdeform-run: warning: surface %s: the arc-length path stopped after %d points at load factor "
+                   "%g, below --max-load %g; raise --load-steps to go on\n",
+                   utf8(s.name).constData(), o.loadSteps, r.increments.back().loadFactor, o.maxLoad);
   }
   const double seconds = timer.elapsed() / 1000.0;
   if (o.pngEvery > 0 || !o.pngAt.isEmpty()) {

@@ -56,7 +56,7 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
     const Eigen::VectorXd R = gi - li * Fi;
     return R.norm() / (gi.norm() + std::abs(li) * Fi.norm() + 1e-300);
   };
-  for (int step = 1; step <= options.maxSteps && lambda <= options.maxLoad; ++step) {
+  for (int step = 1; step <= options.maxSteps && lambda < options.maxLoad; ++step) {
     // predictor: the tangent at the last equilibrium
     problem.evaluate(x, g, F);
     if (!lu.factor(problem.tangent(x), problem.lowerOnly))
@@ -134,6 +134,46 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
           }
           ++it;
           break;
+        }
+      }
+      if (converged && lambda < options.maxLoad && li > options.maxLoad) {
+        // the path crosses the largest load factor going up: it ends at exactly that load, the
+        // equilibrium there found by Newton at fixed load from the straight line between the two
+        // points (kept past it when that does not converge, e.g. right at a limit point)
+        Eigen::VectorXd xf = x + ((options.maxLoad - lambda) / (li - lambda)) * dx;
+        bool reached = false;
+        int itf = 0;
+        double rf = 0.0;
+        for (; itf <= options.maxIterations; ++itf) {
+          problem.evaluate(xf, g, F);
+          if (!g.allFinite()) break;
+          rf = relative(g, F, options.maxLoad);
+          if (rf <= options.tolerance) {
+            reached = true;
+            break;
+          }
+          if (itf == options.maxIterations || !lu.factor(problem.tangent(xf), problem.lowerOnly)) break;
+          const Eigen::VectorXd d = lu.solve(-(g - options.maxLoad * F));
+          if (!d.allFinite()) break;
+          xf += d;
+          const double updateTolerance =
+              std::max(options.updateTolerance, problem.updateTolerance ? problem.updateTolerance(xf) : 0.0);
+          if (updateTolerance > 0.0 && d.cwiseAbs().maxCoeff() <= updateTolerance) {
+            problem.evaluate(xf, g, F);
+            if (g.allFinite()) {
+              reached = true;
+              rf = relative(g, F, options.maxLoad);
+            }
+            ++itf;
+            break;
+          }
+        }
+        if (reached) {
+          dx = xf - x;
+          xi = xf;
+          li = options.maxLoad;
+          point.residual = rf;
+          it += itf;
         }
       }
       if (converged) {

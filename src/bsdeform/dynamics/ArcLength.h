@@ -46,7 +46,9 @@ struct ArcLengthProblem {
 
 struct ArcLengthOptions {
   int maxSteps = 20;         ///< converged points to find at most
-  double maxLoad = 1.0;      ///< stop once the load factor passes this (> 0)
+  /// (> 0) the path ends at this load factor: a step that would pass it going up ends at an
+  /// equilibrium at exactly this load (Newton at fixed load; past it if that fails to converge)
+  double maxLoad = 1.0;
   /// The arc length Δl; 0: the length of the linear response to a load factor of
   /// maxLoad / maxSteps (so that a linear structure reaches maxLoad in maxSteps steps).
   double arcLength = 0.0;
@@ -72,7 +74,7 @@ struct ArcLengthPoint {
 };
 
 /// The path from x0 (an equilibrium at λ = 0) for at most options.maxSteps steps or until the
-/// load factor passes options.maxLoad. `each`, when given, is called with every converged point.
+/// load factor reaches options.maxLoad (the last point then at exactly it, see there). `each`, when given, is called with every converged point.
 /// @throws std::runtime_error naming the step and the load factor reached when a step does not
 ///         converge even at 2^-maxCuts of the arc length or at minArcLength (the path stalls),
 ///         or the tangent cannot be factorised; the points before it have gone to `each`
