@@ -1168,7 +1168,7 @@ std::string wholeRoof(int spans, const std::string& fields) {
 }  // namespace
 
 TEST_CASE("bsdeform-run --static: a roof on two diaphragms, its axial slide held by one pin holding Y, solves and its "
-          "final.iv reopens; without the pin it is refused naming the slide",
+          "final.iv reopens, and without the pin it is refused naming the slide",
           "[scenes]") {
   TempDir dir;
   const std::string diaphragms = "boundaryUMin FREE boundaryUMax FREE boundaryVMin SIMPLY_SUPPORTED boundaryVMax "
