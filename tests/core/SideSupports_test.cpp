@@ -30,6 +30,32 @@ ModelParameters shell(int spansU, int spansV, Boundaries b, ShellMaterial m) {
 SideSupport hinge(unsigned components) { return SideSupport{SideSupport::Kind::Hinge, components}; }
 SideSupport symmetry() { return SideSupport{SideSupport::Kind::Symmetry, 7}; }
 
+// The quarter of a cylindrical roof (radius R, half length halfL, half angle theta) at the
+// Greville abscissae: u round the arc from the crown (x = 0) to the free edge, v along the axis
+// from mid-span (y = 0) to the end (bicubic only).
+ControlNet quarterRoof(const SplineSpace& s, double R, double halfL, double theta) {
+  ControlNet net(s.netSize(), 3);
+  for (int i = 0; i < s.netRows(); ++i)
+    for (int j = 0; j < s.netCols(); ++j) {
+      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
+      net.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
+    }
+  return net;
+}
+
+// The quarter x, y >= 0 of a hemisphere of radius R with a hole at latitude `top` (the points
+// at the Greville abscissae on the sphere: u round the equator, v up to the hole; bicubic only).
+ControlNet openQuarterHemisphere(const SplineSpace& s, double R, double top) {
+  ControlNet net(s.netSize(), 3);
+  for (int i = 0; i < s.netRows(); ++i)
+    for (int j = 0; j < s.netCols(); ++j) {
+      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), phi = 0.5 * kPi * u, lat = top * v;
+      net.row(Eigen::Index(i) * s.netCols() + j) << R * std::cos(lat) * std::cos(phi),
+          R * std::cos(lat) * std::sin(phi), R * std::sin(lat);
+    }
+  return net;
+}
+
 // The quarter x, y, z >= 0 of the closed hemisphere of radius R (bicubic only), without a
 // degenerate pole: the unit square maps onto the three-sided region by
 // S(u, v) = R (sin a, sin b, cos a cos b) / |...|, a = pi u / 2, b = pi v / 2. Its sides u = 0 and
@@ -164,12 +190,7 @@ TEST_CASE("Scordelis-Lo roof as a quarter model: two SYMMETRY sides and a rigid 
   p.sideSupports[2] = symmetry();
   p.sideSupports[3] = hinge(1 | 4);
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-  ControlNet rest(s.netSize(), 3);
-  for (int i = 0; i < s.netRows(); ++i)
-    for (int j = 0; j < s.netCols(); ++j) {
-      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
-      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
-    }
+  const ControlNet rest = quarterRoof(s, R, halfL, theta);
   Simulation roof(p, rest);
   // the reference is linear theory: the load scaled by 1e-4 and the deflection back by 1e4 (at
   // the full load the geometrically exact shell stiffens: w = 0.253, w/t = 1)
@@ -218,12 +239,7 @@ TEST_CASE("Diaphragms against fully held ends: the Scordelis-Lo roof on rigid di
     p.sideSupports[2] = symmetry();
     p.sideSupports[3] = hinge(endHolds);
     const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-    ControlNet rest(s.netSize(), 3);
-    for (int i = 0; i < s.netRows(); ++i)
-      for (int j = 0; j < s.netCols(); ++j) {
-        const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
-        rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
-      }
+    const ControlNet rest = quarterRoof(s, R, halfL, theta);
     Simulation roof(p, rest);
     roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -90.0 * scale)));
     const StaticResult r = roof.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
@@ -416,12 +432,7 @@ TEST_CASE("Reactions of the Scordelis-Lo quarter: a SYMMETRY plane carries no fo
   p.sideSupports[2] = symmetry();
   p.sideSupports[3] = hinge(1 | 4);
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-  ControlNet rest(s.netSize(), 3);
-  for (int i = 0; i < s.netRows(); ++i)
-    for (int j = 0; j < s.netCols(); ++j) {
-      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
-      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
-    }
+  const ControlNet rest = quarterRoof(s, R, halfL, theta);
   Simulation roof(p, rest);
   roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -90.0)));
   const StaticResult r = roof.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
@@ -463,13 +474,7 @@ TEST_CASE("Pinched hemisphere with an 18 degree hole as a quarter with two SYMME
   p.sideSupports[0] = symmetry();
   p.sideSupports[1] = symmetry();
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-  ControlNet rest(s.netSize(), 3);
-  for (int i = 0; i < s.netRows(); ++i)
-    for (int j = 0; j < s.netCols(); ++j) {
-      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), phi = 0.5 * kPi * u, lat = top * v;
-      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::cos(lat) * std::cos(phi),
-          R * std::cos(lat) * std::sin(phi), R * std::sin(lat);
-    }
+  const ControlNet rest = openQuarterHemisphere(s, R, top);
   p.heldCoordinates.push_back({Eigen::Index(1) * s.netCols() + 1, 2});
   Simulation h(p, rest);
   const double scale = 1e-3;  // linear
@@ -547,12 +552,7 @@ TEST_CASE("BACKWARD_EULER and IMPLICIT take supports per component and SYMMETRY 
   p.damping = 8.0;  // about critical: the roof's first mode is near 3.8 rad/s here
   p.newtonVelocityTolerance = 1e-9;
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-  ControlNet rest(s.netSize(), 3);
-  for (int i = 0; i < s.netRows(); ++i)
-    for (int j = 0; j < s.netCols(); ++j) {
-      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), a = theta * u;
-      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::sin(a), halfL * v, R * std::cos(a);
-    }
+  const ControlNet rest = quarterRoof(s, R, halfL, theta);
   Simulation roof(p, rest);
   roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -90.0)));
   const StaticResult st = roof.solveStatic(1e-10, 100, LinearSolver::Automatic, 1);
@@ -646,13 +646,7 @@ TEST_CASE("The static Newton's convergence does not depend on the load's size: a
   p.sideSupports[0] = symmetry();
   p.sideSupports[1] = symmetry();
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
-  ControlNet rest(s.netSize(), 3);
-  for (int i = 0; i < s.netRows(); ++i)
-    for (int j = 0; j < s.netCols(); ++j) {
-      const double u = s.grevilleU(i - 3), v = s.grevilleV(j - 3), phi = 0.5 * kPi * u, lat = top * v;
-      rest.row(Eigen::Index(i) * s.netCols() + j) << R * std::cos(lat) * std::cos(phi),
-          R * std::cos(lat) * std::sin(phi), R * std::sin(lat);
-    }
+  const ControlNet rest = openQuarterHemisphere(s, R, top);
   p.heldCoordinates.push_back({Eigen::Index(1) * s.netCols() + 1, 2});
   double first = 0.0;
   for (double scale : {1e-6, 1e-4}) {

@@ -28,6 +28,17 @@
 using testutil::Coin;
 
 namespace {
+// The warning of a surface with `fields` (and on FALSE) after one step: what a refused field says.
+std::string warningAfterOneStep(const std::string& fields) {
+  SoSeparator* r = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { " + fields + " on FALSE } }");
+  REQUIRE(r);
+  auto* n = testutil::find<SoBSplineDeformSurface>(r);
+  n->stepSimulation(1);
+  const std::string w = n->lastWarning();
+  r->unref();
+  return w;
+}
+
 const char* kScene = R"IV(#Inventor V2.1 ascii
 Separator {
   DEF Surf SoBSplineDeformSurface {
@@ -238,16 +249,7 @@ TEST_CASE("SoBSplineDeformSurface: holdUMin and SYMMETRY read, write back and re
   again->unref();
   root->unref();
   // components on a side that is not SIMPLY_SUPPORTED, on the paper's energy: refused by name
-  auto refusedField = [](const char* fields) {
-    SoSeparator* r = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { ") + fields +
-                                    " on FALSE } }");
-    REQUIRE(r);
-    auto* n = testutil::find<SoBSplineDeformSurface>(r);
-    n->stepSimulation(1);
-    const std::string w = n->lastWarning();
-    r->unref();
-    return w;
-  };
+  const auto refusedField = warningAfterOneStep;
   CHECK_THAT(refusedField("energy SHELL boundaryUMin FREE holdUMin X"),
              Catch::Contains("field 'holdUMin'") && Catch::Contains("is neither"));
   CHECK_THAT(refusedField("boundaryUMin SIMPLY_SUPPORTED holdUMin X"),
@@ -915,14 +917,7 @@ TEST_CASE("SoBSplineDeformSurface: motionUMax moves a CLAMPED side, set or drive
     root->unref();
   }
   auto refusedField = [&strip](const std::string& fields) {
-    SoSeparator* r = testutil::read("#Inventor V2.1 ascii\nSeparator { SoBSplineDeformSurface { " + strip + fields +
-                                    " motionUMax 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0.1 1 } }");
-    REQUIRE(r);
-    auto* n = testutil::find<SoBSplineDeformSurface>(r);
-    n->stepSimulation(1);
-    const std::string w = n->lastWarning();
-    r->unref();
-    return w;
+    return warningAfterOneStep(strip + fields + " motionUMax 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0.1 1");
   };
   CHECK_THAT(refusedField("boundaryUMax FREE"), Catch::Contains("field 'motionUMax'") && Catch::Contains("CLAMPED"));
   CHECK_THAT(refusedField("integrator EXPLICIT"),

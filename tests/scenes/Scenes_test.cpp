@@ -1426,6 +1426,7 @@ struct Soup {
 };
 
 // Every pair (i of a, j of b) whose boxes overlap (sort and sweep along x); with `self`, i < j.
+// The test's own, not the broad phase under test (BroadPhase.h), so that the check is independent.
 template <typename F>
 void overlappingPairs(const std::vector<Eigen::AlignedBox3d>& a, const std::vector<Eigen::AlignedBox3d>& b, bool self,
                       F&& each) {

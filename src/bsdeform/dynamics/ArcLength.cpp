@@ -52,6 +52,11 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
   Eigen::VectorXd lastIncrement;  // the last converged step's Δx (empty before the first)
   double lastLoadIncrement = 0.0;
   double dl = options.arcLength, firstLength = options.arcLength;
+  // a Newton correction below this length at x counts as converged (the relative residual has a
+  // rounding floor where large internal forces cancel; a correction's length does not)
+  auto updateToleranceAt = [&](const Eigen::VectorXd& at) {
+    return std::max(options.updateTolerance, problem.updateTolerance ? problem.updateTolerance(at) : 0.0);
+  };
   auto relative = [](const Eigen::VectorXd& gi, const Eigen::VectorXd& Fi, double li) {
     const Eigen::VectorXd R = gi - li * Fi;
     return R.norm() / (gi.norm() + std::abs(li) * Fi.norm() + 1e-300);
@@ -124,8 +129,7 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
         // or converged when the correction is below the update tolerance: the relative residual
         // has a rounding floor where large internal forces cancel (it then stays above the
         // tolerance however close the point is), a Newton correction's length does not
-        const double updateTolerance =
-            std::max(options.updateTolerance, problem.updateTolerance ? problem.updateTolerance(xi) : 0.0);
+        const double updateTolerance = updateToleranceAt(xi);
         if (updateTolerance > 0.0 && correction.cwiseAbs().maxCoeff() <= updateTolerance) {
           problem.evaluate(xi, g, F);
           if (g.allFinite()) {
@@ -156,8 +160,7 @@ std::vector<ArcLengthPoint> arcLengthPath(const Eigen::VectorXd& x0, const ArcLe
           const Eigen::VectorXd d = lu.solve(-(g - options.maxLoad * F));
           if (!d.allFinite()) break;
           xf += d;
-          const double updateTolerance =
-              std::max(options.updateTolerance, problem.updateTolerance ? problem.updateTolerance(xf) : 0.0);
+          const double updateTolerance = updateToleranceAt(xf);
           if (updateTolerance > 0.0 && d.cwiseAbs().maxCoeff() <= updateTolerance) {
             problem.evaluate(xf, g, F);
             if (g.allFinite()) {

@@ -154,21 +154,23 @@ void Simulation::setSideMotion(int side, const Eigen::Matrix3d& linear, const Ei
   require(linear.allFinite() && offset.allFinite(), std::string("the motion of side ") + names[side] + " is not finite");
   m_sideMoved[size_t(side)] = true;
   m_sideMap[size_t(side)] << linear, offset;
-  for (Eigen::Index r : m_sideRows[size_t(side)])
-    m_heldTarget.row(r) = (linear * m_rest.row(r).transpose() + offset).transpose();
+  updateHeldTarget();
 }
 
 void Simulation::clearSideMotion(int side) {
   require(side >= 0 && side < 4, "clearSideMotion: side must be 0..3, got " + std::to_string(side));
   if (!m_sideMoved[size_t(side)]) return;
   m_sideMoved[size_t(side)] = false;
-  for (Eigen::Index r : m_sideRows[size_t(side)]) m_heldTarget.row(r) = m_rest.row(r);
-  // a corner row that a neighbour still moves stays where that neighbour puts it
-  for (int other = 0; other < 4; ++other)
-    if (m_sideMoved[size_t(other)]) {
-      const Eigen::Matrix3d linear = m_sideMap[size_t(other)].leftCols<3>();
-      const Eigen::Vector3d offset = m_sideMap[size_t(other)].col(3);
-      for (Eigen::Index r : m_sideRows[size_t(other)])
+  updateHeldTarget();
+}
+
+void Simulation::updateHeldTarget() {
+  m_heldTarget = m_rest;
+  for (int side = 0; side < 4; ++side)
+    if (m_sideMoved[size_t(side)]) {
+      const Eigen::Matrix3d linear = m_sideMap[size_t(side)].leftCols<3>();
+      const Eigen::Vector3d offset = m_sideMap[size_t(side)].col(3);
+      for (Eigen::Index r : m_sideRows[size_t(side)])
         m_heldTarget.row(r) = (linear * m_rest.row(r).transpose() + offset).transpose();
     }
 }

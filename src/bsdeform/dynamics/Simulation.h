@@ -469,6 +469,9 @@ class Simulation {
   std::array<bool, 4> m_sideMoved{};
   std::array<Eigen::Matrix<double, 3, 4>, 4> m_sideMap;
   ControlNet m_heldTarget;
+  /// m_heldTarget from m_rest and the moved sides' maps (a corner two moved sides share: the
+  /// refusal checks their maps are equal).
+  void updateHeldTarget();
   /// Whether some row a side holds is not at m_heldTarget's in `net`.
   bool heldRowsMoved(const ControlNet& net) const;
   /// net's held-layer rows := from's + alpha (m_heldTarget's - from's) (alpha 1: exactly the target's).
