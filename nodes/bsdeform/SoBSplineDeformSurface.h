@@ -33,11 +33,11 @@
 ///   damping 0.5           # [c] >= 0, same convention as mass
 ///   timeStep 0.1          # [Delta t] simulated seconds per step, > 0
 ///   integrator EXPLICIT   # EXPLICIT (central differences, sub-stepped) | IMPLICIT (Newmark) |
-///                         # BACKWARD_EULER (SHELL: incremental potential, forces in Newton; for cloth)
+///                         # BACKWARD_EULER (either energy: incremental potential, forces in Newton; cloth)
 ///   maxSubSteps 10000     # EXPLICIT: a step needing more sub-steps is refused, not run for minutes
-///   newtonTolerance 1e-8  # SHELL, IMPLICIT and static: Newton's relative residual, in (0, 1)
-///   maxNewtonIterations 30 # SHELL, IMPLICIT: a step needing more iterations fails (reported)
-///   newtonVelocityTolerance 1e-4 # SHELL, BACKWARD_EULER: converged when max update / dt is below (m/s)
+///   newtonTolerance 1e-8  # BACKWARD_EULER, SHELL IMPLICIT and static: Newton's relative residual
+///   maxNewtonIterations 30 # BACKWARD_EULER, SHELL IMPLICIT: more iterations fail the step (reported)
+///   newtonVelocityTolerance 1e-4 # BACKWARD_EULER: converged when max update / dt is below (m/s)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -164,11 +164,11 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble mass;              ///< m: per control point (NODAL) or per unit area (LUMPED); 1
   SoSFDouble damping;           ///< c, same convention; 0.5
   SoSFDouble timeStep;          ///< Delta t in simulated seconds; 0.1
-  SoSFEnum integrator;          ///< EXPLICIT, IMPLICIT or BACKWARD_EULER (SHELL); EXPLICIT
+  SoSFEnum integrator;          ///< EXPLICIT, IMPLICIT or BACKWARD_EULER; EXPLICIT
   SoSFInt32 maxSubSteps;        ///< explicit: more sub-steps per step are refused (>= 1); 10000
-  SoSFDouble newtonTolerance;   ///< SHELL implicit and static: Newton's relative residual; 1e-8
-  SoSFInt32 maxNewtonIterations;  ///< SHELL implicit: a step needing more iterations fails; 30
-  SoSFDouble newtonVelocityTolerance;  ///< SHELL BACKWARD_EULER: max update / dt at convergence (m/s); 1e-4
+  SoSFDouble newtonTolerance;   ///< BACKWARD_EULER, SHELL implicit and static: Newton's relative residual; 1e-8
+  SoSFInt32 maxNewtonIterations;  ///< BACKWARD_EULER, SHELL implicit: a step needing more iterations fails; 30
+  SoSFDouble newtonVelocityTolerance;  ///< BACKWARD_EULER: max update / dt at convergence (m/s); 1e-4
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED

@@ -183,12 +183,6 @@ TEST_CASE("BACKWARD_EULER is bit-identical for one and two threads", "[shell]") 
   CHECK((results[0].array() == results[1].array()).all());
 }
 
-TEST_CASE("BACKWARD_EULER is refused for the paper's energy", "[shell]") {
-  ModelParameters p;
-  p.integrator = Integrator::BackwardEuler;
-  CHECK_THROWS_AS(Simulation(p), std::invalid_argument);
-}
-
 // [slow]: a minute under the sanitizers (the Release suite runs it)
 TEST_CASE("IMPLICIT (Newmark) takes the forces at the iterate: a sheet bouncing on a penalty plane gains no energy",
           "[shell][slow]") {

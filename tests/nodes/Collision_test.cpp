@@ -322,6 +322,30 @@ TEST_CASE("Collision: method BARRIER reads its fields, keeps a SHELL cloth off a
   root->unref();
 }
 
+TEST_CASE("Collision: method BARRIER under the paper's energy with BACKWARD_EULER keeps a sheet off a box", "[nodes]") {
+  SoSeparator* root = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator {\n"
+      "Separator { Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 1.4 height 1.4 depth 2 } }\n"
+      "DEF Sheet SoBSplineDeformSurface {\n"
+      "  on FALSE numUControlPoints 6 numVControlPoints 6\n"
+      "  boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE\n"
+      "  massModel LUMPED mass 0.15 damping 0.02 timeStep 0.02 integrator BACKWARD_EULER\n"
+      "  forces [ SoForceField { type GRAVITY force 0 0 -9.81 },\n"
+      "           SoForceField { type COLLISION obstacles [ USE Box ] method BARRIER thickness 0.01"
+      " dhat 0.002 proxySamples 3 } ]\n}\n}\n");
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = prepare(root);
+  REQUIRE(s->energy.getValue() == SoBSplineDeformSurface::PAPER_ENERGY);
+  for (int k = 0; k < 30; ++k) {
+    const bool ok = s->stepSimulation(1);
+    INFO("step " << k << ": " << s->simulation().statusMessage());
+    REQUIRE(ok);
+    CHECK(s->simulation().evaluate(0.5, 0.5).position.z() > -0.05 + 0.01 - 1e-9);
+  }
+  CHECK(s->simulation().evaluate(0.5, 0.5).position.z() < -0.05 + 0.01 + 0.002 + 1e-3);  // it got there
+  root->unref();
+}
+
 TEST_CASE("Collision: two surfaces with method BARRIER, one dropped on the other, never come within the offset",
           "[nodes][slow]") {
   // the lower sheet lies on a plate; the upper, turned by 45 degrees, falls onto it; each lists

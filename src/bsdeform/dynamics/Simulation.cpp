@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/MassMatrix.h"
 
 #include "bsdeform/dynamics/EdgeMass.h"
 #include "bsdeform/base/HugePages.h"
@@ -50,8 +51,6 @@ const ModelParameters& validated(const ModelParameters& p) {
                    "newtonTolerance", "must be in (0, 1), got " + num(p.newtonTolerance));
   requireParameter(std::isfinite(p.newtonVelocityTolerance) && p.newtonVelocityTolerance > 0.0,
                    "newtonVelocityTolerance", "must be a finite number > 0, got " + num(p.newtonVelocityTolerance));
-  requireParameter(p.integrator != Integrator::BackwardEuler || p.energy == EnergyModel::Shell, "integrator",
-                   "BACKWARD_EULER needs energy SHELL (the paper's model steps with EXPLICIT or IMPLICIT)");
   requireParameter(p.maxNewtonIterations >= 1, "maxNewtonIterations",
                    "must be >= 1, got " + std::to_string(p.maxNewtonIterations));
   for (size_t i = 0; i < p.pins.size(); ++i) {
@@ -112,6 +111,35 @@ double Simulation::massPerPoint() const {
   return m_params.massModel == MassModel::Nodal
              ? m_params.mass
              : m_params.mass * m_space.basisU().spacing() * m_space.basisV().spacing();
+}
+
+const MassMatrix& Simulation::massMatrix() const {
+  if (m_mass) return *m_mass;
+  // the paper's model: m I, the lumped masses, or T^T W T next to derived layers (EdgeMass)
+  const Eigen::Index n = m_space.numMoving();
+  std::vector<char> pinned(size_t(n), 0);
+  for (Eigen::Index f = 0; f < n; ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+  if (m_edgeMass) {
+    std::vector<Eigen::Triplet<double>> t = m_edgeMass->offDiagonal(1.0);
+    for (Eigen::Index f = 0; f < n; ++f) {
+      const Eigen::Index r = m_space.movingToNet(f);
+      t.emplace_back(f, f, m_edgeMass->diagonal(int(r / m_space.netCols()), int(r % m_space.netCols())));
+    }
+    Eigen::SparseMatrix<double> M(n, n);
+    M.setFromTriplets(t.begin(), t.end());
+    m_mass = std::make_unique<MassMatrix>(std::move(M), std::move(pinned));
+  } else {
+    m_mass = std::make_unique<MassMatrix>(
+        m_uniformMass ? Eigen::VectorXd::Constant(n, massPerPoint()) : Eigen::VectorXd(m_massMoving), std::move(pinned));
+  }
+  return *m_mass;
+}
+
+double Simulation::dampingRatio() const {
+  // C = c M for SHELL; the paper's C = c I (NODAL) or c h1 h2 I (LUMPED) is (c / m) M alike,
+  // its damping per point over its mass per point
+  if (m_shell) return m_params.damping;
+  return dampingPerPoint() / massPerPoint();
 }
 
 double Simulation::massPerArea() const {
@@ -324,8 +352,11 @@ void Simulation::init() {
       m_massMoving[f] = massAt(int(r / m_space.netCols()), int(r % m_space.netCols()));
     }
   }
+  m_mass.reset();  // built when a scheme asks (massMatrix()): the fused kernels do not
   if (m_params.integrator == Integrator::Implicit)
     m_stepper = std::make_unique<PaperImplicitStepper>(*this);
+  else if (m_params.integrator == Integrator::BackwardEuler)
+    m_stepper = std::make_unique<BackwardEulerStepper>(*this);
   else
     m_stepper = std::make_unique<PaperExplicitStepper>(*this);
   rebuildConstantLoad();
@@ -478,7 +509,7 @@ void Simulation::applyStartRule() {
   const double delta = subStepSize();
   ControlNet acceleration = load - elastic;
   if (m_shell) {
-    shellSolveMass(acceleration);
+    m_mass->solve(acceleration);
     for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) {
       const Eigen::Index r = m_space.movingToNet(f);
       if (!m_pinMask[size_t(r)]) m_previous.row(r) = m_current.row(r) + (0.5 * delta * delta) * acceleration.row(f);
@@ -555,7 +586,7 @@ std::string Simulation::refusal() const {
 double Simulation::dragStiffness() const {
   if (!m_shell) return m_stencilLambda;
   const double twoPiF = 2.0 * 3.14159265358979323846 * 5.0;
-  return m_shellMass.diagonal().sum() * twoPiF * twoPiF;
+  return m_mass->diagonal().sum() * twoPiF * twoPiF;
 }
 
 Status Simulation::step() {
@@ -715,7 +746,7 @@ double Simulation::kineticEnergy() const {
   const double dt = subStepSize();
   if (m_shell) {
     const ControlNet v = m_space.gatherMoving(m_current) - m_space.gatherMoving(m_previous);
-    return 0.5 * v.cwiseProduct(shellApplyMass(v)).sum() / (dt * dt);
+    return m_mass->kineticEnergy(v) / (dt * dt);
   }
   if (m_uniformMass) {
     double sum = 0.0;

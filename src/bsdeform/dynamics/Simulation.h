@@ -32,12 +32,13 @@
 
 namespace bsdeform {
 
+class MassMatrix;
 class TimeStepper;
 
 enum class Integrator {
   Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
   Implicit,  ///< Newmark beta = 1/4, gamma = 1/2 in displacement form; see ImplicitSystem.h
-  /// SHELL only: backward Euler as the minimisation of the incremental potential, every force
+  /// Either energy: backward Euler as the minimisation of the incremental potential, every force
   /// inside the Newton system (its Jacobian), a line search on the potential; first order,
   /// dissipative: the total energy never rises without work done (checked). For cloth.
   BackwardEuler,
@@ -131,7 +132,7 @@ struct ModelParameters {
   /// SHELL, implicit: a step whose Newton iteration needs more iterations fails (reported,
   /// the last valid state kept); static: per load increment.
   int maxNewtonIterations = 30;
-  /// SHELL, BACKWARD_EULER: Newton has converged when its largest update, divided by the time
+  /// BACKWARD_EULER: Newton has converged when its largest update, divided by the time
   /// step, is below this velocity (m/s in SI scenes); > 0. The residual criterion above also
   /// ends it.
   double newtonVelocityTolerance = 1e-4;
@@ -403,17 +404,13 @@ class Simulation {
   void fail(Status s, std::string message);
   // SHELL (SimulationShell.cpp)
   void initShell();
-  /// a := M^-1 a on the unknowns (pinned rows: zero).
-  void shellSolveMass(ControlNet& a) const;
-  /// M a on the unknowns.
-  ControlNet shellApplyMass(const ControlNet& a) const;
-  /// scale T^T H T + shift M (+ forceScale times the forces' Jacobians at `forces`, their
-  /// velocity part times velocityScale, symmetrised) over the unknowns' coordinates (3 f + c),
-  /// assembled in place (TangentMatrix: fixed pattern, lower triangle), held coordinates
-  /// replaced by identity rows.
-  const Eigen::SparseMatrix<double>& shellTangent(const ControlNet& net, double scale, double shift, HessianMode mode,
-                                                  const LoadContext* forces = nullptr, double velocityScale = 0.0,
-                                                  double forceScale = 1.0) const;
+  /// scale H + shift M (+ forceScale times the forces' Jacobians at `forces`, their velocity
+  /// part times velocityScale, symmetrised) over the unknowns' coordinates (3 f + c), assembled
+  /// in place (TangentMatrix: fixed pattern, lower triangle), held coordinates replaced by
+  /// identity rows. H: SHELL's T^T H(net) T by elements (`mode`), the paper's constant A_II.
+  const Eigen::SparseMatrix<double>& tangent(const ControlNet& net, double scale, double shift, HessianMode mode,
+                                             const LoadContext* forces = nullptr, double velocityScale = 0.0,
+                                             double forceScale = 1.0) const;
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   void shellUpdateBound();
@@ -481,12 +478,18 @@ class Simulation {
   // SHELL
   const ShellModelEnergy* m_shellModel = nullptr;  ///< m_energy for SHELL, else null
   const ShellEnergy* m_shell = nullptr;            ///< its ShellEnergy
-  /// The unknowns' mass T^T W T: diagonal (m_shellMassDiag) unless some side has derived layers
-  /// (m_shellMass, factorised without the pinned rows in m_shellMassSolver).
-  Eigen::VectorXd m_shellMassDiag;
-  Eigen::SparseMatrix<double> m_shellMass;
-  struct MassSolver;
-  std::shared_ptr<MassSolver> m_shellMassSolver;
+  /// The unknowns' mass, both models (MassMatrix.h): the paper's m I, its lumped or edge mass,
+  /// the SHELL's T^T W T. The paper's explicit and implicit schemes keep their fast paths
+  /// (m_uniformMass, m_massMoving, m_edgeMass); every other scheme reads this.
+  mutable std::unique_ptr<MassMatrix> m_mass;
+  /// m_mass, built at the first call for the paper's model.
+  const MassMatrix& massMatrix() const;
+  /// c in C = c M (the damping matrix as a multiple of the mass).
+  double dampingRatio() const;
+  /// The loads that do not change within a step: m_constantLoad without the paper's c0 (which
+  /// ElasticEnergy::gradient() has).
+  ControlNet forcesConstantLoad() const { return m_paper ? ControlNet(m_constantLoad - m_paper->restOffset()) : m_constantLoad; }
+  mutable Eigen::SparseMatrix<double> m_paperStiffness;  ///< A_II (both triangles), the paper's tangent (first use)
   mutable std::unique_ptr<TangentMatrix> m_tangent;  ///< the Newton tangent's fixed pattern (first use)
   /// ModelParameters::sideSupports on the unknowns (null without any)
   std::unique_ptr<ComponentConstraints> m_components;
@@ -508,7 +511,7 @@ class Simulation {
   friend class PaperImplicitStepper;
   friend class ShellExplicitStepper;
   friend class ShellImplicitStepper;
-  friend class ShellBackwardEulerStepper;
+  friend class BackwardEulerStepper;
 };
 
 }  // namespace bsdeform

@@ -15,18 +15,12 @@
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/base/NumberText.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "bsdeform/dynamics/MassMatrix.h"
 #include "bsdeform/dynamics/NewtonMinimizer.h"
 #include "bsdeform/dynamics/SimulationPrivate.h"
 #include "bsdeform/dynamics/TimeStepper.h"
 
 namespace bsdeform {
-
-struct Simulation::MassSolver {
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
-  std::vector<Eigen::Index> freeOf;  ///< unknown -> row of the reduced matrix, -1 if pinned
-  Eigen::Index size = 0;
-};
-
 
 LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet& previous, double stepSize,
                                     double t) const {
@@ -41,45 +35,18 @@ void Simulation::initShell() {
   m_shell = &model->shell();
   m_energy = std::move(model);
   m_paper = nullptr;
-  const std::vector<int>& foldStart = m_shellModel->foldStart();
-  const std::vector<std::pair<Eigen::Index, double>>& fold = m_shellModel->foldEntries();
-  const Eigen::VectorXd& W = m_shellModel->netMass();
-  const int cols = m_space.netCols();
-  // M = T^T W T
-  const Eigen::Index n = m_space.numMoving();
-  std::vector<Eigen::Triplet<double>> t;
-  for (Eigen::Index p = 0; p < m_space.netSize(); ++p)
-    for (int a = foldStart[size_t(p)]; a < foldStart[size_t(p) + 1]; ++a)
-      for (int b = foldStart[size_t(p)]; b < foldStart[size_t(p) + 1]; ++b)
-        t.emplace_back(int(fold[size_t(a)].first), int(fold[size_t(b)].first),
-                       W[p] * fold[size_t(a)].second * fold[size_t(b)].second);
-  m_shellMass.resize(n, n);
-  m_shellMass.setFromTriplets(t.begin(), t.end());
-  m_shellMassSolver.reset();
-  if (!m_space.hasDerived()) {
-    m_shellMassDiag = m_shellMass.diagonal();
-  } else {
-    m_shellMassDiag.resize(0);
-    auto solver = std::make_shared<MassSolver>();
-    solver->freeOf.assign(size_t(n), -1);
-    for (Eigen::Index f = 0; f < n; ++f)
-      if (!m_pinMask[size_t(m_space.movingToNet(f))]) solver->freeOf[size_t(f)] = solver->size++;
-    std::vector<Eigen::Triplet<double>> reduced;
-    for (int k = 0; k < m_shellMass.outerSize(); ++k)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(m_shellMass, k); it; ++it) {
-        const Eigen::Index r = solver->freeOf[size_t(it.row())], c = solver->freeOf[size_t(it.col())];
-        if (r >= 0 && c >= 0) reduced.emplace_back(int(r), int(c), it.value());
-      }
-    Eigen::SparseMatrix<double> Mf(solver->size, solver->size);
-    Mf.setFromTriplets(reduced.begin(), reduced.end());
-    solver->ldlt.compute(Mf);
-    if (solver->ldlt.info() != Eigen::Success) throw std::runtime_error("SHELL: the mass matrix T^T W T is singular");
-    m_shellMassSolver = std::move(solver);
+  std::vector<char> pinned(size_t(m_space.numMoving()), 0);
+  for (Eigen::Index f = 0; f < m_space.numMoving(); ++f) pinned[size_t(f)] = m_pinMask[size_t(m_space.movingToNet(f))];
+  try {
+    m_mass = MassMatrix::folded(m_space, m_shellModel->netMass(), std::move(pinned));
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string("SHELL: ") + e.what());
   }
+  const int cols = m_space.netCols();
   m_uniformMass = false;
-  m_massMoving = m_shellMass.diagonal();
+  m_massMoving = m_mass->diagonal();
   if (m_params.integrator == Integrator::BackwardEuler)
-    m_stepper = std::make_unique<ShellBackwardEulerStepper>(*this);
+    m_stepper = std::make_unique<BackwardEulerStepper>(*this);
   else if (m_params.integrator == Integrator::Implicit)
     m_stepper = std::make_unique<ShellImplicitStepper>(*this);
   else
@@ -101,32 +68,6 @@ ControlNet Simulation::elasticForce() const {
 
 ShellEnergies Simulation::shellEnergies() const { return m_shell ? m_shell->energy(m_current) : ShellEnergies(); }
 
-void Simulation::shellSolveMass(ControlNet& a) const {
-  if (!m_shellMassSolver) {
-    for (Eigen::Index f = 0; f < a.rows(); ++f)
-      if (m_pinMask[size_t(m_space.movingToNet(f))])
-      a.row(f).setZero();
-    else
-      a.row(f) /= m_shellMassDiag[f];
-    return;
-  }
-  const MassSolver& s = *m_shellMassSolver;
-  Eigen::MatrixXd r(s.size, 3);
-  for (Eigen::Index f = 0; f < a.rows(); ++f)
-    if (s.freeOf[size_t(f)] >= 0) r.row(s.freeOf[size_t(f)]) = a.row(f);
-  const Eigen::MatrixXd x = s.ldlt.solve(r);
-  for (Eigen::Index f = 0; f < a.rows(); ++f)
-    if (s.freeOf[size_t(f)] >= 0)
-      a.row(f) = x.row(s.freeOf[size_t(f)]);
-    else
-      a.row(f).setZero();
-}
-
-ControlNet Simulation::shellApplyMass(const ControlNet& a) const {
-  if (!m_shellMassSolver) return m_shellMassDiag.asDiagonal() * a;
-  return m_shellMass * a;
-}
-
 namespace {
 /// Forces' Jacobian blocks into the tangent, symmetrised: ½ B at (p, q) and ½ Bᵀ at (q, p).
 class TangentSink final : public JacobianSink {
@@ -143,17 +84,28 @@ class TangentSink final : public JacobianSink {
 };
 }  // namespace
 
-const Eigen::SparseMatrix<double>& Simulation::shellTangent(const ControlNet& net, double scale, double shift,
-                                                            HessianMode mode, const LoadContext* forces,
-                                                            double velocityScale, double forceScale) const {
-  if (!m_tangent)
-    m_tangent = std::make_unique<TangentMatrix>(m_space, m_shellModel->foldStart(), m_shellModel->foldEntries());
+const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, double scale, double shift,
+                                                       HessianMode mode, const LoadContext* forces,
+                                                       double velocityScale, double forceScale) const {
+  if (!m_tangent) {
+    std::vector<int> foldStart;
+    std::vector<std::pair<Eigen::Index, double>> fold;
+    m_space.foldMap(foldStart, fold);
+    m_tangent = std::make_unique<TangentMatrix>(m_space, std::move(foldStart), std::move(fold));
+  }
   TangentMatrix& K = *m_tangent;
   K.setZero();
-  // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
-  m_shell->elementHessians(net, mode, m_space.periodicU(),
-                           [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
-  if (shift != 0.0) K.addScalarMatrix(m_shellMass, shift);
+  if (m_shell) {
+    // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
+    m_shell->elementHessians(net, mode, m_space.periodicU(),
+                             [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
+  } else {
+    // the paper's energy is quadratic: its Hessian is A_II at every state (positive
+    // semi-definite, nothing to project)
+    if (m_paperStiffness.rows() == 0) m_paperStiffness = m_stencil.movingMatrix();
+    K.addScalarMatrix(m_paperStiffness, scale);
+  }
+  if (shift != 0.0) K.addScalarMatrix(m_mass->matrix(), shift);
   if (forces) {
     TangentSink sink(K, forceScale);
     for (const auto& f : m_forces)
@@ -247,10 +199,10 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   // no rounding floor: thin shells under small loads sit on the relative residual's), or the
   // relative residual below the tolerance.
   const double extent = (m_rest.colwise().maxCoeff() - m_rest.colwise().minCoeff()).norm();
-  const double massMean = m_shellMass.diagonal().mean();
+  const double massMean = m_mass->diagonal().mean();
   double diag = 0.0;
   {
-    const Eigen::SparseMatrix<double>& K = shellTangent(net, 1.0, 0.0, HessianMode::Exact);
+    const Eigen::SparseMatrix<double>& K = tangent(net, 1.0, 0.0, HessianMode::Exact);
     for (int c = 0; c < K.outerSize(); ++c)
       for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
         if (it.row() == it.col()) diag = std::max(diag, std::abs(it.value()));
@@ -276,7 +228,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = loadContext(net, net, m_params.timeStep, 0.0);
     const Eigen::SparseMatrix<double>& K =
-        jacobians ? shellTangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor) : shellTangent(net, 1.0, shift, mode);
+        jacobians ? tangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor) : tangent(net, 1.0, shift, mode);
     if (!m_components) return K;
     folded = m_components->foldTangent(K, m_heldMask);
     return folded;
@@ -425,7 +377,7 @@ StaticResult Simulation::solveStaticArcLength(const ArcLengthOptions& options,
   };
   problem.tangent = [&](const Eigen::VectorXd& x) {
     toNet(x);
-    const Eigen::SparseMatrix<double>& K = shellTangent(net, 1.0, 0.0, HessianMode::Exact);
+    const Eigen::SparseMatrix<double>& K = tangent(net, 1.0, 0.0, HessianMode::Exact);
     return m_components ? m_components->foldTangent(K, m_heldMask) : Eigen::SparseMatrix<double>(K);
   };
   problem.lowerOnly = !m_components;

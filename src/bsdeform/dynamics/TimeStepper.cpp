@@ -3,6 +3,7 @@
 // shell's, each with the data only it uses. They read and write the state the Simulation holds
 // (its friends: `s` below is the Simulation).
 #include "bsdeform/dynamics/TimeStepper.h"
+#include "bsdeform/dynamics/MassMatrix.h"
 
 #include <Eigen/CholmodSupport>
 #include <algorithm>
@@ -225,7 +226,7 @@ bool ShellExplicitStepper::subStep(double t) {
   ControlNet a;
   s.shellGradient(s.m_current, a);
   a = load - a;
-  s.shellSolveMass(a);
+  s.m_mass->solve(a);
   bool ok = true;
   for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
     const Eigen::Index r = s.m_space.movingToNet(f);
@@ -276,7 +277,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     s.shellGradient(s.m_previous, m_gradPrevious);
     m_cached = true;
   }
-  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.shellApplyMass(P - Pm);
+  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.m_mass->apply(P - Pm);
   const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
   ControlNet net = s.m_current;
   ControlNet x = P + (P - Pm), g, R;
@@ -295,7 +296,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     xc = xi;
     s.completeUnknowns(xc, net);
     s.shellGradient(net, gi);
-    Ri = a * s.shellApplyMass(xc - P) + 0.25 * gi - fixed - stateLoad(xc);
+    Ri = a * s.m_mass->apply(xc - P) + 0.25 * gi - fixed - stateLoad(xc);
     if (s.m_components) s.m_components->fold(Ri);  // onto the free coordinates
     for (Eigen::Index f = 0; f < Ri.rows(); ++f)
       for (int c = 0; c < 3; ++c)
@@ -335,7 +336,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     for (int attempt = 0; attempt < 12 && !factored; ++attempt) {
       const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
       const Eigen::SparseMatrix<double>& K =
-          s.shellTangent(net, 0.25, shift, attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
+          s.tangent(net, 0.25, shift, attempt == 11 ? HessianMode::Projected : HessianMode::Exact,
                          stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25);
       factored = m_newton->factor(s.m_components ? s.m_components->foldTangent(K, s.m_heldMask) : K);
       shift *= 4.0;
@@ -381,7 +382,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   // beyond the reference's own scale (kinetic + elastic + the loads' reach) is a blow-up
   if (ok) {
     double energy = 0.0, scaleNow = 0.0;
-    if (ShellBackwardEulerStepper::totalEnergy(s, x, s.m_current, (x - P) / dt, t + dt, energy, scaleNow)) {
+    if (BackwardEulerStepper::totalEnergy(s, x, s.m_current, (x - P) / dt, t + dt, energy, scaleNow)) {
       if (!m_hasReference) {
         m_hasReference = true;
         m_reference = energy;
@@ -406,11 +407,12 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
 
 namespace bsdeform {
 
-bool ShellBackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
+bool BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
                                             const ControlNet& v, double t, double& energy, double& scale) {
-  const double kinetic = 0.5 * (v.array() * s.shellApplyMass(v).array()).sum();
+  const double kinetic = s.massMatrix().kineticEnergy(v);
   const double elastic = s.m_energy->energy(net);
-  double loads = -(s.m_constantLoad.array() * x.array()).sum();
+  const ControlNet fixedLoad = s.forcesConstantLoad();
+  double loads = -(fixedLoad.array() * x.array()).sum();
   const LoadContext ctx = s.loadContext(net, net, s.m_params.timeStep, t);
   for (const auto& f : s.m_forces) {
     if (f->dependence() == kConstant) continue;
@@ -422,15 +424,21 @@ bool ShellBackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNe
   // plus the work the constant loads can do over the surface's own size (a sheet at z = 0
   // under gravity stores nothing, yet falls)
   const double extent = (net.colwise().maxCoeff() - net.colwise().minCoeff()).norm();
-  // and a floor: the membrane energy of a uniform strain of 1.4e-4 (1e-8 E t A), below which a
-  // change is rounding (a strip at rest under no load moves its energy between 1e-17 and 1e-16)
-  const ShellMaterial& m = s.m_params.material;
-  scale = kinetic + std::abs(elastic) + std::abs(loads) + s.m_constantLoad.cwiseAbs().sum() * extent +
-          1e-8 * m.youngsModulus * m.thickness * s.m_shell->restArea();
+  // and a floor below which a change is rounding (a strip at rest under no load moves its
+  // energy between 1e-17 and 1e-16): SHELL, the membrane energy of a uniform strain of 1.4e-4
+  // (1e-8 E t A); the paper's model, 1e-8 lambda_max(A_II) extent^2 alike
+  double floor = 0.0;
+  if (s.m_shell) {
+    const ShellMaterial& m = s.m_params.material;
+    floor = 1e-8 * m.youngsModulus * m.thickness * s.m_shell->restArea();
+  } else {
+    floor = 1e-8 * s.m_stencil.eigenvalueBound() * extent * extent;
+  }
+  scale = kinetic + std::abs(elastic) + std::abs(loads) + fixedLoad.cwiseAbs().sum() * extent + floor;
   return true;
 }
 
-bool ShellBackwardEulerStepper::subStep(double t) {
+bool BackwardEulerStepper::subStep(double t) {
   Simulation& s = m_sim;
   const double dt = s.m_params.timeStep;
   const ControlNet start = s.m_current, before = s.m_previous;
@@ -447,10 +455,11 @@ bool ShellBackwardEulerStepper::subStep(double t) {
       });
 }
 
-bool ShellBackwardEulerStepper::stepOf(double t, double h) {
+bool BackwardEulerStepper::stepOf(double t, double h) {
   Simulation& s = m_sim;
   const SplineSpace& sp = s.m_space;
-  const double c = s.m_params.damping, tNew = t + h;
+  const double c = s.dampingRatio(), tNew = t + h;
+  const MassMatrix& mass = s.massMatrix();
   // Sides moved by a prescribed map: their held layers go where the map puts them at the end of
   // this step (of this piece: the fraction of the whole step's move its end has reached); the
   // move is checked below against the barriers' CCD before anything is solved
@@ -467,7 +476,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   m_blewUp = false;
   // the constant loads and those that depend on time only are fixed within the step (their
   // potential -L·x); the others are evaluated at every iterate
-  ControlNet fixedLoad = s.m_constantLoad;
+  ControlNet fixedLoad = s.forcesConstantLoad();
   std::vector<const Force*> stateForces;
   splitLoads(s.m_forces, s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
   // forces with a state between steps (a barrier's stiffness) adapt it, and refuse a start state
@@ -511,7 +520,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
     xc = x;
     s.completeUnknowns(xc, net);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    s.shellGradient(net, gW);
+    s.m_energy->gradient(net, gW);
     L = fixedLoad;
     ev.potential = true;
     double phi = -(fixedLoad.array() * xc.array()).sum();
@@ -524,8 +533,8 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
         ev.potential = false;
     }
     const ControlNet dx = xc - xhat, dn = xc - P;
-    Mdx = s.shellApplyMass(dx);
-    Mdn = s.shellApplyMass(dn);
+    Mdx = mass.apply(dx);
+    Mdn = mass.apply(dn);
     ev.g = Mdx / (h * h) + (c / h) * Mdn + gW - L;
     if (s.m_components) s.m_components->fold(ev.g);  // onto the free coordinates
     for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
@@ -575,7 +584,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   if (barrier) x = P + admissible(P, x - P) * (x - P);
   NewtonPoint cur;
   evaluate(x, cur);
-  const double forceScale = (s.m_constantLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
+  const double forceScale = (fixedLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
   const double massShift = 1.0 / (h * h) + c / h;
   auto reject = [&]() {
     sp.scatterMoving(x, s.m_previous);
@@ -593,7 +602,7 @@ bool ShellBackwardEulerStepper::stepOf(double t, double h) {
   Eigen::SparseMatrix<double> folded;
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    const Eigen::SparseMatrix<double>& K = s.shellTangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
+    const Eigen::SparseMatrix<double>& K = s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
     if (!s.m_components) return K;
     folded = s.m_components->foldTangent(K, s.m_heldMask);
     return folded;

@@ -5,13 +5,14 @@
 /// and previous nets, time) and one of these: a time integration scheme with the data only it
 /// needs (a factorisation, scratch nets, the forces of the last states), which advances the
 /// state by one sub-step. Simulation::step() calls it for every sub-step and handles failure,
-/// the clock and the status. Four implementations, chosen by the integrator and the energy:
+/// the clock and the status. Five implementations, chosen by the integrator and the energy:
 ///   PaperExplicitStepper  the paper's corrected central differences through the stencil's
 ///                         fused kernel (design.md §2);
 ///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
 ///   ShellExplicitStepper  central differences with the lumped mass T^T W T;
 ///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure;
-///   ShellBackwardEulerStepper  backward Euler as the minimisation of the incremental potential.
+///   BackwardEulerStepper  backward Euler as the minimisation of the incremental potential,
+///                         either energy (ElasticEnergy, MassMatrix, the forces' Jacobians).
 
 #include <functional>
 #include <memory>
@@ -117,17 +118,19 @@ class ShellImplicitStepper final : public TimeStepper {
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
   /// The energy check's reference: the total energy after the first step since the last
-  /// change (ShellBackwardEulerStepper::totalEnergy()), and its scale.
+  /// change (BackwardEulerStepper::totalEnergy()), and its scale.
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;
 };
 
-/// Backward Euler for SHELL as the minimisation of the incremental potential (docs/math.md
+/// Backward Euler, both energies, as the minimisation of the incremental potential (docs/math.md
 /// §16, "Backward Euler"):
 ///   E(x) = ½ (x - x̂)ᵀ M (x - x̂) / h² + c/(2h) (x - P)ᵀ M (x - P) + W(x) + Φ(x),
 /// x̂ = P + h v, v = (P - P-)/h, Φ the loads' potentials (constant loads: -L·x); its gradient is
 /// the residual of M (x - 2P + P-)/h² + c M (x - P)/h + ∇W(x) = L(x, (x - P)/h, t + h), every
-/// force evaluated at the iterate. Newton with the element Hessians projected to PSD, the
+/// force evaluated at the iterate; C = c M (Simulation::dampingRatio()), W either energy (the
+/// paper's is quadratic: one Newton iteration solves a step without forces that depend on the
+/// state). Newton with the element Hessians projected to PSD, the
 /// forces' Jacobians inside (symmetrised), a backtracking (Armijo) line search on E (on the
 /// residual's norm when a force has no potential); converged when the largest update over h
 /// is below newtonVelocityTolerance or the residual below newtonTolerance. A step that does
@@ -136,7 +139,7 @@ class ShellImplicitStepper final : public TimeStepper {
 /// its value when the run (or the last change of forces) began: a rise is reported as a
 /// blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
 /// factorisation is kept while the iterates contract fast with it (chord steps).
-class ShellBackwardEulerStepper final : public TimeStepper {
+class BackwardEulerStepper final : public TimeStepper {
  public:
   using TimeStepper::TimeStepper;
   bool subStep(double t) override;

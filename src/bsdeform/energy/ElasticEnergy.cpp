@@ -73,18 +73,7 @@ double PaperEnergy::eigenvalueBound(const ControlNet&) const { return m_lambda; 
 
 ShellModelEnergy::ShellModelEnergy(const SplineSpace& space, const ControlNet& rest, const ShellMaterial& material)
     : m_space(space), m_shell(space, rest, material), m_netMass(m_shell.lumpedMass()) {
-  // T: every net point in terms of the unknowns
-  const int cols = space.netCols();
-  const LayerRange &mu = space.movingU(), &mv = space.movingV();
-  m_foldStart.assign(size_t(space.netSize()) + 1, 0);
-  for (int i = 0; i < space.netRows(); ++i)
-    for (int j = 0; j < cols; ++j) {
-      for (const LayerWeight& wu : space.foldU(i))
-        for (const LayerWeight& wv : space.foldV(j))
-          m_foldEntries.emplace_back(Eigen::Index(wu.layer - mu.first) * mv.count + (wv.layer - mv.first),
-                                     wu.weight * wv.weight);
-      m_foldStart[size_t(i) * cols + j + 1] = int(m_foldEntries.size());
-    }
+  space.foldMap(m_foldStart, m_foldEntries);  // T: every net point in terms of the unknowns
 }
 
 void ShellModelEnergy::fold(const ControlNet& g, ControlNet& out) const {

@@ -149,6 +149,20 @@ SplineSpace::SplineSpace(int degreeU, int degreeV, int numU, int numV, const Bou
                          "numU * numV");
 }
 
+void SplineSpace::foldMap(std::vector<int>& start, std::vector<std::pair<Eigen::Index, double>>& entries) const {
+  const int cols = netCols();
+  start.assign(size_t(netSize()) + 1, 0);
+  entries.clear();
+  for (int i = 0; i < netRows(); ++i)
+    for (int j = 0; j < cols; ++j) {
+      for (const LayerWeight& wu : foldU(i))
+        for (const LayerWeight& wv : foldV(j))
+          entries.emplace_back(Eigen::Index(wu.layer - m_movingU.first) * m_movingV.count + (wv.layer - m_movingV.first),
+                               wu.weight * wv.weight);
+      start[size_t(i) * cols + j + 1] = int(entries.size());
+    }
+}
+
 int SplineSpace::movingLayerU(int i) const { return movingLayer(m_movingU, periodicU(), degreeU(), i); }
 int SplineSpace::movingLayerV(int j) const { return movingLayer(m_movingV, periodicV(), degreeV(), j); }
 

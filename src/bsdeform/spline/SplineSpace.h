@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <utility>
 #include <vector>
 
 #include "bsdeform/spline/BSpline.h"
@@ -128,6 +129,9 @@ class SplineSpace {
   /// by the sum of weight x displacement of each entry's layer.
   const std::vector<LayerWeight>& foldU(int i) const { return m_foldU[size_t(i)]; }
   const std::vector<LayerWeight>& foldV(int j) const { return m_foldV[size_t(j)]; }
+  /// T as a sparse map: net point p is the sum over entries [start[p], start[p+1]) of weight x
+  /// unknown (moving-point number; held points have none). Products of foldU() and foldV().
+  void foldMap(std::vector<int>& start, std::vector<std::pair<Eigen::Index, double>>& entries) const;
   /// Whether net point (i, j) is derived (next to a SIMPLY_SUPPORTED or BUILT_IN side): not an
   /// unknown, not held, not a periodic copy, but moving with the unknowns it folds onto.
   bool isDerived(int i, int j) const {
