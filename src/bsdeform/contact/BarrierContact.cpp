@@ -4,6 +4,8 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
+#include <cassert>
+#include <unordered_map>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -100,6 +102,13 @@ struct BarrierContactForce::State {
     Eigen::Matrix3d h;
   };
   std::vector<Block> blocks;  ///< addJacobian()'s scratch
+  /// addJacobian()'s sums per pair of elements (first net points a, b): L x L blocks, row-major
+  struct ElementPair {
+    Eigen::Index a, b;
+    std::vector<double> K;
+  };
+  std::vector<ElementPair> elementPairs;
+  std::unordered_map<std::uint64_t, size_t> elementPairIndex;
   /// Counts the times the proxy or an obstacle's triangles were made anew (the cache below
   /// belongs to one generation).
   std::uint64_t generation = 0;
@@ -574,16 +583,76 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
   });
   if (blocks.empty()) return;
   std::sort(blocks.begin(), blocks.end(), [](const Block& x, const Block& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  // Then per pair of elements (the knot span whose control points a vertex's weights lie in,
+  // named by its first net point): Σ over the pair's vertex pairs of (w_a w_bᵀ) ⊗ H_ab, dense,
+  // and each control-point block of that to the sink once, as a block of a symmetric Jacobian
+  // (barrier and lagged friction are Hessians): a vertex pair no longer costs 16 x 16 sink calls,
+  // which had been a fifth of cloth_on_cube's run (docs/benchmarks.md, issue 35).
   const CollisionProxy& proxy = *m_state->proxy;
+  const SplineSpace& space = ctx.space;
+  const int cols = space.netCols(), L1 = space.degreeU() + 1, L2 = space.degreeV() + 1, L = L1 * L2;
+  struct Local {
+    Eigen::Index corner;
+    int count;
+    int slot[64];
+    double weight[64];
+  };
+  auto localOf = [&](Eigen::Index v) {
+    Local loc;
+    const std::vector<CollisionProxy::Weight>& ws = proxy.netWeights(v);
+    Eigen::Index i0 = std::numeric_limits<Eigen::Index>::max(), j0 = i0;
+    for (const auto& e : ws) {
+      i0 = std::min(i0, e.index / cols);
+      j0 = std::min(j0, e.index % cols);
+    }
+    loc.corner = i0 * cols + j0;
+    loc.count = int(ws.size());
+    assert(loc.count <= L && L <= 64);
+    for (int k = 0; k < loc.count; ++k) {
+      const Eigen::Index di = ws[size_t(k)].index / cols - i0, dj = ws[size_t(k)].index % cols - j0;
+      assert(di < L1 && dj < L2);
+      loc.slot[k] = int(di * L2 + dj);
+      loc.weight[k] = ws[size_t(k)].weight;
+    }
+    return loc;
+  };
+  std::vector<State::ElementPair>& pairs = m_state->elementPairs;
+  std::unordered_map<std::uint64_t, size_t>& pairIndex = m_state->elementPairIndex;
+  pairs.clear();
+  pairIndex.clear();
+  const std::uint64_t netSize = std::uint64_t(space.netSize());
   for (size_t i = 0; i < blocks.size();) {
     Eigen::Matrix3d sum = blocks[i].h;
     size_t j = i + 1;
     for (; j < blocks.size() && blocks[j].a == blocks[i].a && blocks[j].b == blocks[i].b; ++j) sum += blocks[j].h;
     const Eigen::Matrix3d H = w.linear.transpose() * sum * w.linear;
-    for (const auto& wa : proxy.netWeights(blocks[i].a))
-      for (const auto& wb : proxy.netWeights(blocks[i].b)) sink.add(wa.index, wb.index, wa.weight * wb.weight * H);
+    const Local la = localOf(blocks[i].a), lb = localOf(blocks[i].b);
+    const std::uint64_t key = std::uint64_t(la.corner) * netSize + std::uint64_t(lb.corner);
+    auto [it, fresh] = pairIndex.emplace(key, pairs.size());
+    if (fresh) pairs.push_back({la.corner, lb.corner, std::vector<double>(size_t(L) * L * 9, 0.0)});
+    double* K = pairs[it->second].K.data();
+    for (int x = 0; x < la.count; ++x)
+      for (int y = 0; y < lb.count; ++y) {
+        double* k = K + (size_t(la.slot[x]) * L + size_t(lb.slot[y])) * 9;
+        const double ww = la.weight[x] * lb.weight[y];
+        for (int r = 0; r < 3; ++r)
+          for (int c = 0; c < 3; ++c) k[3 * r + c] += ww * H(r, c);
+      }
     i = j;
   }
+  std::sort(pairs.begin(), pairs.end(), [](const State::ElementPair& x, const State::ElementPair& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+  for (const State::ElementPair& pair : pairs)
+    for (int x = 0; x < L; ++x)
+      for (int y = 0; y < L; ++y) {
+        const double* k = pair.K.data() + (size_t(x) * L + size_t(y)) * 9;
+        bool any = false;
+        for (int e = 0; e < 9; ++e) any |= k[e] != 0.0;
+        if (!any) continue;
+        const Eigen::Matrix3d B = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(k);
+        sink.addSymmetric(pair.a + (x / L2) * cols + x % L2, pair.b + (y / L2) * cols + y % L2, B);
+      }
 }
 
 double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {

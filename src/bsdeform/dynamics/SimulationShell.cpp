@@ -77,6 +77,10 @@ class TangentSink final : public JacobianSink {
     m_K.addNetBlock(p, q, (0.5 * m_scale) * B);
     m_K.addNetBlock(q, p, (0.5 * m_scale) * B.transpose());
   }
+  // every block of a symmetric Jacobian comes: the lower triangle keeps its half of them as they are
+  void addSymmetric(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override {
+    m_K.addNetBlock(p, q, m_scale * B);
+  }
 
  private:
   TangentMatrix& m_K;

@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <utility>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -38,10 +39,16 @@ struct Tables {
 /// One element (e1, e2) with sum factorisation: gathers the net (loader(row, c) -> T), runs
 /// the kernel at each Gauss point and adds the gradient to out(row, c, value) when `grad`.
 /// Returns the element's energies.
-template <typename T, typename Law, typename Load, typename Store>
+/// LC, QC: the element's points and Gauss points per direction when known at compile time (the
+/// same in both directions; 0: read from tb). The loops are the same either way, so are the
+/// sums' orders and the results, bit for bit; fixed bounds let the compiler unroll them and keep
+/// the element's arrays in registers (ShellForces: docs/benchmarks.md, issue 34).
+template <typename T, int LC = 0, int QC = 0, typename Law, typename Load, typename Store>
 void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint* rest, const Law& law,
                  bool bending, bool grad, Load&& load, Store&& store, T& em, T& eb) {
-  const int L1 = tb.L1, L2 = tb.L2, Q1 = tb.Q1, Q2 = tb.Q2;
+  const int L1 = LC ? LC : tb.L1, L2 = LC ? LC : tb.L2, Q1 = QC ? QC : tb.Q1, Q2 = QC ? QC : tb.Q2;
+  const auto tbu = [&tb, L1](int q, int d, int a) { return tb.tu[(q * 3 + d) * L1 + a]; };
+  const auto tbv = [&tb, L2](int q, int d, int b) { return tb.tv[(q * 3 + d) * L2 + b]; };
   // T[a][q2][dv][c] = Σ_b tv[q2][dv][b] X[a][b][c]
   T Tv[kMaxPoints][kMaxPoints][3][3];
   for (int a = 0; a < L1; ++a) {
@@ -53,7 +60,7 @@ void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint*
       for (int d = 0; d < 3; ++d)
         for (int c = 0; c < 3; ++c) {
           T s = T(0.0);
-          for (int b = 0; b < L2; ++b) s += tb.v(q2, d, b) * X[b][c];
+          for (int b = 0; b < L2; ++b) s += tbv(q2, d, b) * X[b][c];
           Tv[a][q2][d][c] = s;
         }
   }
@@ -71,7 +78,7 @@ void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint*
       for (int m = 0; m < 5; ++m)
         for (int c = 0; c < 3; ++c) {
           T s = T(0.0);
-          for (int a = 0; a < L1; ++a) s += tb.u(q1, kOrderU[m], a) * Tv[a][q2][kOrderV[m]][c];
+          for (int a = 0; a < L1; ++a) s += tbu(q1, kOrderU[m], a) * Tv[a][q2][kOrderV[m]][c];
           y[3 * m + c] = s;
         }
       T g[15], pm, pb;
@@ -81,7 +88,7 @@ void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint*
       if (!grad) continue;
       for (int a = 0; a < L1; ++a)
         for (int m = 0; m < 5; ++m) {
-          const double w = tb.u(q1, kOrderU[m], a);
+          const double w = tbu(q1, kOrderU[m], a);
           for (int c = 0; c < 3; ++c) U[a][q2][kOrderV[m]][c] += w * g[3 * m + c];
         }
     }
@@ -92,10 +99,23 @@ void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint*
       for (int c = 0; c < 3; ++c) {
         T s = T(0.0);
         for (int q2 = 0; q2 < Q2; ++q2)
-          for (int d = 0; d < 3; ++d) s += tb.v(q2, d, b) * U[a][q2][d][c];
+          for (int d = 0; d < 3; ++d) s += tbv(q2, d, b) * U[a][q2][d][c];
         store(base + b, c, s);
       }
   }
+}
+
+/// elementPass with the loop bounds of the common elements fixed (bicubic and biquadratic with
+/// degree + 1 Gauss points per direction), else read at run time.
+template <typename T, typename... Args>
+void anyElementPass(const Tables& tb, Args&&... args) {
+  const bool square = tb.L1 == tb.L2 && tb.Q1 == tb.Q2 && tb.Q1 == tb.L1;
+  if (square && tb.L1 == 4)
+    elementPass<T, 4, 4>(tb, std::forward<Args>(args)...);
+  else if (square && tb.L1 == 3)
+    elementPass<T, 3, 3>(tb, std::forward<Args>(args)...);
+  else
+    elementPass<T>(tb, std::forward<Args>(args)...);
 }
 
 /// y at one Gauss point (doubles) and the coefficients c[m][k] of y_m = Σ_k c[m][k] X_k.
@@ -107,9 +127,10 @@ void pointCoefficients(const Tables& tb, int q1, int q2, double c[5][kMaxPoints 
 
 /// Ke[p][q] += Σ_d c[d][p] Σ_e c[e][q] H_de (3 x 3 blocks, q >= p) for one Gauss point: the
 /// element tangent's inner loops (HC: scratch, 5 L 9). H column-major 15 x 15.
-BSDEFORM_MULTIVERSION
-void accumulateElement(int L, const double (*c)[kMaxPoints * kMaxPoints], const double* H,
-                       double* HC, double* Ke) {
+template <int LC>
+BSDEFORM_INLINE void accumulateElementBody(int Lrun, const double (*c)[kMaxPoints * kMaxPoints], const double* H,
+                                          double* HC, double* Ke) {
+  const int L = LC ? LC : Lrun;
   // H's 3 x 3 blocks transposed into row-major [d][e][a][b] once
   double Hb[5][5][9];
   for (int d = 0; d < 5; ++d)
@@ -125,14 +146,68 @@ void accumulateElement(int L, const double (*c)[kMaxPoints * kMaxPoints], const 
         for (int i = 0; i < 9; ++i) hc[i] += w * Hb[d][e][i];
       }
     }
-  for (int p = 0; p < L; ++p)
-    for (int d = 0; d < 5; ++d) {
-      const double w = c[d][p];
-      if (w == 0.0) continue;
-      const double* hcd = &HC[size_t(d) * L * 9];
-      double* ke = &Ke[size_t(p) * L * 9];
-      for (int i = 9 * p; i < 9 * L; ++i) ke[i] += w * hcd[i];
+  // each entry of Ke's row p read and written once, its terms added in the order of d as before
+  // (the same sums, bit for bit): a fifth of the memory traffic of one pass per d
+  for (int p = 0; p < L; ++p) {
+    const double* h[5];
+    double w[5];
+    int n = 0;
+    for (int d = 0; d < 5; ++d)
+      if (c[d][p] != 0.0) {
+        w[n] = c[d][p];
+        h[n++] = &HC[size_t(d) * L * 9];
+      }
+    double* ke = &Ke[size_t(p) * L * 9];
+    const int i0 = 9 * p, i1 = 9 * L;
+    switch (n) {
+      case 5:
+        for (int i = i0; i < i1; ++i) {
+          double t = ke[i] + w[0] * h[0][i];
+          t = t + w[1] * h[1][i];
+          t = t + w[2] * h[2][i];
+          t = t + w[3] * h[3][i];
+          ke[i] = t + w[4] * h[4][i];
+        }
+        break;
+      case 3:
+        for (int i = i0; i < i1; ++i) {
+          double t = ke[i] + w[0] * h[0][i];
+          t = t + w[1] * h[1][i];
+          ke[i] = t + w[2] * h[2][i];
+        }
+        break;
+      default:
+        for (int i = i0; i < i1; ++i) {
+          double t = ke[i];
+          for (int k = 0; k < n; ++k) t = t + w[k] * h[k][i];
+          ke[i] = t;
+        }
     }
+  }
+}
+
+/// accumulateElementBody with the element's point count fixed for bicubic (16) and biquadratic
+/// (9) elements, else read at run time; each compiled for AVX2 and the baseline. The loops and
+/// so the sums' orders are the same in all (bit-identical results).
+BSDEFORM_MULTIVERSION
+void accumulateElement16(const double (*c)[kMaxPoints * kMaxPoints], const double* H, double* HC, double* Ke) {
+  accumulateElementBody<16>(16, c, H, HC, Ke);
+}
+BSDEFORM_MULTIVERSION
+void accumulateElement9(const double (*c)[kMaxPoints * kMaxPoints], const double* H, double* HC, double* Ke) {
+  accumulateElementBody<9>(9, c, H, HC, Ke);
+}
+BSDEFORM_MULTIVERSION
+void accumulateElementAny(int L, const double (*c)[kMaxPoints * kMaxPoints], const double* H, double* HC, double* Ke) {
+  accumulateElementBody<0>(L, c, H, HC, Ke);
+}
+void accumulateElement(int L, const double (*c)[kMaxPoints * kMaxPoints], const double* H, double* HC, double* Ke) {
+  if (L == 16)
+    accumulateElement16(c, H, HC, Ke);
+  else if (L == 9)
+    accumulateElement9(c, H, HC, Ke);
+  else
+    accumulateElementAny(L, c, H, HC, Ke);
 }
 
 /// Runs fn(law) with the material's law (ShellLaws.h): the kernels are instantiated per law.
@@ -261,7 +336,7 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           double em, eb;
-          elementPass<double>(
+          anyElementPass<double>(
               tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, false,
               [X](Eigen::Index r, int c) { return X[3 * r + c]; }, [](Eigen::Index, int, double) {}, em, eb);
           sum.membrane += em;
@@ -289,7 +364,7 @@ void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           double em, eb;
-          elementPass<double>(
+          anyElementPass<double>(
               tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, true,
               [X](Eigen::Index r, int c) { return X[3 * r + c]; },
               [G](Eigen::Index r, int c, double s) { G[3 * r + c] += s; }, em, eb);
@@ -310,7 +385,7 @@ void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, C
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           Dual em, eb;
-          elementPass<Dual>(
+          anyElementPass<Dual>(
               tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, true,
               [X, D](Eigen::Index r, int c) { return Dual(X[3 * r + c], D[3 * r + c]); },
               [O](Eigen::Index r, int c, Dual s) { O[3 * r + c] += s.b; }, em, eb);

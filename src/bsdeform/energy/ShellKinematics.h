@@ -33,14 +33,15 @@ inline void density(const T* y, const RestPoint& r, const Law& law, bool bending
   const T* s11 = y + 6;
   const T* s12 = y + 9;
   const T* s22 = y + 12;
-  T nrm[3], j = T(0.0), kappa[3];
+  T nrm[3], j = T(0.0), invJ = T(0.0), kappa[3];
   bool curved = false;  // a bending strain exists here
   if (bending) {
     T a3[3];
     cross3(a1, a2, a3);
     j = sqrt(dot3(a3, a3));
     if (value(j) != 0.0) {  // a collapsed current surface has no normal: no bending there
-      for (int c = 0; c < 3; ++c) nrm[c] = a3[c] / j;
+      invJ = 1.0 / j;  // one division: the kernel's longest latency (ShellForces, issue 34)
+      for (int c = 0; c < 3; ++c) nrm[c] = a3[c] * invJ;
       kappa[0] = r.B[0] - dot3(s11, nrm);
       kappa[1] = r.B[1] - dot3(s12, nrm);
       kappa[2] = r.B[2] - dot3(s22, nrm);
@@ -64,7 +65,7 @@ inline void density(const T* y, const RestPoint& r, const Law& law, bool bending
     v[c] = m[0] * s11[c] + 2.0 * (m[1] * s12[c]) + m[2] * s22[c];
   }
   const T vn = dot3(v, nrm);
-  for (int c = 0; c < 3; ++c) w[c] = (v[c] - vn * nrm[c]) / j;
+  for (int c = 0; c < 3; ++c) w[c] = (v[c] - vn * nrm[c]) * invJ;
   cross3(a2, w, t1);
   cross3(w, a1, t2);
   for (int c = 0; c < 3; ++c) {

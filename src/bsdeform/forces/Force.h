@@ -67,6 +67,9 @@ class JacobianSink {
   virtual ~JacobianSink() = default;
   /// Adds B to the block of rows of net point p and columns of net point q.
   virtual void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) = 0;
+  /// The same for a force whose whole Jacobian is symmetric and that adds every block, (q, p)
+  /// as well as (p, q): a receiver that keeps one triangle can skip the symmetrisation.
+  virtual void addSymmetric(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) { add(p, q, B); }
 };
 
 /// Base class of all forces. Implementations add their contribution to the load of the moving
