@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file NewtonMinimizer.h
-/// Not installed. The one Newton solver of the SHELL model: backward Euler's step (the
-/// minimum of the incremental potential) and the static solve (the minimum of the total
-/// potential, load increment by load increment) both call minimize() with their own
-/// evaluation and tangent (docs/math.md §16, "One Newton solver").
+/// Not installed. The one Newton solver: backward Euler's step (the minimum of the incremental
+/// potential, either energy), SHELL's Newmark step (the minimum of its step potential) and the
+/// static solve (the minimum of the total potential, load increment by load increment) all call
+/// minimize() with their own evaluation and tangent (docs/math.md §16, "One Newton solver").
 ///
 /// An iteration solves K d = -g with K the tangent at the iterate (the exact one while it is
 /// positive definite, else the element Hessians projected to PSD, then with more of the mass

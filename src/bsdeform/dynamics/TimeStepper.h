@@ -10,7 +10,8 @@
 ///                         fused kernel (design.md §2);
 ///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
 ///   ShellExplicitStepper  central differences with the lumped mass T^T W T;
-///   ShellImplicitStepper  three-level Newmark by Newton's method, step cutting on failure;
+///   ShellImplicitStepper  three-level Newmark by the one Newton solver (NewtonMinimizer), step
+///                         cutting on failure;
 ///   BackwardEulerStepper  backward Euler as the minimisation of the incremental potential,
 ///                         either energy (ElasticEnergy, MassMatrix, the forces' Jacobians).
 
@@ -113,7 +114,7 @@ class ShellImplicitStepper final : public TimeStepper {
   /// One three-level Newmark step of size dt from t (the previous net dt before the current).
   bool stepOf(double t, double dt);
 
-  std::shared_ptr<NewtonSolver> m_newton;  ///< the tangent's symbolic factorisation, kept
+  std::unique_ptr<NewtonMinimizer> m_newton;  ///< the tangent's symbolic factorisation kept
   /// dW/dP at the current and previous state (valid while m_cached).
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
