@@ -3,12 +3,15 @@
 // takes it, for back-to-back jobs (the pool's spinning hand-over) and for calls from several
 // threads at once (one of them gets the pool, the others run their parts themselves); and the
 // background thread of BackgroundWork.
+#include <dlfcn.h>
+
 #include <atomic>
 #include <chrono>
 #include <catch2/catch.hpp>
 #include <thread>
 #include <vector>
 
+#include "../support/Skip.h"
 #include "../support/ThreadSettings.h"
 #include "bsdeform/base/Parallel.h"
 
@@ -142,4 +145,25 @@ TEST_CASE("BackgroundWork: after a long wait for the background thread the next 
   while (started.load() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::yield();
   again.finish();
   CHECK(again.partsRunBeside() >= 1);
+}
+
+TEST_CASE("SerialOpenMp: OpenMP regions run on their caller while it lives, the setting restored after", "[core]") {
+  // the core's tests load CHOLMOD and with it an OpenMP runtime; found as the core finds it
+  auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  if (!get || !set) {
+    BSDEFORM_TEST_SKIP("no OpenMP runtime loaded (a CHOLMOD built without OpenMP)");
+    return;
+  }
+  set(3);
+  {
+    const bsdeform::SerialOpenMp serial;
+    CHECK(get() == 0);
+    {
+      const bsdeform::SerialOpenMp nested;
+      CHECK(get() == 0);
+    }
+    CHECK(get() == 0);
+  }
+  CHECK(get() == 3);
 }

@@ -19,6 +19,8 @@
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
+#include <dlfcn.h>
+
 #if defined(__linux__)
 #include <sched.h>
 #include <time.h>
@@ -309,6 +311,35 @@ void BackgroundWork::finish() {
 }
 
 int BackgroundWork::partsRunBeside() const { return m_task->beside.load(std::memory_order_relaxed); }
+
+namespace {
+// The OpenMP runtime's functions when one is loaded (CHOLMOD brings libgomp), found at run time
+// so that the core does not link an OpenMP runtime of its own.
+struct OpenMpLevels {
+  int (*get)() = nullptr;
+  void (*set)(int) = nullptr;
+  OpenMpLevels() {
+    get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+    set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+    if (!get || !set) get = nullptr, set = nullptr;
+  }
+};
+const OpenMpLevels& openMpLevels() {
+  static const OpenMpLevels levels;
+  return levels;
+}
+}  // namespace
+
+SerialOpenMp::SerialOpenMp() {
+  const OpenMpLevels& omp = openMpLevels();
+  if (!omp.set) return;
+  m_saved = omp.get();
+  omp.set(0);
+}
+
+SerialOpenMp::~SerialOpenMp() {
+  if (m_saved >= 0) openMpLevels().set(m_saved);
+}
 
 int kernelThreads() { return g_threads.load(std::memory_order_relaxed); }
 

@@ -33,6 +33,25 @@ void setKernelThreads(int threads);
 /// takes (the other cores busy elsewhere: 16 jobs, doubling up to 4096 while it repeats).
 void runParts(int parts, const std::function<void(int)>& fn);
 
+/// While it lives, OpenMP parallel regions run on their caller alone (max-active-levels 0, set
+/// through the OpenMP runtime when one is loaded; restored after). For calls into CHOLMOD: its
+/// supernodal factorisation opens parallel regions of a fixed 4 threads (SuiteSparse 5's
+/// CHOLMOD_OMP_NUM_THREADS, which OMP_NUM_THREADS does not lower) for loops of a few
+/// microseconds, and on two cores their wake-ups cost more than the whole factorisation: 300 000
+/// context switches and 5 s of a 12.9 s cloth_on_cube run (docs/benchmarks.md, issue 34). The
+/// factor's values do not depend on them. Not for use while another thread runs OpenMP code of
+/// its own (the setting is the process's).
+class SerialOpenMp {
+ public:
+  SerialOpenMp();
+  ~SerialOpenMp();
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  int m_saved = -1;  ///< the levels before, -1: no OpenMP runtime loaded
+};
+
 /// Whether BackgroundWork hands its parts to a background thread. Default: the
 /// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this
 /// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`; a CPU

@@ -76,6 +76,27 @@ void projectToPsd(Matrix12d& h) {
 }
 
 namespace {
+template <int N>
+void projectFixed(Matrix12d& h, int first) {
+  Eigen::Matrix<double, N, N> b = h.block<N, N>(first, first);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eigen(b);
+  if (eigen.eigenvalues().minCoeff() < 0.0)
+    b = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+  h.setZero();
+  h.block<N, N>(first, first) = b;
+}
+}  // namespace
+
+void projectBlockToPsd(Matrix12d& h, int first, int n) {
+  switch (n) {
+    case 3: projectFixed<3>(h, first); break;
+    case 6: projectFixed<6>(h, first); break;
+    case 9: projectFixed<9>(h, first); break;
+    default: projectToPsd(h);
+  }
+}
+
+namespace {
 
 /// The pair's s = d² - ξ² and ŝ; zeroes the outputs (they stay zero outside 0 < s < ŝ).
 struct PairState {

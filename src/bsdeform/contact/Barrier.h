@@ -76,6 +76,9 @@ double edgeEdgeBarrier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, con
 /// from its eigen-decomposition. A matrix that is already positive semidefinite is left unchanged
 /// (bit for bit).
 void projectToPsd(Matrix12d& h);
+/// The same for the n x n block of `h` at (first, first) (the coordinates
+/// that move when the pair's other points are an obstacle's), the rest of `h` set to zero.
+void projectBlockToPsd(Matrix12d& h, int first, int n);
 
 /// @name Adaptive barrier stiffness (IPC supplementary §3; ipc-toolkit adaptive_stiffness)
 /// These assume IPC's incremental potential E(x) = ½|x - x̃|²_M + h²Ψ(x) + κ Σ b (units kg m²: a

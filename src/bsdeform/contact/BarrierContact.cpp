@@ -388,14 +388,24 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     }
     if (term.value != 0.0 || (grad && !term.grad.isZero(0.0))) fn(term);
   };
+  // Against an obstacle only the proxy's points move: the pair's Hessian in them (a 3 x 3, 9 x 9
+  // or 6 x 6 block of the 12 x 12) is what Newton needs, and that block is projected to PSD, not
+  // the whole (exact Newton where the block is PSD; a 3 x 3 eigenproblem instead of a 12 x 12
+  // for the common point–face pair). `first`, `n`: the moving coordinates; n = 12: self-contact.
+  auto project = [&](int first, int n) {
+    if (hess && mode == BarrierHessian::ProjectedPsd) projectBlockToPsd(term.hess, first, n);
+  };
+  const BarrierHessian pairMode = BarrierHessian::Exact;
   auto pointTriangle = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
-                           const Eigen::Vector3d& t2) {
-    term.value = pointTriangleBarrier(p, t0, t1, t2, bp, grad, hess, mode);
+                           const Eigen::Vector3d& t2, int first, int n) {
+    term.value = pointTriangleBarrier(p, t0, t1, t2, bp, grad, hess, pairMode);
+    project(first, n);
     emit(pointTriangleDistanceSquared(p, t0, t1, t2));
   };
   auto edgeEdge = [&](const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
-                      const Eigen::Vector3d& b1, double threshold) {
-    term.value = edgeEdgeBarrier(a0, a1, b0, b1, threshold, bp, grad, hess, mode);
+                      const Eigen::Vector3d& b1, double threshold, int n) {
+    term.value = edgeEdgeBarrier(a0, a1, b0, b1, threshold, bp, grad, hess, pairMode);
+    project(0, n);
     emit(edgeEdgeDistanceSquared(a0, a1, b0, b1));
   };
   const Eigen::MatrixX3i& T = st.mesh.triangles;
@@ -412,13 +422,13 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
       term.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
       term.split = 1;
-      pointTriangle(row(V, v), row(W, tri[0]), row(W, tri[1]), row(W, tri[2]));
+      pointTriangle(row(V, v), row(W, tri[0]), row(W, tri[1]), row(W, tri[2]), 0, self ? 12 : 3);
     }
     for (const auto& [t, v] : c.triangleVertex) {  // an obstacle's vertex and a proxy triangle
       const Eigen::Vector3i tri = T.row(t).transpose();
       term.vertex = {-1, tri[0], tri[1], tri[2]};
       term.split = 1;
-      pointTriangle(row(W, v), row(V, tri[0]), row(V, tri[1]), row(V, tri[2]));
+      pointTriangle(row(W, v), row(V, tri[0]), row(V, tri[1]), row(V, tri[2]), 3, 9);
     }
     for (const auto& [ea, eb] : c.edgeEdge) {
       const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
@@ -427,7 +437,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       term.split = 2;
       const double threshold =
           edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
-      edgeEdge(row(V, a0), row(V, a1), row(W, b0), row(W, b1), threshold);
+      edgeEdge(row(V, a0), row(V, a1), row(W, b0), row(W, b1), threshold, self ? 12 : 6);
     }
   }
   st.minimum = minimum;

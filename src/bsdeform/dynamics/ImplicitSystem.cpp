@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/dynamics/ImplicitSystem.h"
+#include "bsdeform/base/Parallel.h"
 
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/dynamics/Multigrid.h"
@@ -71,7 +72,10 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     K += Dm;
     K.makeCompressed();
     m_factor = std::make_unique<Factor>();
-    m_factor->llt.compute(K);
+    {
+      const SerialOpenMp serial;  // CHOLMOD's fixed 4-thread regions (Parallel.h)
+      m_factor->llt.compute(K);
+    }
     if (m_factor->llt.info() != Eigen::Success)
       throw std::runtime_error("implicit integrator: Cholesky factorisation of the system matrix failed");
     m_factorNonZeros = m_factor->llt.cholmod().lnz;

@@ -7,6 +7,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 
+#include "bsdeform/base/Parallel.h"
 #include "bsdeform/dynamics/Simulation.h"
 
 namespace bsdeform {
@@ -19,6 +20,7 @@ struct NewtonSolver {
   /// Factorises K (symbolic analysis once: the pattern never changes); false if K is not
   /// positive definite.
   bool factor(const Eigen::SparseMatrix<double>& K) {
+    const SerialOpenMp serial;  // CHOLMOD's fixed 4-thread regions cost more than they save here
     if (!analysed) {
       llt.analyzePattern(K);
       analysed = true;
