@@ -379,7 +379,8 @@ TEST_CASE("Arc length refuses the paper's energy and a surface nothing holds, na
 
 TEST_CASE("Arc length on a SHELL: the t = 6.35 roof at 16 x 16 passes the zero load with the options bsdeform-run "
           "sets, where the relative residual's rounding floor is above the tolerance",
-          "[arclength][shell]") {
+          "[arclength][shell][slow]") {
+  // [slow]: 43 s under the sanitizers (the Release suite runs it)
   // bsdeform-run --static --arc-length: --load-steps points at most (default 50), --max-load,
   // the surface's newtonTolerance as the tolerance, the first arc length the linear response's.
   // Near a zero load on the way down the snapped roof's internal forces are large and cancel:

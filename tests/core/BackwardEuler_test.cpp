@@ -114,7 +114,8 @@ TEST_CASE("BACKWARD_EULER: the energy of a free swing never rises, and falls wit
   }
 }
 
-TEST_CASE("BACKWARD_EULER converges at first order in the time step", "[shell]") {
+// [slow]: 35 s under the sanitizers (the Release suite runs it)
+TEST_CASE("BACKWARD_EULER converges at first order in the time step", "[shell][slow]") {
   auto finalState = [](double dt) {
     Simulation sim(sheet(Integrator::BackwardEuler, dt));
     sim.setState(bent(sim), 0.0, 0, HeldPoints::Reset);

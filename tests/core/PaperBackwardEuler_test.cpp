@@ -207,8 +207,9 @@ TEST_CASE("BACKWARD_EULER, paper's energy: the energy of a free swing never rise
   }
 }
 
+// [slow]: many small steps, long under the sanitizers (the Release suite runs it)
 TEST_CASE("BACKWARD_EULER, paper's energy: first order in the time step, toward the same motion as IMPLICIT",
-          "[core][paper]") {
+          "[core][paper][slow]") {
   auto finalState = [](Integrator integrator, double dt) {
     Simulation sim(paperSheet(integrator, dt));
     const ControlNet start = lifted(sim, 0.1);

@@ -553,7 +553,8 @@ TEST_CASE("SHELL held coordinates stay at rest in both steppers and the static s
   CHECK_THROWS_WITH(Simulation(bad), Catch::Contains("net row 0 is not a moving control point"));
 }
 
-TEST_CASE("SHELL implicit step is cut into pieces where Newton's method fails on the whole step", "[shell]") {
+// [slow]: 35 s under the sanitizers (the Release suite runs it)
+TEST_CASE("SHELL implicit step is cut into pieces where Newton's method fails on the whole step", "[shell][slow]") {
   // The bent sheet released from rest (swingingSheet) with steps of 20 ms and at most 3 Newton
   // iterations per step: the first steps need more and are taken again in pieces (the pieces'
   // iterations are summed in lastNewtonIterations()) and the run goes on, the sheet falling as

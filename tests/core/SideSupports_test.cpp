@@ -127,7 +127,7 @@ TEST_CASE("SYMMETRY: a quarter plate with two symmetry sides equals the full pla
 
 TEST_CASE("Supports per component: holding X, Y and Z is SIMPLY_SUPPORTED, a roller holds its component at rest and "
           "lets the others move",
-          "[shell][supports]") {
+          "[shell][supports][slow]") {  // [slow]: 41 s under the sanitizers (the Release suite runs it)
   const ShellMaterial m{1e6, 0.3, 0.01, 1.0};
   // all three components: the same equilibrium as the space's own SIMPLY_SUPPORTED sides
   ModelParameters ss = shell(8, 8, Boundaries{Boundary::SimplySupported, Boundary::SimplySupported, Boundary::Free,
