@@ -14,6 +14,7 @@
 #include "bsdeform/energy/ElasticEnergy.h"
 #include "bsdeform/forces/ForceLaws.h"
 #include "bsdeform/spline/RestShape.h"
+#include "bsdeform/dynamics/MassMatrix.h"
 #include "bsdeform/dynamics/TangentMatrix.h"
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/dynamics/Simulation.h"
@@ -124,16 +125,9 @@ void NewtonIteration(benchmark::State& state) {
   ControlNet x = waved(s);
   s.completeNet(x, nullptr);
   TangentMatrix K(s, energy.foldStart(), energy.foldEntries());
-  // the mass T^T W T
-  const Eigen::VectorXd& W = energy.netMass();
-  std::vector<Eigen::Triplet<double>> t;
-  for (Eigen::Index p = 0; p < s.netSize(); ++p)
-    for (int a = energy.foldStart()[size_t(p)]; a < energy.foldStart()[size_t(p) + 1]; ++a)
-      for (int b = energy.foldStart()[size_t(p)]; b < energy.foldStart()[size_t(p) + 1]; ++b)
-        t.emplace_back(int(energy.foldEntries()[size_t(a)].first), int(energy.foldEntries()[size_t(b)].first),
-                       W[p] * energy.foldEntries()[size_t(a)].second * energy.foldEntries()[size_t(b)].second);
-  Eigen::SparseMatrix<double> M(s.numMoving(), s.numMoving());
-  M.setFromTriplets(t.begin(), t.end());
+  // the mass T^T W T, as the SHELL model builds it
+  const Eigen::SparseMatrix<double> M =
+      MassMatrix::folded(s, energy.netMass(), std::vector<char>(size_t(s.numMoving()), 0))->matrix();
   const double h = 0.02;
   auto assemble = [&] {
     K.setZero();

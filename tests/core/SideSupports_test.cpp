@@ -43,6 +43,18 @@ ControlNet quarterRoof(const SplineSpace& s, double R, double halfL, double thet
   return net;
 }
 
+// The Scordelis-Lo quarter's model on spans x spans bicubic elements (E 4.32e8, nu 0, t 0.25,
+// the given density): the crown's plane x = 0 (umin) and the mid-span plane y = 0 (vmin)
+// SYMMETRY sides, the end (vmax) on a rigid diaphragm holding x and z.
+ModelParameters scordelisQuarter(int spans, double density) {
+  ModelParameters p = shell(spans, spans, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
+                            ShellMaterial{4.32e8, 0.0, 0.25, density});
+  p.sideSupports[0] = symmetry();
+  p.sideSupports[2] = symmetry();
+  p.sideSupports[3] = hinge(1 | 4);
+  return p;
+}
+
 // The quarter x, y >= 0 of a hemisphere of radius R with a hole at latitude `top` (the points
 // at the Greville abscissae on the sphere: u round the equator, v up to the hole; bicubic only).
 ControlNet openQuarterHemisphere(const SplineSpace& s, double R, double top) {
@@ -184,11 +196,7 @@ TEST_CASE("Scordelis-Lo roof as a quarter model: two SYMMETRY sides and a rigid 
   // SYMMETRY) to the diaphragm.
   const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0;
   const int spans = 12;
-  ModelParameters p = shell(spans, spans, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
-                            ShellMaterial{4.32e8, 0.0, 0.25, 1.0});
-  p.sideSupports[0] = symmetry();
-  p.sideSupports[2] = symmetry();
-  p.sideSupports[3] = hinge(1 | 4);
+  ModelParameters p = scordelisQuarter(spans, 1.0);
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
   const ControlNet rest = quarterRoof(s, R, halfL, theta);
   Simulation roof(p, rest);
@@ -426,11 +434,7 @@ TEST_CASE("Reactions of the Scordelis-Lo quarter: a SYMMETRY plane carries no fo
   // plane x = 0 (umin) and the mid-span plane y = 0 (vmin) meet the diaphragm (vmax, x and z)
   // at corners; a corner point's component goes only to the sides that hold it
   const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0;
-  ModelParameters p = shell(8, 8, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
-                            ShellMaterial{4.32e8, 0.0, 0.25, 1.0});
-  p.sideSupports[0] = symmetry();
-  p.sideSupports[2] = symmetry();
-  p.sideSupports[3] = hinge(1 | 4);
+  ModelParameters p = scordelisQuarter(8, 1.0);
   const SplineSpace s(3, 3, p.numU, p.numV, p.boundaries);
   const ControlNet rest = quarterRoof(s, R, halfL, theta);
   Simulation roof(p, rest);
@@ -542,11 +546,7 @@ TEST_CASE("BACKWARD_EULER and IMPLICIT take supports per component and SYMMETRY 
           "settles on the static equilibrium",
           "[shell][supports][slow]") {
   const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0;
-  ModelParameters p = shell(8, 8, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free},
-                            ShellMaterial{4.32e8, 0.0, 0.25, 100.0});
-  p.sideSupports[0] = symmetry();
-  p.sideSupports[2] = symmetry();
-  p.sideSupports[3] = hinge(1 | 4);
+  ModelParameters p = scordelisQuarter(8, 100.0);
   p.integrator = GENERATE(Integrator::BackwardEuler, Integrator::Implicit);
   p.timeStep = 0.01;
   p.damping = 8.0;  // about critical: the roof's first mode is near 3.8 rad/s here
