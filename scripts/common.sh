@@ -80,7 +80,8 @@ bsdeform_build_sanitize() {
   local jobs
   jobs="$(nproc 2>/dev/null || echo 2)"
   cmake -S "$BSDEFORM_ROOT" -B "$BSDEFORM_SAN_BUILD" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
+    -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" \
     -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang -DBSDEFORM_BUILD_FUZZ=ON \
     -DBSDEFORM_BUILD_TESTS=ON -DBSDEFORM_BUILD_BENCH=OFF -DBSDEFORM_BUILD_EXAMPLES=OFF "$@" >/dev/null
   cmake --build "$BSDEFORM_SAN_BUILD" -j "$jobs"

@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
-#define CATCH_CONFIG_RUNNER
-#include <catch2/catch.hpp>
-
+// Each test program's main; Catch2's implementation is support/CatchRunner.cpp, compiled once.
+#include "support/CatchRunner.h"
 #include "support/FpTraps.h"
 
 int main(int argc, char* argv[]) {
@@ -11,5 +10,5 @@ int main(int argc, char* argv[]) {
   // inside an FpTrapScope around our own code (support/FpTraps.h says why).
   bsdeform::test::FpTrapScope traps;
 #endif
-  return Catch::Session().run(argc, argv);
+  return bsdeform::test::runCatch(argc, argv);
 }

@@ -321,7 +321,7 @@ LoadDeflection firstMaximum(const std::vector<LoadDeflection>& path) {
 }
 }  // namespace
 
-TEST_CASE("Arc length on a SHELL: the hinged roof's path lies within 2 % of Sze et al.'s table (problem 3.8; "
+TEST_CASE("Arc length on a SHELL: the hinged roof's path lies within 2 % of Sze et al.'s table (problem 3.8, "
           "t = 12.7 and 6.35)",
           "[arclength][shell][slow]") {
   // Every published point within 2 % of our path, the load in units of the table's largest and

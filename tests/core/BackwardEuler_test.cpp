@@ -124,7 +124,7 @@ TEST_CASE("BACKWARD_EULER converges at first order in the time step", "[shell][s
 }
 
 TEST_CASE("BACKWARD_EULER: forces act at the new state, and a sheet falls onto a penalty plane and rests there",
-          "[shell]") {
+          "[shell][slow]") {
   ModelParameters p = sheet(Integrator::BackwardEuler, 0.01, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free,
                                                                          Boundary::Free});
   p.damping = 1.0;
@@ -256,7 +256,7 @@ TEST_CASE("The implicit steppers report a total energy that rises with no work d
   }
 }
 
-TEST_CASE("BACKWARD_EULER: a run resumed from its state takes the same steps, bit for bit", "[shell]") {
+TEST_CASE("BACKWARD_EULER: a run resumed from its state takes the same steps, bit for bit", "[shell][slow]") {
   ModelParameters p = sheet(Integrator::BackwardEuler, 0.02, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free,
                                                                          Boundary::Free});
   p.damping = 1.0;

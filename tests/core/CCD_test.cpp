@@ -140,7 +140,7 @@ MovingPair randomPair(std::mt19937& rng, bool pointTriangle) {
 }  // namespace
 
 TEST_CASE("CCD: additive CCD never reports a later time than brute force, and stays clear of the offset",
-          "[contact]") {
+          "[contact][slow]") {
   const bool pointTriangle = GENERATE(true, false);
   const double offset = GENERATE(0.0, 0.05);
   std::mt19937 rng(pointTriangle ? 11 : 12);
@@ -486,7 +486,7 @@ TEST_CASE("CCD: a cloth falling through a plate in one step stops short of it", 
   CHECK(collisionFreeFraction(far, plate, 0.01) == 1.0);
 }
 
-TEST_CASE("CCD: one mesh's two layers falling through each other stop short (self)", "[contact]") {
+TEST_CASE("CCD: one mesh's two layers falling through each other stop short (self)", "[contact][slow]") {
   // Two 6 × 6 sheets in one mesh: the upper falls through the lower, which rises a little.
   const ContactMesh sheet = gridMesh(6, 1.0);
   const int n = int(sheet.start.rows());

@@ -149,7 +149,7 @@ TEST_CASE("Contact: a free cloth resting on a box carries its weight and stays w
   CHECK(sim.evaluate(0.5, 0.5).position.z() == Approx(-0.05 + 0.02 - 1e-3).margin(2e-4));
 }
 
-TEST_CASE("Contact: on a slope the cloth stays when tan(theta) < mu and slides when tan(theta) > mu", "[core]") {
+TEST_CASE("Contact: on a slope the cloth stays when tan(theta) < mu and slides when tan(theta) > mu", "[core][slow]") {
   // The slope's frame: the box top is horizontal and gravity is tilted by theta (a rigid
   // translation costs the cloth no elastic energy, a rotation would).
   const double theta = 0.3;  // tan = 0.309
@@ -190,7 +190,7 @@ TEST_CASE("Contact: on a slope the cloth stays when tan(theta) < mu and slides w
   }
 }
 
-TEST_CASE("CollisionForce: skipping far elements and points gives the load of every quadrature point", "[core]") {
+TEST_CASE("CollisionForce: skipping far elements and points gives the load of every quadrature point", "[core][slow]") {
   // A free cloth falls on a box and slides off its edge, in a rotated and scaled frame; half
   // way the box moves (a refit). At every step the culled load must equal the load of the same
   // density integrated at every quadrature point (a plain DistributedForce), while most

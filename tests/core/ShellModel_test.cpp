@@ -231,7 +231,7 @@ void checkEnergyConservation(ShellMaterialLaw law) {
 }
 }  // namespace
 
-TEST_CASE("SHELL dynamics conserve energy without damping, explicit and implicit", "[shell]") {
+TEST_CASE("SHELL dynamics conserve energy without damping, explicit and implicit", "[shell][slow]") {
   checkEnergyConservation(ShellMaterialLaw::SaintVenantKirchhoff);
 }
 

@@ -56,7 +56,7 @@ double sectionAngle(const Simulation& sim, double u) {
 }  // namespace
 
 TEST_CASE("A moved side: a strip twisted by turning one end turns its middle by half the angle",
-          "[shell][motion]") {
+          "[shell][motion][slow]") {
   const ModelParameters p = strip();
   Simulation sim(p, stripRest(p));
   const double angle = 0.6;
@@ -94,7 +94,7 @@ TEST_CASE("A moved side: a strip twisted by turning one end turns its middle by 
 }
 
 TEST_CASE("A moved side: both ends moved by one map carry the strip rigidly, and a resumed run is bit-identical",
-          "[shell][motion]") {
+          "[shell][motion][slow]") {
   ModelParameters p = strip();
   p.material.youngsModulus = 1e8;  // bending at 20 rad/s: damped out within the run
   const ControlNet rest = stripRest(p);

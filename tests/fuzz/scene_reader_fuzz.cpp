@@ -12,6 +12,7 @@
 #include <Inventor/fields/SoFieldContainer.h>
 #include <Inventor/nodes/SoSeparator.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cstddef>
 #include <cstdio>
@@ -25,18 +26,25 @@
 #include "bsdeform/SceneText.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
+#include "bsdeform/SoForceField.h"
 
 namespace {
 
 // What the harness simulates, so that one input stays far below libFuzzer's -timeout: one step of
-// each surface while the scene's control points x sub-steps x (1 + forces) stay within
-// kStepBudget (forces are evaluated at every quadrature point of every sub-step and cost more
-// than the elastic update under ASan: one step of drape_over_sphere.iv takes 2 s), and a scene
-// with a surface above kMaxControlPoints is read but not written, bounded or stepped. Big or slow
-// models are a resource limit of the model (docs/reliability.md), which the fuzzer would only
-// report as slow or out of memory.
+// each surface while the scene's estimated work stays within kStepBudget, and a scene with a
+// surface above kMaxControlPoints is read but not written, bounded or stepped. Big or slow models
+// are a resource limit of the model (docs/reliability.md), which the fuzzer would only report as
+// slow or out of memory. The estimate (stepWork) is control points x sub-steps x (1 + forces)
+// (forces are evaluated at every quadrature point of every sub-step and cost more than the
+// elastic update under ASan: one step of drape_over_sphere.iv takes 2 s), times kNewtonWeight
+// for the Newton integrators (a tangent and a factorisation per iteration, at most
+// kFuzzNewtonIterations of them: pinched_cylinder.iv's 29 x 29 shell took 10 s for one step),
+// times proxySamples^2 (x 2 with selfContact) for a BARRIER collision, whose proxy pairs are
+// gathered again at every iteration (one step of two_sheets.iv took 24 s).
 constexpr long long kMaxControlPoints = 128 * 128;
 constexpr long long kStepBudget = 2000;
+constexpr long long kNewtonWeight = 8;
+constexpr int kFuzzNewtonIterations = 10;
 
 void ignoreMessage(const SoError*, void*) {}
 
@@ -89,6 +97,22 @@ long long controlPoints(SoBSplineDeformSurface* s) {
   return static_cast<long long>(s->numUControlPoints.getValue()) * s->numVControlPoints.getValue();
 }
 
+long long stepWork(SoBSplineDeformSurface* s) {
+  long long work = controlPoints(s) * s->simulation().subSteps() * (1 + s->forces.getNum());
+  if (s->integrator.getValue() != SoBSplineDeformSurface::EXPLICIT) work *= kNewtonWeight;
+  for (int i = 0; i < s->forces.getNum(); ++i) {
+    const SoEngine* engine = s->forces[i];
+    if (!engine || !engine->isOfType(SoForceField::getClassTypeId())) continue;
+    const auto* field = static_cast<const SoForceField*>(engine);
+    if (field->type.getValue() != SoForceField::COLLISION || field->method.getValue() != SoForceField::BARRIER)
+      continue;
+    const long long samples = std::max(1, field->proxySamples.getValue());
+    work *= std::min(samples * samples, kStepBudget + 1) * (field->selfContact.getValue() ? 2 : 1);
+    if (work > kStepBudget) break;
+  }
+  return work;
+}
+
 }  // namespace
 
 // Leaks that only hostile input reaches, inside Coin, suppressed for this target on top of
@@ -122,8 +146,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     bbox.apply(root);
     long long work = 0;
     for (SoBSplineDeformSurface* s : found) {
-      work += controlPoints(s) * s->simulation().subSteps() * (1 + s->forces.getNum());
-      if (work <= kStepBudget) s->stepSimulation(1);
+      work += stepWork(s);
+      if (work > kStepBudget) break;
+      if (s->maxNewtonIterations.getValue() > kFuzzNewtonIterations)
+        s->maxNewtonIterations.setValue(kFuzzNewtonIterations);
+      s->stepSimulation(1);
     }
     (void)bsdeform::sceneToText(root);
   }

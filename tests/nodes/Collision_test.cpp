@@ -46,7 +46,7 @@ SoBSplineDeformSurface* prepare(SoSeparator* root) {
 }
 }  // namespace
 
-TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordinates would", "[nodes]") {
+TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordinates would", "[nodes][slow]") {
   SoSeparator* a = testutil::read(clothOnBox());
   SoSeparator* b = testutil::read(std::string("#Inventor V2.1 ascii\nSeparator {\n"
                                               "Separator { Coordinate3 { point [ -1 -1 -2.05, 2 -1 -2.05, -1 2 -2.05, 2 2 -2.05,"
@@ -70,7 +70,7 @@ TEST_CASE("Collision: a Transform moves an obstacle exactly as moving its coordi
   b->unref();
 }
 
-TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refits it", "[nodes]") {
+TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refits it", "[nodes][slow]") {
   SoSeparator* root = testutil::read(clothOnBox("DEF Move Transform { translation 0.5 0.5 -1.05 }"));
   REQUIRE(root);
   SoBSplineDeformSurface* s = prepare(root);
@@ -92,7 +92,7 @@ TEST_CASE("Collision: a static obstacle is gathered once, a moved Transform refi
   root->unref();
 }
 
-TEST_CASE("Collision: an image from a short-lived graph around the scene keeps the obstacles' frames", "[nodes]") {
+TEST_CASE("Collision: an image from a short-lived graph around the scene keeps the obstacles' frames", "[nodes][slow]") {
   // An offscreen image puts a camera and a light above the scene and deletes them afterwards:
   // the surface keeps the scene it was given, or the Cube would lose its Transform (and the
   // cloth would fall through it) after the first image.
@@ -109,7 +109,7 @@ TEST_CASE("Collision: an image from a short-lived graph around the scene keeps t
   root->unref();
 }
 
-TEST_CASE("Collision: a surface given no scene (a plain Coin viewer) takes its render's once", "[nodes]") {
+TEST_CASE("Collision: a surface given no scene (a plain Coin viewer) takes its render's once", "[nodes][slow]") {
   SoSeparator* root = testutil::read(clothOnBox());
   REQUIRE(root);
   auto* s = testutil::find<SoBSplineDeformSurface>(root);
@@ -194,7 +194,7 @@ TEST_CASE("Collision: NULL, an unknown name, the surface itself and an empty sub
 }
 
 
-TEST_CASE("Collision: an indexed shape with indices out of range is skipped with a warning, not read", "[nodes]") {
+TEST_CASE("Collision: an indexed shape with indices out of range is skipped with a warning, not read", "[nodes][slow]") {
   // Coin reads coordinates at coordIndex without a range check (the fuzzer found the crash);
   // the bad shape is left out, the good one in the same obstacle still holds the cloth.
   auto& messages = testutil::Coin::get().messages;
@@ -295,7 +295,7 @@ void settlesOnBoxTop(SoBSplineDeformSurface* s) {
 }  // namespace
 
 TEST_CASE("Collision: method BARRIER reads its fields, keeps a SHELL cloth off a box and is refused by EXPLICIT",
-          "[nodes]") {
+          "[nodes][slow]") {
   auto scene = [](const char* integrator) {
     return std::string("#Inventor V2.1 ascii\nSeparator {\n"
                        "Separator { Transform { translation 0.5 0.5 -1.05 } DEF Box Cube { width 1.4 height 1.4 depth 2 } }\n"

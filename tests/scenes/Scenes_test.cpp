@@ -126,14 +126,15 @@ TEST_CASE("Scenes: every scene loads without warnings and runs with finite resul
     // each surface knows its scene, as SceneRunner and the front ends set it: obstacles are then
     // taken in their frames from the first step (a barrier refuses a cloth inside an untransformed Cube)
     for (SoBSplineDeformSurface* s : surfs) s->setScene(root);
+    // a few steps, more while a scene has not moved yet (rising_sphere's sphere reaches the
+    // membrane later: with its frame known from the first step, nothing touches it in 4); the
+    // long runs of every scene are the [slow] cases below (resume, crossings)
     const int steps = 20;
 #ifdef BSDEFORM_SANITIZED_BUILD
-    // under the sanitizers: the same code, a fifth of the steps, unless a scene has not moved by
-    // then (rising_sphere's sphere reaches the membrane later: with its frame known from the
-    // first step, nothing touches it in 4)
-    const int fewerSteps = 4;
+    // under the sanitizers: the same code, fewer steps
+    const int fewerSteps = 2;
 #else
-    const int fewerSteps = steps;
+    const int fewerSteps = 5;
 #endif
     for (SoBSplineDeformSurface* s : surfs) {
       bsdeform::test::FpTrapScope traps;  // Debug builds: a NaN in our numerics raises SIGFPE
@@ -311,7 +312,7 @@ TEST_CASE("bsdeform-run: --record-every K writes the first, every K-th and the l
   }
 }
 
-TEST_CASE("bsdeform-run: history rows computed beside the steps are the rows computed between them", "[scenes]") {
+TEST_CASE("bsdeform-run: history rows computed beside the steps are the rows computed between them", "[scenes][slow]") {
   // By default a row's values are computed on the background thread while the next step runs
   // (Simulation::diagnosticsBeside()); BSDEFORM_BACKGROUND=0 computes them on the stepping
   // thread before it. (The row written for a step is the row begun for it: the --record-every
@@ -439,7 +440,7 @@ TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays 
   root->unref();
 }
 
-TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and falls back with it", "[scenes]") {
+TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and falls back with it", "[scenes][slow]") {
   // The sphere's centre follows z(t) = -0.27 + 0.22 sin(1.2 t) (its Calculator); the membrane's
   // centre must ride on its top (radius 0.25) within the contact offset: above the top less the
   // tessellation's sag (Coin's sphere is inscribed), below the top plus the thickness.
@@ -1107,7 +1108,7 @@ TEST_CASE("bsdeform-run --probe: a surface point and its displacement in every r
   }
 }
 
-TEST_CASE("bsdeform-run --static: the reactions of every held side and pin balance the applied loads", "[scenes]") {
+TEST_CASE("bsdeform-run --static: the reactions of every held side and pin balance the applied loads", "[scenes][slow]") {
   TempDir dir;
   // the paper's simply supported plate, in two load steps: each side carries a quarter
   Run r = run(scene("plate_simply_supported.iv") + " --static --load-steps 2 -o plate -q", dir.path);

@@ -265,7 +265,7 @@ QMenu* insertSurfaceMenu(MainWindow& w) {
   return nullptr;
 }
 
-TEST_CASE("Editing: Insert > Surface offers the named SHELL materials, inserted with the table's values, and each steps", "[ui]") {
+TEST_CASE("Editing: Insert > Surface offers the named SHELL materials, inserted with the table's values, and each steps", "[ui][slow]") {
   auto w = makeWindow("region_load.iv");
   w->pause();
   QUndoStack& undo = w->undoStack();

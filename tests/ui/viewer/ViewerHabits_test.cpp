@@ -202,7 +202,7 @@ bool contains(SoNode* graph, SoNode* node) {
 }
 }  // namespace
 
-TEST_CASE("Viewer habits: the ground grid stays under a cloth that falls below where it started", "[ui]") {
+TEST_CASE("Viewer habits: the ground grid stays under a cloth that falls below where it started", "[ui][slow]") {
   // Issue 37, item 7: the grid sat under the rest plane, and pinned_cloth hung through it.
   auto w = makeWindow("pinned_cloth.iv");
   ViewDecorations& deco = w->decorations();

@@ -425,7 +425,7 @@ TEST_CASE("Viewer view: a scene's own camera is the one the view shows and the m
   CHECK_FALSE(w->framing().isFollowing());
 }
 
-TEST_CASE("Viewer view: control net and ghost on every scene: moving points are the simulation's", "[ui]") {
+TEST_CASE("Viewer view: control net and ghost on every scene: moving points are the simulation's", "[ui][slow]") {
   auto w = makeWindow("region_load.iv");
   bsdeform::ControlNetDisplay& net = w->netDisplay();
   net.setNetVisible(true);
