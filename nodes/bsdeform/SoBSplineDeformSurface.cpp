@@ -262,17 +262,18 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
     m_building = sim.get();
     // Forces first: their stiffness sets the sub-step, and a state is restored at its own
     // sub-step (a force added afterwards would rescale the previous net as if it were older).
-    oldSlots.swap(*m_forces);
+    oldSlots = *m_forces;
+    m_forces->keepForNewModel();
     reportedBefore = m_reports;
     updateForces(*sim);
     bsdeform::applySideMotions(*sim, *this);  // before the state: a moved side's layers are the state's
     m_stateKept = bsdeform::startState(*sim, *this, m_stateDirty, m_sim.get());
     m_sim = std::move(sim);
   } catch (const bsdeform::ParameterError& e) {
-    if (!oldSlots.empty()) m_forces->swap(oldSlots);
+    m_forces->swap(oldSlots);
     return refuse(bsdeform::refusalOf(e));
   } catch (const std::exception& e) {
-    if (!oldSlots.empty()) m_forces->swap(oldSlots);
+    m_forces->swap(oldSlots);
     return refuse({"", e.what()});
   }
   m_refusals.clear();

@@ -285,7 +285,7 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
         return std::make_shared<DistributedForce>(mag * f, ParamRect{a.x(), b.x(), a.y(), b.y()});
       }
       case GRAVITY:
-        return std::make_shared<GravityForce>(info.massDensity, mag * f);
+        return std::make_shared<GravityForce>(mag * f);  // rho: the model's
       case SPRING:
         return std::make_shared<SpringForce>(p.x(), p.y(), position(toEigen(anchor.getValue())), stiffness.getValue());
       case DRAG:
@@ -311,7 +311,7 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
           bp.samplesPerSpan = proxySamples.getValue();
           bp.friction = friction.getValue();
           bp.epsv = epsv.getValue();
-          bp.mass = info.massDensity * info.areaScale;
+          bp.modelMass = true;
           return std::make_shared<BarrierContactForce>(info.contact, bp);
         }
         ContactParameters cp;
@@ -319,8 +319,7 @@ std::shared_ptr<const bsdeform::Force> SoForceField::makeForce(const SurfaceInfo
         cp.stiffness = stiffness.getValue();
         cp.damping = damping.getValue();
         cp.friction = friction.getValue();
-        cp.massDensity = info.massDensity;
-        cp.areaScale = info.areaScale;
+        cp.modelMass = true;
         return std::make_shared<CollisionForce>(info.contact, cp);
       }
       case EXPRESSION: {

@@ -155,10 +155,10 @@ class SoForceField : public SoEngine {
   /// core force when it sees a new revision).
   SoEngineOutput revision;  ///< (SoSFInt32)
 
-  /// What a surface tells a force field when it builds its core force.
+  /// What a surface tells a force field when it builds its core force. The model's mass per area
+  /// and rest area are not in it: GRAVITY and COLLISION read them from the model at every step
+  /// (bsdeform::LoadContext), so a model rebuilt with another mass keeps its forces.
   struct SurfaceInfo {
-    double massDensity = 1.0;  ///< mass per unit parameter area (for GRAVITY, COLLISION)
-    double areaScale = 1.0;    ///< COLLISION: rest area per unit parameter area (surfaceArea of the rest net)
     /// COLLISION: the obstacles as the surface keeps them (SceneObstacles)
     std::shared_ptr<const bsdeform::ContactWorld> contact;
     /// The surface's world transform, x_world = linear x_local + offset (frame WORLD)

@@ -376,13 +376,22 @@ int ForceSlots::obstacleRefits() const {
   return n;
 }
 
+void ForceSlots::keepForNewModel() {
+  for (Slot& slot : m_slots)
+    if (slot.engine && static_cast<SoEngine*>(slot.engine)->isOfType(SoForceField::getClassTypeId()) &&
+        static_cast<SoForceField*>(slot.engine)->type.getValue() == SoForceField::COLLISION) {
+      slot.force.reset();
+      slot.revision = -1;
+    }
+  m_given = nullptr;
+}
+
 int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene, SoNode* self, bool stale,
                        const std::vector<std::shared_ptr<const Force>>& transient, const Report& report) {
   using Problem = Surface::Problem;
   SoForceField::SurfaceInfo info;
-  info.massDensity = sim.massPerArea();
   int made = 0;
-  bool changed = int(m_slots.size()) != forces.getNum();
+  bool changed = int(m_slots.size()) != forces.getNum() || &sim != m_given;
   stale |= changed;
   // The surface's world frame, for the force fields whose vectors are in the world (frame
   // WORLD): looked up before every step, and a changed frame (a Transform above the surface
@@ -429,9 +438,6 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
       for (const std::string& p : problems)
         report(Problem::OBSTACLE, "obstacles", "SoForceField '" + nameOf(ff) + "': " + p, nameOf(ff));
       info.contact = slot.obstacles->world();
-      // the contact law is per unit world area (Contact.h); a degenerate rest surface keeps 1
-      const double a = stale ? sim.restArea() : 0.0;
-      if (std::isfinite(a) && a > 0.0) info.areaScale = a;
     } else {
       slot.obstacles.reset();
       info.contact.reset();
@@ -456,6 +462,7 @@ int ForceSlots::update(Simulation& sim, const SoMFEngine& forces, SoNode* scene,
     for (const Slot& s : m_slots)
       if (s.force) sim.addForce(s.force);
     for (const auto& f : transient) sim.addForce(f);
+    m_given = &sim;
   }
   return made;
 }

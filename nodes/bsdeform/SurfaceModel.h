@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bsdeform/dynamics/Simulation.h"
@@ -101,8 +102,13 @@ class ForceSlots {
   /// change, or `sim` is a new model) or the list changed. Returns the forces made.
   int update(Simulation& sim, const SoMFEngine& forces, SoNode* scene, SoNode* self, bool stale,
              const std::vector<std::shared_ptr<const Force>>& transient, const Report& report);
-  void swap(ForceSlots& other) { m_slots.swap(other.m_slots); }
+  void swap(ForceSlots& other) { std::swap(*this, other); }
   bool empty() const { return m_slots.empty(); }
+  /// Before a new model of the same surface: the forces stay (they read the model's mass and rest
+  /// area at every step, LoadContext), and so do the gathered obstacles; the COLLISION forces are
+  /// made again, since theirs are caches of the old model's net (proxy, clearances, lagged
+  /// friction pairs). The next update gives the forces to the new model.
+  void keepForNewModel();
   /// Obstacle trees built and refitted (tests).
   int obstacleBuilds() const;
   int obstacleRefits() const;
@@ -116,6 +122,7 @@ class ForceSlots {
     int geometryRevision = -1;
   };
   std::vector<Slot> m_slots;
+  const Simulation* m_given = nullptr;  ///< the model the forces were last given to
   Eigen::Matrix3d m_linear = Eigen::Matrix3d::Identity();  ///< the surface's world frame the forces were made in
   Eigen::Vector3d m_offset = Eigen::Vector3d::Zero();
 };

@@ -123,6 +123,41 @@ TEST_CASE("Contact: welding forgives float rounding, so a seam closes the mesh",
   CHECK(weldVertices(near).vertices.size() == 9);
 }
 
+TEST_CASE("CollisionForce: with modelMass the mass density and the rest area are the model's", "[core]") {
+  ModelParameters mp = clothParams();
+  mp.mass = 1.3;
+  ControlNet rest = Simulation(mp).rest();
+  rest.col(0) *= 2.0;  // rest area 2: the law per unit world area doubles per unit parameter area
+  rest.col(1) *= 1.5;
+  auto w = worldOf(box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(3, 3, -0.01)));
+  ContactParameters fixed;
+  fixed.thickness = 0.02;
+  fixed.stiffness = 2e3;
+  fixed.damping = 5.0;
+  fixed.friction = 0.3;
+  ContactParameters model = fixed;
+  model.modelMass = true;
+  Simulation a(mp, rest), b(mp, rest);
+  REQUIRE(a.restArea() == Approx(3.0));
+  fixed.massDensity = a.massPerArea();
+  fixed.areaScale = a.restArea();
+  auto fa = std::make_shared<CollisionForce>(w, model);
+  LoadContext ctx{a.space(), a.current(), a.previous(), a.subStepSize(), 0.0};
+  ctx.massPerArea = 2.5;
+  ctx.restArea = 0.5;
+  CHECK(fa->parametersFor(ctx).massDensity == 2.5);
+  CHECK(fa->parametersFor(ctx).areaScale == 0.5);
+  CHECK(CollisionForce(w, fixed).parametersFor(ctx).massDensity == a.massPerArea());
+  a.addForce(fa);
+  b.addForce(std::make_shared<CollisionForce>(w, fixed));
+  for (Simulation* s : {&a, &b}) s->addForce(std::make_shared<GravityForce>(Eigen::Vector3d(0.4, 0, -9.81)));
+  a.advance(30);
+  b.advance(30);
+  REQUIRE(a.status() == Status::Ok);
+  CHECK(a.current().col(2).maxCoeff() < 0.01);  // all of it in the contact layer (box top + thickness)
+  CHECK((a.current() - b.current()).cwiseAbs().maxCoeff() == 0.0);
+}
+
 TEST_CASE("Contact: a free cloth resting on a box carries its weight and stays within the thickness", "[core][slow]") {
   ModelParameters mp = clothParams();
   Simulation sim(mp);

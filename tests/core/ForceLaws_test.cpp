@@ -345,6 +345,39 @@ TEST_CASE("ForceLaws: gravity gives every moving point the acceleration g with l
   }
 }
 
+TEST_CASE("ForceLaws: gravity without a density takes the model's mass per area from the load context", "[core]") {
+  const Eigen::Vector3d g(0.5, 0.0, -9.81);
+  for (int model = 0; model < 3; ++model) {
+    ModelParameters p;
+    p.numU = 6;
+    p.numV = 5;
+    p.massModel = model == 1 ? MassModel::Lumped : MassModel::Nodal;
+    p.mass = model == 1 ? 0.7 : 0.02;
+    if (model == 2) {
+      p.energy = EnergyModel::Shell;
+      p.material.density = 472.6;
+      p.material.thickness = 0.318e-3;
+    }
+    INFO("model " << model);
+    Simulation fromModel(p), given(p);
+    fromModel.addForce(std::make_shared<GravityForce>(g));
+    given.addForce(std::make_shared<GravityForce>(given.massPerArea(), g));
+    const ControlNet a = fromModel.loadVector(), b = given.loadVector();
+    CHECK(b.cwiseAbs().maxCoeff() > 0.0);
+    CHECK((a - b).cwiseAbs().maxCoeff() <= 1e-13 * b.cwiseAbs().maxCoeff());  // rho (g w) against (rho g) w
+    // and straight from a context that says so
+    const ControlNet& net = fromModel.current();
+    LoadContext ctx{fromModel.space(), net, net, p.timeStep, 0.0};
+    ctx.massPerArea = 2.5;
+    ControlNet la = ControlNet::Zero(net.rows(), 3), lb = ControlNet::Zero(net.rows(), 3);
+    GravityForce(g).addLoad(ctx, la);
+    GravityForce(2.5, g).addLoad(ctx, lb);
+    CHECK((la - lb).cwiseAbs().maxCoeff() <= 1e-13 * lb.cwiseAbs().maxCoeff());
+    CHECK(GravityForce(g).modelDensity());
+    CHECK(!GravityForce(2.5, g).modelDensity());
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Validation
 

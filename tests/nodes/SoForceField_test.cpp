@@ -27,9 +27,8 @@ std::string sceneWith(const std::string& forces) {
          "on FALSE forces [ " + forces + " ] } }";
 }
 
-std::shared_ptr<const bsdeform::Force> build(SoForceField* f, double massDensity = 1.0) {
+std::shared_ptr<const bsdeform::Force> build(SoForceField* f) {
   SoForceField::SurfaceInfo info;
-  info.massDensity = massDensity;
   std::string error;
   auto force = f->makeForce(info, error);
   INFO(error);
@@ -208,9 +207,9 @@ TEST_CASE("SoForceField: each type builds its core class, bad values give the co
   auto* f = testutil::named<SoForceField>("F");
   f->type = SoForceField::GRAVITY;
   f->force.setValue(0, 0, -9.81);
-  const auto gravity = as<bsdeform::GravityForce>(build(f, 2.5));
+  const auto gravity = as<bsdeform::GravityForce>(build(f));
   REQUIRE(gravity);
-  CHECK(gravity->massDensity() == 2.5);
+  CHECK(gravity->modelDensity());  // the model's rho, read at every step
   CHECK(gravity->acceleration() == Eigen::Vector3d(0, 0, -9.81));
   f->type = SoForceField::DRAG;
   f->coefficient = 0.25;

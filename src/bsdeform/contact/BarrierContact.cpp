@@ -742,7 +742,8 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   if (st.kappa == 0.0) {
     // IPC's potential is h² times ours (its inertia ½|x - x̂|²_M against our ½|x - x̂|²_M / h²):
     // its κ over h² here. The gradients are not balanced (κ_min, IPC's choice without them).
-    const double averageMass = m_params.mass / double(st.proxy->numVertices());
+    const double mass = m_params.modelMass ? ctx.massPerArea * ctx.restArea : m_params.mass;
+    const double averageMass = mass / double(st.proxy->numVertices());
     const Eigen::VectorXd none = Eigen::VectorXd::Zero(1);
     const double h2 = ctx.stepSize * ctx.stepSize;
     st.kappa = initialBarrierStiffness(diagonal, m_params.dhat, averageMass, none, none, st.kappaMax, 1e11,

@@ -37,6 +37,10 @@ struct BarrierContactParameters {
   /// μλ over a slip of ε_v h in a step)
   double epsv = 1e-3;
   double mass = 1.0;       ///< the surface's mass (kg), for the barrier stiffness's scale
+  /// Whether the mass is the model's, LoadContext::massPerArea times restArea when the stiffness
+  /// is first chosen, instead of `mass`: a model rebuilt with another mass keeps the same force
+  /// (what the nodes do).
+  bool modelMass = false;
   /// false only for tests: the pair Hessians as they are (the exact Hessian of the potential for
   /// obstacle contact), instead of projected to positive semidefinite
   bool projectHessian = true;

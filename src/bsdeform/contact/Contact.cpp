@@ -382,16 +382,26 @@ CollisionForce::CollisionForce(std::shared_ptr<const ContactWorld> world, const 
     throw std::invalid_argument("collision: the surface's transform is not finite");
 }
 
+ContactParameters CollisionForce::parametersFor(const LoadContext& ctx) const {
+  ContactParameters p = m_params;
+  if (p.modelMass) {
+    p.massDensity = ctx.massPerArea;
+    p.areaScale = ctx.restArea;
+  }
+  return p;
+}
+
 double CollisionForce::eigenvalueBound(const MassContext& ctx) const {
   // ||A||^2 through the frame, and sigma_1 sigma_2 the largest world area per local area
   const Eigen::Vector3d sv = m_world->linear.jacobiSvd().singularValues();
-  return m_params.areaScale * sv(0) * sv(1) * m_params.stiffness * sv(0) * sv(0) * ctx.space.basisU().spacing() *
+  return (m_params.modelMass ? ctx.restArea : m_params.areaScale) * sv(0) * sv(1) * m_params.stiffness * sv(0) * sv(0) * ctx.space.basisU().spacing() *
          ctx.space.basisV().spacing() / ctx.interiorMass;
 }
 
 const CollisionForce::Counters& CollisionForce::counters() const { return m_cache->counters; }
 
 void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  const ContactParameters law = parametersFor(ctx);
   Cache& c = *m_cache;
   Counters& n = c.counters;
   ++n.loads;
@@ -401,7 +411,7 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   n.elements = c.spansU * c.spansV;
   const ContactWorld& w = *m_world;
   if (w.obstacles.empty()) return;
-  const double search = kSearch * m_params.thickness;
+  const double search = kSearch * law.thickness;
 
   double moved = 0.0;  // largest control-point displacement since the reference, world units
   bool same = c.sameReference(w, ctx.current, moved);
@@ -490,7 +500,7 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
           PointQuery query;
           query.radius = search + c.skin;
           query.hints = c.hints.data() + point * nObstacles;
-          const Eigen::Vector3d f = localDensity(w, m_params, frame, smp, query);
+          const Eigen::Vector3d f = localDensity(w, law, frame, smp, query);
           const double margin = 1e-9 * (1.0 + smp.position.cwiseAbs().maxCoeff() * c.normA +
                                         w.offset.cwiseAbs().maxCoeff() + search + c.skin);
           const double clear = std::min(query.free - moved - margin, 1e30);
@@ -505,6 +515,7 @@ void CollisionForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
 }
 
 void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
+  const ContactParameters law = parametersFor(ctx);
   const ContactWorld& w = *m_world;
   if (w.obstacles.empty()) return;
   const SplineSpace& s = ctx.space;
@@ -534,8 +545,8 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
           const SurfaceSample smp = sampleFromBases(ctx, bu, bv, qu[std::size_t(i)].x, qv[std::size_t(j)].x, needs);
           const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
           if (!(gamma > 0.0)) continue;
-          const double scale = m_params.areaScale * gamma;
-          const Eigen::Matrix3d Kw = jacobianAt(w, m_params, w.linear * smp.position + w.offset,
+          const double scale = law.areaScale * gamma;
+          const Eigen::Matrix3d Kw = jacobianAt(w, law, w.linear * smp.position + w.offset,
                                                 w.linear * smp.velocity, smp.stepSize, w.linear, scale, velocityScale);
           if (Kw.isZero(0.0)) continue;
           if (!any) {
@@ -565,6 +576,7 @@ void CollisionForce::addJacobian(const LoadContext& ctx, double velocityScale, J
 }
 
 bool CollisionForce::storedEnergy(const LoadContext& ctx, double& value) const {
+  const ContactParameters law = parametersFor(ctx);
   value = 0.0;
   const ContactWorld& w = *m_world;
   if (!m_seen->unchangedSinceFirst(w)) return false;
@@ -580,9 +592,9 @@ bool CollisionForce::storedEnergy(const LoadContext& ctx, double& value) const {
       const SurfaceSample smp = sampleFromBases(ctx, c.bu[i], c.bv[j], nu.x, nv.x, needs);
       const double gamma = frame.similarity > 0.0 ? frame.similarity : (frame.cofactor * smp.normal).norm();
       double depth = 0.0;
-      densityAt(w, m_params, w.linear * smp.position + w.offset, Eigen::Vector3d::Zero(), 0.0, w.linear, 1.0, &depth,
+      densityAt(w, law, w.linear * smp.position + w.offset, Eigen::Vector3d::Zero(), 0.0, w.linear, 1.0, &depth,
                 nullptr);
-      value += nu.w * nv.w * m_params.areaScale * gamma * 0.5 * m_params.stiffness * depth * depth;
+      value += nu.w * nv.w * law.areaScale * gamma * 0.5 * law.stiffness * depth * depth;
     }
   }
   return true;

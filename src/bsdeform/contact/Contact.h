@@ -57,6 +57,10 @@ struct ContactParameters {
   /// density per unit parameter area is a times it; two surfaces in contact then press on each
   /// other equally whatever their sizes (to within their stretch from rest).
   double areaScale = 1.0;
+  /// Whether massDensity and areaScale are the model's, read at every evaluation from the load
+  /// context (LoadContext::massPerArea, restArea) instead of the two values above: a model rebuilt
+  /// with another mass or rest shape keeps the same force (what the nodes do).
+  bool modelMass = false;
 };
 
 /// Whether a mesh is closed and consistently wound (each undirected edge in exactly two
@@ -127,6 +131,8 @@ class CollisionForce : public Force {
   /// obstacle or the frame has changed since the first call (a moving obstacle does work).
   bool storedEnergy(const LoadContext& ctx, double& value) const override;
   const ContactParameters& parameters() const { return m_params; }
+  /// parameters(), with the model's mass density and area from `ctx` where modelMass is set.
+  ContactParameters parametersFor(const LoadContext& ctx) const;
   const ContactWorld& world() const { return *m_world; }
 
   /// The load: the same quadrature as DistributedForce (degree + 3 Gauss points per span and

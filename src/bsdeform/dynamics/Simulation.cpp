@@ -153,6 +153,11 @@ double Simulation::restArea() const {
   return m_restArea;
 }
 
+double Simulation::usableRestArea() const {
+  const double a = restArea();
+  return std::isfinite(a) && a > 0.0 ? a : 1.0;
+}
+
 bool Simulation::restIsClosed() const {
   if (m_restClosed < 0) m_restClosed = isClosedSurface(m_space, m_rest) ? 1 : 0;
   return m_restClosed == 1;
@@ -410,7 +415,7 @@ void Simulation::rebuildConstantLoad() {
 }
 
 void Simulation::updateSubSteps() {
-  const MassContext mc{m_space, massPerPoint(), [this](int i, int j) { return massAt(i, j); }};
+  const MassContext mc{m_space, massPerPoint(), [this](int i, int j) { return massAt(i, j); }, usableRestArea()};
   double forceLambda = 0.0;
   for (const auto& f : m_forces) forceLambda += f->eigenvalueBound(mc);
   m_lambdaMax = m_elasticLambda + forceLambda;

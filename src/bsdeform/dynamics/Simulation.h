@@ -356,6 +356,8 @@ class Simulation {
   double massPerArea() const;
   /// World area of the rest surface (surfaceArea(); computed once).
   double restArea() const;
+  /// restArea(), or 1 where the rest surface is degenerate (what LoadContext::restArea holds).
+  double usableRestArea() const;
   /// Whether the rest surface is closed (isClosedSurface(); computed once): a closed surface
   /// shows no back faces.
   bool restIsClosed() const;

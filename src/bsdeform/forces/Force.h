@@ -50,6 +50,13 @@ struct LoadContext {
   /// is then integrated against the rest surface's area element J0 = |S_u x S_v| (and a line
   /// load against its length element); null: per unit parameter area (the paper's model).
   const ControlNet* rest = nullptr;
+  /// The model's mass per unit area of the load's measure: rho t per unit rest area (SHELL),
+  /// m / (h1 h2) or rho per unit parameter area (the paper's NODAL or LUMPED mass). Forces that
+  /// scale with the mass (gravity, contact's caps) read it here, so that a model rebuilt with a
+  /// new thickness, density or mass keeps its forces (Simulation::loadContext fills it).
+  double massPerArea = 1.0;
+  /// The rest surface's area (world units; 1 when it is degenerate or not known).
+  double restArea = 1.0;
 };
 
 /// What a force needs to bound its share of \f$\lambda_{max}(M^{-1} K)\f$, K being the
@@ -58,6 +65,7 @@ struct MassContext {
   const SplineSpace& space;
   double interiorMass;                     ///< mass of a moving point whose B-spline lies inside
   std::function<double(int, int)> massAt;  ///< mass of net point (i, j) (net layers), moving or derived
+  double restArea = 1.0;                   ///< as LoadContext::restArea
 };
 
 /// Where a force adds its Jacobian: 3 x 3 blocks between net points (full-net indices, held

@@ -3,6 +3,7 @@
 #include "bsdeform/base/NumberText.h"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -214,10 +215,26 @@ void SphereContactForce::densityDerivatives(const SurfaceSample& s, Eigen::Matri
 
 // ---------------------------------------------------------------------------------------------
 
+GravityForce::GravityForce(const Eigen::Vector3d& acceleration)
+    : DistributedForce(finite(acceleration, "gravity acceleration")),
+      m_massDensity(std::numeric_limits<double>::quiet_NaN()),
+      m_acceleration(acceleration) {}
+
 GravityForce::GravityForce(double massDensity, const Eigen::Vector3d& acceleration)
     : DistributedForce(nonNegative(massDensity, "gravity mass density") *
                        finite(acceleration, "gravity acceleration")),
       m_massDensity(massDensity),
       m_acceleration(acceleration) {}
+
+void GravityForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
+  if (!modelDensity()) {
+    DistributedForce::addLoad(ctx, load);
+    return;
+  }
+  // the load of g per unit mass, times the model's rho (a constant load: computed once per model)
+  ControlNet unit = ControlNet::Zero(load.rows(), load.cols());
+  DistributedForce::addLoad(ctx, unit);
+  load += ctx.massPerArea * unit;
+}
 
 }  // namespace bsdeform

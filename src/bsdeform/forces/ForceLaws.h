@@ -13,6 +13,7 @@
 ///       \f$r_m / m_m \le h_1 h_2 / m_{interior}\f$ for both mass models (NODAL: \f$m_m = m\f$;
 ///       LUMPED: \f$m_m = \rho r_m\f$, \f$m_{interior} = \rho h_1 h_2\f$).
 
+#include <cmath>
 #include <Eigen/Core>
 #include <memory>
 
@@ -187,17 +188,31 @@ class SphereContactForce : public DistributedForce {
 };
 
 /// Gravity: the constant density \f$f = \rho\,g\f$ on the whole surface, \f$\rho\f$ the mass per
-/// unit parameter area — \f$m/(h_1 h_2)\f$ for the NODAL model (m per control point), \f$\rho\f$
-/// itself for LUMPED — and g the acceleration. With LUMPED mass every moving point gets exactly
-/// \f$M^{-1}L = g\f$. Constant, so eigenvalueBound() is 0.
+/// unit area of the load's measure — \f$m/(h_1 h_2)\f$ per unit parameter area for the NODAL model
+/// (m per control point), \f$\rho\f$ itself for LUMPED, \f$\rho t\f$ per unit rest area for SHELL —
+/// and g the acceleration. With LUMPED mass every moving point gets exactly \f$M^{-1}L = g\f$.
+/// Constant, so eigenvalueBound() is 0.
+///
+/// Built from g alone, it takes \f$\rho\f$ from the model it acts on
+/// (LoadContext::massPerArea) at every evaluation: a model rebuilt with another thickness,
+/// density or mass keeps the same force (what the nodes do). Built with a density, it keeps that
+/// one.
 class GravityForce : public DistributedForce {
  public:
-  /// @param massDensity   \f$\rho\f$, finite and >= 0
+  /// @param acceleration  g, finite; \f$\rho\f$ is the model's (LoadContext::massPerArea)
+  /// @throws std::invalid_argument naming the parameter and the value
+  explicit GravityForce(const Eigen::Vector3d& acceleration);
+  /// @param massDensity   \f$\rho\f$, finite and >= 0, whatever the model's
   /// @param acceleration  g, finite
   /// @throws std::invalid_argument naming the parameter and the value
   GravityForce(double massDensity, const Eigen::Vector3d& acceleration);
 
+  void addLoad(const LoadContext& ctx, ControlNet& load) const override;
+
+  /// The density given to the constructor; NaN where the force takes the model's.
   double massDensity() const { return m_massDensity; }
+  /// Whether \f$\rho\f$ is the model's (the constructor without a density).
+  bool modelDensity() const { return std::isnan(m_massDensity); }
   const Eigen::Vector3d& acceleration() const { return m_acceleration; }
 
  private:
