@@ -183,7 +183,7 @@ Simulation hingedRoof(int spans, double thickness) {
 
 TEST_CASE("Arc length on a SHELL: the hinged roof's path agrees with load control before its limit point, "
           "snaps through, and the thinner roof snaps back",
-          "[arclength][shell]") {
+          "[arclength][shell][slow]") {
   auto trace = [](double P, Simulation& roof) {
     roof.addForce(std::make_shared<DistributedForce>(Eigen::Vector3d(0, 0, -P), ParamRect{0.5, 0.5, 0.5, 0.5}));
     ArcLengthOptions o;

@@ -157,7 +157,7 @@ TEST_CASE("BarrierContactForce with friction: load, potential and Hessian agains
 
 TEST_CASE("BarrierContactForce with friction: on a slope a sheet sticks when tan(theta) < mu and slides at "
           "g (sin(theta) - mu cos(theta)) when tan(theta) > mu",
-          "[core][contact]") {
+          "[core][contact][slow]") {
   // The slope's frame, as the penalty's test: the plate horizontal and gravity tilted by theta
   const double mu = 0.5, top = -0.004, dt = 0.01;
   const TriangleMesh plate = box(Eigen::Vector3d(-20, -20, top - 0.1), Eigen::Vector3d(20, 20, top));
@@ -199,7 +199,7 @@ TEST_CASE("BarrierContactForce with friction: on a slope a sheet sticks when tan
   }
 }
 
-TEST_CASE("BarrierContactForce: a sheet falling at 5 m/s onto a 2 mm plate does not pass through", "[core][contact]") {
+TEST_CASE("BarrierContactForce: a sheet falling at 5 m/s onto a 2 mm plate does not pass through", "[core][contact][slow]") {
   Simulation sim(clothModel(6, 0.02));
   sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
   const double top = -0.05;

@@ -328,7 +328,7 @@ TEST_CASE("Boundary: clamped sides and pins hold exactly after 1000 steps under 
 }
 
 TEST_CASE("Boundary: the stability bound stays above the dense lambda_max for free, periodic, supported, built-in and pinned models",
-          "[core]") {
+          "[core][slow]") {
   struct Case {
     Boundaries bc;
     MassModel mass;

@@ -92,7 +92,7 @@ TEST_CASE("RestShape: every generated shape is an equilibrium of the unloaded mo
     }
 }
 
-TEST_CASE("RestShape: a sphere under uniform pressure inflates and keeps its symmetries", "[core]") {
+TEST_CASE("RestShape: a sphere under uniform pressure inflates and keeps its symmetries", "[core][slow]") {
   Built b = build(ShapeKind::Sphere, 12);
   b.params.massModel = MassModel::Lumped;
   b.params.damping = 4.0;

@@ -386,7 +386,7 @@ TEST_CASE("SHELL pressurised open tube follows the membrane's closed-form pressu
   }
 }
 
-TEST_CASE("SHELL neo-Hookean open tube follows its closed-form pressure-stretch curve to hoop stretch 2", "[shell]") {
+TEST_CASE("SHELL neo-Hookean open tube follows its closed-form pressure-stretch curve to hoop stretch 2", "[shell][slow]") {
   // Radius R = 1, length 2, t = 1e-2 (R/t = 100: bending and the through-thickness terms are
   // O((t/R)^2) = 1e-4 of the membrane), E = 1e5, nu = 0.3, open ends free, a follower pressure.
   // The uniform state with hoop stretch l and axial stretch lz (docs/math.md §16.1): the axial

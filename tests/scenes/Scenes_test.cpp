@@ -987,7 +987,7 @@ TEST_CASE("bsdeform-run --static: the equilibrium of a long damped run, written 
   CHECK(r.err.find("--static and --steps") != std::string::npos);
 }
 
-TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, one row per increment", "[scenes]") {
+TEST_CASE("bsdeform-run --static --load-steps: a SHELL load-displacement curve, one row per increment", "[scenes][slow]") {
   TempDir dir;
   // Sze et al.'s cantilever (cantilever_roll.iv) at P = 0.5, 1, ..., 4: the last one the exact
   // elastica's tip, 6.69964 below and 3.28941 short of the rest tip
