@@ -394,7 +394,8 @@ ContactParameters CollisionForce::parametersFor(const LoadContext& ctx) const {
 double CollisionForce::eigenvalueBound(const MassContext& ctx) const {
   // ||A||^2 through the frame, and sigma_1 sigma_2 the largest world area per local area
   const Eigen::Vector3d sv = m_world->linear.jacobiSvd().singularValues();
-  return (m_params.modelMass ? ctx.restArea : m_params.areaScale) * sv(0) * sv(1) * m_params.stiffness * sv(0) * sv(0) * ctx.space.basisU().spacing() *
+  const double areaScale = m_params.modelMass ? ctx.restArea : m_params.areaScale;
+  return areaScale * sv(0) * sv(1) * m_params.stiffness * sv(0) * sv(0) * ctx.space.basisU().spacing() *
          ctx.space.basisV().spacing() / ctx.interiorMass;
 }
 
