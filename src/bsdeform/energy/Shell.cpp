@@ -47,8 +47,8 @@ template <typename T, int LC = 0, int QC = 0, typename Law, typename Load, typen
 void elementPass(const Tables& tb, int e1, int e2, const ShellEnergy::RestPoint* rest, const Law& law,
                  bool bending, bool grad, Load&& load, Store&& store, T& em, T& eb) {
   const int L1 = LC ? LC : tb.L1, L2 = LC ? LC : tb.L2, Q1 = QC ? QC : tb.Q1, Q2 = QC ? QC : tb.Q2;
-  const auto tbu = [&tb, L1](int q, int d, int a) { return tb.tu[(q * 3 + d) * L1 + a]; };
-  const auto tbv = [&tb, L2](int q, int d, int b) { return tb.tv[(q * 3 + d) * L2 + b]; };
+  const auto tbu = [&](int q, int d, int a) { return tb.tu[(q * 3 + d) * L1 + a]; };
+  const auto tbv = [&](int q, int d, int b) { return tb.tv[(q * 3 + d) * L2 + b]; };
   // T[a][q2][dv][c] = Σ_b tv[q2][dv][b] X[a][b][c]
   T Tv[kMaxPoints][kMaxPoints][3][3];
   for (int a = 0; a < L1; ++a) {
