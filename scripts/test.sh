@@ -7,7 +7,7 @@
 #   scripts/test.sh [--fuzz] [--no-sanitize] [ctest arguments...]
 #
 # --no-sanitize skips the sanitizer build (a quick local run); ctest arguments (e.g. -L core)
-# apply to both runs. BSDEFORM_FUZZ_SECONDS sets the length of the fuzzing run (default 120).
+# apply to both runs. BSDEFORM_FUZZ_SECONDS sets the length of the fuzzing run (default 60).
 set -euo pipefail
 . "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 
@@ -71,7 +71,7 @@ if [ "$fuzz" = 1 ]; then
   run="$BSDEFORM_SAN_BUILD/fuzz-run"
   rm -rf "$run/artifacts"
   mkdir -p "$run/corpus" "$run/artifacts"
-  seconds="${BSDEFORM_FUZZ_SECONDS:-120}"
+  seconds="${BSDEFORM_FUZZ_SECONDS:-60}"
   echo "bsdeform: fuzzing the scene reader for ${seconds} s (log: $run/fuzz.log)"
   (cd "$run" && "$BSDEFORM_SAN_BUILD/tests/scene_reader_fuzz" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 \
       -ignore_ooms=1 -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \

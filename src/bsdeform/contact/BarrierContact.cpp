@@ -363,6 +363,74 @@ const std::vector<ContactCandidates>& BarrierContactForce::gather(const LoadCont
   return candidatesWithin(m_params.offset + m_params.dhat);
 }
 
+struct BarrierContactForce::PairSite {
+  enum Kind { VertexTriangle, TriangleVertex, EdgeEdge } kind;
+  size_t where;  ///< the obstacle (obstacles.size(): the proxy itself)
+  bool self;
+  /// The pair's points as a Term names them: proxy vertices, -1 for an obstacle's
+  std::array<Eigen::Index, 4> vertex;
+  /// The same points as indices into their own meshes (an obstacle's too): a vertex and a
+  /// triangle's three (VertexTriangle: proxy vertex, second mesh's triangle; TriangleVertex:
+  /// second mesh's vertex, proxy triangle), or two edges' ends (EdgeEdge: proxy, second mesh)
+  std::array<Eigen::Index, 4> index;
+  /// World positions, in the order of `index`
+  Eigen::Vector3d x[4];
+  /// EdgeEdge: the mollifier's threshold from the rest positions (edgeEdgeMollifierThreshold)
+  double threshold;
+};
+
+template <typename Visit>
+void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit) const {
+  const State& st = *m_state;
+  const Eigen::MatrixX3d& V = st.mesh.start;
+  const Eigen::MatrixX3i& T = st.mesh.triangles;
+  const Eigen::MatrixX2i& E = st.mesh.edges;
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  PairSite site;
+  for (size_t o = 0; o <= st.obstacles.size(); ++o) {
+    const ContactCandidates& c = candidates[o];
+    const bool self = o == st.obstacles.size();
+    const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
+    const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;  // rest positions of the second mesh
+    const Eigen::MatrixX3d& W = self ? V : ob->start;
+    site.where = o;
+    site.self = self;
+    site.threshold = 0.0;
+    site.kind = PairSite::VertexTriangle;
+    for (const auto& [v, t] : c.vertexTriangle) {
+      const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
+      site.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
+      site.index = {v, tri[0], tri[1], tri[2]};
+      site.x[0] = row(V, v);
+      for (int k = 0; k < 3; ++k) site.x[k + 1] = row(W, tri[k]);
+      visit(site);
+    }
+    site.kind = PairSite::TriangleVertex;
+    for (const auto& [t, v] : c.triangleVertex) {  // an obstacle's vertex and a proxy triangle
+      const Eigen::Vector3i tri = T.row(t).transpose();
+      site.vertex = {-1, tri[0], tri[1], tri[2]};
+      site.index = {v, tri[0], tri[1], tri[2]};
+      site.x[0] = row(W, v);
+      for (int k = 0; k < 3; ++k) site.x[k + 1] = row(V, tri[k]);
+      visit(site);
+    }
+    site.kind = PairSite::EdgeEdge;
+    for (const auto& [ea, eb] : c.edgeEdge) {
+      const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
+      const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
+      site.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
+      site.index = {a0, a1, b0, b1};
+      site.x[0] = row(V, a0);
+      site.x[1] = row(V, a1);
+      site.x[2] = row(W, b0);
+      site.x[3] = row(W, b1);
+      site.threshold =
+          edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
+      visit(site);
+    }
+  }
+}
+
 void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
                                 bool withFriction) const {
   State& st = *m_state;
@@ -408,38 +476,25 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     project(0, n);
     emit(edgeEdgeDistanceSquared(a0, a1, b0, b1));
   };
-  const Eigen::MatrixX3i& T = st.mesh.triangles;
-  const Eigen::MatrixX2i& E = st.mesh.edges;
   auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
-  for (size_t o = 0; o <= st.obstacles.size(); ++o) {
-    where = o;
-    const ContactCandidates& c = candidates[o];
-    const bool self = o == st.obstacles.size();
-    const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
-    const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;  // rest positions of the second mesh
-    const Eigen::MatrixX3d& W = self ? V : ob->start;
-    for (const auto& [v, t] : c.vertexTriangle) {
-      const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
-      term.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
-      term.split = 1;
-      pointTriangle(row(V, v), row(W, tri[0]), row(W, tri[1]), row(W, tri[2]), 0, self ? 12 : 3);
+  forEachPair(candidates, [&](const PairSite& p) {
+    where = p.where;
+    term.vertex = p.vertex;
+    switch (p.kind) {
+      case PairSite::VertexTriangle:
+        term.split = 1;
+        pointTriangle(p.x[0], p.x[1], p.x[2], p.x[3], 0, p.self ? 12 : 3);
+        break;
+      case PairSite::TriangleVertex:
+        term.split = 1;
+        pointTriangle(p.x[0], p.x[1], p.x[2], p.x[3], 3, 9);
+        break;
+      case PairSite::EdgeEdge:
+        term.split = 2;
+        edgeEdge(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, p.self ? 12 : 6);
+        break;
     }
-    for (const auto& [t, v] : c.triangleVertex) {  // an obstacle's vertex and a proxy triangle
-      const Eigen::Vector3i tri = T.row(t).transpose();
-      term.vertex = {-1, tri[0], tri[1], tri[2]};
-      term.split = 1;
-      pointTriangle(row(W, v), row(V, tri[0]), row(V, tri[1]), row(V, tri[2]), 3, 9);
-    }
-    for (const auto& [ea, eb] : c.edgeEdge) {
-      const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
-      const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
-      term.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
-      term.split = 2;
-      const double threshold =
-          edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
-      edgeEdge(row(V, a0), row(V, a1), row(W, b0), row(W, b1), threshold, self ? 12 : 6);
-    }
-  }
+  });
   st.minimum = minimum;
   if (!withFriction || st.friction.empty()) return;
   // friction: each frozen pair's slip r = Σ c_k (x_k - x_k(previous)) over its moving points
@@ -472,69 +527,61 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
   bp.offset = m_params.offset;
   bp.dhat = m_params.dhat;
   const double sHat = barrierSquaredActivation(bp), xi2 = m_params.offset * m_params.offset;
-  const Eigen::MatrixX3d& V = st.mesh.start;
-  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
   // λ = -κ b'(s) ∂s/∂d = -2 d κ b'(d² - ξ²) (ipc-toolkit's normal force magnitude), times the
   // mollifier for edge–edge pairs (their barrier's force is scaled by it; ipc-toolkit leaves it out)
   auto normalForce = [&](double d2) { return -2.0 * std::sqrt(d2) * st.kappa * barrierFirstDerivative(d2 - xi2, sHat); };
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  // a moving obstacle's points move over the step by its sweep (§18.4): friction acts on the slip
+  // relative to them
+  size_t sweepOf = st.obstacles.size();  // the obstacle `sweep` is of (none yet)
+  Eigen::MatrixX3d sweep;
+  auto moved = [&](const PairSite& p, Eigen::Index i) {
+    if (p.self || !(st.obstacles[p.where].remaining > 0.0)) return Eigen::Vector3d::Zero().eval();
+    if (sweepOf != p.where) {
+      sweep = st.obstacles[p.where].target - st.obstacles[p.where].mesh.start;
+      sweepOf = p.where;
+    }
+    return row(sweep, i);
+  };
   FrictionPair f;
-  for (size_t o = 0; o <= st.obstacles.size(); ++o) {
-    const ContactCandidates& c = candidates[o];
-    const bool self = o == st.obstacles.size();
-    const ContactMesh* ob = self ? &st.mesh : &st.obstacles[o].mesh;
-    const Eigen::MatrixX3d& R = self ? st.restWorld : ob->start;
-    const Eigen::MatrixX3d& W = self ? V : ob->start;
-    // a moving obstacle's points move over the step by its sweep (§18.4): friction acts on the
-    // slip relative to them
-    const Eigen::MatrixX3d* move = nullptr;
-    Eigen::MatrixX3d sweep;
-    if (!self && st.obstacles[o].remaining > 0.0) {
-      sweep = st.obstacles[o].target - ob->start;
-      move = &sweep;
+  forEachPair(candidates, [&](const PairSite& p) {
+    const std::array<Eigen::Index, 4>& i = p.index;
+    switch (p.kind) {
+      case PairSite::VertexTriangle: {
+        const double d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
+        if (!(d2 - xi2 < sHat)) return;
+        f.vertex = p.vertex;
+        f.normalForce = normalForce(d2);
+        pointTriangleFrame(p.x[0], p.x[1], p.x[2], p.x[3], f);
+        f.slip = p.self ? Eigen::Vector3d::Zero().eval()
+                        : Eigen::Vector3d(f.coefficient[1] * moved(p, i[1]) + f.coefficient[2] * moved(p, i[2]) +
+                                          f.coefficient[3] * moved(p, i[3]));
+        break;
+      }
+      case PairSite::TriangleVertex: {
+        const double d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
+        if (!(d2 - xi2 < sHat)) return;
+        f.vertex = p.vertex;
+        f.normalForce = normalForce(d2);
+        pointTriangleFrame(p.x[0], p.x[1], p.x[2], p.x[3], f);
+        f.slip = f.coefficient[0] * moved(p, i[0]);
+        break;
+      }
+      case PairSite::EdgeEdge: {
+        const double d2 = edgeEdgeDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
+        if (!(d2 - xi2 < sHat)) return;
+        const double m = edgeEdgeMollifier((p.x[1] - p.x[0]).cross(p.x[3] - p.x[2]).squaredNorm(), p.threshold);
+        if (!(m > 0.0)) return;
+        f.vertex = p.vertex;
+        f.normalForce = m * normalForce(d2);
+        edgeEdgeFrame(p.x[0], p.x[1], p.x[2], p.x[3], f);
+        f.slip = p.self ? Eigen::Vector3d::Zero().eval()
+                        : Eigen::Vector3d(f.coefficient[2] * moved(p, i[2]) + f.coefficient[3] * moved(p, i[3]));
+        break;
+      }
     }
-    auto moved = [&](Eigen::Index i) { return move ? row(*move, i) : Eigen::Vector3d::Zero().eval(); };
-    for (const auto& [v, t] : c.vertexTriangle) {
-      const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
-      const Eigen::Vector3d p = row(V, v), t0 = row(W, tri[0]), t1 = row(W, tri[1]), t2 = row(W, tri[2]);
-      const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2);
-      if (!(d2 - xi2 < sHat)) continue;
-      f.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
-      f.normalForce = normalForce(d2);
-      pointTriangleFrame(p, t0, t1, t2, f);
-      f.slip = self ? Eigen::Vector3d::Zero().eval()
-                    : Eigen::Vector3d(f.coefficient[1] * moved(tri[0]) + f.coefficient[2] * moved(tri[1]) +
-                                      f.coefficient[3] * moved(tri[2]));
-      st.friction.push_back(f);
-    }
-    for (const auto& [t, v] : c.triangleVertex) {
-      const Eigen::Vector3i tri = st.mesh.triangles.row(t).transpose();
-      const Eigen::Vector3d p = row(W, v), t0 = row(V, tri[0]), t1 = row(V, tri[1]), t2 = row(V, tri[2]);
-      const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2);
-      if (!(d2 - xi2 < sHat)) continue;
-      f.vertex = {-1, tri[0], tri[1], tri[2]};
-      f.normalForce = normalForce(d2);
-      pointTriangleFrame(p, t0, t1, t2, f);
-      f.slip = f.coefficient[0] * moved(v);
-      st.friction.push_back(f);
-    }
-    for (const auto& [ea, eb] : c.edgeEdge) {
-      const Eigen::Index a0 = st.mesh.edges(ea, 0), a1 = st.mesh.edges(ea, 1);
-      const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
-      const Eigen::Vector3d pa0 = row(V, a0), pa1 = row(V, a1), pb0 = row(W, b0), pb1 = row(W, b1);
-      const double d2 = edgeEdgeDistanceSquared(pa0, pa1, pb0, pb1);
-      if (!(d2 - xi2 < sHat)) continue;
-      const double threshold =
-          edgeEdgeMollifierThreshold(row(st.restWorld, a0), row(st.restWorld, a1), row(R, b0), row(R, b1));
-      const double m = edgeEdgeMollifier((pa1 - pa0).cross(pb1 - pb0).squaredNorm(), threshold);
-      if (!(m > 0.0)) continue;
-      f.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
-      f.normalForce = m * normalForce(d2);
-      edgeEdgeFrame(pa0, pa1, pb0, pb1, f);
-      f.slip = self ? Eigen::Vector3d::Zero().eval()
-                    : Eigen::Vector3d(f.coefficient[2] * moved(b0) + f.coefficient[3] * moved(b1));
-      st.friction.push_back(f);
-    }
-  }
+    st.friction.push_back(f);
+  });
 }
 
 bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {

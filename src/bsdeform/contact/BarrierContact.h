@@ -127,6 +127,12 @@ class BarrierContactForce : public Force {
              bool withFriction = true) const;
   /// Freezes the friction pairs at ctx.current (beginStep()).
   void freezeFriction(const LoadContext& ctx) const;
+  /// A candidate pair as terms() and freezeFriction() visit it (forEachPair()).
+  struct PairSite;
+  /// visit(site) for every pair of `candidates` (gather()), obstacle by obstacle and the self
+  /// pairs last, in each: vertex–triangle, triangle–vertex, edge–edge. The one loop both walk.
+  template <typename Visit>
+  void forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit) const;
   std::shared_ptr<const ContactWorld> m_world;
   BarrierContactParameters m_params;
   std::shared_ptr<State> m_state;  // mutable: the proxy, κ, caches (the force is const in a step)
