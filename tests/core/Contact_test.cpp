@@ -127,7 +127,7 @@ TEST_CASE("CollisionForce: with modelMass the mass density and the rest area are
   ModelParameters mp = clothParams();
   mp.mass = 1.3;
   ControlNet rest = Simulation(mp).rest();
-  rest.col(0) *= 2.0;  // rest area 2: the law per unit world area doubles per unit parameter area
+  rest.col(0) *= 2.0;  // rest area 3: the law per unit world area, 3 times it per unit parameter area
   rest.col(1) *= 1.5;
   auto w = worldOf(box(Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(3, 3, -0.01)));
   ContactParameters fixed;
