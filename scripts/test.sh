@@ -42,9 +42,9 @@ if [ "$sanitize" = 1 ]; then
   # google/sanitizers#1353; seen once here, in a viewer test that then passed 8 reruns of 8).
   # When every failed test passed its tests and only that crash failed it, those tests run once
   # more; any other failure fails the script at once.
-  # The cases labelled core-slow, nodes-slow, scenes-slow and ui-slow (long runs and fine nets:
-  # the same code as the fast cases, which do run here) stay in the Release run: under the
-  # sanitizers they would take more than 15 of CI's 30 minutes (docs/reliability.md).
+  # The cases labelled slow (long runs and fine nets: the same code as the fast cases, which do
+  # run here) stay in the Release run: under the sanitizers they would take more than 15 of CI's
+  # 30 minutes (docs/reliability.md).
   if ! (cd "$BSDEFORM_SAN_BUILD" && ctest --output-on-failure -j "$jobs" -LE 'soak|slow' "${ctest_args[@]}"); then
     tmp="$BSDEFORM_SAN_BUILD/Testing/Temporary"
     failed="$(cut -d: -f1 "$tmp/LastTestsFailed.log" 2>/dev/null | tr '\n' ' ')"
