@@ -547,24 +547,20 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
   forEachPair(candidates, [&](const PairSite& p) {
     const std::array<Eigen::Index, 4>& i = p.index;
     switch (p.kind) {
-      case PairSite::VertexTriangle: {
-        const double d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
-        if (!(d2 - xi2 < sHat)) return;
-        f.vertex = p.vertex;
-        f.normalForce = normalForce(d2);
-        pointTriangleFrame(p.x[0], p.x[1], p.x[2], p.x[3], f);
-        f.slip = p.self ? Eigen::Vector3d::Zero().eval()
-                        : Eigen::Vector3d(f.coefficient[1] * moved(p, i[1]) + f.coefficient[2] * moved(p, i[2]) +
-                                          f.coefficient[3] * moved(p, i[3]));
-        break;
-      }
+      case PairSite::VertexTriangle:
       case PairSite::TriangleVertex: {
         const double d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
         if (!(d2 - xi2 < sHat)) return;
         f.vertex = p.vertex;
         f.normalForce = normalForce(d2);
         pointTriangleFrame(p.x[0], p.x[1], p.x[2], p.x[3], f);
-        f.slip = f.coefficient[0] * moved(p, i[0]);
+        // the second mesh's points: the triangle's (vertex–triangle) or the vertex (triangle–vertex)
+        if (p.kind == PairSite::TriangleVertex)
+          f.slip = f.coefficient[0] * moved(p, i[0]);
+        else
+          f.slip = p.self ? Eigen::Vector3d::Zero().eval()
+                          : Eigen::Vector3d(f.coefficient[1] * moved(p, i[1]) + f.coefficient[2] * moved(p, i[2]) +
+                                            f.coefficient[3] * moved(p, i[3]));
         break;
       }
       case PairSite::EdgeEdge: {
