@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 
 #include <Eigen/CholmodSupport>
@@ -180,7 +181,39 @@ void ShellBackwardEulerStep(benchmark::State& state) {
   p.integrator = Integrator::BackwardEuler;
   p.timeStep = 0.02;
   p.newtonVelocityTolerance = 1e-4;
+  if (state.range(1) == 1) {
+    p.nonlinearSolver = NonlinearSolver::LBFGS;
+    p.maxNewtonIterations = int(state.range(2));
+  }
   implicitSteps(state, p);
+}
+
+// The curtain released horizontal and falling for one simulated second (50 BACKWARD_EULER steps
+// of 0.02 s) per iteration, by Newton (solver 0) or L-BFGS (1), newtonVelocityTolerance
+// 10^-tolerance m/s: wall seconds per simulated second, the same states for every repetition.
+void CurtainSecond(benchmark::State& state) {
+  ModelParameters p = curtain(int(state.range(0)));
+  p.integrator = Integrator::BackwardEuler;
+  p.timeStep = 0.02;
+  p.newtonVelocityTolerance = std::pow(10.0, -double(state.range(2)));
+  if (state.range(1) == 1) {
+    p.nonlinearSolver = NonlinearSolver::LBFGS;
+    p.maxNewtonIterations = 400;
+  }
+  long newton = 0, steps = 0;
+  for (auto _ : state) {
+    Simulation sim(p);
+    sim.addForce(gravity());
+    for (int k = 0; k < 50; ++k) {
+      if (sim.step() != Status::Ok) {
+        state.SkipWithError(sim.statusMessage().c_str());
+        return;
+      }
+      newton += sim.lastNewtonIterations();
+      ++steps;
+    }
+  }
+  state.counters["iterations/step"] = steps ? double(newton) / double(steps) : 0.0;
 }
 
 // The linear static solve of a pinched cylinder of S x S knot spans (R = 300, L = 600, t = 3,
@@ -217,7 +250,20 @@ BENCHMARK(NewtonIteration)
     ->ArgsProduct({{16, 32, 64, 128}, {3, 2}, {0, 1, 2}})
     ->ArgNames({"N", "degree", "ordering"})
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(ShellBackwardEulerStep)->Arg(16)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
+BENCHMARK(ShellBackwardEulerStep)
+    ->Args({16, 0, 30})
+    ->Args({32, 0, 30})
+    ->Args({64, 0, 30})
+    ->Args({16, 1, 300})
+    ->Args({32, 1, 300})
+    ->Args({64, 1, 300})
+    ->ArgNames({"N", "lbfgs", "maxIterations"})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(CurtainSecond)
+    ->ArgsProduct({{16, 32, 64}, {0, 1}, {2, 3, 4}})
+    ->ArgNames({"N", "lbfgs", "tolerance"})
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
 BENCHMARK(ShellExplicitStep)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -72,6 +72,7 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_ADD_FIELD(newtonTolerance, (1e-8));
   SO_NODE_ADD_FIELD(maxNewtonIterations, (30));
   SO_NODE_ADD_FIELD(newtonVelocityTolerance, (1e-4));
+  SO_NODE_ADD_FIELD(nonlinearSolver, (NEWTON));
   SO_NODE_ADD_FIELD(reference, (REST));
   SO_NODE_ADD_FIELD(boundaryUMin, (CLAMPED));
   SO_NODE_ADD_FIELD(boundaryUMax, (CLAMPED));
@@ -116,6 +117,9 @@ SoBSplineDeformSurface::SoBSplineDeformSurface() {
   SO_NODE_DEFINE_ENUM_VALUE(Integrator, IMPLICIT);
   SO_NODE_DEFINE_ENUM_VALUE(Integrator, BACKWARD_EULER);
   SO_NODE_SET_SF_ENUM_TYPE(integrator, Integrator);
+  SO_NODE_DEFINE_ENUM_VALUE(NonlinearSolver, NEWTON);
+  SO_NODE_DEFINE_ENUM_VALUE(NonlinearSolver, LBFGS);
+  SO_NODE_SET_SF_ENUM_TYPE(nonlinearSolver, NonlinearSolver);
   SO_NODE_DEFINE_ENUM_VALUE(Reference, REST);
   SO_NODE_DEFINE_ENUM_VALUE(Reference, ABSOLUTE);
   SO_NODE_SET_SF_ENUM_TYPE(reference, Reference);

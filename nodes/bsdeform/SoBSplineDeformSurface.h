@@ -38,6 +38,8 @@
 ///   newtonTolerance 1e-8  # BACKWARD_EULER, SHELL IMPLICIT and static: Newton's relative residual
 ///   maxNewtonIterations 30 # BACKWARD_EULER, SHELL IMPLICIT: more iterations fail the step (reported)
 ///   newtonVelocityTolerance 1e-4 # BACKWARD_EULER: converged when max update / dt is below (m/s)
+///   nonlinearSolver NEWTON # BACKWARD_EULER: NEWTON (tangent factorised at the iterates) | LBFGS
+///                         #   (quasi-Newton on one matrix per model: cloth at interactive speed)
 ///   reference REST        # REST: energy of S - S_rest | ABSOLUTE: the paper's energy of S
 ///   boundaryUMin CLAMPED  # side u = 0: CLAMPED (n outer layers held, the paper) | FREE
 ///   boundaryUMax CLAMPED  #   (natural boundary) | PERIODIC (both sides of a direction; needs
@@ -130,6 +132,8 @@ class SoBSplineDeformSurface : public SoShape {
  public:
   enum MassModel { NODAL, LUMPED };
   enum Integrator { EXPLICIT, IMPLICIT, BACKWARD_EULER };
+  /// The `nonlinearSolver` field (BACKWARD_EULER).
+  enum NonlinearSolver { NEWTON, LBFGS };
   enum Reference { REST, ABSOLUTE };
   enum Boundary { CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED, BUILT_IN, SYMMETRY };
   /// The world components of holdUMin ... holdVMax and holdPins (an SFBitMask).
@@ -169,6 +173,7 @@ class SoBSplineDeformSurface : public SoShape {
   SoSFDouble newtonTolerance;   ///< BACKWARD_EULER, SHELL implicit and static: Newton's relative residual; 1e-8
   SoSFInt32 maxNewtonIterations;  ///< BACKWARD_EULER, SHELL implicit: a step needing more iterations fails; 30
   SoSFDouble newtonVelocityTolerance;  ///< BACKWARD_EULER: max update / dt at convergence (m/s); 1e-4
+  SoSFEnum nonlinearSolver;     ///< BACKWARD_EULER: NEWTON or LBFGS; NEWTON
   SoSFEnum reference;           ///< REST or ABSOLUTE; REST
   SoSFEnum boundaryUMin;        ///< side u = 0: CLAMPED, FREE, PERIODIC, SIMPLY_SUPPORTED or BUILT_IN; CLAMPED
   SoSFEnum boundaryUMax;        ///< side u = 1; CLAMPED

@@ -89,6 +89,8 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
             n.integrator.getValue() == Surface::BACKWARD_EULER,
         "integrator",
         unknown("integrator", n.integrator.getValue()));
+  check(n.nonlinearSolver.getValue() == Surface::NEWTON || n.nonlinearSolver.getValue() == Surface::LBFGS,
+        "nonlinearSolver", unknown("nonlinearSolver", n.nonlinearSolver.getValue()));
   check(n.reference.getValue() == Surface::REST || n.reference.getValue() == Surface::ABSOLUTE, "reference",
         unknown("reference", n.reference.getValue()));
   check(n.start.getValue() == Surface::PAPER || n.start.getValue() == Surface::SECOND_ORDER, "start",
@@ -182,6 +184,8 @@ bool modelFromFields(const Surface& n, ModelParameters& p, ControlNet& rest, Fie
   p.newtonTolerance = n.newtonTolerance.getValue();
   p.maxNewtonIterations = n.maxNewtonIterations.getValue();
   p.newtonVelocityTolerance = n.newtonVelocityTolerance.getValue();
+  p.nonlinearSolver =
+      n.nonlinearSolver.getValue() == Surface::LBFGS ? NonlinearSolver::LBFGS : NonlinearSolver::Newton;
   p.reference = n.reference.getValue() == Surface::ABSOLUTE ? ElasticReference::Absolute : ElasticReference::Rest;
   p.start = n.start.getValue() == Surface::PAPER ? StartRule::Paper : StartRule::SecondOrder;
   p.boundaries = {sideOf(n.boundaryUMin), sideOf(n.boundaryUMax), sideOf(n.boundaryVMin), sideOf(n.boundaryVMax)};

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "bsdeform/dynamics/SimulationPrivate.h"
 
@@ -19,8 +20,37 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
   NewtonPoint trial;
   bool refactor = true;  // every minimize() starts with a factorisation of its own
   double lastUpdate = 0.0;
+  bool smallBefore = false;  // quasi-Newton: the last step was below the update tolerance
   double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
   auto nextShift = [&](double s) { return s > 0.0 ? 4.0 * s : options.firstExtraShift; };
+  // L-BFGS: the last pairs (s, y, 1/sᵀy), oldest first
+  // (H0: Problem::precondition, else the tangent factorised at the first iterate)
+  const bool qn = options.quasiNewton;
+  const bool ownStart = qn && !problem.precondition;
+  std::vector<ControlNet> pairS, pairY;
+  std::vector<double> pairRho;
+  auto dot = [](const ControlNet& a, const ControlNet& b) { return (a.array() * b.array()).sum(); };
+  // the two-loop recursion: -H⁻¹ g with H⁻¹ the inverse update of H0 by the stored pairs
+  auto quasiNewtonStep = [&](const ControlNet& g) {
+    const size_t m = pairS.size();
+    std::vector<double> a(m);
+    ControlNet q = g;
+    for (size_t i = m; i-- > 0;) {
+      a[i] = pairRho[i] * dot(pairS[i], q);
+      q -= a[i] * pairY[i];
+    }
+    if (ownStart) {
+      const Eigen::VectorXd z = m_solver->llt.solve(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size()));
+      q = Eigen::Map<const ControlNet>(z.data(), n, 3);
+    } else {
+      problem.precondition(q);
+    }
+    for (size_t i = 0; i < m; ++i) {
+      const double b = pairRho[i] * dot(pairY[i], q);
+      q += (a[i] - b) * pairS[i];
+    }
+    return ControlNet(-q);
+  };
   // Factorises the tangent at the current point: exact, then projected, then with more mass.
   auto factor = [&]() {
     // rememberShift: start a quarter of the last extra shift that worked, unless that is
@@ -53,7 +83,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // The factorisation of an earlier iterate is kept while the iterates contract fast with it;
     // a new one is made when the last update shrank by less than half, or the search refused a
     // kept one's step.
-    const bool fresh = refactor || !options.chordSteps;
+    // a factorisation made for this iteration (quasi-Newton on its own start: only the first,
+    // and again after a failed search)
+    const bool fresh = qn ? ownStart && refactor : refactor || !options.chordSteps;
+    const bool learnt = qn && !pairS.empty();
     if (fresh) {
       if (!factor()) {
         out.failure = "the Newton matrix is not positive definite even with the element Hessians projected";
@@ -62,8 +95,13 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       refactor = false;
       ++out.factorisations;
     }
-    const Eigen::VectorXd d = m_solver->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
-    const ControlNet step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    ControlNet step;
+    if (qn) {
+      step = quasiNewtonStep(cur.g);
+    } else {
+      const Eigen::VectorXd d = m_solver->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+      step = Eigen::Map<const ControlNet>(d.data(), n, 3);
+    }
     const double slope = (step.array() * cur.g.array()).sum();
     const double stepSize = step.cwiseAbs().maxCoeff();
     const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
@@ -87,8 +125,17 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       }
       if (k >= 10 && !(cur.potential && trial.potential && resolved)) break;
     }
-    if (!accepted && !fresh) {  // the kept factorisation's step: try again with a new one
+    if (!accepted && !fresh && !qn) {  // the kept factorisation's step: try again with a new one
       refactor = true;
+      problem.evaluate(x, cur);
+      continue;
+    }
+    if (!accepted && (learnt || (ownStart && !fresh))) {
+      // the learnt pairs misled the search: start again from H0 (its own: made anew here)
+      pairS.clear();
+      pairY.clear();
+      pairRho.clear();
+      refactor = ownStart;
       problem.evaluate(x, cur);
       continue;
     }
@@ -96,21 +143,39 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       // no decrease along a descent direction: the potential's rounding floor (converged when
       // the step itself is below the tolerance)
       problem.evaluate(x, cur);
-      out.converged = stepSize <= updateTolerance;
+      out.converged = !qn && stepSize <= updateTolerance;
       if (!out.converged) out.failure = "the line search found no decrease along the Newton direction";
       return out;
     }
     x += alpha * step;
+    if (qn) {  // learn the pair (s, y) where the curvature along s is positive
+      ControlNet y = trial.g - cur.g;
+      const ControlNet sk = alpha * step;
+      const double sy = dot(sk, y);
+      if (sy > 1e-10 * sk.norm() * y.norm()) {
+        if (int(pairS.size()) == std::max(1, options.history)) {
+          pairS.erase(pairS.begin());
+          pairY.erase(pairY.begin());
+          pairRho.erase(pairRho.begin());
+        }
+        pairS.push_back(sk);
+        pairY.push_back(std::move(y));
+        pairRho.push_back(1.0 / sy);
+      }
+    }
     std::swap(cur, trial);
     // converged when the Newton step is below the tolerance: it estimates the distance to the
     // minimum whether or not the search took all of it (near the minimum the potential's
     // rounding can refuse a full step; far from it a shortened step is no sign of convergence)
-    if (stepSize <= updateTolerance) {
+    // quasi-Newton: two steps in a row below it, the first with a learnt pair
+    const bool small = stepSize <= updateTolerance;
+    if (small && (!qn || smallBefore)) {
       out.converged = true;
       return out;
     }
+    smallBefore = small && learnt;
     const double update = alpha * stepSize;
-    if (!fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
+    if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
     lastUpdate = update;
   }
   if (!std::isfinite(cur.norm)) {

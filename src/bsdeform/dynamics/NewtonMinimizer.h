@@ -51,6 +51,9 @@ class NewtonMinimizer {
     /// Optional: the largest fraction in (0, 1] of the step from x to x + step the search may
     /// try (a barrier's continuous collision check); every trial lies within it.
     std::function<double(const ControlNet& x, const ControlNet& step)> maxStep;
+    /// Quasi-Newton only: r := H0⁻¹ r for the constant matrix the L-BFGS recursion starts
+    /// from (held coordinates of the result zeroed), in place of the tangent's factorisation.
+    std::function<void(ControlNet& r)> precondition;
   };
   struct Options {
     int maxIterations = 30;
@@ -68,6 +71,13 @@ class NewtonMinimizer {
     /// Keep a factorisation while the iterates contract fast with it (chord steps); false: a new
     /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).
     bool chordSteps = true;
+    /// L-BFGS (Liu, Bouaziz, Kavan 2017) in place of Newton's factorisations: the direction is
+    /// the two-loop recursion over the last `history` pairs of updates and gradient changes,
+    /// started from Problem::precondition; the same line search and the same tests. Its step
+    /// counts as converged only once a pair has been learnt (the bare H0⁻¹ g can be far too
+    /// short where H0 is stiffer than the tangent).
+    bool quasiNewton = false;
+    int history = 8;
   };
   struct Outcome {
     bool converged = false;

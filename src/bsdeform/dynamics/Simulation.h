@@ -44,6 +44,18 @@ enum class Integrator {
   BackwardEuler,
 };
 
+/// How BACKWARD_EULER finds each step's minimum.
+enum class NonlinearSolver {
+  /// Newton: the tangent (element Hessians, the forces' Jacobians) assembled and factorised
+  /// (CHOLMOD) at the iterates; a few iterations a step.
+  Newton,
+  /// L-BFGS (Liu, Bouaziz, Kavan 2017): no tangent within the steps; directions from the last
+  /// gradients and one matrix factorised per model and time step, the mass over h² plus the
+  /// rest tangent made isotropic (docs/math.md §16). More iterations, each a gradient and a
+  /// triangular solve.
+  LBFGS,
+};
+
 enum class MassModel {
   Nodal,   ///< the paper's M = m I, C = c I (mass, damping per control point)
   Lumped,  ///< M = rho h1 h2 I, C = c h1 h2 I (mass, damping per unit parameter area)
@@ -136,6 +148,9 @@ struct ModelParameters {
   /// step, is below this velocity (m/s in SI scenes); > 0. The residual criterion above also
   /// ends it.
   double newtonVelocityTolerance = 1e-4;
+  /// BACKWARD_EULER: Newton's method or L-BFGS (NonlinearSolver). Surfaces with supports per
+  /// component or symmetry sides take Newton either way.
+  NonlinearSolver nonlinearSolver = NonlinearSolver::Newton;
 };
 
 /// Simulation::solveStatic(): the equilibrium found and how.

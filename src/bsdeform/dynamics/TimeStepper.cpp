@@ -11,6 +11,7 @@
 #include <cmath>
 #include <functional>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "bsdeform/base/HugePages.h"
@@ -265,7 +266,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   auto evaluate = [&](const ControlNet& xi, NewtonPoint& ev) {
     xc = xi;
     s.completeUnknowns(xc, net);
-    s.m_energy->gradient(net, g);
+    const double strain = s.m_energy->energyAndGradient(net, g);
     ControlNet Lv = ControlNet::Zero(xi.rows(), 3);
     ev.potential = true;
     double phi = 0.0;
@@ -291,7 +292,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     ev.norm = ev.g.norm();
     if (ev.potential) {
       const double inertia = 0.5 * a * (dx.array() * Mdx.array()).sum();
-      const double elastic = 0.25 * s.m_energy->energy(net);
+      const double elastic = 0.25 * strain;
       const double work = -(fixed.array() * xc.array()).sum();
       ev.value = inertia + elastic + work + phi;
       ev.valueScale = std::abs(inertia) + std::abs(elastic) + std::abs(work) + std::abs(phi);
@@ -385,6 +386,53 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
 }  // namespace bsdeform
 
 namespace bsdeform {
+
+/// L-BFGS's H0 over the unknowns (one scalar matrix for x, y and z): shift M + K̄ with K̄_fg the
+/// mean of the diagonal entries of the rest tangent's 3 × 3 block (f, g), held coordinates left
+/// out. K̄ is positive semi-definite when the tangent is (aᵀ K̄ a = ⅓ Σ_c (a ⊗ e_c)ᵀ K (a ⊗ e_c)),
+/// and unlike the tangent it does not change when the surface turns: the stiffness of the
+/// membrane in every direction, the projective-dynamics matrix of Liu, Bouaziz, Kavan (2017).
+struct BackwardEulerStepper::QuasiNewtonStart {
+  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  Eigen::SparseMatrix<double> restPart;  ///< K̄, lower triangle
+  double shift = -1.0;                    ///< the mass multiple llt was made with
+};
+
+BackwardEulerStepper::BackwardEulerStepper(Simulation& sim) : TimeStepper(sim) {}
+BackwardEulerStepper::~BackwardEulerStepper() = default;
+
+void BackwardEulerStepper::precondition(ControlNet& r, double h) {
+  Simulation& s = m_sim;
+  const double shift = 1.0 / (h * h) + s.dampingRatio() / h;
+  if (!m_start) {
+    m_start = std::make_unique<QuasiNewtonStart>();
+    m_start->llt.cholmod().print = 0;
+    const Eigen::SparseMatrix<double>& K = s.tangent(s.m_rest, 1.0, 0.0, HessianMode::Exact, nullptr);
+    const Eigen::Index n = s.m_space.numMoving();
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(size_t(K.nonZeros() / 3 + n));
+    for (Eigen::Index c = 0; c < K.outerSize(); ++c)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
+        if (it.row() % 3 == c % 3 && !s.m_heldMask[size_t(it.row())] && !s.m_heldMask[size_t(c)])
+          entries.emplace_back(it.row() / 3, c / 3, it.value() / 3.0);
+    m_start->restPart.resize(n, n);
+    m_start->restPart.setFromTriplets(entries.begin(), entries.end());
+  }
+  if (m_start->shift != shift) {
+    const Eigen::SparseMatrix<double> H0 =
+        m_start->restPart + shift * Eigen::SparseMatrix<double>(s.massMatrix().matrix().triangularView<Eigen::Lower>());
+    const SerialOpenMp serial;
+    m_start->llt.compute(H0);
+    if (m_start->llt.info() != Eigen::Success)
+      throw std::runtime_error("BACKWARD_EULER with LBFGS: the start matrix is not positive definite");
+    m_start->shift = shift;
+  }
+  const Eigen::MatrixXd z = m_start->llt.solve(Eigen::MatrixXd(r));
+  r = z;
+  for (Eigen::Index f = 0; f < r.rows(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (s.heldCoordinate(f, k)) r(f, k) = 0.0;
+}
 
 bool BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
                                             const ControlNet& v, double t, double& energy, double& scale) {
@@ -499,7 +547,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     xc = x;
     s.completeUnknowns(xc, net);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    s.m_energy->gradient(net, gW);
+    const double elastic = s.m_energy->energyAndGradient(net, gW);
     L = fixedLoad;
     ev.potential = true;
     double phi = -(fixedLoad.array() * xc.array()).sum();
@@ -524,7 +572,6 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     if (ev.potential) {
       const double inertia = 0.5 * (dx.array() * Mdx.array()).sum() / (h * h);
       const double damping = 0.5 * (c / h) * (dn.array() * Mdn.array()).sum();
-      const double elastic = s.m_energy->energy(net);
       ev.value = inertia + damping + elastic + phi;
       ev.valueScale = std::abs(inertia) + std::abs(damping) + std::abs(elastic) + std::abs(phi) +
                       (fixedLoad.array() * xc.array()).abs().sum();
@@ -593,6 +640,14 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   options.updateTolerance = s.m_params.newtonVelocityTolerance * h;
   options.shift = massShift;
   options.chordSteps = !barrier;
+  if (s.m_params.nonlinearSolver == NonlinearSolver::LBFGS) {
+    options.quasiNewton = true;
+    options.maxIterations = 10 * s.m_params.maxNewtonIterations;  // each about a tenth of Newton's
+    // H0: the isotropic matrix of the model, factorised once; with a barrier (whose stiffness
+    // the isotropic matrix knows nothing of) or supports per component (whose folded unknowns
+    // it does not describe), the step's first tangent
+    if (!barrier && !s.m_components) problem.precondition = [this, h](ControlNet& r) { precondition(r, h); };
+  }
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
   m_newtonIterations = outcome.iterations;
@@ -621,10 +676,11 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only
   if (!outcome.converged) {
     std::ostringstream os;
-    os << "Newton's method did not converge in " << m_newtonIterations << " iterations (" << outcome.failure
+    os << (options.quasiNewton ? "L-BFGS" : "Newton's method") << " did not converge in " << m_newtonIterations << " iterations (" << outcome.failure
        << "; residual " << cur.norm / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
        << ", newtonVelocityTolerance " << s.m_params.newtonVelocityTolerance << ", maxNewtonIterations "
-       << s.m_params.maxNewtonIterations << ")";
+       << s.m_params.maxNewtonIterations
+       << (options.quasiNewton ? ", LBFGS: 10 x maxNewtonIterations iterations" : "") << ")";
     m_solveFailure = os.str();
     return reject();
   }

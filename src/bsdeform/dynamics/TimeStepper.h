@@ -142,7 +142,8 @@ class ShellImplicitStepper final : public TimeStepper {
 /// factorisation is kept while the iterates contract fast with it (chord steps).
 class BackwardEulerStepper final : public TimeStepper {
  public:
-  using TimeStepper::TimeStepper;
+  explicit BackwardEulerStepper(Simulation& sim);
+  ~BackwardEulerStepper() override;
   bool subStep(double t) override;
   void invalidate() override { m_hasReference = false; }
   void forcesChanged() override { m_hasReference = false; }
@@ -159,7 +160,13 @@ class BackwardEulerStepper final : public TimeStepper {
  private:
   bool stepOf(double t, double h);
 
+  /// L-BFGS's start matrix H0 (mass shift · M + the rest tangent made isotropic), factorised
+  /// once per model and step length (NonlinearSolver::LBFGS)
+  void precondition(ControlNet& r, double h);
+
   std::unique_ptr<NewtonMinimizer> m_newton;  ///< its symbolic factorisation kept
+  struct QuasiNewtonStart;
+  std::unique_ptr<QuasiNewtonStart> m_start;
   /// The step subStep() takes (its start time and length) and the net it starts from: a step
   /// retaken in pieces moves the held layers of moved sides (Simulation::setSideMotion) linearly
   /// from that net's over its pieces

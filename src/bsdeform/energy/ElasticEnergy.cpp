@@ -88,6 +88,13 @@ void ShellModelEnergy::gradient(const ControlNet& net, ControlNet& out) const {
   fold(m_netScratch[0], out);
 }
 
+double ShellModelEnergy::energyAndGradient(const ControlNet& net, ControlNet& out) const {
+  double energy = 0.0;
+  m_shell.gradient(net, m_netScratch[0], &energy);
+  fold(m_netScratch[0], out);
+  return energy;
+}
+
 void ShellModelEnergy::hessianProduct(const ControlNet& net, const ControlNet& d, ControlNet& out) const {
   displacementNet(m_space, d, m_netScratch[1]);
   m_shell.hessianProduct(net, m_netScratch[1], m_netScratch[0]);

@@ -35,6 +35,12 @@ class ElasticEnergy {
   virtual double energy(const ControlNet& net) const = 0;
   /// dW/dx on the unknowns (numMoving x 3): minus the elastic force.
   virtual void gradient(const ControlNet& net, ControlNet& out) const = 0;
+  /// gradient() and returns energy() (SHELL: one pass over the Gauss points for both; equal to
+  /// energy() up to rounding, the same for every thread count).
+  virtual double energyAndGradient(const ControlNet& net, ControlNet& out) const {
+    gradient(net, out);
+    return energy(net);
+  }
   /// H(net) d on the unknowns for a displacement d of the unknowns (numMoving x 3): the exact
   /// directional derivative of gradient().
   virtual void hessianProduct(const ControlNet& net, const ControlNet& d, ControlNet& out) const = 0;
@@ -97,6 +103,7 @@ class ShellModelEnergy final : public ElasticEnergy {
   bool isLinear() const override { return false; }
   double energy(const ControlNet& net) const override { return m_shell.energy(net).total(); }
   void gradient(const ControlNet& net, ControlNet& out) const override;
+  double energyAndGradient(const ControlNet& net, ControlNet& out) const override;
   void hessianProduct(const ControlNet& net, const ControlNet& d, ControlNet& out) const override;
   /// Gershgorin on the net points with the lumped masses W (ShellEnergy::eigenvalueBound()).
   double eigenvalueBound(const ControlNet& net) const override { return m_shell.eigenvalueBound(net, m_netMass); }

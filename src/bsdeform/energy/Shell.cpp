@@ -353,14 +353,17 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
   return total;
 }
 
-void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
-  const int S2 = m_space.basisV().numSpans();
+void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad, double* energy) const {
+  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
+  const int size = std::max(m_space.degreeU() + 1, 4);
+  std::vector<double> partial(size_t((S1 + size - 1) / size), 0.0);  // per block (forEachBlock)
   withLaw(m_material, false, [&](const auto& law) {
     grad.setZero(net.rows(), 3);
     const double* X = net.data();
     double* G = grad.data();
-    forEachBlock([&](int, int s0, int s1) {
+    forEachBlock([&](int b, int s0, int s1) {
+      double sum = 0.0;
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           double em, eb;
@@ -368,9 +371,15 @@ void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad) const {
               tb, e1, e2, &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv], law, m_bending, true,
               [X](Eigen::Index r, int c) { return X[3 * r + c]; },
               [G](Eigen::Index r, int c, double s) { G[3 * r + c] += s; }, em, eb);
+          sum += em + eb;
         }
+      partial[size_t(b)] = sum;
     });
   });
+  if (energy) {
+    *energy = 0.0;
+    for (double p : partial) *energy += p;
+  }
 }
 
 void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const {

@@ -76,8 +76,10 @@ class ShellEnergy {
 
   /// Membrane and bending energy of the full net `net` (periodic copies in sync).
   ShellEnergies energy(const ControlNet& net) const;
-  /// grad = dW/dP for every point of the full net (netSize x 3), held points included.
-  void gradient(const ControlNet& net, ControlNet& grad) const;
+  /// grad = dW/dP for every point of the full net (netSize x 3), held points included; with
+  /// `energy`, also W (the total of energy(), summed in blocks of knot spans in a fixed order:
+  /// the same for every thread count, equal to energy().total() up to rounding).
+  void gradient(const ControlNet& net, ControlNet& grad, double* energy = nullptr) const;
   /// out = H(net) dir (netSize x 3): the exact directional derivative of gradient().
   void hessianProduct(const ControlNet& net, const ControlNet& dir, ControlNet& out) const;
   /// Triplets of the Hessian of W at `net` over the full net's coordinates (index 3 row + c).
