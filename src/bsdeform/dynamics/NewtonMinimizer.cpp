@@ -23,8 +23,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
   bool smallBefore = false;  // quasi-Newton: the last step was below the update tolerance
   double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
   auto nextShift = [&](double s) { return s > 0.0 ? 4.0 * s : options.firstExtraShift; };
-  // L-BFGS: the last pairs (s, y, 1/sᵀy), oldest first
-  // (H0: Problem::precondition, else the tangent factorised at the first iterate)
+  // L-BFGS (H0: Problem::precondition, else the tangent factorised at the first iterate) and its
+  // last pairs (s, y, 1/sᵀy), oldest first
   const bool qn = options.quasiNewton;
   const bool ownStart = qn && !problem.precondition;
   std::vector<ControlNet> pairS, pairY;

@@ -12,7 +12,8 @@
 /// when some load has no potential, or where the potential's change is below its rounding). A factorisation is kept while the iterates contract fast
 /// with it (chord steps: a gradient and a solve, no assembly and factorisation). Converged when
 /// the largest component of an accepted Newton step is below `updateTolerance` (a length:
-/// physical units, no rounding floor) or the residual is below its tolerance.
+/// physical units, no rounding floor) or the residual is below its tolerance. Options::quasiNewton
+/// replaces the factorisations by L-BFGS directions (docs/math.md §16, "L-BFGS in place of Newton").
 
 #include <Eigen/SparseCore>
 #include <functional>

@@ -139,7 +139,9 @@ class ShellImplicitStepper final : public TimeStepper {
 /// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
 /// its value when the run (or the last change of forces) began: a rise is reported as a
 /// blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
-/// factorisation is kept while the iterates contract fast with it (chord steps).
+/// factorisation is kept while the iterates contract fast with it (chord steps). With
+/// `nonlinearSolver` LBFGS the same minimisation by L-BFGS from the isotropic matrix of
+/// precondition() (from the step's first tangent with a barrier or supports per component).
 class BackwardEulerStepper final : public TimeStepper {
  public:
   explicit BackwardEulerStepper(Simulation& sim);
