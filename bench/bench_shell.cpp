@@ -190,9 +190,11 @@ void ShellBackwardEulerStep(benchmark::State& state) {
 
 // The curtain released horizontal and falling for one simulated second (50 BACKWARD_EULER steps
 // of 0.02 s) per iteration, by Newton (solver 0) or L-BFGS (1), newtonVelocityTolerance
-// 10^-tolerance m/s: wall seconds per simulated second, the same states for every repetition.
+// 10^-tolerance m/s, bicubic or biquadratic (degree): wall seconds per simulated second, the
+// same states for every repetition.
 void CurtainSecond(benchmark::State& state) {
   ModelParameters p = curtain(int(state.range(0)));
+  p.degreeU = p.degreeV = int(state.range(3));
   p.integrator = Integrator::BackwardEuler;
   p.timeStep = 0.02;
   p.newtonVelocityTolerance = std::pow(10.0, -double(state.range(2)));
@@ -260,8 +262,8 @@ BENCHMARK(ShellBackwardEulerStep)
     ->ArgNames({"N", "lbfgs", "maxIterations"})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(CurtainSecond)
-    ->ArgsProduct({{16, 32, 64}, {0, 1}, {2, 3, 4}})
-    ->ArgNames({"N", "lbfgs", "tolerance"})
+    ->ArgsProduct({{16, 32, 64}, {0, 1}, {2, 3, 4}, {3, 2}})
+    ->ArgNames({"N", "lbfgs", "tolerance", "degree"})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 BENCHMARK(ShellExplicitStep)->Arg(16)->Arg(32)->Unit(benchmark::kMillisecond);

@@ -148,8 +148,9 @@ struct ModelParameters {
   /// step, is below this velocity (m/s in SI scenes); > 0. The residual criterion above also
   /// ends it.
   double newtonVelocityTolerance = 1e-4;
-  /// BACKWARD_EULER: Newton's method or L-BFGS (NonlinearSolver). Surfaces with supports per
-  /// component or symmetry sides take Newton either way.
+  /// BACKWARD_EULER: Newton's method or L-BFGS (NonlinearSolver). L-BFGS starts from each
+  /// step's first tangent instead of the isotropic matrix with a barrier contact, supports per
+  /// component or symmetry sides.
   NonlinearSolver nonlinearSolver = NonlinearSolver::Newton;
 };
 
