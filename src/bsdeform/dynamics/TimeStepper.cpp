@@ -393,9 +393,9 @@ namespace bsdeform {
 /// and unlike the tangent it does not change when the surface turns: the stiffness of the
 /// membrane in every direction, the projective-dynamics matrix of Liu, Bouaziz, Kavan (2017).
 struct BackwardEulerStepper::QuasiNewtonStart {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
+  NewtonSolver solver;                   ///< H0's factorisation (its pattern is the same for every shift)
   Eigen::SparseMatrix<double> restPart;  ///< K̄, lower triangle
-  double shift = -1.0;                    ///< the mass multiple llt was made with
+  double shift = -1.0;                    ///< the mass multiple solver was made with
 };
 
 BackwardEulerStepper::BackwardEulerStepper(Simulation& sim) : TimeStepper(sim) {}
@@ -406,7 +406,6 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
   const double shift = 1.0 / (h * h) + s.dampingRatio() / h;
   if (!m_start) {
     m_start = std::make_unique<QuasiNewtonStart>();
-    m_start->llt.cholmod().print = 0;
     const Eigen::SparseMatrix<double>& K = s.tangent(s.m_rest, 1.0, 0.0, HessianMode::Exact, nullptr);
     const Eigen::Index n = s.m_space.numMoving();
     std::vector<Eigen::Triplet<double>> entries;
@@ -421,13 +420,11 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
   if (m_start->shift != shift) {
     const Eigen::SparseMatrix<double> H0 =
         m_start->restPart + shift * Eigen::SparseMatrix<double>(s.massMatrix().matrix().triangularView<Eigen::Lower>());
-    const SerialOpenMp serial;
-    m_start->llt.compute(H0);
-    if (m_start->llt.info() != Eigen::Success)
+    if (!m_start->solver.factor(H0))
       throw std::runtime_error("BACKWARD_EULER with LBFGS: the start matrix is not positive definite");
     m_start->shift = shift;
   }
-  const Eigen::MatrixXd z = m_start->llt.solve(Eigen::MatrixXd(r));
+  const Eigen::MatrixXd z = m_start->solver.llt.solve(Eigen::MatrixXd(r));
   r = z;
   for (Eigen::Index f = 0; f < r.rows(); ++f)
     for (int k = 0; k < 3; ++k)

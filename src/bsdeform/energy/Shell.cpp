@@ -312,8 +312,7 @@ double ShellEnergy::restAreaElement(double u, double v) const {
 template <typename Fn>
 void ShellEnergy::forEachBlock(Fn&& fn) const {
   const int S1 = m_space.basisU().numSpans();
-  const int size = std::max(m_space.degreeU() + 1, 4);
-  const int blocks = (S1 + size - 1) / size;
+  const int size = blockSize(), blocks = numBlocks();
   for (int parity = 0; parity < 2; ++parity) {
     const int parts = (blocks - parity + 1) / 2;
     if (parts <= 0) continue;
@@ -325,10 +324,9 @@ void ShellEnergy::forEachBlock(Fn&& fn) const {
 }
 
 ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
-  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  const int size = std::max(m_space.degreeU() + 1, 4);
-  std::vector<ShellEnergies> partial(size_t((S1 + size - 1) / size));
+  std::vector<ShellEnergies> partial(static_cast<size_t>(numBlocks()));
   const double* X = net.data();
   withLaw(m_material, true, [&](const auto& law) {
     forEachBlock([&](int b, int s0, int s1) {
@@ -354,10 +352,9 @@ ShellEnergies ShellEnergy::energy(const ControlNet& net) const {
 }
 
 void ShellEnergy::gradient(const ControlNet& net, ControlNet& grad, double* energy) const {
-  const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
+  const int S2 = m_space.basisV().numSpans();
   const Tables tb{m_space.degreeU() + 1, m_space.degreeV() + 1, m_qu, m_qv, m_space.netCols(), m_tu.data(), m_tv.data()};
-  const int size = std::max(m_space.degreeU() + 1, 4);
-  std::vector<double> partial(size_t((S1 + size - 1) / size), 0.0);  // per block (forEachBlock)
+  std::vector<double> partial(size_t(numBlocks()), 0.0);  // per block (forEachBlock)
   withLaw(m_material, false, [&](const auto& law) {
     grad.setZero(net.rows(), 3);
     const double* X = net.data();

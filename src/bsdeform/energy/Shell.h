@@ -24,6 +24,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <functional>
 #include <vector>
 
@@ -120,6 +121,9 @@ class ShellEnergy {
   };
 
  private:
+  /// Knot spans in u per block of forEachBlock(), and the number of blocks.
+  int blockSize() const { return std::max(m_space.degreeU() + 1, 4); }
+  int numBlocks() const { return (m_space.basisU().numSpans() + blockSize() - 1) / blockSize(); }
   template <typename Fn>
   void forEachBlock(Fn&& fn) const;
 
