@@ -11,6 +11,7 @@
 #include <memory>
 #include <random>
 
+#include "../support/Cotton.h"
 #include "../support/TangentCheck.h"
 #include "../support/ThreadSettings.h"
 #include "bsdeform/forces/ForceLaws.h"
@@ -233,7 +234,7 @@ TEST_CASE("The implicit steppers report a total energy that rises with no work d
   p.numU = p.numV = 12;
   p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
   p.energy = EnergyModel::Shell;
-  p.material = ShellMaterial{0.821e6, 0.243, 0.318e-3, 472.6};
+  p.material = test::kCotton;
   p.damping = 0.5;
   p.timeStep = 0.02;
   const double rhoT = p.material.density * p.material.thickness;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 
+#include "../support/Cotton.h"
 #include "../support/ForceFieldCheck.h"
 #include "../support/ObstacleMeshes.h"
 #include "bsdeform/contact/BarrierContact.h"
@@ -23,7 +24,7 @@ using bsdeform::test::box;
 using bsdeform::test::worldOf;
 
 namespace {
-const ShellMaterial kCotton{0.821e6, 0.243, 0.318e-3, 472.6};
+using test::kCotton;
 
 ModelParameters clothModel(int n, double dt) {
   ModelParameters p;

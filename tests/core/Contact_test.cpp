@@ -9,6 +9,7 @@
 #include "bsdeform/contact/Contact.h"
 #include "bsdeform/forces/ForceLaws.h"
 #include "bsdeform/dynamics/Simulation.h"
+#include "../support/Cotton.h"
 #include "../support/ObstacleMeshes.h"
 
 using namespace bsdeform;
@@ -307,7 +308,7 @@ TEST_CASE("Contact: a cotton cloth dropped on a box with BACKWARD_EULER stays bo
   mp.numU = mp.numV = 8;
   mp.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free};
   mp.energy = EnergyModel::Shell;
-  mp.material = ShellMaterial{0.821e6, 0.243, 0.318e-3, 472.6};
+  mp.material = test::kCotton;
   mp.damping = 1.0;
   mp.timeStep = 0.02;
   mp.integrator = Integrator::BackwardEuler;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <memory>
 
+#include "../support/Cotton.h"
 #include "../support/ThreadSettings.h"
 #include "bsdeform/base/Parallel.h"
 #include "bsdeform/dynamics/Simulation.h"
@@ -16,7 +17,7 @@
 using namespace bsdeform;
 
 namespace {
-const ShellMaterial kCotton{0.821e6, 0.243, 0.318e-3, 472.6};
+using test::kCotton;
 
 /// A cotton curtain of n x n inner control points hinged at v = 1, released horizontal.
 ModelParameters curtain(int n, NonlinearSolver solver, double velocityTolerance) {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "../support/Cotton.h"
 #include "bsdeform/forces/ForceLaws.h"
 #include "bsdeform/dynamics/Simulation.h"
 
@@ -261,7 +262,7 @@ TEST_CASE("SHELL hanging cotton sheet swings down and keeps its area (the paper'
   // horizontal at rest, released under gravity with damping: it hangs at full length.
   ModelParameters p = shellParams(3, 8, 8, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free,
                                                       Boundary::SimplySupported});
-  p.material = ShellMaterial{0.821e6, 0.243, 0.318e-3, 472.6};
+  p.material = test::kCotton;
   p.integrator = Integrator::Implicit;
   p.timeStep = 0.01;
   p.damping = 2.0;
