@@ -96,6 +96,13 @@ void turnWheel(MainWindow& w, const QPoint& at, int eighthsOfDegree) {
 
 double distance(const QPointF& a, const QPointF& b) { return std::hypot(a.x() - b.x(), a.y() - b.y()); }
 
+// A move with the left button held, delivered now. QTest::mouseMove on a QWidget moves the X
+// cursor and waits for the server's event, which under load can arrive after the release.
+void moveHeld(QWidget* gl, const QPoint& p) {
+  QMouseEvent move(QEvent::MouseMove, p, gl->mapToGlobal(p), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+  QCoreApplication::sendEvent(gl, &move);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -488,7 +495,7 @@ TEST_CASE("Viewer habits: a click on a surface selects it in the scene panel, a 
   // a camera turn that starts on the left surface is not a click
   const SbRotation before = w->viewer()->getCamera()->orientation.getValue();
   QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, onLeft);
-  for (int k = 1; k <= 8; ++k) QTest::mouseMove(gl, onLeft + QPoint(6 * k, 3 * k));
+  for (int k = 1; k <= 8; ++k) moveHeld(gl, onLeft + QPoint(6 * k, 3 * k));
   QTest::mouseRelease(gl, Qt::LeftButton, Qt::NoModifier, onLeft + QPoint(48, 24));
   processEvents();
   CHECK(w->selectedNode() == right);
@@ -513,7 +520,7 @@ TEST_CASE("Viewer habits: in drag mode a click selects and a pull pulls without 
   QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, onLeft);
   processEvents();
   CHECK(w->dragTool().surface() == left);  // the drag tool has it
-  for (int k = 1; k <= 6; ++k) QTest::mouseMove(gl, onLeft + QPoint(0, -6 * k));
+  for (int k = 1; k <= 6; ++k) moveHeld(gl, onLeft + QPoint(0, -6 * k));
   QTest::mouseRelease(gl, Qt::LeftButton, Qt::NoModifier, onLeft + QPoint(0, -36));
   processEvents();
   CHECK_FALSE(w->dragTool().isDragging());
@@ -549,7 +556,7 @@ TEST_CASE("Viewer habits: the drag line of a scene with a camera of its own ends
   QWidget* gl = glWidget(*w);
   const QPoint to = on + QPoint(0, -60);
   QTest::mousePress(gl, Qt::LeftButton, Qt::NoModifier, on);
-  for (int k = 1; k <= 6; ++k) QTest::mouseMove(gl, on + QPoint(0, -10 * k));
+  for (int k = 1; k <= 6; ++k) moveHeld(gl, on + QPoint(0, -10 * k));
   processEvents();
   REQUIRE(w->dragTool().isDragging());
   const QImage img = w->screenshot();
