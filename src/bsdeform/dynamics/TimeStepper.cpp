@@ -52,6 +52,7 @@ bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, cons
       return true;
     }
     failure = m_solveFailure + " (the step cut into " + std::to_string(pieces) + " pieces)";
+    if (m_blewUp) break;  // a piece blew up: smaller ones would start the energy check afresh
   }
   m_solveFailure = failure;
   previous = start;  // step() keeps it: the last valid state
@@ -360,25 +361,33 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   m_gradCurrent = g;
   // the energy check: Newmark conserves energy to O(dt²) without damping, so only a rise
   // beyond the reference's own scale (kinetic + elastic + the loads' reach) is a blow-up
+  // (the work of the loads that can do work, a wind or a follower pressure, is added to the
+  // reference: the trapezoid rule over each step, their load at its two ends)
   if (ok) {
     double energy = 0.0, scaleNow = 0.0;
-    if (BackwardEulerStepper::totalEnergy(s, x, s.m_current, (x - P) / dt, t + dt, energy, scaleNow)) {
-      if (!m_hasReference) {
-        m_hasReference = true;
-        m_reference = energy;
-        m_referenceScale = scaleNow;
-      } else if (energy > m_reference + m_referenceScale + 1e-300) {
+    ControlNet working;
+    BackwardEulerStepper::totalEnergy(s, x, s.m_current, s.m_previous, dt, (x - P) / dt, t + dt, energy, scaleNow,
+                                      &working);
+    if (!m_hasReference) {
+      m_hasReference = true;
+      m_reference = energy;
+      m_referenceScale = scaleNow;
+      m_work = m_workScale = 0.0;
+    } else {
+      const double work = 0.5 * ((m_workingLoad + working).array() * (x - P).array()).sum();
+      m_work += work;
+      m_workScale += std::abs(work);
+      if (energy > m_reference + m_work + m_referenceScale + m_workScale + 1e-300) {
         std::ostringstream os;
-        os << "the total energy rose from " << m_reference << " to " << energy
-           << " J with no work done on the system (a blow-up)";
+        os << "the total energy rose from " << m_reference << " to " << energy << " J where the loads did " << m_work
+           << " J of work (a blow-up)";
         m_solveFailure = os.str();
         m_hasReference = false;
         m_blewUp = true;
         return false;
       }
-    } else {
-      m_hasReference = false;
     }
+    m_workingLoad = std::move(working);
   }
   return ok;
 }
@@ -431,18 +440,22 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
       if (s.heldCoordinate(f, k)) r(f, k) = 0.0;
 }
 
-bool BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
-                                            const ControlNet& v, double t, double& energy, double& scale) {
+void BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
+                                      const ControlNet& previousNet, double h, const ControlNet& v, double t,
+                                      double& energy, double& scale, ControlNet* working) {
   const double kinetic = s.massMatrix().kineticEnergy(v);
   const double elastic = s.m_energy->energy(net);
   const ControlNet fixedLoad = s.forcesConstantLoad();
   double loads = -(fixedLoad.array() * x.array()).sum();
-  const LoadContext ctx = s.loadContext(net, net, s.m_params.timeStep, t);
+  const LoadContext ctx = s.loadContext(net, previousNet, h, t);
+  if (working) *working = ControlNet::Zero(x.rows(), 3);
   for (const auto& f : s.m_forces) {
     if (f->dependence() == kConstant) continue;
     double stored = 0.0;
-    if (!f->storedEnergy(ctx, stored)) return false;
-    loads += stored;
+    if (f->storedEnergy(ctx, stored))
+      loads += stored;
+    else if (working)  // it can do work: counted as work by the caller
+      f->addLoad(ctx, *working);
   }
   energy = kinetic + elastic + loads;
   // plus the work the constant loads can do over the surface's own size (a sheet at z = 0
@@ -459,7 +472,6 @@ bool BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x,
     floor = 1e-8 * s.m_stencil.eigenvalueBound() * extent * extent;
   }
   scale = kinetic + std::abs(elastic) + std::abs(loads) + fixedLoad.cwiseAbs().sum() * extent + floor;
-  return true;
 }
 
 bool BackwardEulerStepper::subStep(double t) {
@@ -532,7 +544,9 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   }
   if (heldMoves) m_hasReference = false;  // the moved side does work: no energy check this step
   if (!m_hasReference && !heldMoves) {
-    m_hasReference = totalEnergy(s, P, s.m_current, (P - Pm) / h, t, m_reference, m_referenceScale);
+    totalEnergy(s, P, s.m_current, s.m_previous, h, (P - Pm) / h, t, m_reference, m_referenceScale);
+    m_hasReference = true;
+    m_work = m_workScale = 0.0;
   }
   ControlNet net = s.m_current;
   auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
@@ -689,12 +703,18 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   sp.completeNet(s.m_previous, &s.m_rest);
   s.m_current.swap(s.m_previous);
   if (ok && m_hasReference) {
+    // backward Euler's own balance: E(end) - E(start) <= L(end)·(x - P) for the loads that do
+    // work, as the step applies them (the rest dissipates), summed since the reference
     double energy = 0.0, scale = 0.0;
-    if (totalEnergy(s, x, s.m_current, (x - P) / h, tNew, energy, scale) &&
-        energy > m_reference + 1e-2 * std::max(m_referenceScale, scale) + 1e-300) {
+    ControlNet working;
+    totalEnergy(s, x, s.m_current, s.m_previous, h, (x - P) / h, tNew, energy, scale, &working);
+    const double work = (working.array() * (x - P).array()).sum();
+    m_work += work;
+    m_workScale += std::abs(work);
+    if (energy > m_reference + m_work + 1e-2 * std::max({m_referenceScale, scale, m_workScale}) + 1e-300) {
       std::ostringstream os;
-      os << "the total energy rose from " << m_reference << " to " << energy
-         << " J with no work done on the system (a blow-up)";
+      os << "the total energy rose from " << m_reference << " to " << energy << " J where the loads did "
+         << m_work << " J of work (a blow-up)";
       m_solveFailure = os.str();
       m_hasReference = false;
       m_blewUp = true;

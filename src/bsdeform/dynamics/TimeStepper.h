@@ -57,7 +57,8 @@ class TimeStepper {
   /// each try (the stepper forgets what it kept of earlier states). On success finish(start,
   /// pieces) sets the previous net the next step expects and m_newtonIterations is the sum over
   /// the pieces; on failure the pieces' failure is reported and previous is start (the last
-  /// valid state). Not tried after a blow-up (m_blewUp: smaller pieces do not cure it).
+  /// valid state). Not tried after a blow-up, and not tried smaller after a piece blew up
+  /// (m_blewUp: smaller pieces do not cure it, and would start the energy check afresh).
   bool retakeInPieces(ControlNet& current, ControlNet& previous, const ControlNet& start, const ControlNet& before,
                       double t, double dt, const std::function<bool(double, double)>& stepOf,
                       const std::function<void()>& restart,
@@ -119,9 +120,12 @@ class ShellImplicitStepper final : public TimeStepper {
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
   /// The energy check's reference: the total energy after the first step since the last
-  /// change (BackwardEulerStepper::totalEnergy()), and its scale.
+  /// change (BackwardEulerStepper::totalEnergy()), and its scale; the work the loads that can
+  /// do work have done since (trapezoid rule per step), its magnitude, and their load now.
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;
+  double m_work = 0.0, m_workScale = 0.0;
+  ControlNet m_workingLoad;
 };
 
 /// Backward Euler, both energies, as the minimisation of the incremental potential (docs/math.md
@@ -135,10 +139,10 @@ class ShellImplicitStepper final : public TimeStepper {
 /// forces' Jacobians inside (symmetrised), a backtracking (Armijo) line search on E (on the
 /// residual's norm when a force has no potential); converged when the largest update over h
 /// is below newtonVelocityTolerance or the residual below newtonTolerance. A step that does
-/// not converge is retaken in 2, 4, ... 16 pieces, then reported. When every load has a
-/// potential and none depends on time, the total energy (kinetic + W + Φ) may not rise above
-/// its value when the run (or the last change of forces) began: a rise is reported as a
-/// blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
+/// not converge is retaken in 2, 4, ... 16 pieces, then reported. The total energy (kinetic +
+/// W + Φ) may not rise above its value when the run (or the last change of forces) began plus
+/// the work done since by the loads that can do work (a wind, a follower pressure): a rise is
+/// reported as a blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
 /// factorisation is kept while the iterates contract fast with it (chord steps). With
 /// `nonlinearSolver` LBFGS the same minimisation by L-BFGS from the isotropic matrix of
 /// precondition() (from the step's first tangent with a barrier or supports per component).
@@ -154,10 +158,14 @@ class BackwardEulerStepper final : public TimeStepper {
   /// a factorisation is kept while the iterates contract fast with it).
   long factorisations() const { return m_factorisations; }
   /// Total energy (kinetic + elastic + what the loads store, Force::storedEnergy()) of a state
-  /// x (its net `net`) with velocity v, and its scale (the sum of the parts' magnitudes); false
-  /// when some load can do work (nothing to check). Also the Newmark stepper's check.
-  static bool totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& v,
-                          double t, double& energy, double& scale);
+  /// x (its net `net`, the net before it `previousNet`, h apart) with velocity v, and its scale
+  /// (the sum of the parts' magnitudes). The loads that can do work instead (a callable, a load
+  /// that depends on time, a follower pressure) store nothing; their sum at the state is added
+  /// to `working` (over the unknowns) when given, for the work they do (energyCheck()). Also the
+  /// Newmark stepper's check.
+  static void totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& previousNet,
+                          double h, const ControlNet& v, double t, double& energy, double& scale,
+                          ControlNet* working = nullptr);
 
  private:
   bool stepOf(double t, double h);
@@ -175,8 +183,12 @@ class BackwardEulerStepper final : public TimeStepper {
   double m_stepStart = 0.0, m_stepLength = 0.0;
   ControlNet m_stepFrom;
   long m_factorisations = 0;
+  /// The energy check: the total energy when the run (or the last change) began and its scale,
+  /// and the work the loads that can do work have done since (each step, their load at its end
+  /// times its move: what backward Euler applies) and its magnitude.
   bool m_hasReference = false;
   double m_reference = 0.0, m_referenceScale = 0.0;
+  double m_work = 0.0, m_workScale = 0.0;
 };
 
 }  // namespace bsdeform
