@@ -180,3 +180,33 @@ TEST_CASE("Force: a REGION of zero width is a line load per unit length, or a po
     CHECK((load.colwise().sum().transpose() - 3.0 * f).norm() <= 1e-12);
   }
 }
+
+TEST_CASE("Force: one callable load on nets of other sizes and rest shapes gives each its own load", "[core]") {
+  // the Gauss points, bases and rest area elements are kept between calls (the flag's wind is
+  // evaluated at every sub-step); what they were made for must be checked, not assumed
+  auto density = [](const SurfaceSample& p) { return Eigen::Vector3d(1.0 + p.u, p.v * p.v, std::sin(3.0 * p.t)); };
+  const DistributedForce shared(density, kDependsOnTime);
+  auto loadAt = [](const Force& f, const SplineSpace& s, const ControlNet& rest, double t) {
+    ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+    f.addLoad(LoadContext{s, rest, rest, 0.01, t, &rest}, load);
+    return load;
+  };
+  const SplineSpace a(3, 3, 7, 6), b(2, 3, 7, 6), c(3, 3, 9, 6);
+  ControlNet bent = a.grevillePlane();
+  for (Eigen::Index i = 0; i < bent.rows(); ++i) bent(i, 2) = 0.3 * std::sin(3.0 * bent(i, 0)) * bent(i, 1);
+  const struct {
+    const SplineSpace* space;
+    ControlNet rest;
+  } cases[] = {{&a, a.grevillePlane()}, {&a, bent}, {&b, b.grevillePlane()}, {&c, c.grevillePlane()},
+               {&a, a.grevillePlane()}};
+  double t = 0.0;
+  for (const auto& k : cases) {
+    t += 0.1;
+    const ControlNet got = loadAt(shared, *k.space, k.rest, t);
+    const ControlNet fresh = loadAt(DistributedForce(density, kDependsOnTime), *k.space, k.rest, t);
+    CHECK((got.array() == fresh.array()).all());
+  }
+  // the bent rest surface has more area: its load is larger than the flat one's
+  const ControlNet flat = loadAt(shared, a, a.grevillePlane(), 0.5), curved = loadAt(shared, a, bent, 0.5);
+  CHECK(curved.col(0).sum() > flat.col(0).sum() * (1.0 + 1e-3));
+}

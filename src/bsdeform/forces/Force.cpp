@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -123,9 +125,25 @@ double PointForce::eigenvalueBound(const MassContext& ctx) const {
   return m_stiffness * sum;
 }
 
+struct DistributedForce::GaussPlan {
+  // what the rule was made for
+  int degreeU = 0, degreeV = 0, freeU = 0, freeV = 0, rows = 0, cols = 0, order = 0;
+  bool periodicU = false, periodicV = false, restArea = false;
+  ControlNet rest;  ///< the rest net of the area element (restArea)
+  // the rule
+  std::vector<Node1D> qu, qv;
+  std::vector<LocalBasis> bu, bv;
+  std::vector<double> w;  ///< per point (i, j) at i qv.size() + j: Gauss weights, times J0 (restArea)
+};
+
+struct DistributedForce::PlanCache {
+  std::mutex mutex;
+  std::shared_ptr<const GaussPlan> plan;
+};
+
 DistributedForce::DistributedForce(const Eigen::Vector3d& density, Rect rect)
     : m_isConstant(true), m_constantDensity(density), m_dependence(kConstant), m_rect(rect), m_extraPoints(0),
-      m_stiffness(0.0) {
+      m_stiffness(0.0), m_plans(std::make_shared<PlanCache>()) {
   checkVector(density, "force density");
   m_density = [density](const SurfaceSample&) { return density; };
   checkParam(rect.u0, "region u0");
@@ -203,34 +221,69 @@ void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
   }
 }
 
+std::shared_ptr<const DistributedForce::GaussPlan> DistributedForce::gaussPlan(const LoadContext& ctx, int order,
+                                                                               bool restArea) const {
+  const SplineSpace& s = ctx.space;
+  auto fits = [&](const GaussPlan& p) {
+    return p.degreeU == s.degreeU() && p.degreeV == s.degreeV() && p.freeU == s.basisU().numFree() &&
+           p.freeV == s.basisV().numFree() && p.rows == s.netRows() && p.cols == s.netCols() &&
+           p.periodicU == s.periodicU() && p.periodicV == s.periodicV() && p.order == order && p.restArea == restArea &&
+           (!restArea || (p.rest.rows() == ctx.rest->rows() && p.rest == *ctx.rest));
+  };
+  {
+    const std::lock_guard<std::mutex> lock(m_plans->mutex);
+    if (m_plans->plan && fits(*m_plans->plan)) return m_plans->plan;
+  }
+  auto plan = std::make_shared<GaussPlan>();
+  plan->degreeU = s.degreeU();
+  plan->degreeV = s.degreeV();
+  plan->freeU = s.basisU().numFree();
+  plan->freeV = s.basisV().numFree();
+  plan->rows = s.netRows();
+  plan->cols = s.netCols();
+  plan->periodicU = s.periodicU();
+  plan->periodicV = s.periodicV();
+  plan->order = order;
+  plan->restArea = restArea;
+  if (restArea) plan->rest = *ctx.rest;
+  // n+1 points integrate f * B exactly for constant f (B is degree n per span).
+  plan->qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
+  plan->qv = splitQuadrature(s.basisV(), m_rect.v0, m_rect.v1, s.degreeV() + 1 + m_extraPoints);
+  plan->bu.resize(plan->qu.size());
+  plan->bv.resize(plan->qv.size());
+  for (size_t i = 0; i < plan->qu.size(); ++i) s.basisU().evaluateInSpan(plan->qu[i].span, plan->qu[i].x, order, plan->bu[i]);
+  for (size_t j = 0; j < plan->qv.size(); ++j) s.basisV().evaluateInSpan(plan->qv[j].span, plan->qv[j].x, order, plan->bv[j]);
+  plan->w.resize(plan->qu.size() * plan->qv.size());
+  for (size_t i = 0; i < plan->qu.size(); ++i)
+    for (size_t j = 0; j < plan->qv.size(); ++j) {
+      double w = plan->qu[i].w * plan->qv[j].w;
+      if (restArea) {
+        const SurfacePoint r = s.evaluate(*ctx.rest, plan->bu[i], plan->bv[j], 1);
+        w *= r.du.cross(r.dv).norm();
+      }
+      plan->w[i * plan->qv.size() + j] = w;
+    }
+  const std::lock_guard<std::mutex> lock(m_plans->mutex);
+  m_plans->plan = plan;
+  return plan;
+}
+
 void DistributedForce::forEachGaussPoint(
     const LoadContext& ctx, unsigned dependence,
     const std::function<void(const SurfaceSample&, double, const LocalBasis&, const LocalBasis&)>& fn) const {
-  const SplineSpace& s = ctx.space;
-  // n+1 points integrate f * B exactly for constant f (B is degree n per span).
-  const std::vector<Node1D> qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
-  const std::vector<Node1D> qv = splitQuadrature(s.basisV(), m_rect.v0, m_rect.v1, s.degreeV() + 1 + m_extraPoints);
   // physical units: the rest area element J0, or the current one for a follower load
   const bool restArea = ctx.rest && !m_perCurrentArea, currentArea = ctx.rest && m_perCurrentArea;
   dependence |= currentArea ? unsigned(kDependsOnNormal) : 0u;
   const int order = (dependence & kDependsOnNormal) || restArea ? 1 : 0;
-  std::vector<LocalBasis> bv(qv.size());
-  for (size_t j = 0; j < qv.size(); ++j) s.basisV().evaluateInSpan(qv[j].span, qv[j].x, order, bv[j]);
-  LocalBasis bu;
-  for (const Node1D& nu : qu) {
-    s.basisU().evaluateInSpan(nu.span, nu.x, order, bu);
-    for (size_t j = 0; j < qv.size(); ++j) {
-      const SurfaceSample smp = sampleFromBases(ctx, bu, bv[j], nu.x, qv[j].x, dependence);
-      double w = nu.w * qv[j].w;
-      if (restArea) {
-        const SurfacePoint r = s.evaluate(*ctx.rest, bu, bv[j], 1);
-        w *= r.du.cross(r.dv).norm();
-      } else if (currentArea) {
-        w *= smp.areaElement;
-      }
-      fn(smp, w, bu, bv[j]);
+  const std::shared_ptr<const GaussPlan> plan = gaussPlan(ctx, order, restArea);
+  const size_t nv = plan->qv.size();
+  for (size_t i = 0; i < plan->qu.size(); ++i)
+    for (size_t j = 0; j < nv; ++j) {
+      const SurfaceSample smp = sampleFromBases(ctx, plan->bu[i], plan->bv[j], plan->qu[i].x, plan->qv[j].x, dependence);
+      double w = plan->w[i * nv + j];
+      if (currentArea) w *= smp.areaElement;
+      fn(smp, w, plan->bu[i], plan->bv[j]);
     }
-  }
 }
 
 void DistributedForce::addLoadByQuadrature(const LoadContext& ctx, ControlNet& load) const {
