@@ -52,7 +52,9 @@ double area(const MassContext& ctx) { return ctx.space.basisU().spacing() * ctx.
 // ---------------------------------------------------------------------------------------------
 
 SpringForce::SpringForce(double u0, double v0, const Eigen::Vector3d& anchor, double stiffness)
-    : SpringForce(u0, v0, std::make_shared<const Eigen::Vector3d>(finite(anchor, "spring anchor")), stiffness) {}
+    : SpringForce(u0, v0, std::make_shared<const Eigen::Vector3d>(finite(anchor, "spring anchor")), stiffness) {
+  m_movable = false;
+}
 
 SpringForce::SpringForce(double u0, double v0, std::shared_ptr<const Eigen::Vector3d> anchor, double stiffness)
     : PointForce(parameter(u0, "spring point u"), parameter(v0, "spring point v"),
@@ -64,6 +66,11 @@ SpringForce::SpringForce(double u0, double v0, std::shared_ptr<const Eigen::Vect
       m_stiffness(stiffness) {
   if (!m_anchor || !m_anchor->allFinite()) throw std::invalid_argument("spring anchor must be finite");
   setHasPointDerivatives();
+}
+
+bool SpringForce::storedEnergy(const LoadContext& ctx, double& value) const {
+  value = 0.0;
+  return !m_movable && PointForce::storedEnergy(ctx, value);
 }
 
 void SpringForce::pointDerivatives(const SurfaceSample& s, Eigen::Matrix3d& Kx, Eigen::Matrix3d& Kv, double& phi) const {

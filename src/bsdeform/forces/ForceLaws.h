@@ -41,6 +41,9 @@ class SpringForce : public PointForce {
 
   const Eigen::Vector3d& anchor() const { return *m_anchor; }
   double stiffness() const { return m_stiffness; }
+  /// A fixed anchor: the potential. A moved one does work on the surface (the user's pull),
+  /// which the implicit steppers' energy check counts as work: false.
+  bool storedEnergy(const LoadContext& ctx, double& value) const override;
 
  protected:
   /// K = k I, potential ½ k |a - S|².
@@ -49,6 +52,7 @@ class SpringForce : public PointForce {
  private:
   std::shared_ptr<const Eigen::Vector3d> m_anchor;
   double m_stiffness;
+  bool m_movable = true;  ///< made with an anchor the caller holds
 };
 
 /// Viscous drag on the whole surface: density \f$f = -c\,\dot S\f$ (c per unit parameter area),
