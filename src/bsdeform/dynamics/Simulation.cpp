@@ -444,6 +444,7 @@ double Simulation::stabilityLimit() const {
 void Simulation::addForce(std::shared_ptr<const Force> force) {
   if (!force) throw std::invalid_argument("addForce: null force");
   m_forces.push_back(std::move(force));
+  ++m_forcesVersion;
   if (m_forces.back()->dependence() == kConstant) {
     const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), m_time);
     m_forces.back()->addLoad(ctx, m_constantLoad);
@@ -459,6 +460,7 @@ bool Simulation::removeForce(const Force* force) {
   if (it == m_forces.end()) return false;
   const bool constant = (*it)->dependence() == kConstant;
   m_forces.erase(it);
+  ++m_forcesVersion;
   if (constant) {
     rebuildConstantLoad();
   } else {
@@ -472,6 +474,7 @@ bool Simulation::removeForce(const Force* force) {
 
 void Simulation::clearForces() {
   m_forces.clear();
+  ++m_forcesVersion;
   rebuildConstantLoad();
   m_stepper->forcesChanged();
   updateSubSteps();
@@ -482,9 +485,43 @@ const ControlNet& Simulation::effectiveLoad(double t, double stepSize) {
   allocateNet(m_load, m_constantLoad.rows());
   m_load = m_constantLoad;
   const LoadContext ctx = loadContext(m_current, m_previous, stepSize > 0.0 ? stepSize : subStepSize(), t);
-  for (const auto& f : m_forces)
-    if (f->dependence() != kConstant) f->addLoad(ctx, m_load);
+  // sub-steps of the step [m_time, m_time + T]: loads of time alone interpolated from its ends
+  const double T = m_params.timeStep;
+  const bool interpolate = m_subSteps > 1 && t >= m_time && t <= m_time + T;
+  bool timeOnly = false;
+  for (const auto& f : m_forces) {
+    const unsigned dep = f->dependence();
+    if (dep == kConstant) continue;
+    if (interpolate && dep == kDependsOnTime)
+      timeOnly = true;
+    else
+      f->addLoad(ctx, m_load);
+  }
+  if (timeOnly) {
+    const double alpha = (t - m_time) / T;
+    if (alpha > 0.0) m_load += alpha * timeLoad(m_time + T);
+    if (alpha < 1.0) m_load += (1.0 - alpha) * timeLoad(m_time);
+  }
   return m_load;
+}
+
+const ControlNet& Simulation::timeLoad(double t) {
+  for (const TimeLoadCache& c : m_timeLoads)
+    if (c.forces == m_forcesVersion && c.time == t) return c.load;
+  // replace an entry of an older force list, else the earlier time (the later one is the next
+  // step's start)
+  TimeLoadCache* slot = &m_timeLoads[0];
+  if (m_timeLoads[0].forces == m_forcesVersion &&
+      (m_timeLoads[1].forces != m_forcesVersion || m_timeLoads[1].time < m_timeLoads[0].time))
+    slot = &m_timeLoads[1];
+  TimeLoadCache& c = *slot;
+  c.load = ControlNet::Zero(m_constantLoad.rows(), 3);
+  const LoadContext ctx = loadContext(m_current, m_previous, subStepSize(), t);
+  for (const auto& f : m_forces)
+    if (f->dependence() == kDependsOnTime) f->addLoad(ctx, c.load);
+  c.time = t;
+  c.forces = m_forcesVersion;
+  return c.load;
 }
 
 ControlNet Simulation::loadVector() const {

@@ -418,7 +418,20 @@ class Simulation {
   void updateSubSteps();
   /// Constant load plus the variable forces evaluated at the current state and time t.
   /// `stepSize`: of the velocity (current - previous) / stepSize the forces see; 0: subStepSize().
+  /// With sub-steps, the loads that depend on time alone (a wind expression) are evaluated at
+  /// the step's two ends and interpolated linearly in between (an O(Δt²) error, the step's time
+  /// resolution; the implicit schemes hold them at one time per step).
   const ControlNet& effectiveLoad(double t, double stepSize = 0.0);
+  /// The sum of the loads that depend on time alone, at time t: the last two times asked are
+  /// kept (a step's end is the next step's start), for the force list they were made with.
+  const ControlNet& timeLoad(double t);
+  struct TimeLoadCache {
+    double time = 0.0;
+    std::uint64_t forces = 0;  ///< m_forcesVersion it was made for (0: empty)
+    ControlNet load;
+  };
+  std::array<TimeLoadCache, 2> m_timeLoads;
+  std::uint64_t m_forcesVersion = 1;  ///< counts changes of m_forces
   void fail(Status s, std::string message);
   // SHELL (SimulationShell.cpp)
   void initShell();

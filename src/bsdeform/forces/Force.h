@@ -16,7 +16,9 @@
 namespace bsdeform {
 
 /// What a force may depend on. Forces depending on nothing are summed once into a constant
-/// load; all others are re-evaluated before every (sub-)step at O(N1 N2) cost.
+/// load; those of time alone are evaluated at the ends of each step (interpolated between them
+/// at the explicit scheme's sub-steps); all others are re-evaluated before every (sub-)step at
+/// O(N1 N2) cost.
 enum ForceDependence : unsigned {
   kConstant = 0,
   kDependsOnTime = 1u << 0,
