@@ -16,7 +16,7 @@ namespace bsdeform {
 
 SoSFTime* realTimeField() { return static_cast<SoSFTime*>(SoDB::getGlobalField(SbName("realTime"))); }
 
-SceneRunner::SceneRunner(SoNode* root, Clock clock) : m_root(root), m_clock(clock) {
+SceneRunner::SceneRunner(SoNode* root, Clock clock) : m_clock(clock) {
   if (m_clock == Clock::Simulated) SoDB::enableRealTimeSensor(FALSE);
   if (root) m_surfaces = sceneSurfaces(root);
   m_start = m_surfaces.empty() ? 0.0 : INFINITY;

@@ -64,7 +64,6 @@ class SceneRunner {
   std::vector<SoBSplineDeformSurface*> failed() const;
 
  private:
-  SoNode* m_root;
   Clock m_clock;
   std::vector<SoBSplineDeformSurface*> m_surfaces;  ///< ref'ed
   double m_start = 0.0, m_time = 0.0;
