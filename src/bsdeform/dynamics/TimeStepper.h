@@ -142,8 +142,8 @@ class ShellImplicitStepper final : public TimeStepper {
 /// not converge is retaken in 2, 4, ... 16 pieces, then reported. The total energy (kinetic +
 /// W + Φ) may not rise above its value when the run (or the last change of forces) began plus
 /// the work done since by the loads that can do work (a wind, a follower pressure): a rise is
-/// reported as a blow-up. Each step factorises anew (a resumed run is bit-identical); within the step a
-/// factorisation is kept while the iterates contract fast with it (chord steps). With
+/// reported as a blow-up. Each step factorises anew (a resumed run is bit-identical); within
+/// the step a factorisation is kept while the iterates contract fast with it (chord steps). With
 /// `nonlinearSolver` LBFGS the same minimisation by L-BFGS from the isotropic matrix of
 /// precondition() (from the step's first tangent with a barrier or supports per component).
 class BackwardEulerStepper final : public TimeStepper {
@@ -161,8 +161,8 @@ class BackwardEulerStepper final : public TimeStepper {
   /// x (its net `net`, the net before it `previousNet`, h apart) with velocity v, and its scale
   /// (the sum of the parts' magnitudes). The loads that can do work instead (a callable, a load
   /// that depends on time, a follower pressure) store nothing; their sum at the state is added
-  /// to `working` (over the unknowns) when given, for the work they do (energyCheck()). Also the
-  /// Newmark stepper's check.
+  /// to `working` (over the unknowns) when given, for the work they do (the steppers add it up
+  /// for their energy check). Also the Newmark stepper's check.
   static void totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& previousNet,
                           double h, const ControlNet& v, double t, double& energy, double& scale,
                           ControlNet* working = nullptr);
