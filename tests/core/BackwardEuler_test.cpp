@@ -277,9 +277,9 @@ TEST_CASE("The implicit steppers report a total energy that rises with no work d
 // [slow]: Newmark's 12² run, as above
 TEST_CASE("The energy check counts the work of a wind: a blow-up under it is reported, the work itself is not",
           "[shell][slow]") {
-  // the curtain above hinged at its top (y = 1) in a gusting wind along +y (a load that depends on time,
-  // so it stores no energy and does work): before, a load that can do work switched the check
-  // off, and Newmark's curtain blew up to kilojoules unreported (the shipped flag with
+  // the curtain above hinged at its top (y = 1) in a gusting wind along +y (a load that depends
+  // on time, so it stores no energy and does work): before, a load that can do work switched
+  // the check off, and Newmark's curtain blew up to kilojoules unreported (the shipped flag with
   // integrator IMPLICIT: 21 kJ of strain at t = 2, drawn)
   ModelParameters p;
   p.numU = p.numV = 12;
