@@ -60,6 +60,16 @@ bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, cons
   return false;
 }
 
+bool TimeStepper::blowUp(double energy) {
+  std::ostringstream os;
+  os << "the total energy rose from " << m_reference.energy << " to " << energy << " J where the loads did "
+     << m_reference.work << " J of work (a blow-up)";
+  m_solveFailure = os.str();
+  m_reference.valid = false;
+  m_blewUp = true;
+  return false;
+}
+
 namespace {
 /// Splits the loads for an implicit step: the constant ones (in `load` already) and those that
 /// depend on time only, evaluated at `ctx` and added to `load` (they stay fixed within the
@@ -368,24 +378,12 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     ControlNet working;
     BackwardEulerStepper::totalEnergy(s, x, s.m_current, s.m_previous, dt, (x - P) / dt, t + dt, energy, scaleNow,
                                       &working);
-    if (!m_hasReference) {
-      m_hasReference = true;
-      m_reference = energy;
-      m_referenceScale = scaleNow;
-      m_work = m_workScale = 0.0;
+    if (!m_reference.valid) {
+      m_reference.start(energy, scaleNow);
     } else {
-      const double work = 0.5 * ((m_workingLoad + working).array() * (x - P).array()).sum();
-      m_work += work;
-      m_workScale += std::abs(work);
-      if (energy > m_reference + m_work + m_referenceScale + m_workScale + 1e-300) {
-        std::ostringstream os;
-        os << "the total energy rose from " << m_reference << " to " << energy << " J where the loads did " << m_work
-           << " J of work (a blow-up)";
-        m_solveFailure = os.str();
-        m_hasReference = false;
-        m_blewUp = true;
-        return false;
-      }
+      m_reference.addWork(0.5 * ((m_workingLoad + working).array() * (x - P).array()).sum());
+      const EnergyReference& r = m_reference;
+      if (energy > r.energy + r.work + r.scale + r.workScale + 1e-300) return blowUp(energy);
     }
     m_workingLoad = std::move(working);
   }
@@ -542,11 +540,11 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       }
     }
   }
-  if (heldMoves) m_hasReference = false;  // the moved side does work: no energy check this step
-  if (!m_hasReference && !heldMoves) {
-    totalEnergy(s, P, s.m_current, s.m_previous, h, (P - Pm) / h, t, m_reference, m_referenceScale);
-    m_hasReference = true;
-    m_work = m_workScale = 0.0;
+  if (heldMoves) m_reference.valid = false;  // the moved side does work: no energy check this step
+  if (!m_reference.valid && !heldMoves) {
+    double energy = 0.0, scale = 0.0;
+    totalEnergy(s, P, s.m_current, s.m_previous, h, (P - Pm) / h, t, energy, scale);
+    m_reference.start(energy, scale);
   }
   ControlNet net = s.m_current;
   auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
@@ -627,7 +625,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     sp.scatterMoving(x, s.m_previous);
     sp.completeNet(s.m_previous, &s.m_rest);
     s.m_current.swap(s.m_previous);
-    m_hasReference = false;
+    m_reference.valid = false;
     return false;
   };
   // The exact tangent while it is positive definite (the mass term M/h² usually makes it so),
@@ -702,24 +700,15 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   s.copyHeldRows(startNet, s.m_previous);
   sp.completeNet(s.m_previous, &s.m_rest);
   s.m_current.swap(s.m_previous);
-  if (ok && m_hasReference) {
+  if (ok && m_reference.valid) {
     // backward Euler's own balance: E(end) - E(start) <= L(end)·(x - P) for the loads that do
     // work, as the step applies them (the rest dissipates), summed since the reference
     double energy = 0.0, scale = 0.0;
     ControlNet working;
     totalEnergy(s, x, s.m_current, s.m_previous, h, (x - P) / h, tNew, energy, scale, &working);
-    const double work = (working.array() * (x - P).array()).sum();
-    m_work += work;
-    m_workScale += std::abs(work);
-    if (energy > m_reference + m_work + 1e-2 * std::max({m_referenceScale, scale, m_workScale}) + 1e-300) {
-      std::ostringstream os;
-      os << "the total energy rose from " << m_reference << " to " << energy << " J where the loads did "
-         << m_work << " J of work (a blow-up)";
-      m_solveFailure = os.str();
-      m_hasReference = false;
-      m_blewUp = true;
-      return false;
-    }
+    m_reference.addWork((working.array() * (x - P).array()).sum());
+    const EnergyReference& r = m_reference;
+    if (energy > r.energy + r.work + 1e-2 * std::max({r.scale, scale, r.workScale}) + 1e-300) return blowUp(energy);
   }
   return ok;
 }

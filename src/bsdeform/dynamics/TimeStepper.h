@@ -15,6 +15,7 @@
 ///   BackwardEulerStepper  backward Euler as the minimisation of the incremental potential,
 ///                         either energy (ElasticEnergy, MassMatrix, the forces' Jacobians).
 
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -64,10 +65,32 @@ class TimeStepper {
                       const std::function<void()>& restart,
                       const std::function<void(const ControlNet& start, int pieces)>& finish);
 
+  /// The Newton steppers' energy check: the total energy when it began
+  /// (BackwardEulerStepper::totalEnergy()) and its scale, and the work the loads that can do
+  /// work have done since and its magnitude.
+  struct EnergyReference {
+    bool valid = false;
+    double energy = 0.0, scale = 0.0, work = 0.0, workScale = 0.0;
+    void start(double e, double s) {
+      valid = true;
+      energy = e;
+      scale = s;
+      work = workScale = 0.0;
+    }
+    void addWork(double w) {
+      work += w;
+      workScale += std::abs(w);
+    }
+  };
+  /// Reports `energy` as a blow-up against m_reference (m_solveFailure, m_blewUp) and forgets
+  /// the reference; returns false.
+  bool blowUp(double energy);
+
   Simulation& m_sim;
   std::string m_solveFailure;
   int m_newtonIterations = 0;  ///< of the last step (the Newton steppers)
   bool m_blewUp = false;       ///< the last step failed the energy check
+  EnergyReference m_reference;  ///< the Newton steppers' energy check
 };
 
 class PaperExplicitStepper final : public TimeStepper {
@@ -106,9 +129,9 @@ class ShellImplicitStepper final : public TimeStepper {
   bool subStep(double t) override;
   void invalidate() override {
     m_cached = false;
-    m_hasReference = false;
+    m_reference.valid = false;
   }
-  void forcesChanged() override { m_hasReference = false; }
+  void forcesChanged() override { m_reference.valid = false; }
   int newtonIterations() const override { return m_newtonIterations; }
 
  private:
@@ -119,12 +142,8 @@ class ShellImplicitStepper final : public TimeStepper {
   /// dW/dP at the current and previous state (valid while m_cached).
   ControlNet m_gradCurrent, m_gradPrevious;
   bool m_cached = false;
-  /// The energy check's reference: the total energy after the first step since the last
-  /// change (BackwardEulerStepper::totalEnergy()), and its scale; the work the loads that can
-  /// do work have done since (trapezoid rule per step), its magnitude, and their load now.
-  bool m_hasReference = false;
-  double m_reference = 0.0, m_referenceScale = 0.0;
-  double m_work = 0.0, m_workScale = 0.0;
+  /// The energy check (m_reference) starts after the first step since the last change; its
+  /// work is the trapezoid rule per step, this the loads that can do work at the last state.
   ControlNet m_workingLoad;
 };
 
@@ -151,8 +170,8 @@ class BackwardEulerStepper final : public TimeStepper {
   explicit BackwardEulerStepper(Simulation& sim);
   ~BackwardEulerStepper() override;
   bool subStep(double t) override;
-  void invalidate() override { m_hasReference = false; }
-  void forcesChanged() override { m_hasReference = false; }
+  void invalidate() override { m_reference.valid = false; }
+  void forcesChanged() override { m_reference.valid = false; }
   int newtonIterations() const override { return m_newtonIterations; }
   /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
   /// a factorisation is kept while the iterates contract fast with it).
@@ -183,12 +202,6 @@ class BackwardEulerStepper final : public TimeStepper {
   double m_stepStart = 0.0, m_stepLength = 0.0;
   ControlNet m_stepFrom;
   long m_factorisations = 0;
-  /// The energy check: the total energy when the run (or the last change) began and its scale,
-  /// and the work the loads that can do work have done since (each step, their load at its end
-  /// times its move: what backward Euler applies) and its magnitude.
-  bool m_hasReference = false;
-  double m_reference = 0.0, m_referenceScale = 0.0;
-  double m_work = 0.0, m_workScale = 0.0;
 };
 
 }  // namespace bsdeform
