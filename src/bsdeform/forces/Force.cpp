@@ -7,6 +7,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bsdeform/spline/GaussLegendre.h"
@@ -126,10 +127,23 @@ double PointForce::eigenvalueBound(const MassContext& ctx) const {
 }
 
 struct DistributedForce::GaussPlan {
-  // what the rule was made for
-  int degreeU = 0, degreeV = 0, freeU = 0, freeV = 0, rows = 0, cols = 0, order = 0;
-  bool periodicU = false, periodicV = false, restArea = false;
-  ControlNet rest;  ///< the rest net of the area element (restArea)
+  /// What the rule was made for: the space's shape, the bases' derivative order, the area element
+  struct Key {
+    int degreeU, degreeV, freeU, freeV, rows, cols, order;
+    bool periodicU, periodicV, restArea;
+    Key(const SplineSpace& s, int order, bool restArea)
+        : degreeU(s.degreeU()), degreeV(s.degreeV()), freeU(s.basisU().numFree()), freeV(s.basisV().numFree()),
+          rows(s.netRows()), cols(s.netCols()), order(order), periodicU(s.periodicU()), periodicV(s.periodicV()),
+          restArea(restArea) {}
+    bool operator==(const Key& o) const {
+      return std::tie(degreeU, degreeV, freeU, freeV, rows, cols, order, periodicU, periodicV, restArea) ==
+             std::tie(o.degreeU, o.degreeV, o.freeU, o.freeV, o.rows, o.cols, o.order, o.periodicU, o.periodicV,
+                      o.restArea);
+    }
+  };
+  explicit GaussPlan(const Key& k) : key(k) {}
+  Key key;
+  ControlNet rest;  ///< the rest net of the area element (key.restArea)
   // the rule
   std::vector<Node1D> qu, qv;
   std::vector<LocalBasis> bu, bv;
@@ -224,27 +238,14 @@ void DistributedForce::addLoad(const LoadContext& ctx, ControlNet& load) const {
 std::shared_ptr<const DistributedForce::GaussPlan> DistributedForce::gaussPlan(const LoadContext& ctx, int order,
                                                                                bool restArea) const {
   const SplineSpace& s = ctx.space;
-  auto fits = [&](const GaussPlan& p) {
-    return p.degreeU == s.degreeU() && p.degreeV == s.degreeV() && p.freeU == s.basisU().numFree() &&
-           p.freeV == s.basisV().numFree() && p.rows == s.netRows() && p.cols == s.netCols() &&
-           p.periodicU == s.periodicU() && p.periodicV == s.periodicV() && p.order == order && p.restArea == restArea &&
-           (!restArea || (p.rest.rows() == ctx.rest->rows() && p.rest == *ctx.rest));
-  };
+  const GaussPlan::Key key(s, order, restArea);
   {
     const std::lock_guard<std::mutex> lock(m_plans->mutex);
-    if (m_plans->plan && fits(*m_plans->plan)) return m_plans->plan;
+    const GaussPlan* p = m_plans->plan.get();
+    if (p && p->key == key && (!restArea || (p->rest.rows() == ctx.rest->rows() && p->rest == *ctx.rest)))
+      return m_plans->plan;
   }
-  auto plan = std::make_shared<GaussPlan>();
-  plan->degreeU = s.degreeU();
-  plan->degreeV = s.degreeV();
-  plan->freeU = s.basisU().numFree();
-  plan->freeV = s.basisV().numFree();
-  plan->rows = s.netRows();
-  plan->cols = s.netCols();
-  plan->periodicU = s.periodicU();
-  plan->periodicV = s.periodicV();
-  plan->order = order;
-  plan->restArea = restArea;
+  auto plan = std::make_shared<GaussPlan>(key);
   if (restArea) plan->rest = *ctx.rest;
   // n+1 points integrate f * B exactly for constant f (B is degree n per span).
   plan->qu = splitQuadrature(s.basisU(), m_rect.u0, m_rect.u1, s.degreeU() + 1 + m_extraPoints);
