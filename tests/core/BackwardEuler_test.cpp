@@ -37,6 +37,18 @@ ModelParameters sheet(Integrator integrator, double dt, Boundaries b = Boundarie
   return p;
 }
 
+// A 12² cotton curtain hinged at its top (v = 1), released horizontal, Δt = 0.02.
+ModelParameters cottonCurtain() {
+  ModelParameters p;
+  p.numU = p.numV = 12;
+  p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
+  p.energy = EnergyModel::Shell;
+  p.material = test::kCotton;
+  p.damping = 0.5;
+  p.timeStep = 0.02;
+  return p;
+}
+
 ControlNet bent(const Simulation& sim) {
   ControlNet net = sim.rest();
   for (Eigen::Index r = 0; r < net.rows(); ++r) {
@@ -247,13 +259,7 @@ TEST_CASE("The implicit steppers report a total energy that rises with no work d
   // a cotton curtain hinged at its top, released horizontal, Δt = 0.02: Newmark's energy is not
   // bounded for the stiff membrane at this step (it rose to 3.5 MJ in 2 s and was drawn);
   // backward Euler dissipates and runs through
-  ModelParameters p;
-  p.numU = p.numV = 12;
-  p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
-  p.energy = EnergyModel::Shell;
-  p.material = test::kCotton;
-  p.damping = 0.5;
-  p.timeStep = 0.02;
+  ModelParameters p = cottonCurtain();
   const double rhoT = p.material.density * p.material.thickness;
   for (Integrator integrator : {Integrator::Implicit, Integrator::BackwardEuler}) {
     CAPTURE(integrator == Integrator::Implicit);
@@ -281,13 +287,7 @@ TEST_CASE("The energy check counts the work of a wind: a blow-up under it is rep
   // on time, so it stores no energy and does work): before, a load that can do work switched
   // the check off, and Newmark's curtain blew up to kilojoules unreported (the shipped flag with
   // integrator IMPLICIT: 21 kJ of strain at t = 2, drawn)
-  ModelParameters p;
-  p.numU = p.numV = 12;
-  p.boundaries = Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::SimplySupported};
-  p.energy = EnergyModel::Shell;
-  p.material = test::kCotton;
-  p.damping = 0.5;
-  p.timeStep = 0.02;
+  ModelParameters p = cottonCurtain();
   const double rhoT = p.material.density * p.material.thickness;
   auto wind = [](const SurfaceSample& s) { return Eigen::Vector3d(0.0, 2.0 * (1.0 + std::sin(3.0 * s.t)), 0.0); };
   for (Integrator integrator : {Integrator::Implicit, Integrator::BackwardEuler}) {
