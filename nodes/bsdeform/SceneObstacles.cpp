@@ -19,6 +19,7 @@
 #include <Inventor/sensors/SoPathSensor.h>
 
 #include "bsdeform/CoinEigen.h"
+#include "bsdeform/SceneText.h"
 #include "bsdeform/SoBSplineDeformSurface.h"
 
 namespace bsdeform {
@@ -188,7 +189,12 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
     else
       cb.apply(node);
     for (const std::string& why : g.skipped) warnings.push_back(label + ": " + why);
-    const TriangleMesh mesh = weldVertices(g.mesh);
+    TriangleMesh mesh = weldVertices(g.mesh);
+    // at what a scene file keeps of a double (snap15, as the surfaces keep their state: see
+    // Simulation::setStateRounding), so that where a barrier last saw an obstacle (its
+    // forceState) reads back as the very pose, and a resumed run sweeps nothing the
+    // uninterrupted one did not
+    for (Eigen::Vector3d& v : mesh.vertices) v = v.unaryExpr([](double x) { return snap15(x); });
     // The same triangles as before (a moved Transform, the other surface's next step): refit.
     for (auto& p : previous) {
       if (!p || p->node != node || !p->tree || p->tree->mesh().vertices.size() != mesh.vertices.size()) continue;

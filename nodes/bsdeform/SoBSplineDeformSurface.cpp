@@ -256,6 +256,9 @@ bool SoBSplineDeformSurface::rebuildSimulation() {
   try {
     std::unique_ptr<bsdeform::Simulation> sim = rest.rows() ? std::make_unique<bsdeform::Simulation>(p, rest)
                                                             : std::make_unique<bsdeform::Simulation>(p);
+    // the state kept at what the scene writes of it (snap15): a run resumed from a written scene
+    // starts from the very bits the run that wrote it goes on from
+    sim->setStateRounding(&bsdeform::snap15);
     // Another surface that lists this one as an obstacle and is built while this one gathers
     // it asks for this surface's triangles: they come from the model being built (no rebuild
     // within the rebuild).

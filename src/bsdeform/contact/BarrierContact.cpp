@@ -225,6 +225,13 @@ void BarrierContactForce::setAdaptedState(const std::vector<double>& state) cons
   st.previousMinimum = state[2] < 0.0 ? std::numeric_limits<double>::infinity() : state[2];
 }
 
+void BarrierContactForce::roundAdaptedState(double (*round)(double)) const {
+  State& st = *m_state;
+  st.kappa = round(st.kappa);
+  st.kappaMax = round(st.kappaMax);
+  if (std::isfinite(st.previousMinimum)) st.previousMinimum = round(st.previousMinimum);
+}
+
 size_t BarrierContactForce::frictionPairCount() const { return m_state->friction.size(); }
 double BarrierContactForce::frictionNormalForce() const {
   double sum = 0.0;

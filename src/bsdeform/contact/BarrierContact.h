@@ -82,6 +82,10 @@ class BarrierContactForce : public Force {
   /// {κ, its cap, the last smallest distance (-1: none yet)} once κ is set; empty before.
   std::vector<double> adaptedState() const override;
   void setAdaptedState(const std::vector<double>& state) const override;
+  /// The stiffness, its cap and the last smallest distance rounded. The obstacles' poses are the
+  /// world's as given: a world that is to resume bit for bit from a file gives its vertices at
+  /// the file's precision (the nodes' SceneObstacles do).
+  void roundAdaptedState(double (*round)(double)) const override;
   const char* backwardEulerOnly() const override {
     return "barrier contact (COLLISION with method BARRIER) needs integrator BACKWARD_EULER: the explicit scheme "
            "has no line search to keep the proxy from crossing";

@@ -662,12 +662,29 @@ Status Simulation::step() {
   }
   ++m_steps;
   m_time += m_params.timeStep;
+  roundState();
   // The shell's stiffness depends on the state: its bound is taken again after every step, at
   // the state the next step starts from (previous rescaled to the new sub-step). So a state
   // saved between steps, with its previous net, is at the sub-step its own bound gives, and a
   // run resumed from it takes the same sub-steps as the uninterrupted one.
-  if (m_shell && m_params.integrator == Integrator::Explicit) shellUpdateBound();
+  if (m_shell && m_params.integrator == Integrator::Explicit) {
+    shellUpdateBound();
+    roundState();  // a rescaled previous net
+  }
   return m_status;
+}
+
+void Simulation::setStateRounding(double (*round)(double)) { m_stateRounding = round; }
+
+void Simulation::roundState() {
+  if (!m_stateRounding) return;
+  const auto round = [r = m_stateRounding](double x) { return r(x); };
+  m_current = m_current.unaryExpr(round);
+  m_previous = m_previous.unaryExpr(round);
+  m_time = m_stateRounding(m_time);
+  holdState(m_current, m_previous, HeldPoints::Reset);
+  for (const auto& f : m_forces) f->roundAdaptedState(m_stateRounding);
+  m_stepper->stateRounded();
 }
 
 Status Simulation::advance(long steps) {
@@ -692,19 +709,13 @@ void Simulation::reset() {
   for (const auto& f : m_forces) f->setAdaptedState({});  // what they adapted belongs to the old run
 }
 
-void Simulation::setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
-                          double previousStepSize, HeldPoints held) {
-  requireNet(m_space, current, "controlNet", "current net");
-  requireNet(m_space, previous, "previousNet", "previous net");
-  requireParameter(std::isfinite(time), "simulationTime", "must be finite, got " + num(time), "time");
-  requireParameter(steps >= 0, "stepCount", "must be >= 0, got " + std::to_string(steps), "step count");
-  require(std::isfinite(previousStepSize) && previousStepSize >= 0.0,
-          "previous step size must be finite and >= 0, got " + num(previousStepSize));
-  ControlNet cur = current, prev = previous;
-  const double seam = std::max(m_space.closePeriodic(cur), m_space.closePeriodic(prev));
-  // Held points must be the rest net's. A state read back from text differs from the computed
-  // rest in the last digits, so they are compared to 1e-12 and then restored exactly.
-  // (The layers of a side setSideMotion() moves may be anywhere: they move to its map from there.)
+// Held points back at the rest net's values exactly (after the check `held` asks for: a state
+// read back from text differs from the computed rest in the last digits, so they are compared
+// to 1e-12), derived layers recomputed from their sources, held coordinates and periodic copies
+// restored. setState() and roundState() both end with it, so that a rounded state and the same
+// state read back from a file hold the same bits.
+void Simulation::holdState(ControlNet& cur, ControlNet& prev, HeldPoints held) const {
+  // (the layers of a side setSideMotion() moves may be anywhere: they move to its map from there)
   std::vector<char> movedRow(size_t(m_space.netSize()), 0);
   for (int side = 0; side < 4; ++side)
     if (m_sideMoved[size_t(side)])
@@ -718,7 +729,13 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
       // ("clamped": held by its side, CLAMPED or SIMPLY_SUPPORTED/BUILT_IN of low degree)
       if (!isHeld) continue;
       const Eigen::Index r = Eigen::Index(i) * m_space.netCols() + j;
-      if (movedRow[size_t(r)]) continue;  // a moved side's layer: where the state has it
+      if (movedRow[size_t(r)]) {
+        // a moved side's layer: where the state has it, exactly where its map puts it when it is
+        // there to 1e-12 (read back from text, or rounded: see roundState)
+        const double tol = 1e-12 * (1.0 + m_heldTarget.row(r).cwiseAbs().maxCoeff());
+        if ((cur.row(r) - m_heldTarget.row(r)).cwiseAbs().maxCoeff() <= tol) cur.row(r) = m_heldTarget.row(r);
+        continue;
+      }
       // a pin holds the components pinComponents names; its free ones are state
       const unsigned components = sideHeld ? 7u : m_params.pinComponents;
       const double tol = 1e-12 * (1.0 + m_rest.row(r).cwiseAbs().maxCoeff());
@@ -751,6 +768,19 @@ void Simulation::setState(const ControlNet& current, const ControlNet& previous,
     m_space.refreshPeriodicCopies(cur);
     m_space.refreshPeriodicCopies(prev);
   }
+}
+
+void Simulation::setState(const ControlNet& current, const ControlNet& previous, double time, long steps,
+                          double previousStepSize, HeldPoints held) {
+  requireNet(m_space, current, "controlNet", "current net");
+  requireNet(m_space, previous, "previousNet", "previous net");
+  requireParameter(std::isfinite(time), "simulationTime", "must be finite, got " + num(time), "time");
+  requireParameter(steps >= 0, "stepCount", "must be >= 0, got " + std::to_string(steps), "step count");
+  require(std::isfinite(previousStepSize) && previousStepSize >= 0.0,
+          "previous step size must be finite and >= 0, got " + num(previousStepSize));
+  ControlNet cur = current, prev = previous;
+  const double seam = std::max(m_space.closePeriodic(cur), m_space.closePeriodic(prev));
+  holdState(cur, prev, held);
   m_seamMismatch = std::max(m_seamMismatch, seam);
   m_current = std::move(cur);
   m_previous = std::move(prev);

@@ -234,6 +234,13 @@ class Simulation {
   bool sideMoved(int side) const { return m_sideMoved[size_t(side)]; }
   /// Sets the state released from rest at `current` (velocity zero; the start rule applies).
   void setState(const ControlNet& current, double time, long steps, HeldPoints held = HeldPoints::Check);
+  /// Rounds the state after every step with `round` (the current and previous nets, the clock,
+  /// what the forces adapt: Force::roundAdaptedState()), held points then put back exactly as
+  /// setState() puts them. Given the rounding of a file format (the nodes give snap15, what a
+  /// scene keeps of a double), a run resumed from a written state starts from the bits the run
+  /// that wrote it goes on from, and takes the same steps bit for bit. Null (the default): the
+  /// state is kept as the steps leave it.
+  void setStateRounding(double (*round)(double));
   /// Largest coordinate difference between the first and last n layers of a periodic direction
   /// in the nets given to the constructor and setState() (the first were used); 0 if none.
   double seamMismatch() const { return m_seamMismatch; }
@@ -445,6 +452,10 @@ class Simulation {
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   void shellUpdateBound();
+  /// The state rounded by setStateRounding()'s function, if any.
+  void roundState();
+  /// Held points at the rest net's values, derived layers, held coordinates (setState()).
+  void holdState(ControlNet& cur, ControlNet& prev, HeldPoints held) const;
   StaticResult solveStaticShell(double tolerance, int maxIterations, int loadSteps) const;
   StaticResult solveStaticPaper(double tolerance, int maxLoadIterations, LinearSolver solver, double loadFactor) const;
   /// sum W |current - previous|^2 over the derived points (0 without them).
@@ -477,6 +488,7 @@ class Simulation {
   int m_subSteps = 1;
   double m_subStepsNeeded = 1.0;
   double m_divergenceLimit = 0.0;
+  double (*m_stateRounding)(double) = nullptr;  ///< setStateRounding()
   double m_time = 0.0;
   long m_steps = 0;
   Status m_status = Status::Ok;

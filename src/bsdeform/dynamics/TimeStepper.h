@@ -41,6 +41,9 @@ class TimeStepper {
   virtual bool subStep(double t) = 0;
   /// Forgets what it kept of earlier states (a state was set, reset, or a step failed).
   virtual void invalidate() {}
+  /// The state was rounded after a step (Simulation::setStateRounding): what the stepper keeps
+  /// of the state it left is no longer the state's.
+  virtual void stateRounded() {}
   /// The forces changed (work may be done on the system from now on).
   virtual void forcesChanged() {}
   /// Newton iterations of the last step (0 for the linear schemes).
@@ -132,6 +135,7 @@ class ShellImplicitStepper final : public TimeStepper {
     m_reference.valid = false;
   }
   void forcesChanged() override { m_reference.valid = false; }
+  void stateRounded() override { m_cached = false; }
   int newtonIterations() const override { return m_newtonIterations; }
 
  private:

@@ -158,6 +158,10 @@ class Force {
   virtual void setAdaptedState(const std::vector<double>& state) const {
     if (!state.empty()) throw std::invalid_argument("this force adapts nothing between steps, yet was given a state");
   }
+  /// Rounds what adaptedState() gives in place with `round` (Simulation::setStateRounding()),
+  /// so that it equals what a file holding it gives back; nothing else changes.
+  virtual void roundAdaptedState(double (*round)(double)) const { (void)round; }
+
   /// For the implicit steppers' energy check: the energy the force stores at the state, when the
   /// rest of its load can only dissipate (damping, friction); false when it can do work on the
   /// surface (a follower pressure, a callable, a load that depends on time). The default: the
