@@ -499,7 +499,7 @@ const ControlNet& Simulation::effectiveLoad(double t, double stepSize) {
   }
   if (timeOnly) {
     const double alpha = (t - m_time) / T;
-    if (alpha > 0.0) m_load += alpha * timeLoad(m_time + T);
+    if (alpha > 0.0) m_load += alpha * timeLoad(stepEnd());  // the next step's start: kept
     if (alpha < 1.0) m_load += (1.0 - alpha) * timeLoad(m_time);
   }
   return m_load;
@@ -661,27 +661,31 @@ Status Simulation::step() {
     }
   }
   ++m_steps;
-  m_time += m_params.timeStep;
+  m_time = stepEnd();
   roundState();
   // The shell's stiffness depends on the state: its bound is taken again after every step, at
   // the state the next step starts from (previous rescaled to the new sub-step). So a state
   // saved between steps, with its previous net, is at the sub-step its own bound gives, and a
   // run resumed from it takes the same sub-steps as the uninterrupted one.
   if (m_shell && m_params.integrator == Integrator::Explicit) {
+    const double before = subStepSize();
     shellUpdateBound();
-    roundState();  // a rescaled previous net
+    if (subStepSize() != before) roundState();  // previous rescaled to the new sub-step
   }
   return m_status;
 }
 
 void Simulation::setStateRounding(double (*round)(double)) { m_stateRounding = round; }
 
+double Simulation::stepEnd() const {
+  const double end = m_time + m_params.timeStep;
+  return m_stateRounding ? m_stateRounding(end) : end;
+}
+
 void Simulation::roundState() {
   if (!m_stateRounding) return;
-  const auto round = [r = m_stateRounding](double x) { return r(x); };
-  m_current = m_current.unaryExpr(round);
-  m_previous = m_previous.unaryExpr(round);
-  m_time = m_stateRounding(m_time);
+  m_current = m_current.unaryExpr(m_stateRounding);
+  m_previous = m_previous.unaryExpr(m_stateRounding);
   holdState(m_current, m_previous, HeldPoints::Reset);
   for (const auto& f : m_forces) f->roundAdaptedState(m_stateRounding);
   m_stepper->stateRounded();

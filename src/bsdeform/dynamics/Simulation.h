@@ -236,7 +236,7 @@ class Simulation {
   void setState(const ControlNet& current, double time, long steps, HeldPoints held = HeldPoints::Check);
   /// Rounds the state after every step with `round` (the current and previous nets, the clock,
   /// what the forces adapt: Force::roundAdaptedState()), held points then put back exactly as
-  /// setState() puts them. Given the rounding of a file format (the nodes give snap15, what a
+  /// setState() puts them; the clock lands on the rounded end of each step. Given the rounding of a file format (the nodes give snap15, what a
   /// scene keeps of a double), a run resumed from a written state starts from the bits the run
   /// that wrote it goes on from, and takes the same steps bit for bit. Null (the default): the
   /// state is kept as the steps leave it.
@@ -452,8 +452,12 @@ class Simulation {
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   void shellUpdateBound();
-  /// The state rounded by setStateRounding()'s function, if any.
+  /// The nets, held points and forces' adapted states rounded by setStateRounding()'s
+  /// function, if any.
   void roundState();
+  /// Where the clock lands after the step from m_time: m_time + timeStep, rounded as the state
+  /// is (setStateRounding()).
+  double stepEnd() const;
   /// Held points at the rest net's values, derived layers, held coordinates (setState()).
   void holdState(ControlNet& cur, ControlNet& prev, HeldPoints held) const;
   StaticResult solveStaticShell(double tolerance, int maxIterations, int loadSteps) const;

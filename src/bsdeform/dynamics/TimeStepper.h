@@ -39,13 +39,15 @@ class TimeStepper {
   /// One sub-step from time t. False when the new state is not valid: the rejected state is
   /// then current and the last good one previous (Simulation::step() restores it).
   virtual bool subStep(double t) = 0;
-  /// Forgets what it kept of earlier states (a state was set, reset, or a step failed).
-  virtual void invalidate() {}
+  /// Forgets what it kept of earlier states (a state was set, reset, or a step failed); the
+  /// base: the energy check's reference.
+  virtual void invalidate() { m_reference.valid = false; }
   /// The state was rounded after a step (Simulation::setStateRounding): what the stepper keeps
   /// of the state it left is no longer the state's.
   virtual void stateRounded() {}
-  /// The forces changed (work may be done on the system from now on).
-  virtual void forcesChanged() {}
+  /// The forces changed (work may be done on the system from now on): the energy check starts
+  /// again.
+  virtual void forcesChanged() { m_reference.valid = false; }
   /// Newton iterations of the last step (0 for the linear schemes).
   virtual int newtonIterations() const { return 0; }
   /// The implicit scheme's constant system (null for the others).
@@ -132,9 +134,8 @@ class ShellImplicitStepper final : public TimeStepper {
   bool subStep(double t) override;
   void invalidate() override {
     m_cached = false;
-    m_reference.valid = false;
+    TimeStepper::invalidate();
   }
-  void forcesChanged() override { m_reference.valid = false; }
   void stateRounded() override { m_cached = false; }
   int newtonIterations() const override { return m_newtonIterations; }
 
@@ -174,8 +175,6 @@ class BackwardEulerStepper final : public TimeStepper {
   explicit BackwardEulerStepper(Simulation& sim);
   ~BackwardEulerStepper() override;
   bool subStep(double t) override;
-  void invalidate() override { m_reference.valid = false; }
-  void forcesChanged() override { m_reference.valid = false; }
   int newtonIterations() const override { return m_newtonIterations; }
   /// Factorisations of the Newton matrix since the model was built (fewer than the iterations:
   /// a factorisation is kept while the iterates contract fast with it).
