@@ -88,30 +88,50 @@ void selfOverlappingPairs(const std::vector<Box>& a, double inflation, std::vect
 
 namespace {
 
-/// The box of the vertices of `element` of a mesh, at the start and the end of the step.
-template <class Rows>
-Box sweptBox(const ContactMesh& mesh, const Rows& element) {
-  Box box{Eigen::Vector3d::Constant(INFINITY), Eigen::Vector3d::Constant(-INFINITY)};
-  for (int k = 0; k < int(element.size()); ++k) {
-    const int v = element[k];
-    box.lo = box.lo.cwiseMin(mesh.start.row(v).transpose()).cwiseMin(mesh.end.row(v).transpose());
-    box.hi = box.hi.cwiseMax(mesh.start.row(v).transpose()).cwiseMax(mesh.end.row(v).transpose());
+/// The swept boxes of a mesh's vertices (each vertex from its start to its end).
+std::vector<Box> vertexBoxes(const ContactMesh& mesh) {
+  const Eigen::Index n = mesh.start.rows();
+  std::vector<Box> out(static_cast<size_t>(n));
+  for (int k = 0; k < 3; ++k) {
+    const double* a = mesh.start.col(k).data();
+    const double* b = mesh.end.col(k).data();
+    for (Eigen::Index v = 0; v < n; ++v) {
+      out[size_t(v)].lo[k] = std::min(a[v], b[v]);
+      out[size_t(v)].hi[k] = std::max(a[v], b[v]);
+    }
+  }
+  return out;
+}
+
+/// The box of an element (its vertices `element`): the union of their swept boxes (min and max
+/// are exact, so the same box as from the positions themselves).
+template <size_t N>
+Box unionOf(const std::vector<Box>& vertex, const std::array<int, N>& element) {
+  Box box = vertex[size_t(element[0])];
+  for (size_t k = 1; k < N; ++k) {
+    const Box& b = vertex[size_t(element[k])];
+    box.lo = box.lo.cwiseMin(b.lo);
+    box.hi = box.hi.cwiseMax(b.hi);
   }
   return box;
+}
+
+Box triangleBox(const ContactMesh& mesh, const std::vector<Box>& vertex, int f) {
+  return unionOf<3>(vertex, {mesh.triangles(f, 0), mesh.triangles(f, 1), mesh.triangles(f, 2)});
+}
+
+Box edgeBox(const ContactMesh& mesh, const std::vector<Box>& vertex, int e) {
+  return unionOf<2>(vertex, {mesh.edges(e, 0), mesh.edges(e, 1)});
 }
 
 /// The swept boxes of a mesh's vertices, triangles and edges.
 struct SweptBoxes {
   std::vector<Box> vertices, triangles, edges;
-  explicit SweptBoxes(const ContactMesh& mesh) {
-    vertices.resize(mesh.start.rows());
-    for (int v = 0; v < int(mesh.start.rows()); ++v) vertices[v] = sweptBox(mesh, std::array<int, 1>{v});
-    triangles.resize(mesh.triangles.rows());
-    for (int f = 0; f < int(mesh.triangles.rows()); ++f)
-      triangles[f] = sweptBox(mesh, std::array<int, 3>{mesh.triangles(f, 0), mesh.triangles(f, 1), mesh.triangles(f, 2)});
-    edges.resize(mesh.edges.rows());
-    for (int e = 0; e < int(mesh.edges.rows()); ++e)
-      edges[e] = sweptBox(mesh, std::array<int, 2>{mesh.edges(e, 0), mesh.edges(e, 1)});
+  explicit SweptBoxes(const ContactMesh& mesh) : vertices(vertexBoxes(mesh)) {
+    triangles.resize(size_t(mesh.triangles.rows()));
+    for (int f = 0; f < int(mesh.triangles.rows()); ++f) triangles[size_t(f)] = triangleBox(mesh, vertices, f);
+    edges.resize(size_t(mesh.edges.rows()));
+    for (int e = 0; e < int(mesh.edges.rows()); ++e) edges[size_t(e)] = edgeBox(mesh, vertices, e);
   }
 };
 
@@ -176,28 +196,31 @@ bool boxesMeet(const Box& x, const Box& y, double half) {
   return true;
 }
 
-void narrowWith(const SweptBoxes& a, const SweptBoxes& b, double half, const ContactCandidates& wide,
-                ContactCandidates& out) {
+/// The candidates of `wide` whose boxes meet now; the elements' boxes made from the vertices'
+/// as the pairs ask for them (a kept list names a few of a mesh's elements, and each is asked
+/// for a few times).
+void narrowWith(const ContactMesh& a, const std::vector<Box>& va, const ContactMesh& b, const std::vector<Box>& vb,
+                double half, const ContactCandidates& wide, ContactCandidates& out) {
   out.vertexTriangle.clear();
   out.triangleVertex.clear();
   out.edgeEdge.clear();
   for (const auto& [v, f] : wide.vertexTriangle)
-    if (boxesMeet(a.vertices[size_t(v)], b.triangles[size_t(f)], half)) out.vertexTriangle.push_back({v, f});
+    if (boxesMeet(va[size_t(v)], triangleBox(b, vb, f), half)) out.vertexTriangle.push_back({v, f});
   for (const auto& [f, v] : wide.triangleVertex)
-    if (boxesMeet(a.triangles[size_t(f)], b.vertices[size_t(v)], half)) out.triangleVertex.push_back({f, v});
+    if (boxesMeet(triangleBox(a, va, f), vb[size_t(v)], half)) out.triangleVertex.push_back({f, v});
   for (const auto& [e, g] : wide.edgeEdge)
-    if (boxesMeet(a.edges[size_t(e)], b.edges[size_t(g)], half)) out.edgeEdge.push_back({e, g});
+    if (boxesMeet(edgeBox(a, va, e), edgeBox(b, vb, g), half)) out.edgeEdge.push_back({e, g});
 }
 }  // namespace
 
 void narrowCandidates(const ContactMesh& a, const ContactMesh& b, double inflation, const ContactCandidates& wide,
                       ContactCandidates& out) {
-  narrowWith(SweptBoxes(a), SweptBoxes(b), 0.5 * inflation, wide, out);
+  narrowWith(a, vertexBoxes(a), b, vertexBoxes(b), 0.5 * inflation, wide, out);
 }
 
 void narrowCandidates(const ContactMesh& a, double inflation, const ContactCandidates& wide, ContactCandidates& out) {
-  const SweptBoxes boxes(a);
-  narrowWith(boxes, boxes, 0.5 * inflation, wide, out);
+  const std::vector<Box> boxes = vertexBoxes(a);
+  narrowWith(a, boxes, a, boxes, 0.5 * inflation, wide, out);
 }
 
 }  // namespace bsdeform

@@ -91,7 +91,10 @@ struct SaintVenantKirchhoff {
     stress(r.Ac, kappa, M);
     const double tb = bending * r.wJ;
     for (int i = 0; i < 3; ++i) m[i] = tb * M[i];
-    Hm += tb * K * WC * K.transpose();
+    // a 15 x 3 by 3 x 15 product by coefficients (Eigen's blocked product for these sizes cost
+    // a tenth of a barrier step's time, docs/benchmarks.md)
+    const BendingJacobian KW = tb * (K * WC);
+    Hm.noalias() += KW.lazyProduct(K.transpose());
   }
 };
 
@@ -251,7 +254,8 @@ struct NeoHookean {
     Eigen::Matrix<double, 15, 6> B = Eigen::Matrix<double, 15, 6>::Zero();
     B.topLeftCorner<6, 3>() = G;
     B.rightCols<3>() = K;
-    Hm = B * D * B.transpose();
+    const Eigen::Matrix<double, 15, 6> BD = B * D;
+    Hm.noalias() = BD.lazyProduct(B.transpose());
   }
 
  private:
