@@ -204,6 +204,32 @@ TEST_CASE("CCD: a point falling fast through a thin triangle within one step is 
   CHECK(toi <= 1.0 / 1001.0);
 }
 
+TEST_CASE("CCD: the fraction of the step keeps 1 - s of the gap for the rescaling s asked for", "[contact]") {
+  // A point 1 above a triangle (offset 0.1: gap 0.9) moving straight at it by 2: additive CCD's
+  // first sub-step, s gap / (closing speed 2), is where it stops, leaving exactly (1 - s) of the gap.
+  ContactMesh point, triangle;
+  point.start = (Eigen::MatrixX3d(1, 3) << 0.2, 0.2, 1.0).finished();
+  point.end = (Eigen::MatrixX3d(1, 3) << 0.2, 0.2, -1.0).finished();
+  point.triangles.resize(0, 3);
+  point.edges.resize(0, 2);
+  triangle.start = (Eigen::MatrixX3d(3, 3) << 0, 0, 0, 1, 0, 0, 0, 1, 0).finished();
+  triangle.end = triangle.start;
+  triangle.triangles = (Eigen::MatrixX3i(1, 3) << 0, 1, 2).finished();
+  triangle.edges = (Eigen::MatrixX2i(3, 2) << 0, 1, 1, 2, 0, 2).finished();
+  const double offset = 0.1, gap = 0.9;
+  double before = 2.0;
+  for (const double s : {0.9, 0.7, 0.5}) {
+    const double t = collisionFreeFraction(point, triangle, offset, s);
+    INFO("s " << s << " fraction " << t);
+    CHECK(t == Approx(s * gap / 2.0).epsilon(1e-12));
+    const double left = 1.0 - 2.0 * t - offset;  // above the offset at the fraction
+    CHECK(left >= (1.0 - s) * gap * (1.0 - 1e-12));
+    CHECK(t < before);  // a smaller s, a shorter step
+    before = t;
+  }
+  CHECK(collisionFreeFraction(point, triangle, offset) == collisionFreeFraction(point, triangle, offset, 0.9));
+}
+
 TEST_CASE("CCD: parallel and touching pairs, and pairs that never meet", "[contact]") {
   double toi = -1;
   // Parallel edges, one above the other, the upper one moving down through the lower one.

@@ -103,50 +103,52 @@ Eigen::Vector3d startOf(const ContactMesh& mesh, int v) { return mesh.start.row(
 Eigen::Vector3d endOf(const ContactMesh& mesh, int v) { return mesh.end.row(v).transpose(); }
 
 /// Lowers t to the time of impact of point v of `pm` against triangle f of `tm`.
-void lowerByPointTriangle(const ContactMesh& pm, int v, const ContactMesh& tm, int f, double offset, double& t) {
+void lowerByPointTriangle(const ContactMesh& pm, int v, const ContactMesh& tm, int f, double offset, double s,
+                          double& t) {
   const int i = tm.triangles(f, 0), j = tm.triangles(f, 1), k = tm.triangles(f, 2);
   double toi = t;
   // tMax = the current fraction: a pair cannot lower it past what it would need to reach.
   if (pointTriangleCCD(startOf(pm, v), startOf(tm, i), startOf(tm, j), startOf(tm, k), endOf(pm, v), endOf(tm, i),
-                       endOf(tm, j), endOf(tm, k), offset, t, toi))
+                       endOf(tm, j), endOf(tm, k), offset, t, toi, s))
     t = std::min(t, toi);
 }
 
-void lowerByEdgeEdge(const ContactMesh& am, int e, const ContactMesh& bm, int g, double offset, double& t) {
+void lowerByEdgeEdge(const ContactMesh& am, int e, const ContactMesh& bm, int g, double offset, double s,
+                     double& t) {
   const int a0 = am.edges(e, 0), a1 = am.edges(e, 1), b0 = bm.edges(g, 0), b1 = bm.edges(g, 1);
   double toi = t;
   if (edgeEdgeCCD(startOf(am, a0), startOf(am, a1), startOf(bm, b0), startOf(bm, b1), endOf(am, a0), endOf(am, a1),
-                  endOf(bm, b0), endOf(bm, b1), offset, t, toi))
+                  endOf(bm, b0), endOf(bm, b1), offset, t, toi, s))
     t = std::min(t, toi);
 }
 
 }  // namespace
 
-double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset) {
+double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset, double s) {
   ContactCandidates candidates;
   candidatePairs(a, b, offset, candidates);
-  return collisionFreeFraction(a, b, candidates, offset);
+  return collisionFreeFraction(a, b, candidates, offset, s);
 }
 
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, const ContactCandidates& candidates,
-                             double offset) {
+                             double offset, double s) {
   double t = 1.0;
-  for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, b, f, offset, t);
-  for (const auto& [f, v] : candidates.triangleVertex) lowerByPointTriangle(b, v, a, f, offset, t);
-  for (const auto& [e, g] : candidates.edgeEdge) lowerByEdgeEdge(a, e, b, g, offset, t);
+  for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, b, f, offset, s, t);
+  for (const auto& [f, v] : candidates.triangleVertex) lowerByPointTriangle(b, v, a, f, offset, s, t);
+  for (const auto& [e, g] : candidates.edgeEdge) lowerByEdgeEdge(a, e, b, g, offset, s, t);
   return t;
 }
 
-double collisionFreeFraction(const ContactMesh& a, double offset) {
+double collisionFreeFraction(const ContactMesh& a, double offset, double s) {
   ContactCandidates candidates;
   candidatePairs(a, offset, candidates);
-  return collisionFreeFraction(a, candidates, offset);
+  return collisionFreeFraction(a, candidates, offset, s);
 }
 
-double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset) {
+double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset, double s) {
   double t = 1.0;
-  for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, a, f, offset, t);
-  for (const auto& [e, g] : candidates.edgeEdge) lowerByEdgeEdge(a, e, a, g, offset, t);
+  for (const auto& [v, f] : candidates.vertexTriangle) lowerByPointTriangle(a, v, a, f, offset, s, t);
+  for (const auto& [e, g] : candidates.edgeEdge) lowerByEdgeEdge(a, e, a, g, offset, s, t);
   return t;
 }
 

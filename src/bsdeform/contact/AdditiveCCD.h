@@ -57,18 +57,21 @@ bool edgeEdgeCCD(const Eigen::Vector3d& a00, const Eigen::Vector3d& a10, const E
 
 /// The largest fraction t ≤ 1 of the step from start to end over which no candidate pair of
 /// candidatePairs(a, b, offset) comes within `offset`: the minimum of the pairs' additive CCD times
-/// of impact (default rescaling), 1 when none. Positions start + τ (end - start), τ in [0, t],
+/// of impact, 1 when none. Positions start + τ (end - start), τ in [0, t],
 /// then keep every vertex–triangle and edge–edge pair farther than `offset` (the file's
 /// guarantee). Each pair is searched only up to the fraction found so far (tMax), which skips the
 /// sub-steps of far pairs; a pair may then return "no impact before tMax" where with tMax = 1 it
 /// would have stopped a little earlier, so the result can depend on the pairs' order by the
 /// conservativeness of CCD (never past a safe time).
-double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset);
+/// `conservativeRescaling` is the pairs' s: each keeps (1 - s) of its gap above ξ at least.
+double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset,
+                             double conservativeRescaling = 0.9);
 /// A mesh against itself (pairs sharing a vertex left out).
-double collisionFreeFraction(const ContactMesh& a, double offset);
+double collisionFreeFraction(const ContactMesh& a, double offset, double conservativeRescaling = 0.9);
 /// The same over the pairs `candidates` (what candidatePairs() would give, found beforehand).
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, const ContactCandidates& candidates,
-                             double offset);
-double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset);
+                             double offset, double conservativeRescaling = 0.9);
+double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset,
+                             double conservativeRescaling = 0.9);
 
 }  // namespace bsdeform

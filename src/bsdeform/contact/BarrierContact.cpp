@@ -715,6 +715,17 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
       }
 }
 
+namespace {
+/// The line search's CCD keeps 30 % of every pair's gap above the offset (additive CCD's s = 0.7;
+/// C-IPC's 0.9 keeps 10 %). With 0.9 an impact's iterates crowded some pair to within nanometres
+/// of the offset, where the barrier's curvature (growing as 1/s²) held Newton to steps of
+/// 1e-4 m for a hundred iterations: drape_over_sphere took 495 Newton iterations for its first
+/// second (147 in one step) and 24.0 s, with 0.7 about 380 (92) and 17.9 s, the other contact
+/// scenes unchanged (docs/benchmarks.md, "The line search's CCD"); 0.5 and 0.4 were as fast on
+/// the drape and slower on tablecloth_slide, 0.2 slower on both.
+constexpr double kLineSearchRescaling = 0.7;
+}  // namespace
+
 double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const ControlNet& to) const {
   prepare(ctx);
   State& st = *m_state;
@@ -724,8 +735,10 @@ double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const Con
   double t = 1.0;
   for (size_t o = 0; o < st.obstacles.size(); ++o)
     if (st.obstacles[o].tree)
-      t = std::min(t, collisionFreeFraction(st.mesh, st.obstacles[o].mesh, candidates[o], m_params.offset));
-  if (m_params.selfContact) t = std::min(t, collisionFreeFraction(st.mesh, candidates.back(), m_params.offset));
+      t = std::min(t, collisionFreeFraction(st.mesh, st.obstacles[o].mesh, candidates[o], m_params.offset,
+                                            kLineSearchRescaling));
+  if (m_params.selfContact)
+    t = std::min(t, collisionFreeFraction(st.mesh, candidates.back(), m_params.offset, kLineSearchRescaling));
   return t;
 }
 
