@@ -6,6 +6,7 @@
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/base/NumberText.h"
 #include "bsdeform/base/Parallel.h"
+#include "bsdeform/dynamics/StepperView.h"
 #include "bsdeform/dynamics/TimeStepper.h"
 
 #include <Eigen/SVD>
@@ -99,6 +100,11 @@ Simulation::Simulation(const ModelParameters& params, const ControlNet& rest)
 }
 
 Simulation::~Simulation() = default;
+
+StepperModel& Simulation::stepperView() {
+  if (!m_view) m_view = std::make_unique<StepperView>(*this);
+  return *m_view;
+}
 
 int Simulation::lastNewtonIterations() const { return m_stepper->newtonIterations(); }
 
@@ -359,11 +365,11 @@ void Simulation::init() {
   }
   m_mass.reset();  // built when a scheme asks (massMatrix()): the fused kernels do not
   if (m_params.integrator == Integrator::Implicit)
-    m_stepper = std::make_unique<PaperImplicitStepper>(*this);
+    m_stepper = std::make_unique<PaperImplicitStepper>(stepperView());
   else if (m_params.integrator == Integrator::BackwardEuler)
-    m_stepper = std::make_unique<BackwardEulerStepper>(*this);
+    m_stepper = std::make_unique<BackwardEulerStepper>(stepperView());
   else
-    m_stepper = std::make_unique<PaperExplicitStepper>(*this);
+    m_stepper = std::make_unique<PaperExplicitStepper>(stepperView());
   rebuildConstantLoad();
   updateSubSteps();
 }

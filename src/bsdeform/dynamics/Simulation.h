@@ -34,6 +34,7 @@ namespace bsdeform {
 
 class MassMatrix;
 class TimeStepper;
+class StepperModel;
 
 enum class Integrator {
   Explicit,  ///< central differences (eq. 12, corrected), sub-stepped below the stability limit
@@ -552,13 +553,13 @@ class Simulation {
   /// A rigid motion the held and constrained coordinates leave free and `load` does work on
   /// (any free one when `load` is null), named, or "" (freeRigidMotionLoaded()).
   std::string freeRigidMotion(const ControlNet* load, bool rotations) const;
+  /// What the scheme sees of this Simulation (StepperModel.h, not installed): a nested adapter
+  /// (StepperView.h), made at the first call; the schemes are not friends.
+  class StepperView;
+  std::unique_ptr<StepperView> m_view;
+  StepperModel& stepperView();
   /// The scheme (TimeStepper.h): created by init() and initShell().
   std::unique_ptr<TimeStepper> m_stepper;
-  friend class PaperExplicitStepper;
-  friend class PaperImplicitStepper;
-  friend class ShellExplicitStepper;
-  friend class ShellImplicitStepper;
-  friend class BackwardEulerStepper;
 };
 
 }  // namespace bsdeform

@@ -48,11 +48,11 @@ void Simulation::initShell() {
   m_uniformMass = false;
   m_massMoving = m_mass->diagonal();
   if (m_params.integrator == Integrator::BackwardEuler)
-    m_stepper = std::make_unique<BackwardEulerStepper>(*this);
+    m_stepper = std::make_unique<BackwardEulerStepper>(stepperView());
   else if (m_params.integrator == Integrator::Implicit)
-    m_stepper = std::make_unique<ShellImplicitStepper>(*this);
+    m_stepper = std::make_unique<ShellImplicitStepper>(stepperView());
   else
-    m_stepper = std::make_unique<ShellExplicitStepper>(*this);
+    m_stepper = std::make_unique<ShellExplicitStepper>(stepperView());
   m_edgeMass.reset();
   m_derivedRows.clear();
   for (int i = 0; i < m_space.netRows(); ++i)

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The four time steppers (TimeStepper.h): the paper's explicit and implicit schemes and the
-// shell's, each with the data only it uses. They read and write the state the Simulation holds
-// (its friends: `s` below is the Simulation).
+// The time steppers (TimeStepper.h): the paper's explicit and implicit schemes, the shell's and
+// backward Euler, each with the data only it uses. They read and write the state the Simulation
+// holds through StepperModel (`s` below), and nothing else of it.
 #include "bsdeform/dynamics/TimeStepper.h"
 #include "bsdeform/dynamics/MassMatrix.h"
 
@@ -90,7 +90,7 @@ void splitLoads(const std::vector<std::shared_ptr<const Force>>& forces, const L
 }  // namespace
 
 bool PaperExplicitStepper::subStep(double t) {
-  Simulation& s = m_sim;
+  StepperModel& s = m_model;
   const ControlNet& load = s.effectiveLoad(t);
   const double dt = s.subStepSize(), m = s.massPerPoint(), c = s.dampingPerPoint();
   const double g = 2.0 * m + dt * c;
@@ -99,9 +99,9 @@ bool PaperExplicitStepper::subStep(double t) {
   // ratio s (damping scales alike, so gamma does not change).
   std::function<double(int, int)> scale;
   StiffnessStencil::BandSolve bandSolve;
-  if (s.m_edgeMass) {
+  if (s.edgeMass()) {
     // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
-    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.m_edgeMass->bandPlan(s.m_stencil.bandPoints(), m));
+    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.edgeMass()->bandPlan(s.stencil().bandPoints(), m));
     bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
       for (size_t k = k0; k < k1; ++k) {
         Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
@@ -113,116 +113,116 @@ bool PaperExplicitStepper::subStep(double t) {
         out[k - k0] = acc;
       }
     };
-  } else if (!s.m_uniformMass) {
+  } else if (!s.uniformMass()) {
     scale = [&s, m](int i, int j) { return m / s.massAt(i, j); };
   }
   // The new state overwrites the previous one (same buffer); held points are equal in both.
-  const bool ok = s.m_stencil.centralDifferenceUpdate(s.m_current, s.m_previous, load, alpha, gamma, s.m_divergenceLimit,
+  const bool ok = s.stencil().centralDifferenceUpdate(s.current(), s.previous(), load, alpha, gamma, s.divergenceLimit(),
                                                     scale, bandSolve);
-  s.holdPins(s.m_previous);
-  s.m_space.completeNet(s.m_previous, &s.m_rest);
-  s.m_current.swap(s.m_previous);
+  s.holdPins(s.previous());
+  s.space().completeNet(s.previous(), &s.rest());
+  s.current().swap(s.previous());
   return ok;
 }
 
-PaperImplicitStepper::PaperImplicitStepper(Simulation& sim) : TimeStepper(sim) {
-  Simulation& s = m_sim;
+PaperImplicitStepper::PaperImplicitStepper(StepperModel& model) : TimeStepper(model) {
+  StepperModel& s = m_model;
   // K = M/dt^2 + C/(2dt) + A_act/4 (docs/math.md §6); a lumped mass (and damping) is smaller
   // next to a free edge
-  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  const double dt = s.params().timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
   Eigen::VectorXd massTerm;
   const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
   std::vector<Eigen::Triplet<double>> coupling;
   double kappa = 0.0;
-  if (s.m_uniformMass) {
-    massTerm = Eigen::VectorXd::Constant(s.m_space.numMoving(), m / (dt * dt) + c / (2.0 * dt));
-  } else if (s.m_edgeMass) {
-    massTerm.resize(s.m_space.numMoving());
-    for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
-      const Eigen::Index r = s.m_space.movingToNet(f);
-      massTerm[f] = factor * s.m_edgeMass->diagonal(int(r / s.m_space.netCols()), int(r % s.m_space.netCols()));
+  if (s.uniformMass()) {
+    massTerm = Eigen::VectorXd::Constant(s.space().numMoving(), m / (dt * dt) + c / (2.0 * dt));
+  } else if (s.edgeMass()) {
+    massTerm.resize(s.space().numMoving());
+    for (Eigen::Index f = 0; f < s.space().numMoving(); ++f) {
+      const Eigen::Index r = s.space().movingToNet(f);
+      massTerm[f] = factor * s.edgeMass()->diagonal(int(r / s.space().netCols()), int(r % s.space().netCols()));
     }
-    coupling = s.m_edgeMass->offDiagonal(factor);
+    coupling = s.edgeMass()->offDiagonal(factor);
     // the generalised eigenvalues of (K, M) lie in [factor, factor + lambda_max(M^-1 A)/4]:
     // kappa(M^-1 K), what Jacobi-CG meets in practice; the diagonal formula is far too
     // pessimistic with the coupling (docs/benchmarks.md, "Why the code is as it is")
-    kappa = 1.0 + s.m_elasticLambda / (4.0 * factor);
+    kappa = 1.0 + s.elasticLambda() / (4.0 * factor);
   } else {
-    massTerm = s.m_massMoving * factor;
+    massTerm = s.massMoving() * factor;
   }
-  m_implicit = std::make_unique<ImplicitSystem>(s.m_space, s.m_stencil, massTerm, s.pinnedMoving(), s.m_params.implicitSolver,
-                                                s.m_params.solverTolerance, s.m_params.maxSolverIterations,
+  m_implicit = std::make_unique<ImplicitSystem>(s.space(), s.stencil(), massTerm, s.pinnedMoving(), s.params().implicitSolver,
+                                                s.params().solverTolerance, s.params().maxSolverIterations,
                                                 std::move(coupling), kappa);
 }
 
 bool PaperImplicitStepper::subStep(double t) {
-  Simulation& s = m_sim;
+  StepperModel& s = m_model;
   const ControlNet& load = s.effectiveLoad(t);
-  const double dt = s.m_params.timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
+  const double dt = s.params().timeStep, m = s.massPerPoint(), c = s.dampingPerPoint();
   // Newmark (docs/math.md §6) for the increment d = P+ - P: with K = M/dt^2 + C/(2dt) + A_II/4,
   //   K d = L - (A_II V + A_IB P_B) + (M/dt^2 - C/(2dt)) (P - P-),   V = P + (P- - P)/4,
   // where A_II V + A_IB P_B is the stencil applied to the whole net V (its held points are
   // their rest values exactly): no matrix, and a state at rest gives d = 0 exactly.
-  allocateNet(m_scratch, s.m_current.rows());
-  m_scratch = s.m_current + 0.25 * (s.m_previous - s.m_current);
+  allocateNet(m_scratch, s.current().rows());
+  m_scratch = s.current() + 0.25 * (s.previous() - s.current());
   ControlNet rhs;
-  s.m_stencil.applyMoving(m_scratch, rhs);
-  const ControlNet velocity = s.m_space.gatherMoving(s.m_current) - s.m_space.gatherMoving(s.m_previous);  // P - P-
-  if (s.m_uniformMass) {
+  s.stencil().applyMoving(m_scratch, rhs);
+  const ControlNet velocity = s.space().gatherMoving(s.current()) - s.space().gatherMoving(s.previous());  // P - P-
+  if (s.uniformMass()) {
     rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
-  } else if (s.m_edgeMass) {
+  } else if (s.edgeMass()) {
     ControlNet Mv;
-    s.m_edgeMass->apply(velocity, Mv);
+    s.edgeMass()->apply(velocity, Mv);
     rhs = load - rhs + (1.0 / (dt * dt) - (c / m) / (2.0 * dt)) * Mv;
   } else {
     const double cm = c / m;
-    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (s.m_massMoving.asDiagonal() * velocity);
+    rhs = load - rhs + (1.0 / (dt * dt) - cm / (2.0 * dt)) * (s.massMoving().asDiagonal() * velocity);
   }
   for (Eigen::Index f : m_implicit->pinned()) rhs.row(f).setZero();  // pinned rows of K are D: d = 0
   // CG starts from the constant-velocity prediction d = P - P-.
   ControlNet next = velocity;
   const bool solved = m_implicit->solve(rhs, next);
-  next += s.m_space.gatherMoving(s.m_current);
+  next += s.space().gatherMoving(s.current());
   bool ok = solved;
-  for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= s.m_divergenceLimit;
-  s.m_space.scatterMoving(next, s.m_previous);
-  if (!s.m_pinned.empty() || s.m_space.hasDerived()) {
-    s.holdPins(s.m_previous);
-    s.m_space.completeNet(s.m_previous, &s.m_rest);
+  for (Eigen::Index i = 0; i < next.size(); ++i) ok &= std::abs(next.data()[i]) <= s.divergenceLimit();
+  s.space().scatterMoving(next, s.previous());
+  if (s.hasPins() || s.space().hasDerived()) {
+    s.holdPins(s.previous());
+    s.space().completeNet(s.previous(), &s.rest());
   }
-  s.m_current.swap(s.m_previous);
+  s.current().swap(s.previous());
   if (!solved && next.allFinite()) {
     std::ostringstream os;
     os << "conjugate gradients stopped at relative residual " << m_implicit->lastResidual() << " after "
-       << m_implicit->lastIterations() << " iterations (solverTolerance " << s.m_params.solverTolerance
-       << ", maxSolverIterations " << s.m_params.maxSolverIterations << ")";
+       << m_implicit->lastIterations() << " iterations (solverTolerance " << s.params().solverTolerance
+       << ", maxSolverIterations " << s.params().maxSolverIterations << ")";
     m_solveFailure = os.str();
   }
   return ok;
 }
 
 bool ShellExplicitStepper::subStep(double t) {
-  Simulation& s = m_sim;
+  StepperModel& s = m_model;
   const ControlNet& load = s.effectiveLoad(t);
-  const double dt = s.subStepSize(), c = s.m_params.damping;
+  const double dt = s.subStepSize(), c = s.params().damping;
   // M (P+ - 2P + P-)/dt^2 + c M (P+ - P-)/(2 dt) = L - dW/dP
   const double alpha = dt * dt / (1.0 + 0.5 * c * dt), gamma = (1.0 - 0.5 * c * dt) / (1.0 + 0.5 * c * dt);
   ControlNet a;
-  s.shellGradient(s.m_current, a);
+  s.elasticGradient(s.current(), a);
   a = load - a;
-  s.m_mass->solve(a);
+  s.mass().solve(a);
   bool ok = true;
-  for (Eigen::Index f = 0; f < s.m_space.numMoving(); ++f) {
-    const Eigen::Index r = s.m_space.movingToNet(f);
-    if (s.m_pinMask[size_t(r)]) continue;
-    Eigen::RowVector3d next = s.m_current.row(r) + gamma * (s.m_current.row(r) - s.m_previous.row(r)) + alpha * a.row(f);
+  for (Eigen::Index f = 0; f < s.space().numMoving(); ++f) {
+    const Eigen::Index r = s.space().movingToNet(f);
+    if (s.pinnedRow(r)) continue;
+    Eigen::RowVector3d next = s.current().row(r) + gamma * (s.current().row(r) - s.previous().row(r)) + alpha * a.row(f);
     for (int k = 0; k < 3; ++k)
-      if (s.heldCoordinate(f, k)) next[k] = s.m_rest(r, k);
-    ok &= next.cwiseAbs().maxCoeff() <= s.m_divergenceLimit;  // false for NaN
-    s.m_previous.row(r) = next;
+      if (s.heldCoordinate(f, k)) next[k] = s.rest()(r, k);
+    ok &= next.cwiseAbs().maxCoeff() <= s.divergenceLimit();  // false for NaN
+    s.previous().row(r) = next;
   }
-  s.m_space.completeNet(s.m_previous, &s.m_rest);
-  s.m_current.swap(s.m_previous);
+  s.space().completeNet(s.previous(), &s.rest());
+  s.current().swap(s.previous());
   return ok;
 }
 
@@ -231,41 +231,41 @@ bool ShellExplicitStepper::subStep(double t) {
 //   M (x - 2P + P-)/dt^2 + c M (x - P-)/(2dt) + (g(x) + 2 g(P) + g(P-))/4 = L(P, t)
 // solved for x = P+ by Newton's method, tangent (1/dt^2 + c/(2dt)) M + H(x)/4.
 bool ShellImplicitStepper::subStep(double t) {
-  Simulation& s = m_sim;
-  const double dt = s.m_params.timeStep;
-  const ControlNet start = s.m_current, before = s.m_previous;
+  StepperModel& s = m_model;
+  const double dt = s.params().timeStep;
+  const ControlNet start = s.current(), before = s.previous();
   if (stepOf(t, dt)) return true;
   return retakeInPieces(
-      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); },
+      s.current(), s.previous(), start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); },
       [this] { m_cached = false; },
       [this, &s](const ControlNet& begin, int) {
-        s.m_previous = begin;  // one step before, as the next step expects
+        s.previous() = begin;  // one step before, as the next step expects
         m_cached = false;
       });
 }
 
 bool ShellImplicitStepper::stepOf(double t, double dt) {
-  Simulation& s = m_sim;
+  StepperModel& s = m_model;
   // constant loads and those that depend on time only, at the start; the others (contact,
   // springs, pressure, drag) at every iterate, at the state V = (x + 2P + P-)/4 moving with
   // (x - P-)/(2 dt): the average the stiffness term takes (docs/math.md §16)
   m_blewUp = false;
-  ControlNet load = s.m_constantLoad;
+  ControlNet load = s.constantLoad();
   std::vector<const Force*> stateForces;
-  splitLoads(s.m_forces, s.loadContext(s.m_current, s.m_previous, dt, t), load, stateForces);
-  const double c = s.m_params.damping;
+  splitLoads(s.forces(), s.loadContext(s.current(), s.previous(), dt, t), load, stateForces);
+  const double c = s.params().damping;
   const double a = 1.0 / (dt * dt) + c / (2.0 * dt), b = 1.0 / (dt * dt) - c / (2.0 * dt);
-  const ControlNet P = s.m_space.gatherMoving(s.m_current), Pm = s.m_space.gatherMoving(s.m_previous);
+  const ControlNet P = s.space().gatherMoving(s.current()), Pm = s.space().gatherMoving(s.previous());
   if (!m_cached) {
-    s.shellGradient(s.m_current, m_gradCurrent);
-    s.shellGradient(s.m_previous, m_gradPrevious);
+    s.elasticGradient(s.current(), m_gradCurrent);
+    s.elasticGradient(s.previous(), m_gradPrevious);
     m_cached = true;
   }
-  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.m_mass->apply(P - Pm);
+  const ControlNet fixed = load - 0.5 * m_gradCurrent - 0.25 * m_gradPrevious + b * s.mass().apply(P - Pm);
   const double scale = fixed.norm() + 0.5 * m_gradCurrent.norm() + 0.25 * m_gradPrevious.norm() + 1e-300;
-  ControlNet net = s.m_current;
+  ControlNet net = s.current();
   ControlNet x = P + (P - Pm);
-  ControlNet netV = s.m_current, netVPrev = s.m_current;  // V and V - (x - P-), for the forces
+  ControlNet netV = s.current(), netVPrev = s.current();  // V and V - (x - P-), for the forces
   // The step is the minimum of (a/2)(x - P)ᵀM(x - P) + W(x)/4 - fixed·x + 4 Φ(V(x)) (Φ the
   // state forces' potentials at V = (x + 2P + P-)/4, whose gradient in x is -L(V)): the same
   // Newton solver as backward Euler's and the static solve's (NewtonMinimizer), the search on
@@ -277,13 +277,13 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   auto evaluate = [&](const ControlNet& xi, NewtonPoint& ev) {
     xc = xi;
     s.completeUnknowns(xc, net);
-    const double strain = s.m_energy->energyAndGradient(net, g);
+    const double strain = s.energy().energyAndGradient(net, g);
     ControlNet Lv = ControlNet::Zero(xi.rows(), 3);
     ev.potential = true;
     double phi = 0.0;
     if (!stateForces.empty()) {
-      netV = 0.25 * (net + 2.0 * s.m_current + s.m_previous);
-      netVPrev = netV - (net - s.m_previous);
+      netV = 0.25 * (net + 2.0 * s.current() + s.previous());
+      netVPrev = netV - (net - s.previous());
       const LoadContext ctx = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
       for (const Force* f : stateForces) {
         f->addLoad(ctx, Lv);
@@ -294,9 +294,9 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
           ev.potential = false;
       }
     }
-    const ControlNet dx = xc - P, Mdx = s.m_mass->apply(dx);
+    const ControlNet dx = xc - P, Mdx = s.mass().apply(dx);
     ev.g = a * Mdx + 0.25 * g - fixed - Lv;
-    if (s.m_components) s.m_components->fold(ev.g);  // onto the free coordinates
+    if (s.components()) s.components()->fold(ev.g);  // onto the free coordinates
     for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
       for (int c = 0; c < 3; ++c)
         if (s.heldCoordinate(f, c)) ev.g(f, c) = 0.0;
@@ -316,9 +316,9 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
       if (s.heldCoordinate(f, c)) x(f, c) = P(f, c);
   // a failed step leaves the rejected state current and the last good one previous (step())
   auto reject = [&]() {
-    s.m_space.scatterMoving(x, s.m_previous);
-    s.m_space.completeNet(s.m_previous, &s.m_rest);
-    s.m_current.swap(s.m_previous);
+    s.space().scatterMoving(x, s.previous());
+    s.space().completeNet(s.previous(), &s.rest());
+    s.current().swap(s.previous());
     m_cached = false;
     return false;
   };
@@ -331,14 +331,14 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
     const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
     const Eigen::SparseMatrix<double>& K =
         s.tangent(net, 0.25, shift, mode, stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25);
-    if (!s.m_components) return K;
-    folded = s.m_components->foldTangent(K, s.m_heldMask);
+    if (!s.components()) return K;
+    folded = s.components()->foldTangent(K, s.heldMask());
     return folded;
   };
-  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.m_params.newtonTolerance * scale; };
+  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * scale; };
   problem.updateTolerance = [](const ControlNet& xi) { return 1e-11 * xi.cwiseAbs().maxCoeff(); };
   NewtonMinimizer::Options options;
-  options.maxIterations = s.m_params.maxNewtonIterations;
+  options.maxIterations = s.params().maxNewtonIterations;
   options.shift = a;
   // a new factorisation every iteration, as before: chord steps, counted against
   // maxNewtonIterations, cut more steps into pieces and moved the coarse swinging sheet's
@@ -350,8 +350,8 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   if (!outcome.converged) {
     std::ostringstream os;
     os << "Newton's method stopped at relative residual " << cur.norm / scale << " after " << outcome.iterations
-       << " iterations (" << outcome.failure << "; newtonTolerance " << s.m_params.newtonTolerance
-       << ", maxNewtonIterations " << s.m_params.maxNewtonIterations << ")";
+       << " iterations (" << outcome.failure << "; newtonTolerance " << s.params().newtonTolerance
+       << ", maxNewtonIterations " << s.params().maxNewtonIterations << ")";
     m_solveFailure = os.str();
     return reject();
   }
@@ -359,14 +359,14 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   // that is the solver's business)
   xc = x;
   s.completeUnknowns(xc, net);
-  s.m_energy->gradient(net, g);
-  if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only
+  s.energy().gradient(net, g);
+  if (s.components()) s.components()->complete(x);  // the updates moved the free coordinates only
   bool ok = true;
-  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
-  s.m_space.scatterMoving(x, s.m_previous);
-  s.holdPins(s.m_previous);
-  s.m_space.completeNet(s.m_previous, &s.m_rest);
-  s.m_current.swap(s.m_previous);
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.divergenceLimit();
+  s.space().scatterMoving(x, s.previous());
+  s.holdPins(s.previous());
+  s.space().completeNet(s.previous(), &s.rest());
+  s.current().swap(s.previous());
   m_gradPrevious.swap(m_gradCurrent);
   m_gradCurrent = g;
   // the energy check: Newmark conserves energy to O(dt²) without damping, so only a rise
@@ -376,7 +376,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   if (ok) {
     double energy = 0.0, scaleNow = 0.0;
     ControlNet working;
-    BackwardEulerStepper::totalEnergy(s, x, s.m_current, s.m_previous, dt, (x - P) / dt, t + dt, energy, scaleNow,
+    BackwardEulerStepper::totalEnergy(s, x, s.current(), s.previous(), dt, (x - P) / dt, t + dt, energy, scaleNow,
                                       &working);
     if (!m_reference.valid) {
       m_reference.start(energy, scaleNow);
@@ -405,28 +405,28 @@ struct BackwardEulerStepper::QuasiNewtonStart {
   double shift = -1.0;                    ///< the mass multiple solver was made with
 };
 
-BackwardEulerStepper::BackwardEulerStepper(Simulation& sim) : TimeStepper(sim) {}
+BackwardEulerStepper::BackwardEulerStepper(StepperModel& model) : TimeStepper(model) {}
 BackwardEulerStepper::~BackwardEulerStepper() = default;
 
 void BackwardEulerStepper::precondition(ControlNet& r, double h) {
-  Simulation& s = m_sim;
+  StepperModel& s = m_model;
   const double shift = 1.0 / (h * h) + s.dampingRatio() / h;
   if (!m_start) {
     m_start = std::make_unique<QuasiNewtonStart>();
-    const Eigen::SparseMatrix<double>& K = s.tangent(s.m_rest, 1.0, 0.0, HessianMode::Exact, nullptr);
-    const Eigen::Index n = s.m_space.numMoving();
+    const Eigen::SparseMatrix<double>& K = s.tangent(s.rest(), 1.0, 0.0, HessianMode::Exact, nullptr);
+    const Eigen::Index n = s.space().numMoving();
     std::vector<Eigen::Triplet<double>> entries;
     entries.reserve(size_t(K.nonZeros() / 3 + n));
     for (Eigen::Index c = 0; c < K.outerSize(); ++c)
       for (Eigen::SparseMatrix<double>::InnerIterator it(K, c); it; ++it)
-        if (it.row() % 3 == c % 3 && !s.m_heldMask[size_t(it.row())] && !s.m_heldMask[size_t(c)])
+        if (it.row() % 3 == c % 3 && !s.heldMask()[size_t(it.row())] && !s.heldMask()[size_t(c)])
           entries.emplace_back(it.row() / 3, c / 3, it.value() / 3.0);
     m_start->restPart.resize(n, n);
     m_start->restPart.setFromTriplets(entries.begin(), entries.end());
   }
   if (m_start->shift != shift) {
     const Eigen::SparseMatrix<double> H0 =
-        m_start->restPart + shift * Eigen::SparseMatrix<double>(s.massMatrix().matrix().triangularView<Eigen::Lower>());
+        m_start->restPart + shift * Eigen::SparseMatrix<double>(s.mass().matrix().triangularView<Eigen::Lower>());
     if (!m_start->solver.factor(H0))
       throw std::runtime_error("BACKWARD_EULER with LBFGS: the start matrix is not positive definite");
     m_start->shift = shift;
@@ -438,16 +438,16 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
       if (s.heldCoordinate(f, k)) r(f, k) = 0.0;
 }
 
-void BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net,
+void BackwardEulerStepper::totalEnergy(const StepperModel& s, const ControlNet& x, const ControlNet& net,
                                       const ControlNet& previousNet, double h, const ControlNet& v, double t,
                                       double& energy, double& scale, ControlNet* working) {
-  const double kinetic = s.massMatrix().kineticEnergy(v);
-  const double elastic = s.m_energy->energy(net);
+  const double kinetic = s.mass().kineticEnergy(v);
+  const double elastic = s.energy().energy(net);
   const ControlNet fixedLoad = s.forcesConstantLoad();
   double loads = -(fixedLoad.array() * x.array()).sum();
   const LoadContext ctx = s.loadContext(net, previousNet, h, t);
   if (working) *working = ControlNet::Zero(x.rows(), 3);
-  for (const auto& f : s.m_forces) {
+  for (const auto& f : s.forces()) {
     if (f->dependence() == kConstant) continue;
     double stored = 0.0;
     if (f->storedEnergy(ctx, stored))
@@ -463,56 +463,56 @@ void BackwardEulerStepper::totalEnergy(const Simulation& s, const ControlNet& x,
   // energy between 1e-17 and 1e-16): SHELL, the membrane energy of a uniform strain of 1.4e-4
   // (1e-8 E t A); the paper's model, 1e-8 lambda_max(A_II) extent^2 alike
   double floor = 0.0;
-  if (s.m_shell) {
-    const ShellMaterial& m = s.m_params.material;
-    floor = 1e-8 * m.youngsModulus * m.thickness * s.m_shell->restArea();
+  if (s.shell()) {
+    const ShellMaterial& m = s.params().material;
+    floor = 1e-8 * m.youngsModulus * m.thickness * s.shell()->restArea();
   } else {
-    floor = 1e-8 * s.m_stencil.eigenvalueBound() * extent * extent;
+    floor = 1e-8 * s.stencil().eigenvalueBound() * extent * extent;
   }
   scale = kinetic + std::abs(elastic) + std::abs(loads) + fixedLoad.cwiseAbs().sum() * extent + floor;
 }
 
 bool BackwardEulerStepper::subStep(double t) {
-  Simulation& s = m_sim;
-  const double dt = s.m_params.timeStep;
-  const ControlNet start = s.m_current, before = s.m_previous;
+  StepperModel& s = m_model;
+  const double dt = s.params().timeStep;
+  const ControlNet start = s.current(), before = s.previous();
   m_stepStart = t;
   m_stepLength = dt;
   m_stepFrom = start;
   if (stepOf(t, dt)) return true;
   return retakeInPieces(
-      s.m_current, s.m_previous, start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); }, [] {},
+      s.current(), s.previous(), start, before, t, dt, [this](double ti, double h) { return stepOf(ti, h); }, [] {},
       [&s](const ControlNet&, int pieces) {
         // one step before, with the velocity of the last piece
-        s.m_previous = s.m_current - double(pieces) * (s.m_current - s.m_previous);
-        s.m_space.completeNet(s.m_previous, &s.m_rest);
+        s.previous() = s.current() - double(pieces) * (s.current() - s.previous());
+        s.space().completeNet(s.previous(), &s.rest());
       });
 }
 
 bool BackwardEulerStepper::stepOf(double t, double h) {
-  Simulation& s = m_sim;
-  const SplineSpace& sp = s.m_space;
+  StepperModel& s = m_model;
+  const SplineSpace& sp = s.space();
   const double c = s.dampingRatio(), tNew = t + h;
-  const MassMatrix& mass = s.massMatrix();
+  const MassMatrix& mass = s.mass();
   // Sides moved by a prescribed map: their held layers go where the map puts them at the end of
   // this step (of this piece: the fraction of the whole step's move its end has reached); the
   // move is checked below against the barriers' CCD before anything is solved
   ControlNet heldBefore;
-  const bool heldMoves = s.heldRowsMoved(s.m_current);
+  const bool heldMoves = s.heldRowsMoved(s.current());
   if (heldMoves) {
-    heldBefore = s.m_current;
+    heldBefore = s.current();
     const double alpha = m_stepLength > 0.0 ? (tNew - m_stepStart) / m_stepLength : 1.0;
-    s.placeHeldRows(m_stepFrom, alpha >= 1.0 - 1e-12 ? 1.0 : alpha, s.m_current);
+    s.placeHeldRows(m_stepFrom, alpha >= 1.0 - 1e-12 ? 1.0 : alpha, s.current());
   }
-  const ControlNet P = sp.gatherMoving(s.m_current), Pm = sp.gatherMoving(s.m_previous);
+  const ControlNet P = sp.gatherMoving(s.current()), Pm = sp.gatherMoving(s.previous());
   const ControlNet xhat = 2.0 * P - Pm;  // P + h v
-  const ControlNet startNet = s.m_current;
+  const ControlNet startNet = s.current();
   m_blewUp = false;
   // the constant loads and those that depend on time only are fixed within the step (their
   // potential -L·x); the others are evaluated at every iterate
   ControlNet fixedLoad = s.forcesConstantLoad();
   std::vector<const Force*> stateForces;
-  splitLoads(s.m_forces, s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
+  splitLoads(s.forces(), s.loadContext(startNet, startNet, h, tNew), fixedLoad, stateForces);
   // forces with a state between steps (a barrier's stiffness) adapt it, and refuse a start state
   // they cannot take (a surface inside an obstacle)
   bool barrier = false;
@@ -521,7 +521,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     const LoadContext startCtx = s.loadContext(heldMoves ? heldBefore : startNet, startNet, h, tNew);
     for (const Force* f : stateForces) {
       if (std::string why = f->beginStep(startCtx); !why.empty()) {
-        if (heldMoves) s.m_current = heldBefore;
+        if (heldMoves) s.current() = heldBefore;
         m_solveFailure = why;
         return false;
       }
@@ -531,7 +531,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       double fraction = 1.0;
       for (const Force* f : stateForces) fraction = std::min(fraction, f->admissibleFraction(startCtx, startNet));
       if (fraction < 1.0) {
-        s.m_current = heldBefore;
+        s.current() = heldBefore;
         std::ostringstream os;
         os << "a moved side's layers would cross an obstacle or the surface itself within this step (CCD allows "
            << fraction << " of their move): move it more slowly, or take smaller steps";
@@ -543,10 +543,10 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   if (heldMoves) m_reference.valid = false;  // the moved side does work: no energy check this step
   if (!m_reference.valid && !heldMoves) {
     double energy = 0.0, scale = 0.0;
-    totalEnergy(s, P, s.m_current, s.m_previous, h, (P - Pm) / h, t, energy, scale);
+    totalEnergy(s, P, s.current(), s.previous(), h, (P - Pm) / h, t, energy, scale);
     m_reference.start(energy, scale);
   }
-  ControlNet net = s.m_current;
+  ControlNet net = s.current();
   auto held = [&](Eigen::Index f, int k) { return s.heldCoordinate(f, k); };
   // E(x) and its gradient; `potential` false when a load has none (the line search then
   // watches the residual)
@@ -556,7 +556,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     xc = x;
     s.completeUnknowns(xc, net);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    const double elastic = s.m_energy->energyAndGradient(net, gW);
+    const double elastic = s.energy().energyAndGradient(net, gW);
     L = fixedLoad;
     ev.potential = true;
     double phi = -(fixedLoad.array() * xc.array()).sum();
@@ -572,7 +572,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     Mdx = mass.apply(dx);
     Mdn = mass.apply(dn);
     ev.g = Mdx / (h * h) + (c / h) * Mdn + gW - L;
-    if (s.m_components) s.m_components->fold(ev.g);  // onto the free coordinates
+    if (s.components()) s.components()->fold(ev.g);  // onto the free coordinates
     for (Eigen::Index f = 0; f < ev.g.rows(); ++f)
       for (int k = 0; k < 3; ++k)
         if (held(f, k)) ev.g(f, k) = 0.0;
@@ -622,9 +622,9 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   const double forceScale = (fixedLoad.norm() + gW.norm() + Mdx.norm() / (h * h)) + 1e-300;
   const double massShift = 1.0 / (h * h) + c / h;
   auto reject = [&]() {
-    sp.scatterMoving(x, s.m_previous);
-    sp.completeNet(s.m_previous, &s.m_rest);
-    s.m_current.swap(s.m_previous);
+    sp.scatterMoving(x, s.previous());
+    sp.completeNet(s.previous(), &s.rest());
+    s.current().swap(s.previous());
     m_reference.valid = false;
     return false;
   };
@@ -638,24 +638,24 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
     const Eigen::SparseMatrix<double>& K = s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
-    if (!s.m_components) return K;
-    folded = s.m_components->foldTangent(K, s.m_heldMask);
+    if (!s.components()) return K;
+    folded = s.components()->foldTangent(K, s.heldMask());
     return folded;
   };
-  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.m_params.newtonTolerance * forceScale; };
+  problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * forceScale; };
   if (barrier) problem.maxStep = admissible;
   NewtonMinimizer::Options options;
-  options.maxIterations = s.m_params.maxNewtonIterations;
-  options.updateTolerance = s.m_params.newtonVelocityTolerance * h;
+  options.maxIterations = s.params().maxNewtonIterations;
+  options.updateTolerance = s.params().newtonVelocityTolerance * h;
   options.shift = massShift;
   options.chordSteps = !barrier;
-  if (s.m_params.nonlinearSolver == NonlinearSolver::LBFGS) {
+  if (s.params().nonlinearSolver == NonlinearSolver::LBFGS) {
     options.quasiNewton = true;
-    options.maxIterations = 10 * s.m_params.maxNewtonIterations;  // each about a tenth of Newton's
+    options.maxIterations = 10 * s.params().maxNewtonIterations;  // each about a tenth of Newton's
     // H0: the isotropic matrix of the model, factorised once; with a barrier (whose stiffness
     // the isotropic matrix knows nothing of) or supports per component (whose folded unknowns
     // it does not describe), the step's first tangent
-    if (!barrier && !s.m_components) problem.precondition = [this, h](ControlNet& r) { precondition(r, h); };
+    if (!barrier && !s.components()) problem.precondition = [this, h](ControlNet& r) { precondition(r, h); };
   }
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
@@ -673,7 +673,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       m_solveFailure = os.str();
       return reject();
     }
-    if (s.m_components) s.m_components->complete(x);
+    if (s.components()) s.components()->complete(x);
     sweepRemaining = advanceObstacles(x);
     evaluate(x, cur);  // the obstacle moved: a new potential
     const NewtonMinimizer::Outcome more = m_newton->minimize(x, cur, problem, options);
@@ -682,30 +682,30 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     m_newtonIterations += more.iterations;
     m_factorisations += more.factorisations;
   }
-  if (s.m_components) s.m_components->complete(x);  // the updates moved the free coordinates only
+  if (s.components()) s.components()->complete(x);  // the updates moved the free coordinates only
   if (!outcome.converged) {
     std::ostringstream os;
     os << (options.quasiNewton ? "L-BFGS" : "Newton's method") << " did not converge in " << m_newtonIterations << " iterations (" << outcome.failure
-       << "; residual " << cur.norm / forceScale << " of the forces, newtonTolerance " << s.m_params.newtonTolerance
-       << ", newtonVelocityTolerance " << s.m_params.newtonVelocityTolerance << ", maxNewtonIterations "
-       << s.m_params.maxNewtonIterations
+       << "; residual " << cur.norm / forceScale << " of the forces, newtonTolerance " << s.params().newtonTolerance
+       << ", newtonVelocityTolerance " << s.params().newtonVelocityTolerance << ", maxNewtonIterations "
+       << s.params().maxNewtonIterations
        << (options.quasiNewton ? ", LBFGS: 10 x maxNewtonIterations iterations" : "") << ")";
     m_solveFailure = os.str();
     return reject();
   }
   bool ok = true;
-  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.m_divergenceLimit;
-  sp.scatterMoving(x, s.m_previous);
-  s.holdPins(s.m_previous);
-  s.copyHeldRows(startNet, s.m_previous);
-  sp.completeNet(s.m_previous, &s.m_rest);
-  s.m_current.swap(s.m_previous);
+  for (Eigen::Index i = 0; i < x.size(); ++i) ok &= std::abs(x.data()[i]) <= s.divergenceLimit();
+  sp.scatterMoving(x, s.previous());
+  s.holdPins(s.previous());
+  s.copyHeldRows(startNet, s.previous());
+  sp.completeNet(s.previous(), &s.rest());
+  s.current().swap(s.previous());
   if (ok && m_reference.valid) {
     // backward Euler's own balance: E(end) - E(start) <= L(end)·(x - P) for the loads that do
     // work, as the step applies them (the rest dissipates), summed since the reference
     double energy = 0.0, scale = 0.0;
     ControlNet working;
-    totalEnergy(s, x, s.m_current, s.m_previous, h, (x - P) / h, tNew, energy, scale, &working);
+    totalEnergy(s, x, s.current(), s.previous(), h, (x - P) / h, tNew, energy, scale, &working);
     m_reference.addWork((working.array() * (x - P).array()).sum());
     const EnergyReference& r = m_reference;
     if (energy > r.energy + r.work + 1e-2 * std::max({r.scale, scale, r.workScale}) + 1e-300) return blowUp(energy);

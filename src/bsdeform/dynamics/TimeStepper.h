@@ -5,7 +5,9 @@
 /// and previous nets, time) and one of these: a time integration scheme with the data only it
 /// needs (a factorisation, scratch nets, the forces of the last states), which advances the
 /// state by one sub-step. Simulation::step() calls it for every sub-step and handles failure,
-/// the clock and the status. Five implementations, chosen by the integrator and the energy:
+/// the clock and the status. A stepper sees the Simulation only through StepperModel (the state,
+/// the model, the loads and the tangent; not a friend). Five implementations, chosen by the
+/// integrator and the energy:
 ///   PaperExplicitStepper  the paper's corrected central differences through the stencil's
 ///                         fused kernel (design.md §2);
 ///   PaperImplicitStepper  Newmark average acceleration with the constant system (ImplicitSystem);
@@ -23,16 +25,16 @@
 #include "bsdeform/dynamics/EdgeMass.h"
 #include "bsdeform/dynamics/ImplicitSystem.h"
 #include "bsdeform/dynamics/NewtonMinimizer.h"
+#include "bsdeform/dynamics/StepperModel.h"
 #include "bsdeform/spline/SplineSpace.h"
 
 namespace bsdeform {
 
-class Simulation;
 struct NewtonSolver;
 
 class TimeStepper {
  public:
-  explicit TimeStepper(Simulation& sim) : m_sim(sim) {}
+  explicit TimeStepper(StepperModel& model) : m_model(model) {}
   virtual ~TimeStepper();
   TimeStepper(const TimeStepper&) = delete;
   TimeStepper& operator=(const TimeStepper&) = delete;
@@ -91,7 +93,7 @@ class TimeStepper {
   /// the reference; returns false.
   bool blowUp(double energy);
 
-  Simulation& m_sim;
+  StepperModel& m_model;  ///< all the stepper sees of the Simulation (StepperModel.h)
   std::string m_solveFailure;
   int m_newtonIterations = 0;  ///< of the last step (the Newton steppers)
   bool m_blewUp = false;       ///< the last step failed the energy check
@@ -110,7 +112,7 @@ class PaperExplicitStepper final : public TimeStepper {
 class PaperImplicitStepper final : public TimeStepper {
  public:
   /// Builds K = M/dt^2 + C/(2dt) + A_II/4 and its solver.
-  explicit PaperImplicitStepper(Simulation& sim);
+  explicit PaperImplicitStepper(StepperModel& model);
   bool subStep(double t) override;
   const ImplicitSystem* implicitSystem() const override { return m_implicit.get(); }
 
@@ -172,7 +174,7 @@ class ShellImplicitStepper final : public TimeStepper {
 /// precondition() (from the step's first tangent with a barrier or supports per component).
 class BackwardEulerStepper final : public TimeStepper {
  public:
-  explicit BackwardEulerStepper(Simulation& sim);
+  explicit BackwardEulerStepper(StepperModel& model);
   ~BackwardEulerStepper() override;
   bool subStep(double t) override;
   int newtonIterations() const override { return m_newtonIterations; }
@@ -185,7 +187,7 @@ class BackwardEulerStepper final : public TimeStepper {
   /// that depends on time, a follower pressure) store nothing; their sum at the state is added
   /// to `working` (over the unknowns) when given, for the work they do (the steppers add it up
   /// for their energy check). Also the Newmark stepper's check.
-  static void totalEnergy(const Simulation& s, const ControlNet& x, const ControlNet& net, const ControlNet& previousNet,
+  static void totalEnergy(const StepperModel& s, const ControlNet& x, const ControlNet& net, const ControlNet& previousNet,
                           double h, const ControlNet& v, double t, double& energy, double& scale,
                           ControlNet* working = nullptr);
 
