@@ -431,6 +431,70 @@ TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays 
   root->unref();
 }
 
+namespace {
+/// Steps the scene's first surface to time `until` on the scene's own clock; the surface.
+SoBSplineDeformSurface* runSceneTo(SoSeparator* root, double until) {
+  auto* realTime = static_cast<SoSFTime*>(SoDB::getGlobalField("realTime"));
+  SoDB::enableRealTimeSensor(FALSE);
+  realTime->setValue(SbTime(0.0));
+  giveScene(root);
+  SoBSplineDeformSurface* s = bsdeform::sceneSurfaces(root).at(0);
+  while (s->simulation().time() + 1e-9 < until) {
+    realTime->setValue(SbTime(s->simulation().time() + s->simulation().parameters().timeStep));
+    if (!s->stepSimulation(1)) break;
+  }
+  return s;
+}
+}  // namespace
+
+TEST_CASE("Scenes: cloth_on_cube's tablecloth stays on the box for 20 s, at rest (barrier contact, friction 0.3)",
+          "[scenes][slow]") {
+  // The penalty version crept sideways and fell off by t = 7.6 (cloth_on_cube_penalty.iv). Here,
+  // after 20 s, the middle of the cloth still lies on the middle of the top (z = -0.1) within the
+  // offset and the barrier's reach, its corners hang over the sides, and it has come to rest.
+  Coin::get();
+  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/cloth_on_cube.iv"));
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = runSceneTo(root, 20.0);
+  const bsdeform::Simulation& sim = s->simulation();
+  INFO(sim.statusMessage());
+  REQUIRE(sim.status() == bsdeform::Status::Ok);
+  REQUIRE(sim.time() == Approx(20.0));
+  const double top = -0.1;
+  const Eigen::Vector3d middle = sim.evaluate(0.5, 0.5).position;
+  CHECK(std::abs(middle.x() - 0.5) < 0.05);
+  CHECK(std::abs(middle.y() - 0.5) < 0.05);
+  CHECK(middle.z() > top);
+  CHECK(middle.z() < top + 0.03);
+  for (double u : {0.0, 1.0})
+    for (double v : {0.0, 1.0}) CHECK(sim.evaluate(u, v).position.z() < top - 0.05);
+  CHECK(sim.kineticEnergy() < 1e-8);  // at rest (it fell with 0.1 J)
+  root->unref();
+}
+
+TEST_CASE("Scenes: drape_over_sphere's cloth stays on the ball with the friction its header recommends",
+          "[scenes][slow]") {
+  // Friction 0.6: at t = 3.5, when the frictionless cloth has slid off (the header), the middle
+  // of the cloth still lies on the top of the ball (centre (0.5, 0.5, -1.25), radius 0.385: top
+  // at z = -0.865; Coin's tessellated sphere lies within it), and the cloth hangs around it.
+  Coin::get();
+  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/drape_over_sphere.iv"));
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = runSceneTo(root, 3.5);
+  const bsdeform::Simulation& sim = s->simulation();
+  INFO(sim.statusMessage());
+  REQUIRE(sim.status() == bsdeform::Status::Ok);
+  REQUIRE(sim.time() == Approx(3.5));
+  const double top = -1.25 + 0.385;
+  const Eigen::Vector3d middle = sim.evaluate(0.5, 0.5).position;
+  CHECK(std::hypot(middle.x() - 0.5, middle.y() - 0.5) < 0.05);
+  CHECK(middle.z() > top - 0.02);  // the tessellation's sag at the top
+  CHECK(middle.z() < top + 0.03);
+  for (double u : {0.0, 1.0})
+    for (double v : {0.0, 1.0}) CHECK(sim.evaluate(u, v).position.z() < top - 0.1);  // hanging
+  root->unref();
+}
+
 TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and falls back with it", "[scenes][slow]") {
   // The sphere's centre follows z(t) = -0.27 + 0.22 sin(1.2 t) (its Calculator); the membrane's
   // centre must ride on its top (radius 0.25) within the contact offset: above the top less the
