@@ -11,6 +11,7 @@
 #include "../support/Cotton.h"
 #include "../support/ForceFieldCheck.h"
 #include "../support/ObstacleMeshes.h"
+#include "../support/ThreadSettings.h"
 #include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/contact/BroadPhase.h"
 #include "bsdeform/contact/CollisionProxy.h"
@@ -572,4 +573,54 @@ TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same
   net3.col(0).array() += 0.01;
   kept.potential(LoadContext{s, net3, net0, 0.02, 0.0}, unused);
   CHECK(kept.candidateSearches() == searches + 1);
+}
+
+TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread and on two", "[core][contact]") {
+  // With kernel threads the pairs' terms are computed in parts and handed on in the pairs' order.
+  ThreadSettingsGuard guard;
+  const SplineSpace s(3, 3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  ControlNet net = wavySheet(s);
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  setKernelThreads(2);  // before the obstacle's Embree device (which takes the kernels' count)
+  auto world = worldOf(plate);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.01;
+  bp.selfContact = true;
+  bp.friction = 0.3;
+  struct Blocks final : JacobianSink {
+    std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
+    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
+  };
+  struct Result {
+    double phi = 0.0;
+    ControlNet load;
+    Blocks jacobian;
+  };
+  auto evaluate = [&](int threads) {
+    setKernelThreads(threads);
+    CHECK(effectiveKernelThreads() == threads);
+    const BarrierContactForce force(world, bp);
+    Result r;
+    REQUIRE(force.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+    ControlNet moved = net;
+    moved.col(0).array() += 0.001;  // a slip for the friction
+    const LoadContext ctx{s, moved, net, 0.02, 0.0};
+    REQUIRE(force.potential(ctx, r.phi));
+    r.load = ControlNet::Zero(s.numMoving(), 3);
+    force.addLoad(ctx, r.load);
+    force.addJacobian(ctx, 50.0, r.jacobian);
+    return r;
+  };
+  const Result one = evaluate(1), two = evaluate(2);
+  REQUIRE(one.phi > 0.0);
+  REQUIRE(one.jacobian.calls.size() > 100);
+  CHECK(one.phi == two.phi);
+  CHECK(one.load == two.load);
+  REQUIRE(one.jacobian.calls.size() == two.jacobian.calls.size());
+  bool same = true;
+  for (size_t k = 0; k < one.jacobian.calls.size(); ++k)
+    same &= one.jacobian.calls[k].first == two.jacobian.calls[k].first &&
+            one.jacobian.calls[k].second == two.jacobian.calls[k].second;
+  CHECK(same);
 }

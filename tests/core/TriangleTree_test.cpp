@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "../support/ThreadSettings.h"
 #include "bsdeform/contact/TriangleTree.h"
 
 using namespace bsdeform;
@@ -266,6 +267,36 @@ TEST_CASE("TriangleTree: closest point and distance equal brute force on random 
     CHECK(wrongDistance == 0);
     CHECK(wrongPoint == 0);
   }
+}
+
+TEST_CASE("TriangleTree: its Embree device leaves the kernels their threads, and a tree built on them answers the "
+          "same bits",
+          "[core]") {
+  // Embree's TBB tasking holds the process's TBB parallelism to its devices' thread count while
+  // they live: a device of one thread had kept every runParts() kernel on one thread in any
+  // scene with an obstacle. Now the device takes the kernels' count.
+  ThreadSettingsGuard guard;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.2, 1.2);
+  TriangleMesh sphere = icosphere(5);  // 20 480 triangles: large enough for a parallel build
+  for (Vector3d& v : sphere.vertices) v = Vector3d(0.5, 0.5, 0.5) + 0.4 * v;
+  bsdeform::setKernelThreads(1);
+  const TriangleTree one(sphere);
+  bsdeform::setKernelThreads(2);
+  const TriangleTree two(sphere);
+  CHECK(bsdeform::effectiveKernelThreads() == 2);
+  // the same answers, bit for bit, also on the edges and vertices (ties between triangles)
+  std::vector<Vector3d> queries;
+  for (int i = 0; i < 2000; ++i) queries.emplace_back(u(rng), u(rng), u(rng));
+  for (const Vector3d& v : sphere.vertices) queries.push_back(Vector3d(0.5, 0.5, 0.5) + 1.3 * (v - Vector3d(0.5, 0.5, 0.5)));
+  int differ = 0;
+  for (const Vector3d& q : queries) {
+    ClosestHit a, b;
+    REQUIRE(one.closest(q, kInf, a));
+    REQUIRE(two.closest(q, kInf, b));
+    differ += !(a.point == b.point && a.normal == b.normal && a.distance == b.distance);
+  }
+  CHECK(differ == 0);
 }
 
 TEST_CASE("TriangleTree: maxDistance is respected to the last digits", "[core]") {

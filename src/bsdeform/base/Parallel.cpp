@@ -15,6 +15,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
@@ -344,6 +345,11 @@ SerialOpenMp::~SerialOpenMp() {
 int kernelThreads() { return g_threads.load(std::memory_order_relaxed); }
 
 void setKernelThreads(int threads) { g_threads.store(std::clamp(threads, 1, 64), std::memory_order_relaxed); }
+
+int effectiveKernelThreads() {
+  const size_t cap = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return int(std::min<size_t>(size_t(kernelThreads()), std::max<size_t>(cap, 1)));
+}
 
 void runParts(int parts, const std::function<void(int)>& fn) {
   const int threads = std::min(kernelThreads(), parts);

@@ -24,6 +24,10 @@ namespace bsdeform {
 int kernelThreads();
 /// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
 void setKernelThreads(int threads);
+/// The threads runParts() can have now: kernelThreads(), less any cap that a library put on the
+/// process's TBB (a tbb::global_control of max_allowed_parallelism; Embree's devices keep one of
+/// their thread count while they live, contact/TriangleTree.cpp).
+int effectiveKernelThreads();
 
 /// Runs fn(part) once for every part = 0..parts-1 and returns when all are done: one TBB task
 /// per part in an arena of kernelThreads() threads, the caller's included (TBB's worker threads

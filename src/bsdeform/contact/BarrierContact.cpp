@@ -12,6 +12,7 @@
 #include <stdexcept>
 
 #include "bsdeform/base/NumberText.h"
+#include "bsdeform/base/Parallel.h"
 #include "bsdeform/contact/AdditiveCCD.h"
 #include "bsdeform/contact/Barrier.h"
 #include "bsdeform/contact/BroadPhase.h"
@@ -102,6 +103,15 @@ struct BarrierContactForce::State {
     Eigen::Matrix3d h;
   };
   std::vector<Block> blocks;  ///< addJacobian()'s scratch
+  /// terms()'s scratch with kernel threads: the pairs in visiting order, and per part of them
+  /// its active terms and its smallest distance (the first pair in order that has it)
+  std::vector<PairSite> sites;
+  struct TermPart {
+    std::vector<Term> terms;
+    double d = 0.0;
+    size_t site = 0;
+  };
+  std::vector<TermPart> parts;
   /// addJacobian()'s sums per pair of elements (first net points a, b): L x L blocks, row-major
   struct ElementPair {
     Eigen::Index a, b;
@@ -447,64 +457,94 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   bp.dhat = m_params.dhat;
   bp.stiffness = st.kappa;
   const Eigen::MatrixX3d& V = st.mesh.start;
-  Term term;
-  Vector12d* grad = order >= 1 ? &term.grad : nullptr;
-  Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
   const BarrierHessian mode = m_params.projectHessian ? BarrierHessian::ProjectedPsd : BarrierHessian::Exact;
-  term.friction = false;
-  double minimum = std::numeric_limits<double>::infinity();
-  size_t where = 0;  // which obstacle (or self) the current pair is with
-  auto emit = [&](double distanceSquared) {
-    const double d = std::sqrt(std::max(distanceSquared, 0.0));
-    if (d < minimum) {
-      minimum = d;
-      st.closestObstacle = int(where);
-      st.closestVertex = *std::max_element(term.vertex.begin(), term.vertex.end());
-    }
-    if (term.value != 0.0 || (grad && !term.grad.isZero(0.0))) fn(term);
-  };
+  // One pair's term (value, and derivatives up to `order`) into t; its squared distance.
   // Against an obstacle only the proxy's points move: the pair's Hessian in them (a 3 x 3, 9 x 9
   // or 6 x 6 block of the 12 x 12) is what Newton needs, and that block is projected to PSD, not
   // the whole (exact Newton where the block is PSD; a 3 x 3 eigenproblem instead of a 12 x 12
   // for the common point–face pair). `first`, `n`: the moving coordinates; n = 12: self-contact.
-  auto project = [&](int first, int n) {
-    if (hess && mode == BarrierHessian::ProjectedPsd) projectBlockToPsd(term.hess, first, n);
-  };
-  const BarrierHessian pairMode = BarrierHessian::Exact;
-  auto pointTriangle = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
-                           const Eigen::Vector3d& t2, int first, int n) {
-    term.value = pointTriangleBarrier(p, t0, t1, t2, bp, grad, hess, pairMode);
-    project(first, n);
-    emit(pointTriangleDistanceSquared(p, t0, t1, t2));
-  };
-  auto edgeEdge = [&](const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
-                      const Eigen::Vector3d& b1, double threshold, int n) {
-    term.value = edgeEdgeBarrier(a0, a1, b0, b1, threshold, bp, grad, hess, pairMode);
-    project(0, n);
-    emit(edgeEdgeDistanceSquared(a0, a1, b0, b1));
-  };
-  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
-  forEachPair(candidates, [&](const PairSite& p) {
-    where = p.where;
-    term.vertex = p.vertex;
+  // Reads nothing it writes: the pairs may be computed on any threads.
+  auto compute = [&bp, order, mode](const PairSite& p, Term& t) {
+    Vector12d* grad = order >= 1 ? &t.grad : nullptr;
+    Matrix12d* hess = order >= 2 ? &t.hess : nullptr;
+    t.vertex = p.vertex;
+    t.friction = false;
+    int first = 0, n = 12;
+    double d2 = 0.0;
     switch (p.kind) {
       case PairSite::VertexTriangle:
-        term.split = 1;
-        pointTriangle(p.x[0], p.x[1], p.x[2], p.x[3], 0, p.self ? 12 : 3);
-        break;
       case PairSite::TriangleVertex:
-        term.split = 1;
-        pointTriangle(p.x[0], p.x[1], p.x[2], p.x[3], 3, 9);
+        t.split = 1;
+        first = p.kind == PairSite::TriangleVertex ? 3 : 0;
+        n = p.kind == PairSite::TriangleVertex ? 9 : (p.self ? 12 : 3);
+        t.value = pointTriangleBarrier(p.x[0], p.x[1], p.x[2], p.x[3], bp, grad, hess, BarrierHessian::Exact);
+        d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
         break;
       case PairSite::EdgeEdge:
-        term.split = 2;
-        edgeEdge(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, p.self ? 12 : 6);
+        t.split = 2;
+        n = p.self ? 12 : 6;
+        t.value = edgeEdgeBarrier(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, bp, grad, hess, BarrierHessian::Exact);
+        d2 = edgeEdgeDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
         break;
     }
-  });
+    if (hess && mode == BarrierHessian::ProjectedPsd) projectBlockToPsd(t.hess, first, n);
+    return d2;
+  };
+  auto active = [order](const Term& t) { return t.value != 0.0 || (order >= 1 && !t.grad.isZero(0.0)); };
+  double minimum = std::numeric_limits<double>::infinity();
+  // the smallest distance (the first pair in the visiting order that has it) and where it is
+  auto closest = [&](double d, size_t where, const std::array<Eigen::Index, 4>& vertex) {
+    if (d < minimum) {
+      minimum = d;
+      st.closestObstacle = int(where);
+      st.closestVertex = *std::max_element(vertex.begin(), vertex.end());
+    }
+  };
+  Term term;
+  const int threads = kernelThreads();
+
+  if (threads <= 1 || order < 1) {
+    forEachPair(candidates, [&](const PairSite& p) {
+      closest(std::sqrt(std::max(compute(p, term), 0.0)), p.where, p.vertex);
+      if (active(term)) fn(term);
+    });
+  } else {
+    // With kernel threads (BSDEFORM_THREADS) the pairs are computed in parts of the visiting
+    // order, each part keeping its active terms and its smallest distance, and handed to fn in
+    // that order: the same calls with the same bits for any thread count.
+    std::vector<PairSite>& sites = st.sites;
+    sites.clear();
+    forEachPair(candidates, [&](const PairSite& p) { sites.push_back(p); });
+    const int parts = int(std::min<size_t>(size_t(8 * threads), (sites.size() + 63) / 64));
+    std::vector<State::TermPart>& out = st.parts;
+    out.resize(size_t(std::max(parts, 0)));
+    runParts(parts, [&](int k) {
+      State::TermPart& part = out[size_t(k)];
+      part.terms.clear();
+      part.d = std::numeric_limits<double>::infinity();
+      const size_t begin = sites.size() * size_t(k) / size_t(parts), end = sites.size() * size_t(k + 1) / size_t(parts);
+      Term t;
+      for (size_t i = begin; i < end; ++i) {
+        const double d = std::sqrt(std::max(compute(sites[i], t), 0.0));
+        if (d < part.d) {
+          part.d = d;
+          part.site = i;
+        }
+        if (active(t)) part.terms.push_back(t);
+      }
+    });
+    for (int k = 0; k < parts; ++k) {
+      const State::TermPart& part = out[size_t(k)];
+      if (std::isfinite(part.d)) closest(part.d, sites[part.site].where, sites[part.site].vertex);
+      for (const Term& t : part.terms) fn(t);
+    }
+  }
   st.minimum = minimum;
   if (!withFriction || st.friction.empty()) return;
   // friction: each frozen pair's slip r = Σ c_k (x_k - x_k(previous)) over its moving points
+  auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
+  Vector12d* grad = order >= 1 ? &term.grad : nullptr;
+  Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
   proxyWorld(ctx.previous, st.previousWorld);
   const double epsilon = m_params.epsv * ctx.stepSize;
   Eigen::Vector3d gr;

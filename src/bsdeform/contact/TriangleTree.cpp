@@ -18,6 +18,7 @@
 #include <string>
 #include <tuple>
 
+#include "bsdeform/base/Parallel.h"
 #include "bsdeform/contact/ClosestPointOnTriangle.h"
 
 namespace bsdeform {
@@ -223,8 +224,15 @@ struct TriangleTree::Impl {
     }
     if (mesh.triangles.empty()) return;
     if (!device) {
-      // One build thread: deterministic, and no worker pool competing with the simulation.
-      device = rtcNewDevice("threads=1");
+      // Embree's TBB tasking caps the whole process's TBB parallelism at its devices' thread
+      // count while they live (its task scheduler keeps a tbb::global_control of
+      // max_allowed_parallelism): "threads=1" had held every runParts() kernel to one thread in
+      // any scene with an obstacle, whatever BSDEFORM_THREADS said. So the device takes the
+      // kernels' thread count: one build thread by default (no worker pool competing with the
+      // simulation), the kernels' threads when they are asked for (a tree built on two answers
+      // as one built on one, tests/core/TriangleTree_test.cpp).
+      const std::string config = "threads=" + std::to_string(kernelThreads());
+      device = rtcNewDevice(config.c_str());
       if (!device) throw std::runtime_error("TriangleTree: Embree device creation failed");
     }
     QuietFloatingPoint quiet;
