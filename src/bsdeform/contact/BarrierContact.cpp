@@ -503,7 +503,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   Term term;
   const int threads = kernelThreads();
 
-  if (threads <= 1 || order < 1) {
+  if (threads <= 1) {
     forEachPair(candidates, [&](const PairSite& p) {
       closest(std::sqrt(std::max(compute(p, term), 0.0)), p.where, p.vertex);
       if (active(term)) fn(term);
