@@ -227,7 +227,16 @@ TEST_CASE("CCD: the fraction of the step keeps 1 - s of the gap for the rescalin
     CHECK(t < before);  // a smaller s, a shorter step
     before = t;
   }
-  CHECK(collisionFreeFraction(point, triangle, offset) == collisionFreeFraction(point, triangle, offset, 0.9));
+  // the same pair within one mesh (the self-contact overload): the same fractions
+  ContactMesh one;
+  one.start.resize(4, 3);
+  one.start << triangle.start, point.start;
+  one.end.resize(4, 3);
+  one.end << triangle.end, point.end;
+  one.triangles = triangle.triangles;
+  one.edges = triangle.edges;
+  for (const double s : {0.9, 0.6})
+    CHECK(collisionFreeFraction(one, offset, s) == collisionFreeFraction(point, triangle, offset, s));
 }
 
 TEST_CASE("CCD: parallel and touching pairs, and pairs that never meet", "[contact]") {

@@ -280,15 +280,18 @@ TEST_CASE("TriangleTree: its Embree device leaves the kernels their threads, and
   std::uniform_real_distribution<double> u(-0.2, 1.2);
   TriangleMesh sphere = icosphere(5);  // 20 480 triangles: large enough for a parallel build
   for (Vector3d& v : sphere.vertices) v = Vector3d(0.5, 0.5, 0.5) + 0.4 * v;
+  bsdeform::setKernelThreads(2);
+  const int available = bsdeform::effectiveKernelThreads();  // 2, or 1 on a machine of one CPU
   bsdeform::setKernelThreads(1);
   const TriangleTree one(sphere);
   bsdeform::setKernelThreads(2);
   const TriangleTree two(sphere);
-  CHECK(bsdeform::effectiveKernelThreads() == 2);
+  CHECK(bsdeform::effectiveKernelThreads() == available);
   // the same answers, bit for bit, also on the edges and vertices (ties between triangles)
   std::vector<Vector3d> queries;
   for (int i = 0; i < 2000; ++i) queries.emplace_back(u(rng), u(rng), u(rng));
-  for (const Vector3d& v : sphere.vertices) queries.push_back(Vector3d(0.5, 0.5, 0.5) + 1.3 * (v - Vector3d(0.5, 0.5, 0.5)));
+  const Vector3d centre(0.5, 0.5, 0.5);
+  for (const Vector3d& v : sphere.vertices) queries.push_back(centre + 1.3 * (v - centre));
   int differ = 0;
   for (const Vector3d& q : queries) {
     ClosestHit a, b;

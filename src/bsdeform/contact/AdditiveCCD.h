@@ -38,6 +38,9 @@ namespace bsdeform {
 /// impact (safe, but possibly earlier than needed).
 inline constexpr int kAdditiveCCDMaxIterations = 1000000;
 
+/// C-IPC's rescaling s: each pair keeps 10 % of its gap above ξ at least.
+inline constexpr double kAdditiveCCDRescaling = 0.9;
+
 /// Point p against triangle (t0, t1, t2), from the positions at t = 0 (…0) to those at t = 1 (…1).
 /// true and toi in [0, tMax]: the pair may come within ξ = offset at or after toi, and stays
 /// farther than ξ on [0, toi] (see the file's guarantee); false and toi = tMax: it cannot come
@@ -46,14 +49,14 @@ inline constexpr int kAdditiveCCDMaxIterations = 1000000;
 bool pointTriangleCCD(const Eigen::Vector3d& p0, const Eigen::Vector3d& t00, const Eigen::Vector3d& t10,
                       const Eigen::Vector3d& t20, const Eigen::Vector3d& p1, const Eigen::Vector3d& t01,
                       const Eigen::Vector3d& t11, const Eigen::Vector3d& t21, double offset, double tMax,
-                      double& toi, double conservativeRescaling = 0.9);
+                      double& toi, double conservativeRescaling = kAdditiveCCDRescaling);
 
 /// Segment (a0, a1) against segment (b0, b1), positions at t = 0 (a00, …) and t = 1 (a01, …); the
 /// same contract as pointTriangleCCD. @pre neither segment is degenerate over the step.
 bool edgeEdgeCCD(const Eigen::Vector3d& a00, const Eigen::Vector3d& a10, const Eigen::Vector3d& b00,
                  const Eigen::Vector3d& b10, const Eigen::Vector3d& a01, const Eigen::Vector3d& a11,
                  const Eigen::Vector3d& b01, const Eigen::Vector3d& b11, double offset, double tMax, double& toi,
-                 double conservativeRescaling = 0.9);
+                 double conservativeRescaling = kAdditiveCCDRescaling);
 
 /// The largest fraction t ≤ 1 of the step from start to end over which no candidate pair of
 /// candidatePairs(a, b, offset) comes within `offset`: the minimum of the pairs' additive CCD times
@@ -65,13 +68,13 @@ bool edgeEdgeCCD(const Eigen::Vector3d& a00, const Eigen::Vector3d& a10, const E
 /// conservativeness of CCD (never past a safe time).
 /// `conservativeRescaling` is the pairs' s: each keeps (1 - s) of its gap above ξ at least.
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, double offset,
-                             double conservativeRescaling = 0.9);
+                             double conservativeRescaling = kAdditiveCCDRescaling);
 /// A mesh against itself (pairs sharing a vertex left out).
-double collisionFreeFraction(const ContactMesh& a, double offset, double conservativeRescaling = 0.9);
+double collisionFreeFraction(const ContactMesh& a, double offset, double conservativeRescaling = kAdditiveCCDRescaling);
 /// The same over the pairs `candidates` (what candidatePairs() would give, found beforehand).
 double collisionFreeFraction(const ContactMesh& a, const ContactMesh& b, const ContactCandidates& candidates,
-                             double offset, double conservativeRescaling = 0.9);
+                             double offset, double conservativeRescaling = kAdditiveCCDRescaling);
 double collisionFreeFraction(const ContactMesh& a, const ContactCandidates& candidates, double offset,
-                             double conservativeRescaling = 0.9);
+                             double conservativeRescaling = kAdditiveCCDRescaling);
 
 }  // namespace bsdeform

@@ -756,14 +756,11 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
 }
 
 namespace {
-/// The line search's CCD keeps 40 % of every pair's gap above the offset (additive CCD's s = 0.6;
-/// C-IPC's 0.9 keeps 10 %). With 0.9 an impact's iterates crowded some pair to within nanometres
-/// of the offset, where the barrier's curvature (growing as 1/s²) held Newton to steps of
-/// 1e-4 m for a hundred iterations: drape_over_sphere (bicubic) took 495 Newton iterations for
-/// its first second, 147 in one step. Over the first second of the shipped cloth_on_cube,
-/// drape_over_sphere and tablecloth_slide, s = 0.9, 0.7, 0.6 took 1308, 1269 and 1227
-/// iterations, and the scenes' times moved within their chaotic spread (docs/benchmarks.md,
-/// "The line search's CCD").
+/// The line search's CCD keeps 40 % of every pair's gap above the offset (additive CCD's
+/// rescaling 0.6, where C-IPC's 0.9 keeps 10 %): with 0.9 an impact's iterates crowded a pair to
+/// within nanometres of the offset, where the barrier's curvature lets Newton take only steps of
+/// about that size (docs/math.md §18.2; the rescalings measured in docs/benchmarks.md, "The line
+/// search's CCD").
 constexpr double kLineSearchRescaling = 0.6;
 }  // namespace
 

@@ -226,11 +226,11 @@ struct TriangleTree::Impl {
     if (!device) {
       // Embree's TBB tasking caps the whole process's TBB parallelism at its devices' thread
       // count while they live (its task scheduler keeps a tbb::global_control of
-      // max_allowed_parallelism): "threads=1" had held every runParts() kernel to one thread in
-      // any scene with an obstacle, whatever BSDEFORM_THREADS said. So the device takes the
-      // kernels' thread count: one build thread by default (no worker pool competing with the
-      // simulation), the kernels' threads when they are asked for (a tree built on two answers
-      // as one built on one, tests/core/TriangleTree_test.cpp).
+      // max_allowed_parallelism), so a device of one thread would hold every runParts() kernel
+      // to one thread. The device takes the kernels' thread count when the tree is first built:
+      // one build thread by default (no worker pool competing with the simulation), the
+      // kernels' threads when they are asked for (a tree built on two answers as one built on
+      // one, tests/core/TriangleTree_test.cpp; a later setKernelThreads() keeps this cap).
       const std::string config = "threads=" + std::to_string(kernelThreads());
       device = rtcNewDevice(config.c_str());
       if (!device) throw std::runtime_error("TriangleTree: Embree device creation failed");

@@ -27,6 +27,8 @@ class MassMatrix;
 class StiffnessStencil;
 struct ModelParameters;
 
+/// The seam between a Simulation and its time stepper: read-only access to the model, write
+/// access to the two nets of the state, and the Simulation's own services for a step.
 class StepperModel {
  public:
   virtual ~StepperModel() = default;
@@ -36,10 +38,13 @@ class StepperModel {
   virtual ControlNet& previous() = 0;
 
   // The model.
+  /// The spline space (moving points, held layers, derived layers).
   virtual const SplineSpace& space() const = 0;
+  /// The model's parameters (time step, integrator, tolerances, damping, material).
   virtual const ModelParameters& params() const = 0;
   /// The rest net (held points' values, derived layers' completion).
   virtual const ControlNet& rest() const = 0;
+  /// The elastic energy (either model).
   virtual const ElasticEnergy& energy() const = 0;
   /// SHELL's energy, null for the paper's model.
   virtual const ShellEnergy* shell() const = 0;
@@ -47,6 +52,7 @@ class StepperModel {
   virtual const MassMatrix& mass() const = 0;
   /// c in the damping matrix C = c M.
   virtual double dampingRatio() const = 0;
+  /// The forces, in their order.
   virtual const std::vector<std::shared_ptr<const Force>>& forces() const = 0;
   /// The loads that do not change: the constant forces, plus the paper's c0 (restOffset()).
   virtual const ControlNet& constantLoad() const = 0;
@@ -56,8 +62,9 @@ class StepperModel {
   virtual bool heldCoordinate(Eigen::Index f, int axis) const = 0;
   /// Per coordinate 3 f + axis of the moving points: held (heldCoordinate()).
   virtual const std::vector<char>& heldMask() const = 0;
-  /// Whether net row r is held by a pin; whether any is.
-  virtual bool pinnedRow(Eigen::Index r) const = 0;
+  /// Whether net row r is held by a pin.
+  virtual bool isPinnedRow(Eigen::Index r) const = 0;
+  /// Whether any point is pinned.
   virtual bool hasPins() const = 0;
   /// Moving-point numbers of the pinned points, ascending.
   virtual std::vector<Eigen::Index> pinnedMoving() const = 0;
@@ -67,23 +74,29 @@ class StepperModel {
   virtual double divergenceLimit() const = 0;
 
   // The paper's fast paths (its explicit kernel and its implicit scheme's constant system).
+  /// The paper's stiffness stencil (its fused explicit kernel, A_II).
   virtual const StiffnessStencil& stencil() const = 0;
+  /// The paper's nodal mass m and damping per point.
   virtual double massPerPoint() const = 0;
   virtual double dampingPerPoint() const = 0;
-  /// Every moving point has massPerPoint() (else massMoving(), or the edge mass).
-  virtual bool uniformMass() const = 0;
+  /// Whether every moving point has massPerPoint() (else massMoving(), or the edge mass).
+  virtual bool hasUniformMass() const = 0;
+  /// The moving points' masses where they are not uniform.
   virtual const Eigen::VectorXd& massMoving() const = 0;
+  /// The mass of net point (i, j) (Simulation::massAt()).
   virtual double massAt(int i, int j) const = 0;
   /// The mass next to sides with derived layers (null without them).
   virtual const EdgeMass* edgeMass() const = 0;
   /// The largest eigenvalue of M⁻¹ A the explicit bound was taken from.
   virtual double elasticLambda() const = 0;
+  /// The explicit schemes' sub-step.
   virtual double subStepSize() const = 0;
 
   // What the Simulation does for the stepper.
   /// The constant load plus the variable forces at the current state and time t (the
   /// Simulation's cache of the loads of time alone).
   virtual const ControlNet& effectiveLoad(double t) = 0;
+  /// The context forces build their loads in (with SHELL's rest area element).
   virtual LoadContext loadContext(const ControlNet& current, const ControlNet& previous, double stepSize,
                                   double t) const = 0;
   /// scale H + shift M (+ the forces' Jacobians at `forces`), assembled in the fixed pattern

@@ -30,7 +30,7 @@ class Simulation::StepperView final : public StepperModel {
   ControlNet forcesConstantLoad() const override { return m_s.forcesConstantLoad(); }
   bool heldCoordinate(Eigen::Index f, int axis) const override { return m_s.heldCoordinate(f, axis); }
   const std::vector<char>& heldMask() const override { return m_s.m_heldMask; }
-  bool pinnedRow(Eigen::Index r) const override { return m_s.m_pinMask[size_t(r)] != 0; }
+  bool isPinnedRow(Eigen::Index r) const override { return m_s.m_pinMask[size_t(r)] != 0; }
   bool hasPins() const override { return !m_s.m_pinned.empty(); }
   std::vector<Eigen::Index> pinnedMoving() const override { return m_s.pinnedMoving(); }
   const ComponentConstraints* components() const override { return m_s.m_components.get(); }
@@ -39,7 +39,7 @@ class Simulation::StepperView final : public StepperModel {
   const StiffnessStencil& stencil() const override { return m_s.m_stencil; }
   double massPerPoint() const override { return m_s.massPerPoint(); }
   double dampingPerPoint() const override { return m_s.dampingPerPoint(); }
-  bool uniformMass() const override { return m_s.m_uniformMass; }
+  bool hasUniformMass() const override { return m_s.m_uniformMass; }
   const Eigen::VectorXd& massMoving() const override { return m_s.m_massMoving; }
   double massAt(int i, int j) const override { return m_s.massAt(i, j); }
   const EdgeMass* edgeMass() const override { return m_s.m_edgeMass.get(); }

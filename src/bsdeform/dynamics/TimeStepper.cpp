@@ -101,7 +101,8 @@ bool PaperExplicitStepper::subStep(double t) {
   StiffnessStencil::BandSolve bandSolve;
   if (s.edgeMass()) {
     // the band's residuals through m M^-1 (EdgeMass: blocks at the source layers)
-    if (!m_bandPlan) m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.edgeMass()->bandPlan(s.stencil().bandPoints(), m));
+    if (!m_bandPlan)
+      m_bandPlan = std::make_unique<EdgeMass::BandPlan>(s.edgeMass()->bandPlan(s.stencil().bandPoints(), m));
     bandSolve = [plan = m_bandPlan.get()](size_t k0, size_t k1, const Eigen::RowVector3d* r, Eigen::RowVector3d* out) {
       for (size_t k = k0; k < k1; ++k) {
         Eigen::RowVector3d acc = Eigen::RowVector3d::Zero();
@@ -113,11 +114,12 @@ bool PaperExplicitStepper::subStep(double t) {
         out[k - k0] = acc;
       }
     };
-  } else if (!s.uniformMass()) {
+  } else if (!s.hasUniformMass()) {
     scale = [&s, m](int i, int j) { return m / s.massAt(i, j); };
   }
   // The new state overwrites the previous one (same buffer); held points are equal in both.
-  const bool ok = s.stencil().centralDifferenceUpdate(s.current(), s.previous(), load, alpha, gamma, s.divergenceLimit(),
+  const bool ok = s.stencil().centralDifferenceUpdate(s.current(), s.previous(), load, alpha, gamma,
+                                                      s.divergenceLimit(),
                                                     scale, bandSolve);
   s.holdPins(s.previous());
   s.space().completeNet(s.previous(), &s.rest());
@@ -134,7 +136,7 @@ PaperImplicitStepper::PaperImplicitStepper(StepperModel& model) : TimeStepper(mo
   const double factor = 1.0 / (dt * dt) + (c / m) / (2.0 * dt);
   std::vector<Eigen::Triplet<double>> coupling;
   double kappa = 0.0;
-  if (s.uniformMass()) {
+  if (s.hasUniformMass()) {
     massTerm = Eigen::VectorXd::Constant(s.space().numMoving(), m / (dt * dt) + c / (2.0 * dt));
   } else if (s.edgeMass()) {
     massTerm.resize(s.space().numMoving());
@@ -150,7 +152,8 @@ PaperImplicitStepper::PaperImplicitStepper(StepperModel& model) : TimeStepper(mo
   } else {
     massTerm = s.massMoving() * factor;
   }
-  m_implicit = std::make_unique<ImplicitSystem>(s.space(), s.stencil(), massTerm, s.pinnedMoving(), s.params().implicitSolver,
+  m_implicit = std::make_unique<ImplicitSystem>(s.space(), s.stencil(), massTerm, s.pinnedMoving(),
+                                                s.params().implicitSolver,
                                                 s.params().solverTolerance, s.params().maxSolverIterations,
                                                 std::move(coupling), kappa);
 }
@@ -168,7 +171,7 @@ bool PaperImplicitStepper::subStep(double t) {
   ControlNet rhs;
   s.stencil().applyMoving(m_scratch, rhs);
   const ControlNet velocity = s.space().gatherMoving(s.current()) - s.space().gatherMoving(s.previous());  // P - P-
-  if (s.uniformMass()) {
+  if (s.hasUniformMass()) {
     rhs = load - rhs + (m / (dt * dt) - c / (2.0 * dt)) * velocity;
   } else if (s.edgeMass()) {
     ControlNet Mv;
@@ -214,8 +217,9 @@ bool ShellExplicitStepper::subStep(double t) {
   bool ok = true;
   for (Eigen::Index f = 0; f < s.space().numMoving(); ++f) {
     const Eigen::Index r = s.space().movingToNet(f);
-    if (s.pinnedRow(r)) continue;
-    Eigen::RowVector3d next = s.current().row(r) + gamma * (s.current().row(r) - s.previous().row(r)) + alpha * a.row(f);
+    if (s.isPinnedRow(r)) continue;
+    Eigen::RowVector3d next =
+        s.current().row(r) + gamma * (s.current().row(r) - s.previous().row(r)) + alpha * a.row(f);
     for (int k = 0; k < 3; ++k)
       if (s.heldCoordinate(f, k)) next[k] = s.rest()(r, k);
     ok &= next.cwiseAbs().maxCoeff() <= s.divergenceLimit();  // false for NaN

@@ -187,7 +187,8 @@ class BackwardEulerStepper final : public TimeStepper {
   /// that depends on time, a follower pressure) store nothing; their sum at the state is added
   /// to `working` (over the unknowns) when given, for the work they do (the steppers add it up
   /// for their energy check). Also the Newmark stepper's check.
-  static void totalEnergy(const StepperModel& s, const ControlNet& x, const ControlNet& net, const ControlNet& previousNet,
+  static void totalEnergy(const StepperModel& s, const ControlNet& x, const ControlNet& net,
+                          const ControlNet& previousNet,
                           double h, const ControlNet& v, double t, double& energy, double& scale,
                           ControlNet* working = nullptr);
 

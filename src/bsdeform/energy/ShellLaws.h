@@ -91,8 +91,8 @@ struct SaintVenantKirchhoff {
     stress(r.Ac, kappa, M);
     const double tb = bending * r.wJ;
     for (int i = 0; i < 3; ++i) m[i] = tb * M[i];
-    // a 15 x 3 by 3 x 15 product by coefficients (Eigen's blocked product for these sizes cost
-    // a tenth of a barrier step's time, docs/benchmarks.md)
+    // a 15 x 3 by 3 x 15 product by coefficients: Eigen's blocked product is slower at these
+    // sizes (docs/benchmarks.md, "Smaller kernels")
     const BendingJacobian KW = tb * (K * WC);
     Hm.noalias() += KW.lazyProduct(K.transpose());
   }
