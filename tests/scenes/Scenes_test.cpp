@@ -388,18 +388,31 @@ TEST_CASE("bsdeform-run: a decimal-comma locale writes the same files byte for b
 }
 
 namespace {
-/// Steps the scene's first surface to time `until` on the scene's own clock; the surface.
-SoBSplineDeformSurface* runSceneTo(SoSeparator* root, double until) {
+/// A shipped scene read and its first surface stepped to time `until` on the scene's own clock,
+/// required to get there with status Ok; the caller unrefs `root`.
+struct SceneRun {
+  SoSeparator* root = nullptr;
+  SoBSplineDeformSurface* surface = nullptr;
+};
+SceneRun runSceneTo(const char* file, double until) {
+  Coin::get();
+  SceneRun r;
+  r.root = testutil::read(slurp(std::string(BSDEFORM_SCENES_DIR) + "/" + file));
+  REQUIRE(r.root);
   auto* realTime = static_cast<SoSFTime*>(SoDB::getGlobalField("realTime"));
   SoDB::enableRealTimeSensor(FALSE);
   realTime->setValue(SbTime(0.0));
-  giveScene(root);
-  SoBSplineDeformSurface* s = bsdeform::sceneSurfaces(root).at(0);
-  while (s->simulation().time() + 1e-9 < until) {
-    realTime->setValue(SbTime(s->simulation().time() + s->simulation().parameters().timeStep));
-    if (!s->stepSimulation(1)) break;
+  giveScene(r.root);
+  r.surface = bsdeform::sceneSurfaces(r.root).at(0);
+  const bsdeform::Simulation& sim = r.surface->simulation();
+  while (sim.time() + 1e-9 < until) {
+    realTime->setValue(SbTime(sim.time() + sim.parameters().timeStep));
+    if (!r.surface->stepSimulation(1)) break;
   }
-  return s;
+  INFO(file << ": " << sim.statusMessage());
+  REQUIRE(sim.status() == bsdeform::Status::Ok);
+  REQUIRE(sim.time() == Approx(until));
+  return r;
 }
 }  // namespace
 
@@ -409,14 +422,9 @@ TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays 
   // z = 0 and lands at t = 0.14 s. By t = 0.6 s it lies on the top (barrier contact, offset 0.01) and
   // its free corners have fallen past the top's edges. The paper's energy made it a sock pulled
   // through the box: here no point over the top is below it, and the edges keep their length.
-  Coin::get();
-  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/cloth_on_cube.iv"));
-  REQUIRE(root);
-  SoBSplineDeformSurface* s = runSceneTo(root, 0.6);
-  REQUIRE(s->simulation().shell());
-  REQUIRE(s->simulation().status() == bsdeform::Status::Ok);
-  REQUIRE(s->simulation().time() == Approx(0.6));
-  const bsdeform::Simulation& sim = s->simulation();
+  const SceneRun run = runSceneTo("cloth_on_cube.iv", 0.6);
+  const bsdeform::Simulation& sim = run.surface->simulation();
+  REQUIRE(sim.shell());
   const double top = -0.1;
   double lowestOverTop = 1.0;
   for (int i = 0; i <= 40; ++i)
@@ -438,7 +446,7 @@ TEST_CASE("Scenes: cloth_on_cube's cotton tablecloth drapes over the box, stays 
     CHECK(length([&](double t) { return Eigen::Vector3d(sim.evaluate(side, t).position); }) == Approx(1.0).epsilon(0.02));
     CHECK(length([&](double t) { return Eigen::Vector3d(sim.evaluate(t, side).position); }) == Approx(1.0).epsilon(0.02));
   }
-  root->unref();
+  run.root->unref();
 }
 
 
@@ -447,14 +455,8 @@ TEST_CASE("Scenes: cloth_on_cube's tablecloth stays on the box for 20 s, at rest
   // The penalty version crept sideways and fell off by t = 7.6 (cloth_on_cube_penalty.iv). Here,
   // after 20 s, the middle of the cloth still lies on the middle of the top (z = -0.1) within the
   // offset and the barrier's reach, its corners hang over the sides, and it has come to rest.
-  Coin::get();
-  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/cloth_on_cube.iv"));
-  REQUIRE(root);
-  SoBSplineDeformSurface* s = runSceneTo(root, 20.0);
-  const bsdeform::Simulation& sim = s->simulation();
-  INFO(sim.statusMessage());
-  REQUIRE(sim.status() == bsdeform::Status::Ok);
-  REQUIRE(sim.time() == Approx(20.0));
+  const SceneRun run = runSceneTo("cloth_on_cube.iv", 20.0);
+  const bsdeform::Simulation& sim = run.surface->simulation();
   const double top = -0.1;
   const Eigen::Vector3d middle = sim.evaluate(0.5, 0.5).position;
   CHECK(std::abs(middle.x() - 0.5) < 0.05);
@@ -464,7 +466,7 @@ TEST_CASE("Scenes: cloth_on_cube's tablecloth stays on the box for 20 s, at rest
   for (double u : {0.0, 1.0})
     for (double v : {0.0, 1.0}) CHECK(sim.evaluate(u, v).position.z() < top - 0.05);
   CHECK(sim.kineticEnergy() < 1e-8);  // at rest (it fell with 0.1 J)
-  root->unref();
+  run.root->unref();
 }
 
 TEST_CASE("Scenes: drape_over_sphere's cloth stays on the ball with the friction its header recommends",
@@ -472,14 +474,8 @@ TEST_CASE("Scenes: drape_over_sphere's cloth stays on the ball with the friction
   // Friction 0.6: at t = 3.5, when the frictionless cloth has slid off (the header), the middle
   // of the cloth still lies on the top of the ball (centre (0.5, 0.5, -1.25), radius 0.385: top
   // at z = -0.865; Coin's tessellated sphere lies within it), and the cloth hangs around it.
-  Coin::get();
-  SoSeparator* root = testutil::read(slurp(BSDEFORM_SCENES_DIR "/drape_over_sphere.iv"));
-  REQUIRE(root);
-  SoBSplineDeformSurface* s = runSceneTo(root, 3.5);
-  const bsdeform::Simulation& sim = s->simulation();
-  INFO(sim.statusMessage());
-  REQUIRE(sim.status() == bsdeform::Status::Ok);
-  REQUIRE(sim.time() == Approx(3.5));
+  const SceneRun run = runSceneTo("drape_over_sphere.iv", 3.5);
+  const bsdeform::Simulation& sim = run.surface->simulation();
   const double top = -1.25 + 0.385;
   const Eigen::Vector3d middle = sim.evaluate(0.5, 0.5).position;
   CHECK(std::hypot(middle.x() - 0.5, middle.y() - 0.5) < 0.05);
@@ -487,7 +483,7 @@ TEST_CASE("Scenes: drape_over_sphere's cloth stays on the ball with the friction
   CHECK(middle.z() < top + 0.03);
   for (double u : {0.0, 1.0})
     for (double v : {0.0, 1.0}) CHECK(sim.evaluate(u, v).position.z() < top - 0.1);  // hanging
-  root->unref();
+  run.root->unref();
 }
 
 TEST_CASE("Scenes: rising_sphere's membrane rests on the engine-moved sphere and falls back with it", "[scenes][slow]") {
