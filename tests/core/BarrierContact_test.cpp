@@ -627,3 +627,99 @@ TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread
             one.jacobian.calls[k].second == two.jacobian.calls[k].second;
   CHECK(same);
 }
+
+TEST_CASE("BarrierContactForce: its potential after a load at the same nets is the load's terms summed, the same "
+          "bits, and anything that changes the terms computes it anew",
+          "[core][contact]") {
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet net = wavySheet(s);
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  auto world = worldOf(plate);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.friction = GENERATE(0.0, 0.3);
+  CAPTURE(bp.friction);
+  const BarrierContactForce loaded(world, bp), bare(world, bp);
+  REQUIRE(loaded.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+  REQUIRE(bare.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+  ControlNet moved = net;
+  moved.col(0).array() += 0.0005;  // a slip for the friction
+  const LoadContext ctx{s, moved, net, 0.02, 0.0};
+  ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+  loaded.addLoad(ctx, load);
+  double afterLoad = 0.0, alone = 0.0;
+  REQUIRE(loaded.potential(ctx, afterLoad));
+  REQUIRE(bare.potential(ctx, alone));
+  CHECK(afterLoad > 0.0);
+  CHECK(afterLoad == alone);
+  // another net (the previous one, the step): not the kept value
+  ControlNet lower = moved;
+  lower.col(2).array() -= 0.0003;
+  for (const LoadContext& other : {LoadContext{s, lower, net, 0.02, 0.0}, LoadContext{s, moved, moved, 0.02, 0.0},
+                                   LoadContext{s, moved, net, 0.01, 0.0}}) {
+    double a = 0.0, b = 0.0;
+    loaded.addLoad(ctx, load);
+    REQUIRE(loaded.potential(other, a));
+    REQUIRE(bare.potential(other, b));
+    CHECK(a == b);
+  }
+  if (bp.friction == 0.0) {
+    CHECK(bare.potential(LoadContext{s, lower, net, 0.02, 0.0}, alone));
+    // the stiffness doubled (a state put back): every term doubles, exactly
+    loaded.addLoad(ctx, load);
+    std::vector<double> state = loaded.adaptedState();
+    REQUIRE(state.size() >= 2);
+    state[0] *= 2.0;
+    state[1] = std::max(state[1], state[0]);
+    loaded.setAdaptedState(state);
+    double doubled = 0.0;
+    REQUIRE(loaded.potential(ctx, doubled));
+    CHECK(doubled == 2.0 * afterLoad);
+  }
+}
+
+TEST_CASE("BarrierContactForce and Simulation: where the steps' time goes is counted by phase, and the phases lie "
+          "within the steps",
+          "[core][contact]") {
+  ModelParameters p = clothModel(6, 0.02);
+  Simulation sim(p);
+  sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.05), Eigen::Vector3d(1.5, 1.5, -0.006));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.mass = rhoT();
+  bp.friction = 0.3;
+  auto contact = std::make_shared<BarrierContactForce>(worldOf(plate), bp);
+  sim.addForce(contact);
+  const StepCosts& c = sim.stepCosts();
+  CHECK(c.steps == 0);
+  CHECK(c.total == 0.0);
+  long iterations = 0;
+  for (int step = 0; step < 6; ++step) {  // it lands on the plate 1 mm below the offset's reach
+    REQUIRE(sim.step() == Status::Ok);
+    iterations += sim.lastNewtonIterations();
+  }
+  CHECK(c.steps == 6);
+  CHECK(c.iterations == iterations);
+  CHECK(c.factorisations >= c.steps);  // each step starts with a factorisation of its own
+  CHECK(c.factorisations <= c.iterations);
+  for (double phase : {c.elastic, c.loads, c.collisionChecks, c.factorisation, c.solve}) CHECK(phase > 0.0);
+  CHECK(c.elastic + c.loads + c.collisionChecks + c.factorisation + c.solve <= c.total);
+  CHECK(c.other() >= 0.0);
+  const BarrierContactForce::Costs& b = contact->costs();
+  for (double part : {b.proxy, b.broadPhase, b.pairs, b.push, b.ccd}) CHECK(part > 0.0);
+  // the contact's parts are inside the steps (its pairs inside the loads, the start's search
+  // and friction inside the rest of the step)
+  CHECK(b.proxy + b.broadPhase + b.pairs + b.push + b.ccd <= c.total);
+  CHECK(b.ccd <= c.collisionChecks);
+  sim.resetStepCosts();
+  contact->resetCosts();
+  CHECK(sim.stepCosts().total == 0.0);
+  CHECK(sim.stepCosts().iterations == 0);
+  CHECK(contact->costs().pairs == 0.0);
+  REQUIRE(sim.step() == Status::Ok);
+  CHECK(sim.stepCosts().steps == 1);
+  CHECK(sim.stepCosts().iterations == sim.lastNewtonIterations());
+}

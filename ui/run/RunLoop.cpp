@@ -22,6 +22,7 @@
 #include "bsdeform/MeshExport.h"
 #include "bsdeform/SceneReader.h"
 #include "bsdeform/SceneText.h"
+#include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/dynamics/Probe.h"
 #include "bsdeform/dynamics/Reactions.h"
 #include "bsdeform/dynamics/Simulation.h"
@@ -547,6 +548,7 @@ void RunLoop::printSummary(double seconds) const {
                 utf8(s.name).constData(), p.numU, p.numV, p.degreeU, p.degreeV, p.timeStep, sim.time(), sim.stepCount(),
                 d.norm, d.kinetic, d.strain.total, sim.stabilityLimit(), sim.subSteps(),
                 sim.status() == Status::Ok ? "ok" : sim.statusMessage().c_str());
+    printCosts(sim);
     if (s.metrics) {
       const QStringList values = s.metrics->values(sim);
       QStringList pairs;
@@ -555,6 +557,31 @@ void RunLoop::printSummary(double seconds) const {
     }
   }
   for (const QString& w : m_written) std::printf("  wrote %s\n", utf8(w).constData());
+}
+
+// Where a surface's steps spent their time (Simulation::stepCosts()): the implicit steps' phases
+// and, with barrier contact, the contact's own parts, as shares of the steps' wall time.
+void RunLoop::printCosts(const Simulation& sim) const {
+  const StepCosts& c = sim.stepCosts();
+  if (c.steps == 0 || c.total <= 0.0) return;
+  const double T = c.total;
+  auto share = [T](double seconds) { return 100.0 * seconds / T; };
+  if (c.iterations == 0) {
+    std::printf("  %-14s steps %.3g s (%.3g ms a step)\n", "", T, 1e3 * T / double(c.steps));
+    return;
+  }
+  std::printf("  %-14s steps %.3g s (%.3g ms a step, %.3g Newton iterations a step, %ld factorisations): elastic %.0f %%, "
+              "loads %.0f %%, collision checks %.0f %%, factorisation %.0f %%, solve %.0f %%, other %.0f %%\n",
+              "", T, 1e3 * T / double(c.steps), double(c.iterations) / double(c.steps), c.factorisations,
+              share(c.elastic), share(c.loads), share(c.collisionChecks), share(c.factorisation), share(c.solve),
+              share(c.other()));
+  for (const auto& f : sim.forces())
+    if (const auto* barrier = dynamic_cast<const BarrierContactForce*>(f.get())) {
+      const BarrierContactForce::Costs& b = barrier->costs();
+      std::printf("  %-14s barrier contact (in loads and collision checks): proxy %.0f %%, broad phase %.0f %%, "
+                  "pair terms %.0f %%, Jacobian push %.0f %%, CCD %.0f %%\n",
+                  "", share(b.proxy), share(b.broadPhase), share(b.pairs), share(b.push), share(b.ccd));
+    }
 }
 
 // A sweep child's answer: one RESULT line per surface (SweepPool reads them).

@@ -84,6 +84,7 @@ class RunLoop {
   Failure writeVideoFrames(long frame);
   Failure writeOutputs();
   void printSummary(double seconds) const;
+  void printCosts(const bsdeform::Simulation& sim) const;
   void printResults() const;
   Failure outcome() const;
   QStringList m_staticLines;  ///< --static: what each surface's solve reports

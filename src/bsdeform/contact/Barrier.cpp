@@ -114,9 +114,11 @@ PairState startPair(double distanceSquared, const BarrierParameters& bp, Vector1
 
 double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
                             const Eigen::Vector3d& t2, const BarrierParameters& bp, Vector12d* grad,
-                            Matrix12d* hessPsd, BarrierHessian hessian) {
+                            Matrix12d* hessPsd, BarrierHessian hessian, double* distanceSquared) {
   const PointTriangleType type = pointTriangleType(p, t0, t1, t2);
-  const PairState pair = startPair(pointTriangleDistanceSquared(p, t0, t1, t2, type), bp, grad, hessPsd);
+  const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2, type);
+  if (distanceSquared) *distanceSquared = d2;
+  const PairState pair = startPair(d2, bp, grad, hessPsd);
   if (pair.s >= pair.sHat) return 0.0;
   if (pair.s <= 0.0) return std::numeric_limits<double>::infinity();
   const double value = bp.stiffness * barrier(pair.s, pair.sHat);
@@ -136,9 +138,11 @@ double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
 
 double edgeEdgeBarrier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                        const Eigen::Vector3d& b1, double mollifierThreshold, const BarrierParameters& bp,
-                       Vector12d* grad, Matrix12d* hessPsd, BarrierHessian hessian) {
+                       Vector12d* grad, Matrix12d* hessPsd, BarrierHessian hessian, double* distanceSquared) {
   const EdgeEdgeType type = edgeEdgeType(a0, a1, b0, b1);
-  const PairState pair = startPair(edgeEdgeDistanceSquared(a0, a1, b0, b1, type), bp, grad, hessPsd);
+  const double d2 = edgeEdgeDistanceSquared(a0, a1, b0, b1, type);
+  if (distanceSquared) *distanceSquared = d2;
+  const PairState pair = startPair(d2, bp, grad, hessPsd);
   if (pair.s >= pair.sHat) return 0.0;
   if (pair.s <= 0.0) return std::numeric_limits<double>::infinity();
   const bool wantsDerivatives = grad || hessPsd;

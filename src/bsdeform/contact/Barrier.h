@@ -60,17 +60,20 @@ enum class BarrierHessian { ProjectedPsd, Exact };
 /// @param[out] grad  when not null: its gradient in (p, t0, t1, t2)
 /// @param[out] hessPsd  when not null: its Hessian, with negative eigenvalues clamped to 0 unless
 ///   `hessian` is BarrierHessian::Exact
+/// `distanceSquared`, if given, receives d² (pointTriangleDistanceSquared's, bit for bit).
 /// @return 0 (outputs zero) when s ≥ ŝ; +∞ (outputs zero) when s ≤ 0, i.e. d ≤ ξ
 double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
                             const Eigen::Vector3d& t2, const BarrierParameters& bp, Vector12d* grad,
-                            Matrix12d* hessPsd, BarrierHessian hessian = BarrierHessian::ProjectedPsd);
+                            Matrix12d* hessPsd, BarrierHessian hessian = BarrierHessian::ProjectedPsd,
+                            double* distanceSquared = nullptr);
 
 /// The potential κ m(x) b(s) of two edges (a0 a1) and (b0 b1): as pointTriangleBarrier, times the
 /// mollifier with threshold `mollifierThreshold` (edgeEdgeMollifierThreshold of the rest
 /// positions). Coordinates ordered (a0, a1, b0, b1).
 double edgeEdgeBarrier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                        const Eigen::Vector3d& b1, double mollifierThreshold, const BarrierParameters& bp,
-                       Vector12d* grad, Matrix12d* hessPsd, BarrierHessian hessian = BarrierHessian::ProjectedPsd);
+                       Vector12d* grad, Matrix12d* hessPsd, BarrierHessian hessian = BarrierHessian::ProjectedPsd,
+                       double* distanceSquared = nullptr);
 
 /// Replaces a symmetric matrix by its projection onto the positive semidefinite cone: V max(Λ, 0) Vᵀ
 /// from its eigen-decomposition. A matrix that is already positive semidefinite is left unchanged

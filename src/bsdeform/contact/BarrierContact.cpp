@@ -8,9 +8,11 @@
 #include <unordered_map>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
+#include "bsdeform/base/CostTimer.h"
 #include "bsdeform/base/NumberText.h"
 #include "bsdeform/base/Parallel.h"
 #include "bsdeform/contact/AdditiveCCD.h"
@@ -98,6 +100,18 @@ struct BarrierContactForce::State {
   ContactWorldSnapshot seen;  ///< for storedEnergy()
   std::vector<FrictionPair> friction;  ///< frozen at the last beginStep()
   Eigen::MatrixX3d previousWorld;      ///< the proxy at ctx.previous (friction's slip)
+  Costs costs;
+  /// The potential of the terms the last addLoad() summed (their values come with their
+  /// gradients), and the nets, step and proxy generation it was at: potential() at the same
+  /// answers from it instead of a second pass over the pairs. Forgotten by whatever changes the
+  /// terms at the same nets (a step's start: κ and friction; moved obstacles; a state put back).
+  struct LoadValue {
+    bool valid = false;
+    ControlNet current, previous;
+    double stepSize = 0.0;
+    std::uint64_t generation = 0;
+    double value = 0.0;
+  } loadValue;
   struct Block {
     Eigen::Index a, b;
     Eigen::Matrix3d h;
@@ -187,6 +201,7 @@ std::vector<double> BarrierContactForce::adaptedState() const {
 
 void BarrierContactForce::setAdaptedState(const std::vector<double>& state) const {
   State& st = *m_state;
+  st.loadValue.valid = false;
   auto refuse = [&](const char* why) {
     std::ostringstream os;
     os << "barrier contact: its adapted state is the stiffness (> 0), its cap (>= it), the last smallest distance "
@@ -237,6 +252,7 @@ void BarrierContactForce::setAdaptedState(const std::vector<double>& state) cons
 
 void BarrierContactForce::roundAdaptedState(double (*round)(double)) const {
   State& st = *m_state;
+  st.loadValue.valid = false;
   st.kappa = round(st.kappa);
   st.kappaMax = round(st.kappaMax);
   if (std::isfinite(st.previousMinimum)) st.previousMinimum = round(st.previousMinimum);
@@ -300,6 +316,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
 }
 
 void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const {
+  const CostTimer timer(&m_state->costs.proxy);
   const ContactWorld& w = *m_world;
   Eigen::MatrixX3d local;
   m_state->proxy->positions(net, local);
@@ -308,6 +325,7 @@ void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& ou
 
 const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(double inflation) const {
   State& st = *m_state;
+  const CostTimer timer(&st.costs.broadPhase);
   State::Candidates& c = st.candidates;
   const double reach = m_params.offset + m_params.dhat, skin = 0.5 * reach;
   auto near = [&](const Eigen::MatrixX3d& x) {
@@ -371,6 +389,8 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
 }
 
 long BarrierContactForce::candidateSearches() const { return m_state->candidates.builds; }
+const BarrierContactForce::Costs& BarrierContactForce::costs() const { return m_state->costs; }
+void BarrierContactForce::resetCosts() const { m_state->costs = Costs(); }
 
 const std::vector<ContactCandidates>& BarrierContactForce::gather(const LoadContext& ctx) const {
   prepare(ctx);
@@ -452,6 +472,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
                                 bool withFriction) const {
   State& st = *m_state;
   const std::vector<ContactCandidates>& candidates = gather(ctx);
+  std::optional<CostTimer> timer(&st.costs.pairs);
   BarrierParameters bp;
   bp.offset = m_params.offset;
   bp.dhat = m_params.dhat;
@@ -477,14 +498,13 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
         t.split = 1;
         first = p.kind == PairSite::TriangleVertex ? 3 : 0;
         n = p.kind == PairSite::TriangleVertex ? 9 : (p.self ? 12 : 3);
-        t.value = pointTriangleBarrier(p.x[0], p.x[1], p.x[2], p.x[3], bp, grad, hess, BarrierHessian::Exact);
-        d2 = pointTriangleDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
+        t.value = pointTriangleBarrier(p.x[0], p.x[1], p.x[2], p.x[3], bp, grad, hess, BarrierHessian::Exact, &d2);
         break;
       case PairSite::EdgeEdge:
         t.split = 2;
         n = p.self ? 12 : 6;
-        t.value = edgeEdgeBarrier(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, bp, grad, hess, BarrierHessian::Exact);
-        d2 = edgeEdgeDistanceSquared(p.x[0], p.x[1], p.x[2], p.x[3]);
+        t.value = edgeEdgeBarrier(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, bp, grad, hess, BarrierHessian::Exact,
+                                  &d2);
         break;
     }
     if (hess && mode == BarrierHessian::ProjectedPsd) projectBlockToPsd(t.hess, first, n);
@@ -545,7 +565,9 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
   Vector12d* grad = order >= 1 ? &term.grad : nullptr;
   Matrix12d* hess = order >= 2 ? &term.hess : nullptr;
+  timer.reset();
   proxyWorld(ctx.previous, st.previousWorld);
+  timer.emplace(&st.costs.pairs);
   const double epsilon = m_params.epsv * ctx.stepSize;
   Eigen::Vector3d gr;
   Eigen::Matrix3d hr;
@@ -567,6 +589,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
 
 void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
   State& st = *m_state;
+  st.loadValue.valid = false;
   st.friction.clear();
   if (!(m_params.friction > 0.0)) return;
   const std::vector<ContactCandidates>& candidates = gather(ctx);
@@ -628,6 +651,13 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
 }
 
 bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {
+  prepare(ctx);
+  const State::LoadValue& kept = m_state->loadValue;
+  if (kept.valid && kept.generation == m_state->generation && kept.stepSize == ctx.stepSize &&
+      kept.current == ctx.current && kept.previous == ctx.previous) {
+    value = kept.value;  // the same terms summed in the same order: the same bits
+    return true;
+  }
   value = 0.0;
   terms(ctx, 0, [&](const Term& t) { value += t.value; });
   return true;
@@ -644,7 +674,11 @@ void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) cons
   const ContactWorld& w = *m_world;
   Eigen::MatrixX3d f;
   bool any = false;
+  State::LoadValue& kept = m_state->loadValue;
+  kept.valid = false;
+  double value = 0.0;  // the terms at order 1 are those at order 0 and some of value 0
   terms(ctx, 1, [&](const Term& t) {
+    value += t.value;
     if (!any) {
       f = Eigen::MatrixX3d::Zero(m_state->proxy->numVertices(), 3);
       any = true;
@@ -654,6 +688,12 @@ void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) cons
         f.row(t.vertex[size_t(k)]) -= (w.linear.transpose() * t.grad.segment<3>(3 * k)).transpose();
   });
   if (any) m_state->proxy->addVertexForces(f, load);
+  kept.current = ctx.current;
+  kept.previous = ctx.previous;
+  kept.stepSize = ctx.stepSize;
+  kept.generation = m_state->generation;
+  kept.value = value;
+  kept.valid = true;
 }
 
 void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const {
@@ -682,6 +722,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
     }
   });
   if (blocks.empty()) return;
+  const CostTimer timer(&m_state->costs.push);
   std::sort(blocks.begin(), blocks.end(), [](const Block& x, const Block& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
   // Then per pair of elements (the knot span whose control points a vertex's weights lie in,
   // named by its first net point): Σ over the pair's vertex pairs of (w_a w_bᵀ) ⊗ H_ab, dense,
@@ -770,6 +811,7 @@ double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const Con
   proxyWorld(ctx.current, st.mesh.start);
   proxyWorld(to, st.mesh.end);
   const std::vector<ContactCandidates>& candidates = candidatesWithin(m_params.offset);
+  const CostTimer timer(&st.costs.ccd);
   double t = 1.0;
   for (size_t o = 0; o < st.obstacles.size(); ++o)
     if (st.obstacles[o].tree)
@@ -783,6 +825,7 @@ double BarrierContactForce::admissibleFraction(const LoadContext& ctx, const Con
 double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
   prepare(ctx);
   State& st = *m_state;
+  st.loadValue.valid = false;
   double remaining = 0.0;
   bool any = false;
   for (State::Obstacle& ob : st.obstacles) {
@@ -794,6 +837,7 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
     }
     ContactMesh sweep = ob.mesh;
     sweep.end = ob.target;
+    const CostTimer timer(&st.costs.ccd);
     const double t = collisionFreeFraction(st.mesh, sweep, m_params.offset);
     if (t >= 1.0) {
       ob.mesh.start = ob.target;
@@ -811,6 +855,7 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
 std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   prepare(ctx);
   State& st = *m_state;
+  st.loadValue.valid = false;
   const bool retaken = !st.sweepStartPending && st.sweepStart.rows() == ctx.current.rows() && st.sweepStart == ctx.current;
   if (retaken) {
     // the step taken again from the same start (a failed attempt, retaken in pieces): every

@@ -101,6 +101,18 @@ class BarrierContactForce : public Force {
   /// How many times the candidate pairs were searched for anew (the rest of the queries were
   /// answered from the kept ones: State::Candidates).
   long candidateSearches() const;
+  /// Where this force's time went (wall seconds on the calling thread, the work it hands to
+  /// kernel threads inside), accumulated until resetCosts(): issue 35's "broad phase, CCD,
+  /// barrier assembly".
+  struct Costs {
+    double proxy = 0.0;       ///< the proxy's vertices from the control net
+    double broadPhase = 0.0;  ///< candidate pairs: searched anew or narrowed from the kept ones
+    double pairs = 0.0;       ///< the pairs' barrier and friction terms (value, gradient, PSD Hessian)
+    double push = 0.0;        ///< the Jacobian's blocks summed per element pair and handed to the tangent
+    double ccd = 0.0;         ///< continuous collision checks of the candidates (line search, sweeps)
+  };
+  const Costs& costs() const;
+  void resetCosts() const;
   /// The friction pairs frozen at the last beginStep(), and the sum of their normal forces (N).
   size_t frictionPairCount() const;
   double frictionNormalForce() const;

@@ -40,9 +40,11 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       q -= a[i] * pairY[i];
     }
     if (ownStart) {
+      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
       const Eigen::VectorXd z = m_solver->llt.solve(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size()));
       q = Eigen::Map<const ControlNet>(z.data(), n, 3);
     } else {
+      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
       problem.precondition(q);
     }
     for (size_t i = 0; i < m; ++i) {
@@ -51,6 +53,11 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     }
     return ControlNet(-q);
   };
+  // The numeric factorisation of an assembled tangent (its assembly, the argument, not timed here)
+  auto factorise = [&](const Eigen::SparseMatrix<double>& K) {
+    const CostTimer timer(options.costs ? &options.costs->factorisation : nullptr);
+    return m_solver->factor(K);
+  };
   // Factorises the tangent at the current point: exact, then projected, then with more mass.
   auto factor = [&]() {
     // rememberShift: start a quarter of the last extra shift that worked, unless that is
@@ -58,14 +65,14 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     double extra = options.rememberShift && remembered > 0.0 ? 0.25 * remembered : 0.0;
     if (extra < options.firstExtraShift || options.shift > 0.0) extra = 0.0;
     if (extra == 0.0) {
-      if (m_solver->factor(problem.tangent(HessianMode::Exact, options.shift))) {
+      if (factorise(problem.tangent(HessianMode::Exact, options.shift))) {
         remembered = 0.0;
         return true;
       }
     }
     double total = options.shift + extra;
     for (int attempt = 0; attempt < options.shiftAttempts; ++attempt) {
-      if (m_solver->factor(problem.tangent(HessianMode::Projected, total))) {
+      if (factorise(problem.tangent(HessianMode::Projected, total))) {
         remembered = total - options.shift;
         return true;
       }
@@ -99,6 +106,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     if (qn) {
       step = quasiNewtonStep(cur.g);
     } else {
+      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
       const Eigen::VectorXd d = m_solver->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
       step = Eigen::Map<const ControlNet>(d.data(), n, 3);
     }

@@ -20,6 +20,7 @@
 #include <memory>
 #include <string>
 
+#include "bsdeform/dynamics/StepCosts.h"
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/spline/SplineSpace.h"
 
@@ -79,6 +80,9 @@ class NewtonMinimizer {
     /// short where H0 is stiffer than the tangent).
     bool quasiNewton = false;
     int history = 8;
+    /// Optional: the factorisations' and solves' wall time is added to it (the caller's
+    /// evaluate and tangent time their own parts).
+    StepCosts* costs = nullptr;
   };
   struct Outcome {
     bool converged = false;

@@ -644,6 +644,8 @@ Status Simulation::step() {
     return m_status;
   }
   if (m_startPending) applyStartRule();
+  const CostTimer timer(&m_costs.total);
+  ++m_costs.steps;
   const double dt = subStepSize();
   m_stepper->clearFailure();
   for (int s = 0; s < m_subSteps; ++s) {

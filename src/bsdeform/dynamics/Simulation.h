@@ -26,6 +26,7 @@
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/dynamics/ArcLength.h"
 #include "bsdeform/dynamics/SideSupports.h"
+#include "bsdeform/dynamics/StepCosts.h"
 #include "bsdeform/spline/SplineSpace.h"
 #include "bsdeform/energy/StiffnessStencil.h"
 #include "bsdeform/dynamics/TangentMatrix.h"
@@ -369,6 +370,11 @@ class Simulation {
   ShellEnergies shellEnergies() const;
   /// SHELL, implicit: Newton iterations of the last step.
   int lastNewtonIterations() const;
+  /// Where the steps' time went since construction or resetStepCosts(): wall seconds per phase
+  /// of the implicit steps (elastic energy, loads, collision checks, factorisation, solve),
+  /// Newton iterations and factorisations (StepCosts.h).
+  const StepCosts& stepCosts() const { return m_costs; }
+  void resetStepCosts() { m_costs = StepCosts(); }
 
   /// The implicit scheme's linear system (null for the explicit scheme): its method, condition
   /// bound and the last solve's iterations.
@@ -538,6 +544,7 @@ class Simulation {
   /// ElasticEnergy::gradient() has).
   ControlNet forcesConstantLoad() const { return m_paper ? ControlNet(m_constantLoad - m_paper->restOffset()) : m_constantLoad; }
   mutable Eigen::SparseMatrix<double> m_paperStiffness;  ///< A_II (both triangles), the paper's tangent (first use)
+  mutable StepCosts m_costs;  ///< stepCosts(); tangent() adds its assembly's
   mutable std::unique_ptr<TangentMatrix> m_tangent;  ///< the Newton tangent's fixed pattern (first use)
   /// ModelParameters::sideSupports on the unknowns (null without any)
   std::unique_ptr<ComponentConstraints> m_components;

@@ -9,6 +9,7 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -100,6 +101,7 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
     m_tangent = std::make_unique<TangentMatrix>(m_space, std::move(foldStart), std::move(fold));
   }
   TangentMatrix& K = *m_tangent;
+  std::optional<CostTimer> timer(&m_costs.elastic);
   K.setZero();
   if (m_shell) {
     // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
@@ -112,6 +114,7 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
     K.addScalarMatrix(m_paperStiffness, scale);
   }
   if (shift != 0.0) K.addScalarMatrix(m_mass->matrix(), shift);
+  timer.emplace(&m_costs.loads);
   if (forces) {
     TangentSink sink(K, forceScale);
     for (const auto& f : m_forces)

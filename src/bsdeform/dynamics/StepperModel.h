@@ -14,6 +14,7 @@
 #include <memory>
 #include <vector>
 
+#include "bsdeform/dynamics/StepCosts.h"
 #include "bsdeform/energy/Shell.h"
 #include "bsdeform/forces/Force.h"
 #include "bsdeform/spline/SplineSpace.h"
@@ -115,6 +116,8 @@ class StepperModel {
   virtual bool heldRowsMoved(const ControlNet& net) const = 0;
   virtual void placeHeldRows(const ControlNet& from, double alpha, ControlNet& net) const = 0;
   virtual void copyHeldRows(const ControlNet& from, ControlNet& net) const = 0;
+  /// Where the steps' time goes (Simulation::stepCosts()): the stepper adds its phases.
+  virtual StepCosts& costs() const = 0;
 };
 
 }  // namespace bsdeform

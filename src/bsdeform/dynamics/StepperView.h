@@ -64,6 +64,7 @@ class Simulation::StepperView final : public StepperModel {
     m_s.placeHeldRows(from, alpha, net);
   }
   void copyHeldRows(const ControlNet& from, ControlNet& net) const override { m_s.copyHeldRows(from, net); }
+  StepCosts& costs() const override { return m_s.m_costs; }
 
  private:
   Simulation& m_s;

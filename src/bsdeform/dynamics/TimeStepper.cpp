@@ -10,6 +10,7 @@
 #include <cassert>
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -281,7 +282,9 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   auto evaluate = [&](const ControlNet& xi, NewtonPoint& ev) {
     xc = xi;
     s.completeUnknowns(xc, net);
+    std::optional<CostTimer> timer(&s.costs().elastic);
     const double strain = s.energy().energyAndGradient(net, g);
+    timer.emplace(&s.costs().loads);
     ControlNet Lv = ControlNet::Zero(xi.rows(), 3);
     ev.potential = true;
     double phi = 0.0;
@@ -298,6 +301,7 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
           ev.potential = false;
       }
     }
+    timer.reset();
     const ControlNet dx = xc - P, Mdx = s.mass().apply(dx);
     ev.g = a * Mdx + 0.25 * g - fixed - Lv;
     if (s.components()) s.components()->fold(ev.g);  // onto the free coordinates
@@ -348,9 +352,12 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   // maxNewtonIterations, cut more steps into pieces and moved the coarse swinging sheet's
   // trajectory (tests/core/ShellModel_test.cpp) and a Newmark curtain's blow-up
   options.chordSteps = false;
+  options.costs = &s.costs();
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   const NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
   m_newtonIterations = outcome.iterations;
+  s.costs().iterations += outcome.iterations;
+  s.costs().factorisations += outcome.factorisations;
   if (!outcome.converged) {
     std::ostringstream os;
     os << "Newton's method stopped at relative residual " << cur.norm / scale << " after " << outcome.iterations
@@ -560,7 +567,9 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     xc = x;
     s.completeUnknowns(xc, net);
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    std::optional<CostTimer> timer(&s.costs().elastic);
     const double elastic = s.energy().energyAndGradient(net, gW);
+    timer.emplace(&s.costs().loads);
     L = fixedLoad;
     ev.potential = true;
     double phi = -(fixedLoad.array() * xc.array()).sum();
@@ -572,6 +581,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       else
         ev.potential = false;
     }
+    timer.reset();
     const ControlNet dx = xc - xhat, dn = xc - P;
     Mdx = mass.apply(dx);
     Mdn = mass.apply(dn);
@@ -599,6 +609,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   // The largest fraction of the move from `from` (unknowns) by `step` that no barrier refuses.
   ControlNet fromNet = startNet, toNet = startNet, xs;
   auto admissible = [&](const ControlNet& from, const ControlNet& step) {
+    const CostTimer timer(&s.costs().collisionChecks);
     xs = from;
     s.completeUnknowns(xs, fromNet);
     xs = from + step;
@@ -611,6 +622,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   // Obstacles that moved since the last step are swept toward their poses as far as nothing
   // crosses, the surface held where it is; then, after each Newton solve, further (below)
   auto advanceObstacles = [&](const ControlNet& at) {
+    const CostTimer timer(&s.costs().collisionChecks);
     xs = at;
     s.completeUnknowns(xs, fromNet);
     const LoadContext ctx = s.loadContext(fromNet, startNet, h, tNew);
@@ -661,10 +673,13 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     // it does not describe), the step's first tangent
     if (!barrier && !s.components()) problem.precondition = [this, h](ControlNet& r) { precondition(r, h); };
   }
+  options.costs = &s.costs();
   if (!m_newton) m_newton = std::make_unique<NewtonMinimizer>();
   NewtonMinimizer::Outcome outcome = m_newton->minimize(x, cur, problem, options);
   m_newtonIterations = outcome.iterations;
   m_factorisations += outcome.factorisations;
+  s.costs().iterations += outcome.iterations;
+  s.costs().factorisations += outcome.factorisations;
   // a swept obstacle: moved on as far as it goes with the surface where Newton left it, then
   // Newton again, until it is where it is to be (each pass it closes at least 90 % of the gap the
   // surface leaves it; a surface held in its way stops it short)
@@ -685,6 +700,8 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     outcome.failure = more.failure;
     m_newtonIterations += more.iterations;
     m_factorisations += more.factorisations;
+    s.costs().iterations += more.iterations;
+    s.costs().factorisations += more.factorisations;
   }
   if (s.components()) s.components()->complete(x);  // the updates moved the free coordinates only
   if (!outcome.converged) {
