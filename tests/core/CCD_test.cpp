@@ -330,6 +330,57 @@ TEST_CASE("BroadPhase: overlapping pairs equal all pairs' brute force", "[contac
   CHECK(found.empty());
 }
 
+TEST_CASE("BroadPhase: two sheets stacked along any axis give the brute force's pairs", "[contact]") {
+  // Boxes of two parallel sheets of small cells, 0.1 apart across them: along the sheets every
+  // box overlaps a strip of the other sheet, across them none (the sweep then goes across), and
+  // a few boxes spanning the gap that do meet.
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> jitter(0.0, 0.004);
+  for (int across = 0; across < 3; ++across) {
+    CAPTURE(across);
+    const int u = (across + 1) % 3, v = (across + 2) % 3;
+    auto sheet = [&](double level) {
+      std::vector<Box> boxes;
+      for (int i = 0; i < 40; ++i)
+        for (int j = 0; j < 40; ++j) {
+          Box box;
+          box.lo[across] = level + jitter(rng);
+          box.lo[u] = i * 0.025 + jitter(rng);
+          box.lo[v] = j * 0.025 + jitter(rng);
+          box.hi = box.lo + Vector3d::Constant(0.02);
+          box.hi[across] = box.lo[across] + jitter(rng);
+          boxes.push_back(box);
+        }
+      return boxes;
+    };
+    std::vector<Box> a = sheet(0.0), b = sheet(0.1);
+    for (int k = 0; k < 5; ++k) {  // posts from one sheet to the other
+      Box post = a[size_t(97 * k + 13)];
+      post.hi[across] = 0.106;
+      a.push_back(post);
+    }
+    for (const double inflation : {0.0, 0.003}) {
+      std::vector<std::pair<int, int>> found, expected;
+      overlappingPairs(a, b, inflation, found);
+      for (int i = 0; i < int(a.size()); ++i)
+        for (int j = 0; j < int(b.size()); ++j)
+          if (boxesMeet(a[i], b[j], inflation)) expected.emplace_back(i, j);
+      std::sort(found.begin(), found.end());
+      CHECK(!expected.empty());
+      CHECK(found == expected);
+      std::vector<Box> both = a;
+      both.insert(both.end(), b.begin(), b.end());
+      selfOverlappingPairs(both, inflation, found);
+      expected.clear();
+      for (int i = 0; i < int(both.size()); ++i)
+        for (int j = i + 1; j < int(both.size()); ++j)
+          if (boxesMeet(both[i], both[j], inflation)) expected.emplace_back(i, j);
+      std::sort(found.begin(), found.end());
+      CHECK(found == expected);
+    }
+  }
+}
+
 namespace {
 
 /// An n × n-vertex grid in the plane z = 0 over [-size/2, size/2]², both diagonals' edges once.

@@ -69,6 +69,7 @@ double edgeEdgeMollifier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, c
 }
 
 void projectToPsd(Matrix12d& h) {
+  if (h.isZero(0.0)) return;  // a pair out of reach: nothing to decompose
   const Eigen::SelfAdjointEigenSolver<Matrix12d> eigen(h);
   if (eigen.eigenvalues().minCoeff() >= 0.0) return;
   const Eigen::Matrix<double, 12, 1> clamped = eigen.eigenvalues().cwiseMax(0.0);
@@ -79,9 +80,11 @@ namespace {
 template <int N>
 void projectFixed(Matrix12d& h, int first) {
   Eigen::Matrix<double, N, N> b = h.block<N, N>(first, first);
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eigen(b);
-  if (eigen.eigenvalues().minCoeff() < 0.0)
-    b = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+  if (!b.isZero(0.0)) {  // else a pair out of reach: nothing to decompose
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eigen(b);
+    if (eigen.eigenvalues().minCoeff() < 0.0)
+      b = eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+  }
   h.setZero();
   h.block<N, N>(first, first) = b;
 }
