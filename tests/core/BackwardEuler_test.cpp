@@ -98,6 +98,66 @@ TEST_CASE("TangentMatrix: the folded tangent equals the energy's Hessian product
   }
 }
 
+TEST_CASE("TangentMatrix: blocks between points of no common element enter the pattern, which then depends on "
+          "the last assembly alone",
+          "[shell]") {
+  // The energy's element matrices plus symmetric blocks coupling far-apart points (self-contact):
+  // the matrix equals the dense sum of the same blocks, and its pattern after an assembly is
+  // the elements' plus exactly that assembly's far blocks, whatever came before.
+  const SplineSpace s(2, 2, 8, 8, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet rest = s.grevillePlane();
+  const ShellModelEnergy energy(s, rest, ShellMaterial{1e5, 0.3, 0.01, 100.0});
+  const Eigen::Index cols = s.netCols();
+  Eigen::Matrix3d B;
+  B << 2.0, 0.5, -0.25, 0.5, 1.5, 0.125, -0.25, 0.125, 1.0;
+  using Far = std::vector<std::pair<Eigen::Index, Eigen::Index>>;
+  // net points (2, 2) and (8, 8), (1, 9) and (9, 1): no element holds both of a pair
+  const Far first{{2 * cols + 2, 8 * cols + 8}, {1 * cols + 9, 9 * cols + 1}}, second{{2 * cols + 2, 8 * cols + 8}};
+  auto assemble = [&](TangentMatrix& K, const Far& far, double scale) {
+    K.setZero();
+    energy.shell().elementHessians(rest, HessianMode::Exact, true,
+                                   [&](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, 1.0); });
+    for (const auto& [p, q] : far) {  // both blocks of a symmetric coupling, as a force adds them
+      K.addNetBlock(p, q, scale * B);
+      K.addNetBlock(q, p, scale * B.transpose());
+      K.addNetBlock(p, p, scale * B);
+    }
+    return K.settlePattern();
+  };
+  auto dense = [&](const Far& far, double scale) {
+    TangentMatrix base(s, energy.foldStart(), energy.foldEntries());
+    assemble(base, {}, scale);
+    Eigen::MatrixXd D = Eigen::MatrixXd(Eigen::SparseMatrix<double>(base.matrix().selfadjointView<Eigen::Lower>()));
+    for (const auto& [p, q] : far) {
+      const Eigen::Index f = p, g = q;  // free sides: net point = unknown
+      D.block<3, 3>(3 * f, 3 * g) += scale * B;
+      D.block<3, 3>(3 * g, 3 * f) += scale * B.transpose();
+      D.block<3, 3>(3 * f, 3 * f) += scale * B;
+    }
+    return D;
+  };
+  REQUIRE(s.numMoving() == s.netSize());
+  TangentMatrix K(s, energy.foldStart(), energy.foldEntries());
+  const Eigen::Index baseNonZeros = K.matrix().nonZeros();
+  CHECK(assemble(K, first, 1.0));  // the pattern grew
+  CHECK(K.matrix().nonZeros() == baseNonZeros + 2 * 9);
+  Eigen::MatrixXd full = Eigen::MatrixXd(Eigen::SparseMatrix<double>(K.matrix().selfadjointView<Eigen::Lower>()));
+  CHECK((full - dense(first, 1.0)).norm() <= 1e-12 * full.norm());
+  CHECK_FALSE(assemble(K, first, 3.0));  // the same far blocks: the same pattern
+  full = Eigen::MatrixXd(Eigen::SparseMatrix<double>(K.matrix().selfadjointView<Eigen::Lower>()));
+  CHECK((full - dense(first, 3.0)).norm() <= 1e-12 * full.norm());
+  CHECK(assemble(K, second, 1.0));  // one far block fewer: the pattern shrinks to this assembly's
+  TangentMatrix fresh(s, energy.foldStart(), energy.foldEntries());
+  assemble(fresh, second, 1.0);
+  CHECK(K.matrix().nonZeros() == baseNonZeros + 9);
+  CHECK(K.matrix().nonZeros() == fresh.matrix().nonZeros());
+  CHECK(std::equal(K.matrix().innerIndexPtr(), K.matrix().innerIndexPtr() + K.matrix().nonZeros(),
+                   fresh.matrix().innerIndexPtr()));
+  CHECK(std::equal(K.matrix().valuePtr(), K.matrix().valuePtr() + K.matrix().nonZeros(), fresh.matrix().valuePtr()));
+  CHECK(assemble(K, {}, 1.0));  // and back to the elements'
+  CHECK(K.matrix().nonZeros() == baseNonZeros);
+}
+
 TEST_CASE("BACKWARD_EULER: the energy of a free swing never rises, and falls with damping", "[shell]") {
   for (double damping : {0.0, 2.0}) {
     CAPTURE(damping);

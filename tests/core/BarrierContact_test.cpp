@@ -12,6 +12,7 @@
 #include "../support/ForceFieldCheck.h"
 #include "../support/ObstacleMeshes.h"
 #include "../support/ThreadSettings.h"
+#include "bsdeform/contact/Barrier.h"
 #include "bsdeform/contact/BarrierContact.h"
 #include "bsdeform/contact/BroadPhase.h"
 #include "bsdeform/contact/CollisionProxy.h"
@@ -722,4 +723,84 @@ TEST_CASE("BarrierContactForce and Simulation: where the steps' time goes is cou
   REQUIRE(sim.step() == Status::Ok);
   CHECK(sim.stepCosts().steps == 1);
   CHECK(sim.stepCosts().iterations == sim.lastNewtonIterations());
+}
+
+TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjacent pair's Hessian through the "
+          "proxy's weights, the blocks between the two parts of each pair included",
+          "[core][contact]") {
+  // A helicoid ribbon of two turns (radius 0.04 to 0.06 m) whose turns lie 2.7 mm apart, inside
+  // the barrier's reach (offset 2 mm, d̂ 1 mm): every pair couples points of one turn to points
+  // of the next, which share no element. Against a brute force over all pairs of the proxy that
+  // share no vertex; without the blocks between a pair's two parts (left out before: Newton then
+  // converged only linearly in self-contact) the difference is of the Jacobian's own size.
+  constexpr double kPi = 3.14159265358979323846;
+  const SplineSpace s(2, 2, 40, 2, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  ControlNet net = s.grevillePlane();
+  for (Eigen::Index r = 0; r < net.rows(); ++r) {
+    // 1.95 turns and a radius growing 2.3 mm a turn: the proxy's vertices of one turn do not lie
+    // over those of the next
+    const double turn = 1.95 * net(r, 0), radius = 0.04 + 0.02 * net(r, 1) + 0.0023 * turn;
+    net.row(r) << radius * std::cos(2.0 * kPi * turn), radius * std::sin(2.0 * kPi * turn), 0.0027 * turn;
+  }
+  REQUIRE(s.numMoving() == s.netSize());  // free sides: net point = unknown
+  const TriangleMesh far = box(Eigen::Vector3d(5.0, 5.0, 5.0), Eigen::Vector3d(6.0, 6.0, 6.0));
+  BarrierContactParameters bp;
+  bp.offset = 0.002;
+  bp.dhat = 0.001;
+  bp.selfContact = true;
+  bp.samplesPerSpan = 2;
+  bp.projectHessian = false;
+  const BarrierContactForce force(worldOf(far), bp);
+  const LoadContext ctx{s, net, net, 0.02, 0.0};
+  REQUIRE(force.beginStep(ctx).empty());
+  double phi = 0.0;
+  REQUIRE(force.potential(ctx, phi));
+  REQUIRE(phi > 0.0);  // the turns are within reach of each other
+  const Eigen::Index n = 3 * s.numMoving();
+  struct Dense final : JacobianSink {
+    Eigen::MatrixXd K;
+    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { K.block<3, 3>(3 * p, 3 * q) += B; }
+  } sink;
+  sink.K = Eigen::MatrixXd::Zero(n, n);
+  force.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
+  // the brute force: every pair of the proxy sharing no vertex, its Hessian through the weights
+  const CollisionProxy proxy(s, bp.samplesPerSpan);
+  Eigen::MatrixX3d X;
+  proxy.positions(net, X);
+  const Eigen::MatrixX3i& T = proxy.triangles();
+  const Eigen::MatrixX2i& E = proxy.edges();
+  BarrierParameters b;
+  b.offset = bp.offset;
+  b.dhat = bp.dhat;
+  b.stiffness = force.stiffness();
+  auto at = [&](Eigen::Index i) { return Eigen::Vector3d(X.row(i).transpose()); };
+  Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(n, n);
+  long between = 0;  // pairs whose points lie in elements of different turns
+  auto push = [&](const std::array<Eigen::Index, 4>& v, const Matrix12d& h) {
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 4; ++c)
+        for (const auto& wa : proxy.netWeights(v[size_t(a)]))
+          for (const auto& wc : proxy.netWeights(v[size_t(c)]))
+            expected.block<3, 3>(3 * wa.index, 3 * wc.index) += wa.weight * wc.weight * h.block<3, 3>(3 * a, 3 * c);
+    between += std::abs(X(v[0], 2) - X(v[3], 2)) > 0.001;
+  };
+  Vector12d g;
+  Matrix12d h;
+  for (Eigen::Index v = 0; v < X.rows(); ++v)
+    for (Eigen::Index f = 0; f < T.rows(); ++f)
+      if (T(f, 0) != v && T(f, 1) != v && T(f, 2) != v &&
+          pointTriangleBarrier(at(v), at(T(f, 0)), at(T(f, 1)), at(T(f, 2)), b, &g, &h, BarrierHessian::Exact) != 0.0)
+        push({v, T(f, 0), T(f, 1), T(f, 2)}, h);
+  for (Eigen::Index e = 0; e < E.rows(); ++e)
+    for (Eigen::Index q = e + 1; q < E.rows(); ++q) {
+      if (E(e, 0) == E(q, 0) || E(e, 0) == E(q, 1) || E(e, 1) == E(q, 0) || E(e, 1) == E(q, 1)) continue;
+      const double threshold = edgeEdgeMollifierThreshold(at(E(e, 0)), at(E(e, 1)), at(E(q, 0)), at(E(q, 1)));
+      if (edgeEdgeBarrier(at(E(e, 0)), at(E(e, 1)), at(E(q, 0)), at(E(q, 1)), threshold, b, &g, &h,
+                          BarrierHessian::Exact) != 0.0 ||
+          !g.isZero(0.0))
+        push({E(e, 0), E(e, 1), E(q, 0), E(q, 1)}, h);
+    }
+  CHECK(between > 100);
+  CHECK(expected.norm() > 0.0);
+  CHECK((sink.K - expected).norm() <= 1e-12 * expected.norm());
 }

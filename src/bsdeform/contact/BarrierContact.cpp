@@ -495,13 +495,11 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     switch (p.kind) {
       case PairSite::VertexTriangle:
       case PairSite::TriangleVertex:
-        t.split = 1;
         first = p.kind == PairSite::TriangleVertex ? 3 : 0;
         n = p.kind == PairSite::TriangleVertex ? 9 : (p.self ? 12 : 3);
         t.value = pointTriangleBarrier(p.x[0], p.x[1], p.x[2], p.x[3], bp, grad, hess, BarrierHessian::Exact, &d2);
         break;
       case PairSite::EdgeEdge:
-        t.split = 2;
         n = p.self ? 12 : 6;
         t.value = edgeEdgeBarrier(p.x[0], p.x[1], p.x[2], p.x[3], p.threshold, bp, grad, hess, BarrierHessian::Exact,
                                   &d2);
@@ -576,7 +574,6 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     for (size_t k = 0; k < 4; ++k)
       if (f.vertex[k] >= 0) r += f.coefficient[k] * (row(V, f.vertex[k]) - row(st.previousWorld, f.vertex[k]));
     term.vertex = f.vertex;
-    term.split = f.split;
     term.friction = true;
     term.value = frictionPotential(f, r, m_params.friction, epsilon, grad ? &gr : nullptr, hess ? &hr : nullptr);
     for (int k = 0; k < 4 && grad; ++k) term.grad.segment<3>(3 * k) = f.coefficient[size_t(k)] * gr;
@@ -708,15 +705,13 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
   blocks.clear();
   terms(ctx, 2, [&](const Term& t) {
     const double scale = t.friction ? frictionScale : 1.0;
-    // blocks between proxy points of one primitive only: its first point or first two (the
-    // vertex or edge of the first primitive) and the rest (the second's), which share no
-    // element in self-contact (see the header)
-    const int split = t.split;
+    // every block between the pair's moving points, those coupling the two primitives of a
+    // self-contact pair too (points of no common element: the tangent's pattern takes them in,
+    // TangentMatrix::settlePattern)
     for (int a = 0; a < 4; ++a) {
       if (t.vertex[size_t(a)] < 0) continue;
       for (int b = 0; b < 4; ++b) {
         if (t.vertex[size_t(b)] < 0) continue;
-        if ((a < split) != (b < split)) continue;
         blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
       }
     }

@@ -59,10 +59,11 @@ class BarrierContactForce : public Force {
   /// tangential slip from ctx.previous to ctx.current.
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
   /// Each pair's Hessian, projected to PSD, pushed to the control points through the proxy's
-  /// weights. Self-contact pairs couple two parts of the surface that share no element; their
-  /// cross blocks are left out (the block diagonal of a PSD matrix is PSD: a descent direction
-  /// still, Newton then converges linearly in those pairs, and the tangent's pattern stays fixed).
-  /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its
+  /// weights. Self-contact pairs couple two parts of the surface that share no element: their
+  /// whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
+  /// them into its pattern; without them Newton had converged only linearly in self-contact, 25
+  /// to 45 iterations a step). Friction's Hessian (PSD by construction) likewise; it is a
+  /// function of the slip, so its
   /// share is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
@@ -120,10 +121,9 @@ class BarrierContactForce : public Force {
  private:
   struct State;
   /// One pair's barrier: its points (proxy vertices, -1 for an obstacle's), value, and gradient
-  /// and Hessian over the 4 points' 12 world coordinates; points [0, split) are one primitive.
+  /// and Hessian over the 4 points' 12 world coordinates.
   struct Term {
     std::array<Eigen::Index, 4> vertex{};
-    int split = 1;
     bool friction = false;  ///< a friction pair's (its Hessian is in the slip: addJacobian())
     double value = 0.0;
     Eigen::Matrix<double, 12, 1> grad;

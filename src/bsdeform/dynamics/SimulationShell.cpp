@@ -120,6 +120,7 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
     for (const auto& f : m_forces)
       if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
   }
+  K.settlePattern();  // self-contact's couplings of points in no common element
   K.applyHeld(m_tangentHeldMask);
   return K.matrix();
 }

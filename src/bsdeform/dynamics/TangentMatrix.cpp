@@ -36,6 +36,14 @@ TangentMatrix::TangentMatrix(const SplineSpace& space, std::vector<int> foldStar
     m_rowStart[size_t(g) + 1] = m_rowStart[size_t(g)] + Eigen::Index(r.size());
     m_rows.insert(m_rows.end(), r.begin(), r.end());
   }
+  m_rowExtra.assign(m_rows.size(), 0);
+  m_baseStart = m_rowStart;
+  m_baseRows = m_rows;
+  buildMatrix();
+}
+
+void TangentMatrix::buildMatrix() {
+  const Eigen::Index n = Eigen::Index(m_rowStart.size()) - 1;
   // column 3 g + b: rows 3 g + b .. 3 g + 2 (the diagonal block's lower part), then 3 rows per
   // row unknown f > g
   const Eigen::Index size = 3 * n;
@@ -61,6 +69,55 @@ TangentMatrix::TangentMatrix(const SplineSpace& space, std::vector<int> foldStar
 
 void TangentMatrix::setZero() {
   std::fill(m_matrix.valuePtr(), m_matrix.valuePtr() + m_matrix.nonZeros(), 0.0);
+  m_touched.clear();
+  m_aside.clear();
+}
+
+bool TangentMatrix::settlePattern() {
+  // the blocks beyond the elements' this assembly needs, and those the pattern has
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> needed = m_touched, have;
+  for (const Aside& a : m_aside) needed.emplace_back(a.g, a.f);
+  std::sort(needed.begin(), needed.end());
+  needed.erase(std::unique(needed.begin(), needed.end()), needed.end());
+  const Eigen::Index n = Eigen::Index(m_rowStart.size()) - 1;
+  for (Eigen::Index g = 0; g < n; ++g)
+    for (Eigen::Index k = m_rowStart[size_t(g)]; k < m_rowStart[size_t(g) + 1]; ++k)
+      if (m_rowExtra[size_t(k)]) have.emplace_back(g, m_rows[size_t(k)]);
+  if (needed == have) return false;
+  // the new pattern: per column the elements' rows and the needed ones, merged
+  const Eigen::SparseMatrix<double> old = m_matrix;
+  const std::vector<Aside> aside = std::move(m_aside);
+  m_rowStart.assign(size_t(n) + 1, 0);
+  m_rows.clear();
+  m_rowExtra.clear();
+  size_t next = 0;
+  for (Eigen::Index g = 0; g < n; ++g) {
+    Eigen::Index k = m_baseStart[size_t(g)];
+    const Eigen::Index kEnd = m_baseStart[size_t(g) + 1];
+    while (k < kEnd || (next < needed.size() && needed[next].first == g)) {
+      const bool takeExtra = next < needed.size() && needed[next].first == g &&
+                             (k == kEnd || needed[next].second < m_baseRows[size_t(k)]);
+      m_rows.push_back(takeExtra ? needed[next++].second : m_baseRows[size_t(k++)]);
+      m_rowExtra.push_back(takeExtra ? 1 : 0);
+    }
+    m_rowStart[size_t(g) + 1] = Eigen::Index(m_rows.size());
+  }
+  buildMatrix();
+  // this assembly's values where the two patterns share an entry (an extra no longer needed
+  // was not touched: zero), then the blocks kept aside, in the order they came
+  const Eigen::Index size = 3 * n;
+  for (Eigen::Index c = 0; c < size; ++c) {
+    Eigen::SparseMatrix<double>::InnerIterator to(m_matrix, c);
+    for (Eigen::SparseMatrix<double>::InnerIterator from(old, c); from; ++from) {
+      while (to && to.row() < from.row()) ++to;
+      if (to && to.row() == from.row()) to.valueRef() = from.value();
+    }
+  }
+  for (const Aside& a : aside) addUnknownBlock(a.f, a.g, a.B, a.scale, a.transposed);
+  m_heldMask.clear();  // the held entries' positions moved
+  m_heldPositions.clear();
+  m_heldDiagonal.clear();
+  return true;
 }
 
 Eigen::Index TangentMatrix::position(Eigen::Index f, int a, Eigen::Index g, int b) const {
@@ -82,9 +139,17 @@ void TangentMatrix::addUnknownBlock(Eigen::Index f, Eigen::Index g, const double
     }
     return;
   }
-  const Eigen::Index at = position(f, 0, g, 0);
-  assert(at >= 0 && "TangentMatrix: a block outside the elements' pattern");
-  if (at < 0) return;
+  const Eigen::Index column = m_matrix.outerIndexPtr()[3 * g];
+  const auto first = m_rows.begin() + m_rowStart[size_t(g)], last = m_rows.begin() + m_rowStart[size_t(g) + 1];
+  const auto it = std::lower_bound(first, last, f);
+  if (it == last || *it != f) {  // beyond the pattern: kept aside until settlePattern()
+    Aside a{f, g, {}, scale, transposed};
+    std::copy(B, B + 9, a.B);
+    m_aside.push_back(a);
+    return;
+  }
+  if (m_rowExtra[size_t(it - m_rows.begin())]) m_touched.emplace_back(g, f);
+  const Eigen::Index at = column + 3 + 3 * (it - first);
   // the rows of f in the three columns of g: at, then at + (column length) ...
   const int* outer = m_matrix.outerIndexPtr();
   const Eigen::Index offset = at - outer[3 * g];  // 3 + 3 k

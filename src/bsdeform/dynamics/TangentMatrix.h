@@ -6,8 +6,12 @@
 /// per model: every pair of unknowns that share an element (after the fold T of the net onto
 /// the unknowns: periodic copies, derived layers) has a 3 x 3 block, lower triangle only (what
 /// CHOLMOD reads with Eigen::Lower). No triplets, no sort: an element's matrix is added through
-/// a binary search per block, and the matrix's symbolic factorisation can be kept for the life
-/// of the model.
+/// a binary search per block, and the matrix's symbolic factorisation can be kept while the
+/// pattern stays. Blocks between points that share no element (self-contact couples two parts
+/// of a surface) are added to the pattern as they come: settlePattern() after an assembly makes
+/// the pattern the elements' plus exactly the other blocks that assembly touched, so the pattern
+/// depends on that assembly alone, not on the ones before it (a resumed run factorises the same
+/// matrices).
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -33,9 +37,13 @@ class TangentMatrix {
   void addElement(int e1, int e2, const double* Ke, double scale);
   /// Adds the 3 x 3 block B coupling net point p (rows) to net point q (columns), folded through
   /// T. A symmetric contribution is added as its (p, q) and its (q, p) blocks (for p != q); only
-  /// the lower triangle is kept. Both points must lie in one element (every force's Jacobian
-  /// couples the points of one knot span).
+  /// the lower triangle is kept. Points of no common element (self-contact) are kept aside until
+  /// settlePattern(). Not from several threads at once.
   void addNetBlock(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B);
+  /// After an assembly: the pattern becomes the elements' plus the other blocks this assembly
+  /// touched (those kept aside added, in the order they came: the same sums as had the pattern
+  /// held them from the start); true if it changed (a new symbolic factorisation is due).
+  bool settlePattern();
   /// Adds scale (M ⊗ I3) for a symmetric matrix M over the unknowns (the mass T^T W T), whose
   /// pattern lies in the elements'.
   void addScalarMatrix(const Eigen::SparseMatrix<double>& M, double scale);
@@ -60,6 +68,22 @@ class TangentMatrix {
   /// For column unknown g: the row unknowns f > g with a block, ascending, in
   /// m_rows[m_rowStart[g] .. m_rowStart[g+1]).
   std::vector<Eigen::Index> m_rowStart, m_rows;
+  /// Per entry of m_rows: 1 for a block beyond the elements' (a self-contact coupling).
+  std::vector<char> m_rowExtra;
+  /// The elements' blocks: for column unknown g the rows in m_baseRows[m_baseStart[g] ..).
+  std::vector<Eigen::Index> m_baseStart, m_baseRows;
+  /// This assembly's blocks beyond the elements': (g, f), f > g, touched in the pattern, and
+  /// those kept aside (not in it yet) with their values, in the order they came.
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> m_touched;
+  struct Aside {
+    Eigen::Index f, g;
+    double B[9];
+    double scale;
+    bool transposed;
+  };
+  std::vector<Aside> m_aside;
+  /// The pattern from m_rowStart and m_rows (values zero).
+  void buildMatrix();
   Eigen::SparseMatrix<double> m_matrix;
   std::vector<Eigen::Index> m_heldPositions;  ///< values cleared by applyHeld (built at first use)
   std::vector<Eigen::Index> m_heldDiagonal;
