@@ -508,7 +508,11 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     if (hess && mode == BarrierHessian::ProjectedPsd) projectBlockToPsd(t.hess, first, n);
     return d2;
   };
-  auto active = [order](const Term& t) { return t.value != 0.0 || (order >= 1 && !t.grad.isZero(0.0)); };
+  // A term counts where any of what is asked of it is not zero: an edge–edge pair of exactly
+  // parallel edges within reach has no value (its mollifier is 0) and no gradient, but a Hessian
+  auto active = [order](const Term& t) {
+    return t.value != 0.0 || (order >= 1 && !t.grad.isZero(0.0)) || (order >= 2 && !t.hess.isZero(0.0));
+  };
   double minimum = std::numeric_limits<double>::infinity();
   // the smallest distance (the first pair in the visiting order that has it) and where it is
   auto closest = [&](double d, size_t where, const std::array<Eigen::Index, 4>& vertex) {
