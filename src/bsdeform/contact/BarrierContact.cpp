@@ -655,6 +655,7 @@ bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const
   prepare(ctx);
   const State::LoadValue& kept = m_state->loadValue;
   if (kept.valid && kept.generation == m_state->generation && kept.stepSize == ctx.stepSize &&
+      kept.current.rows() == ctx.current.rows() && kept.previous.rows() == ctx.previous.rows() &&
       kept.current == ctx.current && kept.previous == ctx.previous) {
     value = kept.value;  // the same terms summed in the same order: the same bits
     return true;
