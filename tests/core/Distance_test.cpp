@@ -112,7 +112,7 @@ TEST_CASE("Distance: the four formulas' gradients and Hessians equal central dif
     checkFormula<6>(
         [](const Vec<6>& z) { return bsdeform::pointPointDistanceSquared(pointOf<6>(z, 0), pointOf<6>(z, 1)); },
         [](const Vec<6>& z, Vec<6>& g, Mat<6>& h) {
-          return bsdeform::pointPointDistanceSquaredDerivatives(pointOf<6>(z, 0), pointOf<6>(z, 1), g, h);
+          return bsdeform::pointPointDistanceSquaredDerivatives(pointOf<6>(z, 0), pointOf<6>(z, 1), g, &h);
         },
         x.head<6>());
     ++checked[0];
@@ -124,7 +124,7 @@ TEST_CASE("Distance: the four formulas' gradients and Hessians equal central dif
           },
           [](const Vec<9>& z, Vec<9>& g, Mat<9>& h) {
             return bsdeform::pointLineDistanceSquaredDerivatives(pointOf<9>(z, 0), pointOf<9>(z, 1), pointOf<9>(z, 2),
-                                                                 g, h);
+                                                                 g, &h);
           },
           x.head<9>());
       ++checked[1];
@@ -137,7 +137,7 @@ TEST_CASE("Distance: the four formulas' gradients and Hessians equal central dif
           },
           [](const Vec<12>& z, Vec<12>& g, Mat<12>& h) {
             return bsdeform::pointPlaneDistanceSquaredDerivatives(pointOf<12>(z, 0), pointOf<12>(z, 1),
-                                                                  pointOf<12>(z, 2), pointOf<12>(z, 3), g, h);
+                                                                  pointOf<12>(z, 2), pointOf<12>(z, 3), g, &h);
           },
           x);
       ++checked[2];
@@ -150,7 +150,7 @@ TEST_CASE("Distance: the four formulas' gradients and Hessians equal central dif
           },
           [](const Vec<12>& z, Vec<12>& g, Mat<12>& h) {
             return bsdeform::lineLineDistanceSquaredDerivatives(pointOf<12>(z, 0), pointOf<12>(z, 1),
-                                                                pointOf<12>(z, 2), pointOf<12>(z, 3), g, h);
+                                                                pointOf<12>(z, 2), pointOf<12>(z, 3), g, &h);
           },
           x);
       ++checked[3];
@@ -168,7 +168,7 @@ TEST_CASE("Distance: x = |(a1 - a0) x (b1 - b0)|² derivatives equal central dif
         },
         [](const Vec<12>& z, Vec<12>& g, Mat<12>& h) {
           return bsdeform::edgeEdgeCrossSquaredNormDerivatives(pointOf<12>(z, 0), pointOf<12>(z, 1), pointOf<12>(z, 2),
-                                                               pointOf<12>(z, 3), g, h);
+                                                               pointOf<12>(z, 3), g, &h);
         },
         randomCoordinates(rng));
 }
@@ -205,7 +205,7 @@ TEST_CASE("Distance: point-triangle derivatives of every class equal differences
   const std::function<double(const Vec<12>&, Vec<12>&, Mat<12>&)> derivatives = [&](const Vec<12>& z, Vec<12>& g,
                                                                                      Mat<12>& h) {
     return bsdeform::pointTriangleDistanceSquaredDerivatives(pointOf<12>(z, 0), pointOf<12>(z, 1), pointOf<12>(z, 2),
-                                                             pointOf<12>(z, 3), classify(z), g, h);
+                                                             pointOf<12>(z, 3), classify(z), g, &h);
   };
   std::array<int, 7> seen{};
   for (int trial = 0; trial < 3000; ++trial) {
@@ -236,7 +236,7 @@ TEST_CASE("Distance: edge-edge derivatives of every class equal differences of t
   const std::function<double(const Vec<12>&, Vec<12>&, Mat<12>&)> derivatives = [&](const Vec<12>& z, Vec<12>& g,
                                                                                      Mat<12>& h) {
     return bsdeform::edgeEdgeDistanceSquaredDerivatives(pointOf<12>(z, 0), pointOf<12>(z, 1), pointOf<12>(z, 2),
-                                                        pointOf<12>(z, 3), classify(z), g, h);
+                                                        pointOf<12>(z, 3), classify(z), g, &h);
   };
   std::array<int, 9> seen{};
   for (int trial = 0; trial < 6000; ++trial) {
@@ -250,4 +250,37 @@ TEST_CASE("Distance: edge-edge derivatives of every class equal differences of t
     checkFormula<12>(value, derivatives, x);
   }
   for (int count : seen) CHECK(count >= 5);
+}
+
+TEST_CASE("Distance: a gradient asked without the Hessian has the bits of the one with it", "[contact]") {
+  // The barrier's loads ask for gradients alone (no Hessian products); the Jacobian asks for both.
+  // Both must describe the same function: the same gradient to the last bit, in every class.
+  std::mt19937 rng(41);
+  std::array<int, 7> pointTriangle{};
+  std::array<int, 9> edgeEdge{};
+  for (int trial = 0; trial < 4000; ++trial) {
+    Vec<12> x = randomCoordinates(rng);
+    x.head<3>() *= 2.0;
+    const Vector3d p0 = pointOf<12>(x, 0), p1 = pointOf<12>(x, 1), p2 = pointOf<12>(x, 2), p3 = pointOf<12>(x, 3);
+    Vec<12> g, gAlone;
+    Mat<12> h;
+    const auto pt = bsdeform::pointTriangleType(p0, p1, p2, p3);
+    const double d = bsdeform::pointTriangleDistanceSquaredDerivatives(p0, p1, p2, p3, pt, g, &h);
+    const double dAlone = bsdeform::pointTriangleDistanceSquaredDerivatives(p0, p1, p2, p3, pt, gAlone, nullptr);
+    CHECK(d == dAlone);
+    CHECK((g.array() == gAlone.array()).all());
+    ++pointTriangle[static_cast<size_t>(pt)];
+    const auto ee = bsdeform::edgeEdgeType(p0, p1, p2, p3);
+    const double e = bsdeform::edgeEdgeDistanceSquaredDerivatives(p0, p1, p2, p3, ee, g, &h);
+    const double eAlone = bsdeform::edgeEdgeDistanceSquaredDerivatives(p0, p1, p2, p3, ee, gAlone, nullptr);
+    CHECK(e == eAlone);
+    CHECK((g.array() == gAlone.array()).all());
+    ++edgeEdge[static_cast<size_t>(ee)];
+    const double c = bsdeform::edgeEdgeCrossSquaredNormDerivatives(p0, p1, p2, p3, g, &h);
+    const double cAlone = bsdeform::edgeEdgeCrossSquaredNormDerivatives(p0, p1, p2, p3, gAlone, nullptr);
+    CHECK(c == cAlone);
+    CHECK((g.array() == gAlone.array()).all());
+  }
+  for (int count : pointTriangle) CHECK(count > 0);
+  for (int count : edgeEdge) CHECK(count > 0);
 }

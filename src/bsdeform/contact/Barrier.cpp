@@ -59,7 +59,7 @@ double edgeEdgeMollifier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, c
   if (!grad && !hess) return m;
   Vector12d gx;
   Matrix12d hx;
-  edgeEdgeCrossSquaredNormDerivatives(a0, a1, b0, b1, gx, hx);
+  edgeEdgeCrossSquaredNormDerivatives(a0, a1, b0, b1, gx, hess ? &hx : nullptr);
   const double inv = 1.0 / threshold;
   const double m1 = 2.0 * inv * (1.0 - x * inv);  // dm/dx
   const double m2 = -2.0 * inv * inv;             // d²m/dx²
@@ -128,7 +128,8 @@ double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
   if (!grad && !hessPsd) return value;
   Vector12d gd;
   Matrix12d hd;
-  pointTriangleDistanceSquaredDerivatives(p, t0, t1, t2, type, gd, hd);
+  // the load asks for no Hessian: none of the distance's is formed
+  pointTriangleDistanceSquaredDerivatives(p, t0, t1, t2, type, gd, hessPsd ? &hd : nullptr);
   // ds = d(d²): the offset is a constant
   const double b1 = bp.stiffness * barrierFirstDerivative(pair.s, pair.sHat);
   if (grad) *grad = b1 * gd;
@@ -158,7 +159,7 @@ double edgeEdgeBarrier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, con
   if (!wantsDerivatives) return value;
   Vector12d gd;
   Matrix12d hd;
-  edgeEdgeDistanceSquaredDerivatives(a0, a1, b0, b1, type, gd, hd);
+  edgeEdgeDistanceSquaredDerivatives(a0, a1, b0, b1, type, gd, hessPsd ? &hd : nullptr);
   const double b1s = barrierFirstDerivative(pair.s, pair.sHat);
   // ∇(m b) = m b' ∇d² + b ∇m
   if (grad) *grad = bp.stiffness * (m * b1s * gd + b * gm);

@@ -132,7 +132,9 @@ using Gradient = Eigen::Matrix<double, 3 * N, 1>;
 template <int N>
 using Hessian = Eigen::Matrix<double, 3 * N, 3 * N>;
 
-/// A scalar of the stencil with its gradient and Hessian in the 3N coordinates.
+/// A scalar of the stencil with its gradient and, when `withHessian`, its Hessian in the 3N
+/// coordinates (a gradient alone skips every Hessian product: the gradient's are the same
+/// operations either way, so the same bits).
 template <int N>
 struct Jet {
   double value = 0.0;
@@ -149,12 +151,12 @@ Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& a) {
 
 /// |E|² for E = Σ α_i x_i.
 template <int N>
-Jet<N> squaredNormJet(const Coefficients<N>& alpha, const Eigen::Vector3d& e) {
+Jet<N> squaredNormJet(const Coefficients<N>& alpha, const Eigen::Vector3d& e, bool withHessian) {
   Jet<N> j;
   j.value = e.squaredNorm();
   for (int i = 0; i < N; ++i) {
     j.grad.template segment<3>(3 * i) = 2.0 * alpha[i] * e;
-    for (int k = 0; k < N; ++k)
+    for (int k = 0; k < N && withHessian; ++k)
       j.hess.template block<3, 3>(3 * i, 3 * k) = 2.0 * alpha[i] * alpha[k] * Eigen::Matrix3d::Identity();
   }
   return j;
@@ -165,7 +167,7 @@ Jet<N> squaredNormJet(const Coefficients<N>& alpha, const Eigen::Vector3d& e) {
 /// the last sum is the (constant) Hessian of the bilinear form c·(U x V) with c held fixed.
 template <int N>
 Jet<N> crossSquaredNormJet(const Coefficients<N>& alpha, const Coefficients<N>& beta, const Eigen::Vector3d& u,
-                           const Eigen::Vector3d& v) {
+                           const Eigen::Vector3d& v, bool withHessian) {
   const Eigen::Vector3d c = u.cross(v);
   const Eigen::Matrix3d cu = crossMatrix(u), cv = crossMatrix(v), cc = crossMatrix(c);
   Eigen::Matrix<double, 3, 3 * N> jac;
@@ -173,6 +175,7 @@ Jet<N> crossSquaredNormJet(const Coefficients<N>& alpha, const Coefficients<N>& 
   Jet<N> j;
   j.value = c.squaredNorm();
   j.grad = 2.0 * jac.transpose() * c;
+  if (!withHessian) return j;
   j.hess = 2.0 * jac.transpose() * jac;
   for (int i = 0; i < N; ++i)
     for (int k = 0; k < N; ++k)
@@ -184,14 +187,15 @@ Jet<N> crossSquaredNormJet(const Coefficients<N>& alpha, const Coefficients<N>& 
 /// mixed second derivatives are ∂²/∂U∂V = -[W]x, ∂²/∂V∂W = -[U]x, ∂²/∂W∂U = -[V]x.
 template <int N>
 Jet<N> tripleProductJet(const Coefficients<N>& alpha, const Coefficients<N>& beta, const Coefficients<N>& gamma,
-                        const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+                        const Eigen::Vector3d& u, const Eigen::Vector3d& v, const Eigen::Vector3d& w,
+                        bool withHessian) {
   const Eigen::Vector3d vw = v.cross(w), wu = w.cross(u), uv = u.cross(v);
   const Eigen::Matrix3d cu = crossMatrix(u), cv = crossMatrix(v), cw = crossMatrix(w);
   Jet<N> j;
   j.value = uv.dot(w);
   for (int i = 0; i < N; ++i) {
     j.grad.template segment<3>(3 * i) = alpha[i] * vw + beta[i] * wu + gamma[i] * uv;
-    for (int k = 0; k < N; ++k)
+    for (int k = 0; k < N && withHessian; ++k)
       j.hess.template block<3, 3>(3 * i, 3 * k) = (beta[i] * alpha[k] - alpha[i] * beta[k]) * cw +
                                                   (gamma[i] * beta[k] - beta[i] * gamma[k]) * cu +
                                                   (alpha[i] * gamma[k] - gamma[i] * alpha[k]) * cv;
@@ -201,21 +205,22 @@ Jet<N> tripleProductJet(const Coefficients<N>& alpha, const Coefficients<N>& bet
 
 /// h² from h.
 template <int N>
-Jet<N> squareJet(const Jet<N>& h) {
+Jet<N> squareJet(const Jet<N>& h, bool withHessian) {
   Jet<N> j;
   j.value = h.value * h.value;
   j.grad = 2.0 * h.value * h.grad;
-  j.hess = 2.0 * (h.grad * h.grad.transpose() + h.value * h.hess);
+  if (withHessian) j.hess = 2.0 * (h.grad * h.grad.transpose() + h.value * h.hess);
   return j;
 }
 
-/// Q / D (D > 0) and its derivatives; writes the gradient and Hessian, returns the value.
+/// Q / D (D > 0) and its derivatives; writes the gradient and the Hessian (unless null),
+/// returns the value.
 template <int N>
-double quotient(const Jet<N>& q, const Jet<N>& d, Gradient<N>& grad, Hessian<N>& hess) {
+double quotient(const Jet<N>& q, const Jet<N>& d, Gradient<N>& grad, Hessian<N>* hess) {
   const double inv = 1.0 / d.value, value = q.value * inv;
   grad = inv * (q.grad - value * d.grad);
   // ∇²(Q/D) = (∇²Q - value ∇²D - ∇D ∇(Q/D)ᵀ - ∇(Q/D) ∇Dᵀ) / D
-  hess = inv * (q.hess - value * d.hess - d.grad * grad.transpose() - grad * d.grad.transpose());
+  if (hess) *hess = inv * (q.hess - value * d.hess - d.grad * grad.transpose() - grad * d.grad.transpose());
   return value;
 }
 
@@ -223,68 +228,75 @@ double quotient(const Jet<N>& q, const Jet<N>& d, Gradient<N>& grad, Hessian<N>&
 /// point m is stencil point index[m]; the other rows and columns are zero.
 template <int M>
 void scatter(const Gradient<M>& g, const Hessian<M>& h, const std::array<int, M>& index,
-             Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess) {
+             Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>* hess) {
   grad.setZero();
-  hess.setZero();
+  if (hess) hess->setZero();
   for (int m = 0; m < M; ++m) {
     grad.segment<3>(3 * index[m]) = g.template segment<3>(3 * m);
-    for (int n = 0; n < M; ++n) hess.block<3, 3>(3 * index[m], 3 * index[n]) = h.template block<3, 3>(3 * m, 3 * n);
+    for (int n = 0; n < M && hess; ++n)
+      hess->block<3, 3>(3 * index[m], 3 * index[n]) = h.template block<3, 3>(3 * m, 3 * n);
   }
 }
 
 }  // namespace
 
 double pointPointDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& q,
-                                            Eigen::Matrix<double, 6, 1>& grad, Eigen::Matrix<double, 6, 6>& hess) {
+                                            Eigen::Matrix<double, 6, 1>& grad, Eigen::Matrix<double, 6, 6>* hess) {
   const Eigen::Vector3d r = p - q;
   grad << 2.0 * r, -2.0 * r;
-  const Eigen::Matrix3d twoI = 2.0 * Eigen::Matrix3d::Identity();
-  hess << twoI, -twoI, -twoI, twoI;
+  if (hess) {
+    const Eigen::Matrix3d twoI = 2.0 * Eigen::Matrix3d::Identity();
+    *hess << twoI, -twoI, -twoI, twoI;
+  }
   return r.squaredNorm();
 }
 
 double pointLineDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& e0,
                                            const Eigen::Vector3d& e1, Eigen::Matrix<double, 9, 1>& grad,
-                                           Eigen::Matrix<double, 9, 9>& hess) {
+                                           Eigen::Matrix<double, 9, 9>* hess) {
   // |(e0 - p) x (e1 - p)|² / |e1 - e0|², points (p, e0, e1)
-  const Jet<3> q = crossSquaredNormJet<3>({-1.0, 1.0, 0.0}, {-1.0, 0.0, 1.0}, e0 - p, e1 - p);
-  const Jet<3> d = squaredNormJet<3>({0.0, -1.0, 1.0}, e1 - e0);
+  const bool h = hess != nullptr;
+  const Jet<3> q = crossSquaredNormJet<3>({-1.0, 1.0, 0.0}, {-1.0, 0.0, 1.0}, e0 - p, e1 - p, h);
+  const Jet<3> d = squaredNormJet<3>({0.0, -1.0, 1.0}, e1 - e0, h);
   return quotient(q, d, grad, hess);
 }
 
 double pointPlaneDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
                                             const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
-                                            Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess) {
+                                            Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>* hess) {
   // ((t1 - t0) x (t2 - t0))·(p - t0) squared over |(t1 - t0) x (t2 - t0)|², points (p, t0, t1, t2)
+  const bool wh = hess != nullptr;
   const Coefficients<4> u{0.0, -1.0, 1.0, 0.0}, v{0.0, -1.0, 0.0, 1.0}, w{1.0, -1.0, 0.0, 0.0};
-  const Jet<4> h = tripleProductJet<4>(u, v, w, t1 - t0, t2 - t0, p - t0);
-  const Jet<4> n = crossSquaredNormJet<4>(u, v, t1 - t0, t2 - t0);
-  return quotient(squareJet(h), n, grad, hess);
+  const Jet<4> h = tripleProductJet<4>(u, v, w, t1 - t0, t2 - t0, p - t0, wh);
+  const Jet<4> n = crossSquaredNormJet<4>(u, v, t1 - t0, t2 - t0, wh);
+  return quotient(squareJet(h, wh), n, grad, hess);
 }
 
 double lineLineDistanceSquaredDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
                                           const Eigen::Vector3d& b0, const Eigen::Vector3d& b1,
-                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess) {
+                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>* hess) {
   // ((a1 - a0) x (b1 - b0))·(b0 - a0) squared over |(a1 - a0) x (b1 - b0)|², points (a0, a1, b0, b1)
+  const bool wh = hess != nullptr;
   const Coefficients<4> u{-1.0, 1.0, 0.0, 0.0}, v{0.0, 0.0, -1.0, 1.0}, w{-1.0, 0.0, 1.0, 0.0};
-  const Jet<4> h = tripleProductJet<4>(u, v, w, a1 - a0, b1 - b0, b0 - a0);
-  const Jet<4> n = crossSquaredNormJet<4>(u, v, a1 - a0, b1 - b0);
-  return quotient(squareJet(h), n, grad, hess);
+  const Jet<4> h = tripleProductJet<4>(u, v, w, a1 - a0, b1 - b0, b0 - a0, wh);
+  const Jet<4> n = crossSquaredNormJet<4>(u, v, a1 - a0, b1 - b0, wh);
+  return quotient(squareJet(h, wh), n, grad, hess);
 }
 
 double edgeEdgeCrossSquaredNormDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
                                            const Eigen::Vector3d& b0, const Eigen::Vector3d& b1,
-                                           Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess) {
-  const Jet<4> x = crossSquaredNormJet<4>({-1.0, 1.0, 0.0, 0.0}, {0.0, 0.0, -1.0, 1.0}, a1 - a0, b1 - b0);
+                                           Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>* hess) {
+  const Jet<4> x =
+      crossSquaredNormJet<4>({-1.0, 1.0, 0.0, 0.0}, {0.0, 0.0, -1.0, 1.0}, a1 - a0, b1 - b0, hess != nullptr);
   grad = x.grad;
-  hess = x.hess;
+  if (hess) *hess = x.hess;
   return x.value;
 }
 
 double pointTriangleDistanceSquaredDerivatives(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
                                                const Eigen::Vector3d& t1, const Eigen::Vector3d& t2,
                                                PointTriangleType type, Eigen::Matrix<double, 12, 1>& grad,
-                                               Eigen::Matrix<double, 12, 12>& hess) {
+                                               Eigen::Matrix<double, 12, 12>* hess) {
   // Stencil indices: p = 0, t0 = 1, t1 = 2, t2 = 3.
   const std::array<const Eigen::Vector3d*, 4> x{&p, &t0, &t1, &t2};
   switch (type) {
@@ -294,7 +306,7 @@ double pointTriangleDistanceSquaredDerivatives(const Eigen::Vector3d& p, const E
       const int v = 1 + (static_cast<int>(type) - static_cast<int>(PointTriangleType::P_T0));
       Gradient<2> g;
       Hessian<2> h;
-      const double d = pointPointDistanceSquaredDerivatives(p, *x[v], g, h);
+      const double d = pointPointDistanceSquaredDerivatives(p, *x[v], g, hess ? &h : nullptr);
       scatter<2>(g, h, {0, v}, grad, hess);
       return d;
     }
@@ -306,7 +318,7 @@ double pointTriangleDistanceSquaredDerivatives(const Eigen::Vector3d& p, const E
       const int i0 = 1 + e, i1 = 1 + (e + 1) % 3;
       Gradient<3> g;
       Hessian<3> h;
-      const double d = pointLineDistanceSquaredDerivatives(p, *x[i0], *x[i1], g, h);
+      const double d = pointLineDistanceSquaredDerivatives(p, *x[i0], *x[i1], g, hess ? &h : nullptr);
       scatter<3>(g, h, {0, i0, i1}, grad, hess);
       return d;
     }
@@ -317,7 +329,7 @@ double pointTriangleDistanceSquaredDerivatives(const Eigen::Vector3d& p, const E
 
 double edgeEdgeDistanceSquaredDerivatives(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
                                           const Eigen::Vector3d& b0, const Eigen::Vector3d& b1, EdgeEdgeType type,
-                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>& hess) {
+                                          Eigen::Matrix<double, 12, 1>& grad, Eigen::Matrix<double, 12, 12>* hess) {
   // Stencil indices: a0 = 0, a1 = 1, b0 = 2, b1 = 3.
   const std::array<const Eigen::Vector3d*, 4> x{&a0, &a1, &b0, &b1};
   int pp[2] = {-1, -1};  // point–point: the two points
@@ -336,13 +348,13 @@ double edgeEdgeDistanceSquaredDerivatives(const Eigen::Vector3d& a0, const Eigen
   if (pp[0] >= 0) {
     Gradient<2> g;
     Hessian<2> h;
-    const double d = pointPointDistanceSquaredDerivatives(*x[pp[0]], *x[pp[1]], g, h);
+    const double d = pointPointDistanceSquaredDerivatives(*x[pp[0]], *x[pp[1]], g, hess ? &h : nullptr);
     scatter<2>(g, h, {pp[0], pp[1]}, grad, hess);
     return d;
   }
   Gradient<3> g;
   Hessian<3> h;
-  const double d = pointLineDistanceSquaredDerivatives(*x[pl[0]], *x[pl[1]], *x[pl[2]], g, h);
+  const double d = pointLineDistanceSquaredDerivatives(*x[pl[0]], *x[pl[1]], *x[pl[2]], g, hess ? &h : nullptr);
   scatter<3>(g, h, {pl[0], pl[1], pl[2]}, grad, hess);
   return d;
 }
