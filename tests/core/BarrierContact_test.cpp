@@ -831,3 +831,70 @@ TEST_CASE("BarrierContactForce with selfContact: load, potential and Hessian aga
   check.tolerance = 1e-5;
   check.run();
 }
+
+TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes that load's pairs and gives a fresh "
+          "force's bits - and a moved obstacle or another net is searched again",
+          "[core][contact]") {
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet net = wavySheet(s);
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  auto tree = std::make_shared<TriangleTree>(plate);
+  auto world = std::make_shared<ContactWorld>();
+  world->obstacles.push_back({tree, true});
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.selfContact = true;
+  struct Blocks final : JacobianSink {
+    std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
+    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
+  };
+  auto same = [](const Blocks& a, const Blocks& b) {
+    if (a.calls.size() != b.calls.size()) return false;
+    for (size_t k = 0; k < a.calls.size(); ++k)
+      if (a.calls[k].first != b.calls[k].first || a.calls[k].second != b.calls[k].second) return false;
+    return true;
+  };
+  // the Jacobian of a force that has seen nothing else: the reference
+  auto freshJacobian = [&](const LoadContext& ctx) {
+    const BarrierContactForce force(world, bp);
+    REQUIRE(force.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+    Blocks b;
+    force.addJacobian(ctx, 50.0, b);
+    return b;
+  };
+  const BarrierContactForce force(world, bp);
+  REQUIRE(force.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+  ControlNet lower = net;
+  lower.col(2).array() -= 0.0005;  // 5.7 to 6.7 mm over the plate: more pairs within reach
+  const LoadContext atNet{s, net, net, 0.02, 0.0}, atLower{s, lower, net, 0.02, 0.0};
+  ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+  force.addLoad(atNet, load);
+  Blocks kept;
+  force.addJacobian(atNet, 50.0, kept);  // from the load's pairs
+  const Blocks reference = freshJacobian(atNet);
+  REQUIRE(reference.calls.size() > 10);
+  CHECK(same(kept, reference));
+  // another net after that load: its own pairs
+  Blocks other;
+  force.addJacobian(atLower, 50.0, other);
+  const Blocks otherReference = freshJacobian(atLower);
+  CHECK(!same(other, reference));
+  CHECK(same(other, otherReference));
+  // the plate slides 0.6 m along x after a load at `lower` (out from under the sheet's edge) and is
+  // swept there at the next step's start: the Jacobian at the same net sees it where it is now (a
+  // twin given the same stiffness and poses)
+  force.addLoad(atLower, load);
+  for (Eigen::Vector3d& v : plate.vertices) v.x() += 0.6;
+  tree->update(plate.vertices);
+  const LoadContext start{s, lower, lower, 0.02, 0.0};
+  REQUIRE(force.beginStep(start).empty());
+  force.advanceObstacles(start);
+  const BarrierContactForce twin(world, bp);
+  twin.setAdaptedState(force.adaptedState());
+  Blocks afterMove, twinBlocks;
+  force.addJacobian(atLower, 50.0, afterMove);
+  twin.addJacobian(atLower, 50.0, twinBlocks);
+  CHECK(!same(afterMove, other));
+  CHECK(same(afterMove, twinBlocks));
+}
