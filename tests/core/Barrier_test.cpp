@@ -500,3 +500,44 @@ TEST_CASE("projectBlockToPsd: the block nearest in Frobenius norm among PSD ones
   CHECK(projected > 50);
   CHECK(kept > 10);
 }
+
+TEST_CASE("pointStaticTriangleBarrier: the point's block of pointTriangleBarrier in every class - value and d² "
+          "bit for bit - and its PSD projection in closed form",
+          "[contact]") {
+  std::mt19937 rng(59);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  BarrierParameters bp;
+  bp.offset = 0.05;
+  bp.dhat = 0.5;
+  bp.stiffness = 3.7;
+  const Vector3d t0(0.0, 0.0, 0.0), t1(1.0, 0.1, 0.05), t2(0.2, 0.9, -0.1);
+  std::array<int, 7> seen{};
+  for (int trial = 0; trial < 3000; ++trial) {
+    const Vector3d p(-0.6 + 2.2 * unit(rng), -0.6 + 2.2 * unit(rng), -0.5 + unit(rng));
+    double d2Generic = 0.0, d2 = 0.0;
+    Vector12d g12;
+    Matrix12d hExact12, hPsd12;
+    const double generic = bsdeform::pointTriangleBarrier(p, t0, t1, t2, bp, &g12, &hExact12, BarrierHessian::Exact,
+                                                          &d2Generic);
+    Eigen::Vector3d g;
+    Eigen::Matrix3d hExact, hPsd;
+    const double value = bsdeform::pointStaticTriangleBarrier(p, t0, t1, t2, bp, &g, &hExact, BarrierHessian::Exact, &d2);
+    bsdeform::pointStaticTriangleBarrier(p, t0, t1, t2, bp, nullptr, &hPsd, BarrierHessian::ProjectedPsd);
+    CHECK(value == generic);
+    CHECK(d2 == d2Generic);
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      CHECK(g.isZero(0.0));
+      CHECK(hExact.isZero(0.0));
+      continue;
+    }
+    ++seen[static_cast<size_t>(bsdeform::pointTriangleType(p, t0, t1, t2))];
+    const double scale = hExact12.topLeftCorner<3, 3>().norm() + 1e-300;
+    CHECK((g - g12.head<3>()).norm() <= 1e-12 * g12.head<3>().norm());
+    CHECK((hExact - hExact12.topLeftCorner<3, 3>()).norm() <= 1e-11 * scale);
+    hPsd12 = hExact12;
+    bsdeform::projectBlockToPsd(hPsd12, 0, 3);
+    CHECK((hPsd - hPsd12.topLeftCorner<3, 3>()).norm() <= 1e-11 * scale);
+    CHECK(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(hPsd).eigenvalues().minCoeff() >= -1e-12 * scale);
+  }
+  for (int count : seen) CHECK(count >= 5);
+}

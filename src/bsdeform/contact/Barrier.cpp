@@ -140,6 +140,62 @@ double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
   return value;
 }
 
+double pointStaticTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
+                                  const Eigen::Vector3d& t2, const BarrierParameters& bp, Eigen::Vector3d* grad,
+                                  Eigen::Matrix3d* hess, BarrierHessian hessian, double* distanceSquared) {
+  const PointTriangleType type = pointTriangleType(p, t0, t1, t2);
+  const double d2 = pointTriangleDistanceSquared(p, t0, t1, t2, type);
+  if (distanceSquared) *distanceSquared = d2;
+  if (grad) grad->setZero();
+  if (hess) hess->setZero();
+  const double s = d2 - bp.offset * bp.offset, sHat = barrierSquaredActivation(bp);
+  if (s >= sHat) return 0.0;
+  if (s <= 0.0) return std::numeric_limits<double>::infinity();
+  const double value = bp.stiffness * barrier(s, sHat);
+  if (!grad && !hess) return value;
+  // g = ∇_p d², and the unit vector e that ∇²d² leaves out (an edge's direction), by class
+  Eigen::Vector3d g, e = Eigen::Vector3d::Zero();
+  enum { Face, Edge, Vertex } kind = Vertex;
+  auto edge = [&](const Eigen::Vector3d& e0, const Eigen::Vector3d& e1) {
+    e = (e1 - e0).normalized();
+    const Eigen::Vector3d q = p - e0;
+    g = 2.0 * (q - q.dot(e) * e);
+    kind = Edge;
+  };
+  switch (type) {
+    case PointTriangleType::P_T0: g = 2.0 * (p - t0); break;
+    case PointTriangleType::P_T1: g = 2.0 * (p - t1); break;
+    case PointTriangleType::P_T2: g = 2.0 * (p - t2); break;
+    case PointTriangleType::P_E0: edge(t0, t1); break;
+    case PointTriangleType::P_E1: edge(t1, t2); break;
+    case PointTriangleType::P_E2: edge(t2, t0); break;
+    case PointTriangleType::P_T: {
+      const Eigen::Vector3d n = (t1 - t0).cross(t2 - t0);
+      g = (2.0 * n.dot(p - t0) / n.squaredNorm()) * n;
+      kind = Face;
+      break;
+    }
+  }
+  const double b1 = bp.stiffness * barrierFirstDerivative(s, sHat);
+  if (grad) *grad = b1 * g;
+  if (!hess) return value;
+  const double b2 = bp.stiffness * barrierSecondDerivative(s, sHat);
+  const double g2 = g.squaredNorm();
+  const Eigen::Vector3d u = g / std::sqrt(g2);  // d > ξ ≥ 0: g is not zero
+  const Eigen::Matrix3d along = u * u.transpose();
+  // across: the directions ∇²d² keeps besides g (none for a face)
+  Eigen::Matrix3d across = Eigen::Matrix3d::Zero();
+  if (kind == Vertex) across = Eigen::Matrix3d::Identity() - along;
+  if (kind == Edge) across = Eigen::Matrix3d::Identity() - e * e.transpose() - along;
+  double lambdaAlong = b2 * g2 + 2.0 * b1, lambdaAcross = 2.0 * b1;
+  if (hessian == BarrierHessian::ProjectedPsd) {
+    lambdaAlong = std::max(lambdaAlong, 0.0);
+    lambdaAcross = std::max(lambdaAcross, 0.0);
+  }
+  *hess = lambdaAlong * along + lambdaAcross * across;
+  return value;
+}
+
 double edgeEdgeBarrier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                        const Eigen::Vector3d& b1, double mollifierThreshold, const BarrierParameters& bp,
                        Vector12d* grad, Matrix12d* hessPsd, BarrierHessian hessian, double* distanceSquared) {

@@ -67,6 +67,17 @@ double pointTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0,
                             Matrix12d* hessPsd, BarrierHessian hessian = BarrierHessian::ProjectedPsd,
                             double* distanceSquared = nullptr);
 
+/// pointTriangleBarrier for a triangle that does not move (an obstacle's, in a step): the value
+/// and d² the same bits, the gradient and Hessian in the point's three coordinates alone, in
+/// closed form. With g = ∇d² the Hessian is b'' g gᵀ + b' ∇²d², where ∇²d² is 2 n̂n̂ᵀ (the face
+/// class), 2 (I − êêᵀ) (an edge of direction ê) or 2 I (a vertex), and g is an eigenvector of both
+/// terms: its eigenvalues are b''|g|² + 2b' along g and 2b' (or 0) across, so the projection to
+/// PSD clamps those two numbers, with no eigensolver (docs/math.md §18.2).
+double pointStaticTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
+                                  const Eigen::Vector3d& t2, const BarrierParameters& bp, Eigen::Vector3d* grad,
+                                  Eigen::Matrix3d* hess, BarrierHessian hessian = BarrierHessian::ProjectedPsd,
+                                  double* distanceSquared = nullptr);
+
 /// The potential κ m(x) b(s) of two edges (a0 a1) and (b0 b1): as pointTriangleBarrier, times the
 /// mollifier with threshold `mollifierThreshold` (edgeEdgeMollifierThreshold of the rest
 /// positions). Coordinates ordered (a0, a1, b0, b1).

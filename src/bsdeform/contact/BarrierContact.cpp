@@ -540,6 +540,22 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     double d2 = 0.0;
     switch (p.kind) {
       case PairSite::VertexTriangle:
+        if (!p.self) {  // a proxy vertex and an obstacle's triangle: the point's 3 x 3 in closed form
+          Eigen::Vector3d g;
+          Eigen::Matrix3d h;
+          t.value = pointStaticTriangleBarrier(p.x[0], p.x[1], p.x[2], p.x[3], bp, grad ? &g : nullptr,
+                                               hess ? &h : nullptr, mode, &d2);
+          if (grad) {
+            grad->setZero();
+            grad->head<3>() = g;
+          }
+          if (hess) {
+            hess->setZero();
+            hess->topLeftCorner<3, 3>() = h;
+          }
+          return d2;
+        }
+        [[fallthrough]];
       case PairSite::TriangleVertex:
         first = p.kind == PairSite::TriangleVertex ? 3 : 0;
         n = p.kind == PairSite::TriangleVertex ? 9 : (p.self ? 12 : 3);
