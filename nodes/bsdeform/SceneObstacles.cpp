@@ -215,7 +215,10 @@ void SceneObstacles::gather(SoNode* sceneRoot, SoNode* self, const SoMFNode& obs
     if (e->tree->triangleCount() == 0) {
       warnings.push_back(label + " has no triangles; ignored");
     } else {
-      world.push_back({e->tree, isClosedMesh(e->tree->mesh())});
+      const SbName name = node->getName();
+      world.push_back({e->tree, isClosedMesh(e->tree->mesh()),
+                       std::string(node->getTypeId().getName().getString()) +
+                           (name.getLength() ? std::string(" '") + name.getString() + "'" : std::string())});
     }
     // Changes above the obstacle in the scene (a Transform) reach us through a path sensor;
     // changes inside it also through the force field's `obstacles` field.

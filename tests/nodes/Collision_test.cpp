@@ -329,6 +329,32 @@ TEST_CASE("Collision: method BARRIER reads its fields, keeps a SHELL cloth off a
   root->unref();
 }
 
+TEST_CASE("Collision: method BARRIER refuses a cloth that starts inside an obstacle and names the obstacle and where",
+          "[nodes]") {
+  // the Cube's top at z = 0.05: the flat cloth at z = 0 starts inside it
+  SoSeparator* root = testutil::read(
+      "#Inventor V2.1 ascii\nSeparator {\n"
+      "Separator { Transform { translation 0.5 0.5 -0.95 } DEF Block Cube { width 0.6 height 0.6 depth 2 } }\n"
+      "DEF Cloth SoBSplineDeformSurface {\n"
+      "  on FALSE numUControlPoints 6 numVControlPoints 6\n"
+      "  boundaryUMin FREE boundaryUMax FREE boundaryVMin FREE boundaryVMax FREE\n"
+      "  energy SHELL youngsModulus 0.821e6 poissonRatio 0.243 thickness 0.318e-3 density 472.6\n"
+      "  damping 1 timeStep 0.02 integrator BACKWARD_EULER\n"
+      "  forces [ SoForceField { type GRAVITY force 0 0 -9.81 },\n"
+      "           SoForceField { type COLLISION obstacles [ USE Block ] method BARRIER thickness 0.01"
+      " dhat 0.002 proxySamples 3 } ]\n}\n}\n");
+  REQUIRE(root);
+  SoBSplineDeformSurface* s = prepare(root);
+  const bsdeform::ControlNet before = s->simulation().current();
+  CHECK_FALSE(s->stepSimulation(1));
+  CHECK(s->simulation().status() == bsdeform::Status::Refused);
+  CHECK_THAT(s->simulation().statusMessage(),
+             Catch::Contains("obstacle 1 (Cube 'Block')") && Catch::Contains("(u, v) = (") &&
+                 Catch::Contains("within the contact offset thickness 0.01 m"));
+  CHECK(s->simulation().current() == before);
+  root->unref();
+}
+
 TEST_CASE("Collision: method BARRIER under the paper's energy with BACKWARD_EULER keeps a sheet off a box", "[nodes]") {
   SoSeparator* root = testutil::read(
       "#Inventor V2.1 ascii\nSeparator {\n"

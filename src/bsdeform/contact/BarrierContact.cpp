@@ -966,6 +966,9 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
       os << "itself";
     else
       os << "obstacle " << st.closestObstacle + 1;
+    if (st.closestObstacle >= 0 && size_t(st.closestObstacle) < w.obstacles.size() &&
+        !w.obstacles[size_t(st.closestObstacle)].name.empty())
+      os << " (" << w.obstacles[size_t(st.closestObstacle)].name << ")";
     os << " near (u, v) = (" << numberText(uv.x()) << ", " << numberText(uv.y()) << "): distance " << numberText(st.minimum)
        << " m; start it clear of obstacles and of itself";
     return os.str();

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "bsdeform/forces/Force.h"
@@ -23,6 +24,9 @@ struct ContactWorld {
     /// Closed and consistently wound (every edge in two triangles, in opposite directions):
     /// the inside is known and contact is one-sided; otherwise two-sided (a shell).
     bool closed = false;
+    /// What messages call it (the scene's node: its type and name, "Cube 'Box'"); empty: its
+    /// number in `obstacles`, from 1
+    std::string name;
   };
   std::vector<Obstacle> obstacles;
   Eigen::Matrix3d linear = Eigen::Matrix3d::Identity();  ///< A

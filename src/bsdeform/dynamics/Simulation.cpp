@@ -656,6 +656,12 @@ Status Simulation::step() {
       const bool finite = m_current.allFinite();
       m_current = m_previous;
       m_stepper->invalidate();
+      if (m_stepper->startRefused()) {  // bad input (a surface starting inside an obstacle), not a blow-up
+        std::ostringstream os;
+        os << "step refused at t = " << t << " (step " << m_steps + 1 << "): " << m_stepper->solveFailure() << ".";
+        fail(Status::Refused, os.str());
+        return m_status;
+      }
       std::ostringstream os;
       os << (finite ? "diverged" : "non-finite state") << " at t = " << t + dt << " (step " << m_steps + 1
          << ", sub-step " << s + 1 << " of " << m_subSteps << "); last valid state kept. ";

@@ -28,7 +28,7 @@ bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, cons
                                  const ControlNet& before, double t, double dt,
                                  const std::function<bool(double, double)>& stepOf, const std::function<void()>& restart,
                                  const std::function<void(const ControlNet&, int)>& finish) {
-  if (m_blewUp) {
+  if (m_blewUp || m_startRefused) {  // smaller pieces start from the same state
     previous = start;
     restart();
     return false;
@@ -534,6 +534,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       if (std::string why = f->beginStep(startCtx); !why.empty()) {
         if (heldMoves) s.current() = heldBefore;
         m_solveFailure = why;
+        m_startRefused = true;
         return false;
       }
       barrier |= f->limitsSteps();

@@ -56,7 +56,13 @@ class TimeStepper {
   virtual const ImplicitSystem* implicitSystem() const { return nullptr; }
   /// Why the last sub-step's solver failed ("" when it did not).
   const std::string& solveFailure() const { return m_solveFailure; }
-  void clearFailure() { m_solveFailure.clear(); }
+  /// Whether that failure was a force refusing the state the step starts from (a surface inside
+  /// an obstacle's contact offset): bad input, which no smaller step can change.
+  bool startRefused() const { return m_startRefused; }
+  void clearFailure() {
+    m_solveFailure.clear();
+    m_startRefused = false;
+  }
 
  protected:
   /// The Newton steppers' step cutting, after stepOf(t, dt) failed from (current, previous) =
@@ -97,6 +103,7 @@ class TimeStepper {
   std::string m_solveFailure;
   int m_newtonIterations = 0;  ///< of the last step (the Newton steppers)
   bool m_blewUp = false;       ///< the last step failed the energy check
+  bool m_startRefused = false;  ///< a force refused the last step's start state (startRefused())
   EnergyReference m_reference;  ///< the Newton steppers' energy check
 };
 
