@@ -971,6 +971,10 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
       os << " (" << w.obstacles[size_t(st.closestObstacle)].name << ")";
     os << " near (u, v) = (" << numberText(uv.x()) << ", " << numberText(uv.y()) << "): distance " << numberText(st.minimum)
        << " m; start it clear of obstacles and of itself";
+    if (st.closestObstacle == int(st.obstacles.size()))
+      os << " (with selfContact, proxy triangles that share no vertex must start more than thickness apart, "
+            "which a proxy finer than thickness (proxySamples "
+         << m_params.samplesPerSpan << ") breaks even where the surface is flat: lower proxySamples or thickness)";
     return os.str();
   }
   updateBarrierStiffness(st.previousMinimum - m_params.offset, st.minimum - m_params.offset, st.kappaMax, st.kappa,
