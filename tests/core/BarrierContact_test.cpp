@@ -899,3 +899,27 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
   CHECK(!same(afterMove, other));
   CHECK(same(afterMove, twinBlocks));
 }
+
+TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is finer than thickness is refused with "
+          "the fields to change",
+          "[core][contact]") {
+  // a 1 m sheet, 8 proxy intervals a knot span: thickness 5 cm puts triangles that share no
+  // vertex within it before anything moved
+  BarrierContactParameters bp;
+  bp.offset = 0.05;
+  bp.dhat = 0.01;
+  bp.selfContact = true;
+  bp.samplesPerSpan = 8;
+  Simulation sim(clothModel(6, 0.01));
+  sim.addForce(std::make_shared<BarrierContactForce>(std::make_shared<ContactWorld>(), bp));
+  CHECK(sim.step() == Status::Refused);
+  CHECK_THAT(sim.statusMessage(), Catch::Contains("of itself") && Catch::Contains("proxySamples 8") &&
+                                      Catch::Contains("lower proxySamples or thickness"));
+  // one interval a span: clear of itself
+  bp.samplesPerSpan = 1;
+  Simulation coarse(clothModel(6, 0.01));
+  coarse.addForce(std::make_shared<BarrierContactForce>(std::make_shared<ContactWorld>(), bp));
+  const Status status = coarse.step();
+  INFO(coarse.statusMessage());
+  CHECK(status == Status::Ok);
+}
