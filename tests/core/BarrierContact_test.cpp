@@ -312,6 +312,18 @@ TEST_CASE("BarrierContactForce: refused by other integrators and when the surfac
                                         Catch::Contains("(u, v)"));
     CHECK(sim.current() == sim.rest());  // nothing moved
   }
+  {
+    // the same, moving: the state refused keeps its position and its velocity
+    Simulation sim(clothModel(5, 0.01));
+    sim.addForce(std::make_shared<BarrierContactForce>(worldOf(plate), bp));
+    ControlNet previous = sim.rest();
+    previous.col(0).array() -= 0.001;  // 0.1 m/s along x
+    sim.setState(sim.rest(), previous, 0.0, 0);
+    const ControlNet current = sim.current(), before = sim.previous();
+    CHECK(sim.step() == Status::Refused);
+    CHECK(sim.current() == current);
+    CHECK(sim.previous() == before);
+  }
 }
 
 TEST_CASE("BarrierContactForce: a state taken and restored resumes bit for bit, the adapted stiffness with it",

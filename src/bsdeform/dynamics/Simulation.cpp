@@ -651,17 +651,20 @@ Status Simulation::step() {
   for (int s = 0; s < m_subSteps; ++s) {
     const double t = m_time + s * dt;
     const bool ok = m_stepper->subStep(t);
+    if (!ok && m_stepper->startRefused()) {
+      // bad input (a surface starting inside an obstacle), not a blow-up: the state is the one the
+      // step started from, its velocity with it
+      m_stepper->invalidate();
+      std::ostringstream os;
+      os << "step refused at t = " << t << " (step " << m_steps + 1 << "): " << m_stepper->solveFailure() << ".";
+      fail(Status::Refused, os.str());
+      return m_status;
+    }
     if (!ok) {
       // m_current holds the rejected state, m_previous the last good one.
       const bool finite = m_current.allFinite();
       m_current = m_previous;
       m_stepper->invalidate();
-      if (m_stepper->startRefused()) {  // bad input (a surface starting inside an obstacle), not a blow-up
-        std::ostringstream os;
-        os << "step refused at t = " << t << " (step " << m_steps + 1 << "): " << m_stepper->solveFailure() << ".";
-        fail(Status::Refused, os.str());
-        return m_status;
-      }
       std::ostringstream os;
       os << (finite ? "diverged" : "non-finite state") << " at t = " << t + dt << " (step " << m_steps + 1
          << ", sub-step " << s + 1 << " of " << m_subSteps << "); last valid state kept. ";

@@ -28,7 +28,13 @@ bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, cons
                                  const ControlNet& before, double t, double dt,
                                  const std::function<bool(double, double)>& stepOf, const std::function<void()>& restart,
                                  const std::function<void(const ControlNet&, int)>& finish) {
-  if (m_blewUp || m_startRefused) {  // smaller pieces start from the same state
+  if (m_startRefused) {  // smaller pieces start from the same state: the state stays as it was
+    current = start;
+    previous = before;
+    restart();
+    return false;
+  }
+  if (m_blewUp) {
     previous = start;
     restart();
     return false;
