@@ -764,7 +764,10 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   bp.samplesPerSpan = 2;
   bp.projectHessian = false;
   const BarrierContactForce force(worldOf(far), bp);
-  const LoadContext ctx{s, net, net, 0.02, 0.0};
+  // at rest the ribbon is flat: the turns are far apart there (contacts, not neighbours)
+  const ControlNet flat = s.grevillePlane();
+  LoadContext ctx{s, net, net, 0.02, 0.0};
+  ctx.rest = &flat;
   REQUIRE(force.beginStep(ctx).empty());
   double phi = 0.0;
   REQUIRE(force.potential(ctx, phi));
@@ -778,8 +781,10 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   force.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
   // the brute force: every pair of the proxy sharing no vertex, its Hessian through the weights
   const CollisionProxy proxy(s, bp.samplesPerSpan);
-  Eigen::MatrixX3d X;
+  Eigen::MatrixX3d X, X0;
   proxy.positions(net, X);
+  proxy.positions(flat, X0);
+  const double reach2 = (bp.offset + bp.dhat) * (bp.offset + bp.dhat);
   const Eigen::MatrixX3i& T = proxy.triangles();
   const Eigen::MatrixX2i& E = proxy.edges();
   BarrierParameters b;
@@ -787,6 +792,8 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   b.dhat = bp.dhat;
   b.stiffness = force.stiffness();
   auto at = [&](Eigen::Index i) { return Eigen::Vector3d(X.row(i).transpose()); };
+  auto atRest = [&](Eigen::Index i) { return Eigen::Vector3d(X0.row(i).transpose()); };
+  long neighboursAtRest = 0;  // pairs sharing no vertex but within reach at rest: not contacts
   Eigen::MatrixXd expected = Eigen::MatrixXd::Zero(n, n);
   long between = 0;  // pairs whose points lie in elements of different turns
   auto push = [&](const std::array<Eigen::Index, 4>& v, const Matrix12d& h) {
@@ -802,18 +809,26 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   for (Eigen::Index v = 0; v < X.rows(); ++v)
     for (Eigen::Index f = 0; f < T.rows(); ++f)
       if (T(f, 0) != v && T(f, 1) != v && T(f, 2) != v &&
+          (pointTriangleDistanceSquared(atRest(v), atRest(T(f, 0)), atRest(T(f, 1)), atRest(T(f, 2))) >= reach2 ||
+           (++neighboursAtRest, false)) &&
           pointTriangleBarrier(at(v), at(T(f, 0)), at(T(f, 1)), at(T(f, 2)), b, &g, &h, BarrierHessian::Exact) != 0.0)
         push({v, T(f, 0), T(f, 1), T(f, 2)}, h);
   for (Eigen::Index e = 0; e < E.rows(); ++e)
     for (Eigen::Index q = e + 1; q < E.rows(); ++q) {
       if (E(e, 0) == E(q, 0) || E(e, 0) == E(q, 1) || E(e, 1) == E(q, 0) || E(e, 1) == E(q, 1)) continue;
-      const double threshold = edgeEdgeMollifierThreshold(at(E(e, 0)), at(E(e, 1)), at(E(q, 0)), at(E(q, 1)));
+      if (edgeEdgeDistanceSquared(atRest(E(e, 0)), atRest(E(e, 1)), atRest(E(q, 0)), atRest(E(q, 1))) < reach2) {
+        ++neighboursAtRest;
+        continue;
+      }
+      const double threshold =
+          edgeEdgeMollifierThreshold(atRest(E(e, 0)), atRest(E(e, 1)), atRest(E(q, 0)), atRest(E(q, 1)));
       if (edgeEdgeBarrier(at(E(e, 0)), at(E(e, 1)), at(E(q, 0)), at(E(q, 1)), threshold, b, &g, &h,
                           BarrierHessian::Exact) != 0.0 ||
           !h.isZero(0.0))
         push({E(e, 0), E(e, 1), E(q, 0), E(q, 1)}, h);
     }
   CHECK(between > 100);
+  CHECK(neighboursAtRest == 0);  // the flat ribbon's proxy is coarser than the reach
   CHECK(expected.norm() > 0.0);
   CHECK((sink.K - expected).norm() <= 1e-12 * expected.norm());
 }
@@ -836,7 +851,9 @@ TEST_CASE("BarrierContactForce with selfContact: load, potential and Hessian aga
   bp.samplesPerSpan = 2;
   bp.projectHessian = false;
   const BarrierContactForce force(worldOf(far), bp);
-  const LoadContext ctx{s, net, net, 0.02, 0.0};
+  const ControlNet flat = s.grevillePlane();  // at rest the turns are far apart
+  LoadContext ctx{s, net, net, 0.02, 0.0};
+  ctx.rest = &flat;
   REQUIRE(force.beginStep(ctx).empty());
   test::ForceFieldCheck check = test::forForce("barrier between a helicoid's turns", force, s, net);
   test::useOwnDerivatives(check, force, s, net);
@@ -912,11 +929,12 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
   CHECK(same(afterMove, twinBlocks));
 }
 
-TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is finer than thickness is refused with "
-          "the fields to change",
+TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is finer than the reach feels nothing at "
+          "rest - its neighbours at rest are not contacts - and folded layers still are",
           "[core][contact]") {
-  // a 1 m sheet, 8 proxy intervals a knot span: thickness 5 cm puts triangles that share no
-  // vertex within it before anything moved
+  // a 1 m sheet, 8 proxy intervals a knot span: triangles that share no vertex lie within the
+  // reach (5 + 1 cm) of each other at rest. They are neighbours in the sheet, not contacts:
+  // before, the sheet was refused (or, beyond the offset, pushed apart in its own plane).
   BarrierContactParameters bp;
   bp.offset = 0.05;
   bp.dhat = 0.01;
@@ -924,14 +942,31 @@ TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is fin
   bp.samplesPerSpan = 8;
   Simulation sim(clothModel(6, 0.01));
   sim.addForce(std::make_shared<BarrierContactForce>(std::make_shared<ContactWorld>(), bp));
-  CHECK(sim.step() == Status::Refused);
-  CHECK_THAT(sim.statusMessage(), Catch::Contains("of itself") && Catch::Contains("proxySamples 8") &&
-                                      Catch::Contains("lower proxySamples or thickness"));
-  // one interval a span: clear of itself
-  bp.samplesPerSpan = 1;
-  Simulation coarse(clothModel(6, 0.01));
-  coarse.addForce(std::make_shared<BarrierContactForce>(std::make_shared<ContactWorld>(), bp));
-  const Status status = coarse.step();
-  INFO(coarse.statusMessage());
-  CHECK(status == Status::Ok);
+  CHECK(sim.step() == Status::Ok);
+  const SplineSpace& s = sim.space();
+  const ControlNet rest = sim.rest();
+  {
+    // no force at all at rest, not even in its plane
+    const BarrierContactForce atRest(std::make_shared<ContactWorld>(), bp);
+    LoadContext ctx{s, rest, rest, 0.01, 0.0};
+    ctx.rest = &rest;
+    REQUIRE(atRest.beginStep(ctx).empty());
+    double phi = -1.0;
+    REQUIRE(atRest.potential(ctx, phi));
+    CHECK(phi == 0.0);
+    ControlNet load = ControlNet::Zero(s.numMoving(), 3);
+    atRest.addLoad(ctx, load);
+    CHECK(load.isZero(0.0));
+  }
+  // the same proxy, the sheet folded over onto itself 3 cm above (x > 0.7 turned back over x < 0.7):
+  // the two layers are far apart at rest, and they meet here
+  ControlNet folded = rest;
+  for (Eigen::Index r = 0; r < folded.rows(); ++r)
+    if (rest(r, 0) > 0.7) folded.row(r) << 1.4 - rest(r, 0), rest(r, 1), 0.03;
+  const BarrierContactForce force(std::make_shared<ContactWorld>(), bp);
+  LoadContext ctx{s, folded, folded, 0.01, 0.0};
+  ctx.rest = &rest;
+  const std::string why = force.beginStep(ctx);
+  CHECK_THAT(why, Catch::Contains("of itself"));  // 3 cm: inside the offset of 5 cm
 }
+

@@ -379,7 +379,10 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
       c.obstacles[o] = ob.mesh.start;
       candidatePairs(at, ob.mesh, reach + 2.0 * skin, c.wide[o]);
     }
-    if (m_params.selfContact) candidatePairs(at, reach + 2.0 * skin, c.wide.back());
+    if (m_params.selfContact) {
+      candidatePairs(at, reach + 2.0 * skin, c.wide.back());
+      dropNeighboursAtRest(c.wide.back());
+    }
     ++c.builds;
   }
   c.now.resize(st.obstacles.size() + 1);
@@ -396,10 +399,32 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   if (m_params.selfContact) {
     if (kept)
       narrowCandidates(st.mesh, inflation, c.wide.back(), c.now.back());
-    else
+    else {
       candidatePairs(st.mesh, inflation, c.now.back());
+      dropNeighboursAtRest(c.now.back());
+    }
   }
   return c.now;
+}
+
+void BarrierContactForce::dropNeighboursAtRest(ContactCandidates& self) const {
+  const State& st = *m_state;
+  const Eigen::MatrixX3d& R = st.restWorld;
+  const Eigen::MatrixX3i& T = st.mesh.triangles;
+  const Eigen::MatrixX2i& E = st.mesh.edges;
+  const double reach = m_params.offset + m_params.dhat, reach2 = reach * reach;
+  auto row = [&R](Eigen::Index i) { return Eigen::Vector3d(R.row(i).transpose()); };
+  auto apart = [&](const std::array<int, 2>& vt) {
+    return pointTriangleDistanceSquared(row(vt[0]), row(T(vt[1], 0)), row(T(vt[1], 1)), row(T(vt[1], 2))) >= reach2;
+  };
+  auto edgesApart = [&](const std::array<int, 2>& ee) {
+    return edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) >= reach2;
+  };
+  auto keep = [](auto& pairs, auto&& kept) {
+    pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const auto& p) { return !kept(p); }), pairs.end());
+  };
+  keep(self.vertexTriangle, apart);
+  keep(self.edgeEdge, edgesApart);
 }
 
 long BarrierContactForce::candidateSearches() const { return m_state->candidates.builds; }
@@ -971,10 +996,6 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
       os << " (" << w.obstacles[size_t(st.closestObstacle)].name << ")";
     os << " near (u, v) = (" << numberText(uv.x()) << ", " << numberText(uv.y()) << "): distance " << numberText(st.minimum)
        << " m; start it clear of obstacles and of itself";
-    if (st.closestObstacle == int(st.obstacles.size()))
-      os << " (with selfContact, proxy triangles that share no vertex must start more than thickness apart, "
-            "which a proxy finer than thickness (proxySamples "
-         << m_params.samplesPerSpan << ") breaks even where the surface is flat: lower proxySamples or thickness)";
     return os.str();
   }
   updateBarrierStiffness(st.previousMinimum - m_params.offset, st.minimum - m_params.offset, st.kappaMax, st.kappa,

@@ -137,6 +137,9 @@ class BarrierContactForce : public Force {
   /// The pairs the broad phase finds with `inflation` between the proxy's mesh (start to end)
   /// and each obstacle, and itself: from the kept candidates when they cover them (State).
   const std::vector<ContactCandidates>& candidatesWithin(double inflation) const;
+  /// Drops the self pairs whose primitives lie within the reach (thickness + dhat) of each other
+  /// at rest (docs/math.md §18.2): neighbours in the sheet, not contacts. Keeps the rest's order.
+  void dropNeighboursAtRest(ContactCandidates& self) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
   /// when `withFriction`, for every frozen friction pair.
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
