@@ -154,6 +154,12 @@ TEST_CASE("TangentMatrix: blocks between points of no common element enter the p
   CHECK(std::equal(K.matrix().innerIndexPtr(), K.matrix().innerIndexPtr() + K.matrix().nonZeros(),
                    fresh.matrix().innerIndexPtr()));
   CHECK(std::equal(K.matrix().valuePtr(), K.matrix().valuePtr() + K.matrix().nonZeros(), fresh.matrix().valuePtr()));
+  // grown again from a pattern that held one of the two far blocks: settled twice, it stays
+  CHECK(assemble(K, first, 1.0));
+  const std::vector<double> settled(K.matrix().valuePtr(), K.matrix().valuePtr() + K.matrix().nonZeros());
+  CHECK_FALSE(K.settlePattern());
+  CHECK(K.matrix().nonZeros() == baseNonZeros + 2 * 9);
+  CHECK(std::equal(settled.begin(), settled.end(), K.matrix().valuePtr()));
   CHECK(assemble(K, {}, 1.0));  // and back to the elements'
   CHECK(K.matrix().nonZeros() == baseNonZeros);
 }

@@ -445,7 +445,7 @@ TEST_CASE("Barrier: adaptive stiffness doubles while the smallest gap shrinks be
 
 TEST_CASE("projectBlockToPsd: the block nearest in Frobenius norm among PSD ones and zero elsewhere", "[contact]") {
   // The nearest PSD matrix to a symmetric B is V max(Λ, 0) Vᵀ (Higham 1988): checked here against
-  // a 12 x 12 QR decomposition of the block alone, for the blocks the barrier projects (a point's
+  // a separate (dynamic-size) eigen-decomposition of the block alone, for the blocks the barrier projects (a point's
   // 3 x 3 against an obstacle: rank one, edge- and corner-like; 6 x 6 and 9 x 9 random ones).
   std::mt19937 rng(53);
   std::normal_distribution<double> normal(0.0, 1.0);

@@ -75,7 +75,7 @@ struct BarrierContactForce::State {
   /// positions in the world of the last evaluation (start = end) or CCD (start to end).
   ContactMesh mesh;
   const SplineSpace* space = nullptr;
-  Eigen::MatrixX3d restWorld;  ///< the proxy at the rest net (or the first state), world frame
+  Eigen::MatrixX3d restWorld;  ///< the proxy at the rest net (LoadContext::restShape, else the first state), world frame
   struct Obstacle {
     const TriangleTree* tree = nullptr;
     std::uint64_t version = ~std::uint64_t(0);
@@ -110,6 +110,9 @@ struct BarrierContactForce::State {
     ControlNet current, previous;
     double stepSize = 0.0;
     std::uint64_t generation = 0;
+    double kappa = 0.0;
+    Eigen::Matrix3d linear;
+    Eigen::Vector3d offset;
     double value = 0.0;
   } loadValue;
   struct Block {
@@ -289,9 +292,10 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     st.space = &ctx.space;
     st.mesh.triangles = st.proxy->triangles();
     st.mesh.edges = st.proxy->edges();
-    proxyWorld(ctx.rest ? *ctx.rest : ctx.current, st.restWorld);
+    proxyWorld(ctx.restShape ? *ctx.restShape : ctx.rest ? *ctx.rest : ctx.current, st.restWorld);
     ++st.generation;
   }
+  if (st.obstacles.size() != w.obstacles.size()) ++st.generation;  // one removed or added: other pairs
   st.obstacles.resize(w.obstacles.size());
   for (size_t o = 0; o < w.obstacles.size(); ++o) {
     State::Obstacle& ob = st.obstacles[o];
@@ -741,7 +745,9 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
 bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {
   prepare(ctx);
   const State::LoadValue& kept = m_state->loadValue;
+  const ContactWorld& w = *m_world;
   if (kept.valid && kept.generation == m_state->generation && kept.stepSize == ctx.stepSize &&
+      kept.kappa == m_state->kappa && kept.linear == w.linear && kept.offset == w.offset &&
       kept.current.rows() == ctx.current.rows() && kept.previous.rows() == ctx.previous.rows() &&
       kept.current == ctx.current && kept.previous == ctx.previous) {
     value = kept.value;  // the same terms summed in the same order: the same bits
@@ -781,6 +787,9 @@ void BarrierContactForce::addLoad(const LoadContext& ctx, ControlNet& load) cons
   kept.previous = ctx.previous;
   kept.stepSize = ctx.stepSize;
   kept.generation = m_state->generation;
+  kept.kappa = m_state->kappa;
+  kept.linear = w.linear;
+  kept.offset = w.offset;
   kept.value = value;
   kept.valid = true;
 }

@@ -36,7 +36,9 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
     };
     range(a);
     if (b) range(*b);
-    if (!(hi > lo) || !std::isfinite(hi - lo)) return 0.0;  // one point (or not finite): any axis
+    if (!std::isfinite(hi - lo)) return double(INFINITY);  // not finite: the last choice
+    // all at one coordinate: every interval overlaps every other along this axis
+    if (!(hi > lo)) return double(a.size()) * double(b ? b->size() : a.size());
     const double scale = kBins / (hi - lo);
     const auto bin = [&](double v) {
       const double t = (v - lo) * scale;
@@ -51,7 +53,8 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
     const auto scanned = [&](const std::vector<Box>& set, const std::vector<double>& other) {
       double count = 0.0;
       for (const Box& box : set)
-        count += other[size_t(bin(box.hi[axis] + inflation)) + 1] - other[size_t(bin(box.lo[axis] - inflation))];
+        count += std::max(0.0, other[size_t(bin(box.hi[axis] + inflation)) + 1] -
+                                   other[size_t(bin(box.lo[axis] - inflation))]);  // ≥ 0 with a NaN end
       return count;
     };
     const std::vector<double> startsA = starts(a);

@@ -44,8 +44,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       const Eigen::VectorXd z = m_solver->llt.solve(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size()));
       q = Eigen::Map<const ControlNet>(z.data(), n, 3);
     } else {
-      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      problem.precondition(q);
+      problem.precondition(q);  // times its own factorisation and solve (the tangent it may build: elastic)
     }
     for (size_t i = 0; i < m; ++i) {
       const double b = pairRho[i] * dot(pairY[i], q);

@@ -63,6 +63,7 @@ ControlNet fullNetLoad(const Simulation& sim, const ControlNet& net, double time
   // SHELL densities are per unit rest area (LoadContext::rest)
   LoadContext ctx{full, net, net, sim.subStepSize(), time};
   if (sim.shell()) ctx.rest = &sim.rest();
+  ctx.restShape = &sim.rest();
   ControlNet load = ControlNet::Zero(full.numMoving(), 3);
   for (const auto& f : sim.forces()) f->addLoad(ctx, load);
   return load;

@@ -652,8 +652,9 @@ Status Simulation::step() {
     const double t = m_time + s * dt;
     const bool ok = m_stepper->subStep(t);
     if (!ok && m_stepper->startRefused()) {
-      // bad input (a surface starting inside an obstacle), not a blow-up: the state is the one the
-      // step started from, its velocity with it
+      // a force refused the state the step starts from (a surface inside an obstacle's offset,
+      // or curved so much that its proxy may be a thickness off): bad input or a setting to
+      // change, not a blow-up; the state is the one the step started from, its velocity with it
       m_stepper->invalidate();
       std::ostringstream os;
       os << "step refused at t = " << t << " (step " << m_steps + 1 << "): " << m_stepper->solveFailure() << ".";

@@ -27,6 +27,7 @@ LoadContext Simulation::loadContext(const ControlNet& current, const ControlNet&
                                     double t) const {
   LoadContext ctx{m_space, current, previous, stepSize, t};
   if (m_shell) ctx.rest = &m_rest;
+  ctx.restShape = &m_rest;
   ctx.massPerArea = massPerArea();
   ctx.restArea = usableRestArea();
   return ctx;

@@ -114,6 +114,7 @@ bool TangentMatrix::settlePattern() {
     }
   }
   for (const Aside& a : aside) addUnknownBlock(a.f, a.g, a.B, a.scale, a.transposed);
+  m_touched = std::move(needed);  // every extra block this assembly met (a second call keeps them)
   m_heldMask.clear();  // the held entries' positions moved
   m_heldPositions.clear();
   m_heldDiagonal.clear();

@@ -52,6 +52,9 @@ bool TimeStepper::retakeInPieces(ControlNet& current, ControlNet& previous, cons
       ok = stepOf(t + k * h, h);
       iterations += m_newtonIterations;
     }
+    // a piece's start is not the step's: a force refusing it (the surface curved too much in
+    // the pieces before) fails the step like any other piece's failure, not as bad input
+    m_startRefused = false;
     if (ok) {
       finish(start, pieces);
       m_newtonIterations = iterations;
@@ -444,10 +447,13 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
   if (m_start->shift != shift) {
     const Eigen::SparseMatrix<double> H0 =
         m_start->restPart + shift * Eigen::SparseMatrix<double>(s.mass().matrix().triangularView<Eigen::Lower>());
+    const CostTimer timer(&s.costs().factorisation);
+    ++s.costs().factorisations;
     if (!m_start->solver.factor(H0))
       throw std::runtime_error("BACKWARD_EULER with LBFGS: the start matrix is not positive definite");
     m_start->shift = shift;
   }
+  const CostTimer timer(&s.costs().solve);
   const Eigen::MatrixXd z = m_start->solver.llt.solve(Eigen::MatrixXd(r));
   r = z;
   for (Eigen::Index f = 0; f < r.rows(); ++f)

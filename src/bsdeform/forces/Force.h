@@ -52,6 +52,10 @@ struct LoadContext {
   /// is then integrated against the rest surface's area element J0 = |S_u x S_v| (and a line
   /// load against its length element); null: per unit parameter area (the paper's model).
   const ControlNet* rest = nullptr;
+  /// The rest net whatever the model (geometry at rest: which parts of a surface are neighbours
+  /// for its self-contact, the edge–edge mollifier's thresholds); null: the first state a force
+  /// sees stands for it.
+  const ControlNet* restShape = nullptr;
   /// The model's mass per unit area of the load's measure: rho t per unit rest area (SHELL),
   /// m / (h1 h2) or rho per unit parameter area (the paper's NODAL or LUMPED mass). Forces that
   /// scale with the mass (gravity, contact's caps) read it here, so that a model rebuilt with a
