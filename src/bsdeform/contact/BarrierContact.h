@@ -61,10 +61,9 @@ class BarrierContactForce : public Force {
   /// Each pair's Hessian, projected to PSD, pushed to the control points through the proxy's
   /// weights. Self-contact pairs couple two parts of the surface that share no element: their
   /// whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
-  /// them into its pattern; without them Newton had converged only linearly in self-contact, 25
-  /// to 45 iterations a step). Friction's Hessian (PSD by construction) likewise; it is a
-  /// function of the slip, so its
-  /// share is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).
+  /// them into its pattern: Newton converges quadratically in self-contact only with them).
+  /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its share
+  /// is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).
   bool hasJacobian() const override { return true; }
   void addJacobian(const LoadContext& ctx, double velocityScale, JacobianSink& sink) const override;
   bool potential(const LoadContext& ctx, double& value) const override;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 /// @file StepCosts.h
-/// Where a simulation's implicit steps spend their time (issue 35: "say where the time goes"):
-/// wall seconds per phase, accumulated by Simulation::step() until Simulation::resetStepCosts().
+/// Where a simulation's implicit steps spend their time: wall seconds per phase, accumulated by
+/// Simulation::step() until Simulation::resetStepCosts() (the static and arc-length solves'
+/// tangents add to elastic and loads too: reset before stepping to read the steps alone).
 /// The phases are timed where the time stepper calls them, on its own thread (work they hand to
 /// kernel threads is inside them); what no phase names (the line search's vector arithmetic, the
 /// energy check, the held rows) is other().
