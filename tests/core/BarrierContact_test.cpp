@@ -78,6 +78,20 @@ ControlNet wavySheet(const SplineSpace& s) {
   return net;
 }
 
+/// A Jacobian sink that records every block in the order it came.
+struct RecordedBlocks final : JacobianSink {
+  std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
+  void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
+};
+
+/// The same blocks at the same places in the same order, to the last bit.
+bool sameBlocks(const RecordedBlocks& a, const RecordedBlocks& b) {
+  if (a.calls.size() != b.calls.size()) return false;
+  for (size_t k = 0; k < a.calls.size(); ++k)
+    if (a.calls[k].first != b.calls[k].first || a.calls[k].second != b.calls[k].second) return false;
+  return true;
+}
+
 /// The proxy of `net` (`samples` per span) as a ContactMesh at rest.
 ContactMesh proxyMesh(const SplineSpace& s, const ControlNet& net, int samples) {
   const CollisionProxy proxy(s, samples);
@@ -603,14 +617,10 @@ TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread
   bp.dhat = 0.01;
   bp.selfContact = true;
   bp.friction = 0.3;
-  struct Blocks final : JacobianSink {
-    std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
-    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
-  };
   struct Result {
     double phi = 0.0, closest = 0.0;
     ControlNet load;
-    Blocks jacobian;
+    RecordedBlocks jacobian;
   };
   auto evaluate = [&](int threads) {
     setKernelThreads(threads);
@@ -634,12 +644,7 @@ TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread
   CHECK(one.phi == two.phi);
   CHECK(one.closest == two.closest);
   CHECK(one.load == two.load);
-  REQUIRE(one.jacobian.calls.size() == two.jacobian.calls.size());
-  bool same = true;
-  for (size_t k = 0; k < one.jacobian.calls.size(); ++k)
-    same &= one.jacobian.calls[k].first == two.jacobian.calls[k].first &&
-            one.jacobian.calls[k].second == two.jacobian.calls[k].second;
-  CHECK(same);
+  CHECK(sameBlocks(one.jacobian, two.jacobian));
 }
 
 TEST_CASE("BarrierContactForce: its potential after a load at the same nets is the load's terms summed, the same "
@@ -874,21 +879,11 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
   bp.offset = 0.005;
   bp.dhat = 0.002;
   bp.selfContact = true;
-  struct Blocks final : JacobianSink {
-    std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
-    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
-  };
-  auto same = [](const Blocks& a, const Blocks& b) {
-    if (a.calls.size() != b.calls.size()) return false;
-    for (size_t k = 0; k < a.calls.size(); ++k)
-      if (a.calls[k].first != b.calls[k].first || a.calls[k].second != b.calls[k].second) return false;
-    return true;
-  };
   // the Jacobian of a force that has seen nothing else: the reference
   auto freshJacobian = [&](const LoadContext& ctx) {
     const BarrierContactForce force(world, bp);
     REQUIRE(force.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
-    Blocks b;
+    RecordedBlocks b;
     force.addJacobian(ctx, 50.0, b);
     return b;
   };
@@ -899,17 +894,17 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
   const LoadContext atNet{s, net, net, 0.02, 0.0}, atLower{s, lower, net, 0.02, 0.0};
   ControlNet load = ControlNet::Zero(s.numMoving(), 3);
   force.addLoad(atNet, load);
-  Blocks kept;
+  RecordedBlocks kept;
   force.addJacobian(atNet, 50.0, kept);  // from the load's pairs
-  const Blocks reference = freshJacobian(atNet);
+  const RecordedBlocks reference = freshJacobian(atNet);
   REQUIRE(reference.calls.size() > 10);
-  CHECK(same(kept, reference));
+  CHECK(sameBlocks(kept, reference));
   // another net after that load: its own pairs
-  Blocks other;
+  RecordedBlocks other;
   force.addJacobian(atLower, 50.0, other);
-  const Blocks otherReference = freshJacobian(atLower);
-  CHECK(!same(other, reference));
-  CHECK(same(other, otherReference));
+  const RecordedBlocks otherReference = freshJacobian(atLower);
+  CHECK(!sameBlocks(other, reference));
+  CHECK(sameBlocks(other, otherReference));
   // the plate slides 0.6 m along x after a load at `lower` (out from under the sheet's edge) and is
   // swept there at the next step's start: the Jacobian at the same net sees it where it is now (a
   // twin given the same stiffness and poses)
@@ -921,11 +916,11 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
   force.advanceObstacles(start);
   const BarrierContactForce twin(world, bp);
   twin.setAdaptedState(force.adaptedState());
-  Blocks afterMove, twinBlocks;
+  RecordedBlocks afterMove, twinBlocks;
   force.addJacobian(atLower, 50.0, afterMove);
   twin.addJacobian(atLower, 50.0, twinBlocks);
-  CHECK(!same(afterMove, other));
-  CHECK(same(afterMove, twinBlocks));
+  CHECK(!sameBlocks(afterMove, other));
+  CHECK(sameBlocks(afterMove, twinBlocks));
 }
 
 TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is finer than the reach feels nothing at "

@@ -262,24 +262,26 @@ TEST_CASE("Distance: a gradient asked without the Hessian has the bits of the on
     Vec<12> x = randomCoordinates(rng);
     x.head<3>() *= 2.0;
     const Vector3d p0 = pointOf<12>(x, 0), p1 = pointOf<12>(x, 1), p2 = pointOf<12>(x, 2), p3 = pointOf<12>(x, 3);
-    Vec<12> g, gAlone;
-    Mat<12> h;
+    // one formula's value and gradient asked with the Hessian and without it
+    const auto checkAlone = [](const auto& derivatives) {
+      Vec<12> g, gAlone;
+      Mat<12> h;
+      CHECK(derivatives(g, &h) == derivatives(gAlone, nullptr));
+      CHECK((g.array() == gAlone.array()).all());
+    };
     const auto pt = bsdeform::pointTriangleType(p0, p1, p2, p3);
-    const double d = bsdeform::pointTriangleDistanceSquaredDerivatives(p0, p1, p2, p3, pt, g, &h);
-    const double dAlone = bsdeform::pointTriangleDistanceSquaredDerivatives(p0, p1, p2, p3, pt, gAlone, nullptr);
-    CHECK(d == dAlone);
-    CHECK((g.array() == gAlone.array()).all());
+    checkAlone([&](Vec<12>& g, Mat<12>* h) {
+      return bsdeform::pointTriangleDistanceSquaredDerivatives(p0, p1, p2, p3, pt, g, h);
+    });
     ++pointTriangle[static_cast<size_t>(pt)];
     const auto ee = bsdeform::edgeEdgeType(p0, p1, p2, p3);
-    const double e = bsdeform::edgeEdgeDistanceSquaredDerivatives(p0, p1, p2, p3, ee, g, &h);
-    const double eAlone = bsdeform::edgeEdgeDistanceSquaredDerivatives(p0, p1, p2, p3, ee, gAlone, nullptr);
-    CHECK(e == eAlone);
-    CHECK((g.array() == gAlone.array()).all());
+    checkAlone([&](Vec<12>& g, Mat<12>* h) {
+      return bsdeform::edgeEdgeDistanceSquaredDerivatives(p0, p1, p2, p3, ee, g, h);
+    });
     ++edgeEdge[static_cast<size_t>(ee)];
-    const double c = bsdeform::edgeEdgeCrossSquaredNormDerivatives(p0, p1, p2, p3, g, &h);
-    const double cAlone = bsdeform::edgeEdgeCrossSquaredNormDerivatives(p0, p1, p2, p3, gAlone, nullptr);
-    CHECK(c == cAlone);
-    CHECK((g.array() == gAlone.array()).all());
+    checkAlone([&](Vec<12>& g, Mat<12>* h) {
+      return bsdeform::edgeEdgeCrossSquaredNormDerivatives(p0, p1, p2, p3, g, h);
+    });
   }
   for (int count : pointTriangle) CHECK(count > 0);
   for (int count : edgeEdge) CHECK(count > 0);
