@@ -441,6 +441,42 @@ TEST_CASE("BarrierContactForce: an obstacle moved between steps is swept into pl
   CHECK(rise == Approx(0.16).epsilon(0.05));
 }
 
+TEST_CASE("BarrierContactForce: a sheet pushed by a fast obstacle is carried along in a few Newton solves a step, "
+          "not one per barrier gap",
+          "[core][contact]") {
+  // a plate rising 4 cm a step (2 m/s, 6 times the barrier's reach) under a resting sheet: each
+  // pass after the first moves the plate and the sheet along as the last pass did (up to 4 times
+  // as far); alone, the plate would close 90 % of a gap of a few millimetres per pass
+  const double top0 = -0.0065;
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, top0 - 0.05), Eigen::Vector3d(1.5, 1.5, top0));
+  auto tree = std::make_shared<TriangleTree>(plate);
+  auto world = std::make_shared<ContactWorld>();
+  world->obstacles.push_back({tree, true});
+  Simulation sim(clothModel(4, 0.02));
+  sim.addForce(std::make_shared<GravityForce>(rhoT(), Eigen::Vector3d(0, 0, -9.81)));
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.mass = rhoT();
+  sim.addForce(std::make_shared<BarrierContactForce>(world, bp));
+  REQUIRE(sim.advance(5) == Status::Ok);
+  const double start = sim.evaluate(0.5, 0.5).position.z();
+  sim.resetStepCosts();
+  const int steps = 6;
+  for (int step = 0; step < steps; ++step) {
+    for (Eigen::Vector3d& v : plate.vertices) v.z() += 0.04;
+    tree->update(plate.vertices);
+    INFO("step " << step << ": " << sim.statusMessage());
+    REQUIRE(sim.step() == Status::Ok);
+    const ContactMesh obstacle = staticContactMesh(plate);
+    CHECK(clearance(proxyMesh(sim.space(), sim.current(), bp.samplesPerSpan), &obstacle, 1.0) >= bp.offset * (1.0 - 1e-9));
+  }
+  const double perStep = double(sim.stepCosts().iterations) / steps;
+  INFO("Newton iterations a step: " << perStep);
+  CHECK(sim.evaluate(0.5, 0.5).position.z() - start == Approx(steps * 0.04).epsilon(0.02));
+  CHECK(perStep < 40.0);
+}
+
 TEST_CASE("BarrierContactForce: friction acts on the slip relative to a moving obstacle: a plate sliding sideways "
           "carries a sheet with friction and leaves it without",
           "[core][contact]") {
@@ -551,6 +587,55 @@ TEST_CASE("BarrierContactForce: a retaken step rewinds only what moved in it, an
   CHECK(force.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
   CHECK(force.advanceObstacles(LoadContext{s, start, start, 0.02, 0.0}) == 0.0);
   CHECK(force.lastMinimumDistance() == Approx(0.0065).epsilon(1e-6));
+}
+
+TEST_CASE("BarrierContactForce: a joint move of the sheet and a moved obstacle is cut where a pair would come "
+          "within the offset, and the obstacles then go that far",
+          "[core][contact]") {
+  // the plate rises 4 cm toward a sheet 6.5 mm above it (1.5 mm beyond the offset); the joint
+  // CCD keeps 40 % of each pair's gap above the offset (the line search's rescaling)
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet start = s.grevillePlane();
+  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, -0.0065));
+  auto tree = std::make_shared<TriangleTree>(plate);
+  auto world = std::make_shared<ContactWorld>();
+  world->obstacles.push_back({tree, true});
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  const BarrierContactForce force(world, bp);
+  const LoadContext atStart{s, start, start, 0.02, 0.0};
+  REQUIRE(force.beginStep(atStart).empty());
+  for (Eigen::Vector3d& v : plate.vertices) v.z() += 0.04;
+  tree->update(plate.vertices);
+  REQUIRE(force.beginStep(atStart).empty());
+  auto lifted = [&](double dz) {
+    ControlNet net = start;
+    net.col(2).array() += dz;
+    return net;
+  };
+  const double gap = 0.0015, kept = 0.4 * gap;
+  // the sheet where it is: the plate closes 60 % of the gap
+  CHECK(force.jointAdvanceFraction(atStart, start, 1.0) == Approx((gap - kept) / 0.04).epsilon(1e-6));
+  // carried along all the way, or half of the plate's move with the sheet moving half as far
+  CHECK(force.jointAdvanceFraction(atStart, lifted(0.04), 1.0) == 1.0);
+  CHECK(force.jointAdvanceFraction(atStart, lifted(0.02), 0.5) == 1.0);
+  // the sheet lifted half as far as the plate rises: the gap closes at 2 cm per unit
+  CHECK(force.jointAdvanceFraction(atStart, lifted(0.02), 1.0) == Approx((gap - kept) / 0.02).epsilon(1e-6));
+  // the sheet falling 1 cm while the plate rises: the gap closes at 5 cm per unit
+  CHECK(force.jointAdvanceFraction(atStart, lifted(-0.01), 1.0) == Approx((gap - kept) / 0.05).epsilon(1e-6));
+  // the query moved nothing: the plate is where the step began and sweeps from there
+  CHECK(force.advanceObstaclesBy(atStart, 0.0) == 1.0);
+  // a quarter of the move with the sheet lifted 1 cm: three quarters left, the gap as it was
+  const LoadContext atQuarter{s, lifted(0.01), start, 0.02, 0.0};
+  CHECK(force.advanceObstaclesBy(atQuarter, 0.25) == Approx(0.75).epsilon(1e-12));
+  CHECK(force.jointAdvanceFraction(atQuarter, lifted(0.04), 1.0) == 1.0);
+  CHECK(force.jointAdvanceFraction(atQuarter, lifted(0.01), 1.0) == Approx((gap - kept) / 0.03).epsilon(1e-6));
+  // the rest of the way, the sheet lifted with it: nothing left, nothing for advanceObstacles
+  const LoadContext atTop{s, lifted(0.04), start, 0.02, 0.0};
+  CHECK(force.advanceObstaclesBy(atTop, 1.0) == 0.0);
+  CHECK(force.advanceObstacles(atTop) == 0.0);
+  CHECK(force.admissibleFraction(atTop, lifted(0.04 - 0.002)) == Approx((gap - kept) / 0.002).epsilon(1e-6));
 }
 
 TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same bits as a fresh search, and are "

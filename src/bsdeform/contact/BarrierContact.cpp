@@ -384,8 +384,7 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
       candidatePairs(at, ob.mesh, reach + 2.0 * skin, c.wide[o]);
     }
     if (m_params.selfContact) {
-      candidatePairs(at, reach + 2.0 * skin, c.wide.back());
-      dropNeighboursAtRest(c.wide.back());
+      selfCandidatesApartAtRest(at, reach + 2.0 * skin, c.wide.back());
     }
     ++c.builds;
   }
@@ -403,32 +402,27 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   if (m_params.selfContact) {
     if (kept)
       narrowCandidates(st.mesh, inflation, c.wide.back(), c.now.back());
-    else {
-      candidatePairs(st.mesh, inflation, c.now.back());
-      dropNeighboursAtRest(c.now.back());
-    }
+    else
+      selfCandidatesApartAtRest(st.mesh, inflation, c.now.back());
   }
   return c.now;
 }
 
-void BarrierContactForce::dropNeighboursAtRest(ContactCandidates& self) const {
+void BarrierContactForce::selfCandidatesApartAtRest(const ContactMesh& mesh, double inflation,
+                                                    ContactCandidates& out) const {
   const State& st = *m_state;
   const Eigen::MatrixX3d& R = st.restWorld;
   const Eigen::MatrixX3i& T = st.mesh.triangles;
   const Eigen::MatrixX2i& E = st.mesh.edges;
   const double reach = m_params.offset + m_params.dhat, reach2 = reach * reach;
   auto row = [&R](Eigen::Index i) { return Eigen::Vector3d(R.row(i).transpose()); };
-  auto apart = [&](const std::array<int, 2>& vt) {
+  const auto apart = [&](const std::array<int, 2>& vt) {
     return pointTriangleDistanceSquared(row(vt[0]), row(T(vt[1], 0)), row(T(vt[1], 1)), row(T(vt[1], 2))) >= reach2;
   };
-  auto edgesApart = [&](const std::array<int, 2>& ee) {
+  const auto edgesApart = [&](const std::array<int, 2>& ee) {
     return edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) >= reach2;
   };
-  auto keep = [](auto& pairs, auto&& kept) {
-    pairs.erase(std::remove_if(pairs.begin(), pairs.end(), [&](const auto& p) { return !kept(p); }), pairs.end());
-  };
-  keep(self.vertexTriangle, apart);
-  keep(self.edgeEdge, edgesApart);
+  candidatePairs(mesh, inflation, out, apart, edgesApart);
 }
 
 long BarrierContactForce::candidateSearches() const { return m_state->candidates.builds; }
@@ -941,6 +935,54 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
     } else {
       ob.mesh.start += t * (ob.target - ob.mesh.start);
       ob.remaining *= 1.0 - t;
+    }
+    ob.mesh.end = ob.mesh.start;
+    remaining = std::max(remaining, ob.remaining);
+  }
+  return remaining;
+}
+
+double BarrierContactForce::jointAdvanceFraction(const LoadContext& ctx, const ControlNet& to,
+                                                 double obstacleFraction) const {
+  prepare(ctx);
+  State& st = *m_state;
+  proxyWorld(ctx.current, st.mesh.start);
+  proxyWorld(to, st.mesh.end);
+  const double f = std::clamp(obstacleFraction, 0.0, 1.0);
+  for (State::Obstacle& ob : st.obstacles)
+    if (ob.tree && ob.remaining > 0.0) ob.mesh.end = ob.mesh.start + f * (ob.target - ob.mesh.start);
+  // the surface and the obstacles both move: the line search's rescaling (each pair keeps 40 %
+  // of its gap), found against the swept obstacles (not kept: their start and end differ)
+  const std::vector<ContactCandidates>& candidates = candidatesWithin(m_params.offset);
+  double t = 1.0;
+  {
+    const CostTimer timer(&st.costs.ccd);
+    for (size_t o = 0; o < st.obstacles.size(); ++o)
+      if (st.obstacles[o].tree)
+        t = std::min(t, collisionFreeFraction(st.mesh, st.obstacles[o].mesh, candidates[o], m_params.offset,
+                                              kLineSearchRescaling));
+    if (m_params.selfContact)
+      t = std::min(t, collisionFreeFraction(st.mesh, candidates.back(), m_params.offset, kLineSearchRescaling));
+  }
+  for (State::Obstacle& ob : st.obstacles)
+    if (ob.tree) ob.mesh.end = ob.mesh.start;
+  return t;
+}
+
+double BarrierContactForce::advanceObstaclesBy(const LoadContext& ctx, double fraction) const {
+  prepare(ctx);
+  State& st = *m_state;
+  st.loadValue.valid = false;
+  const double f = std::clamp(fraction, 0.0, 1.0);
+  double remaining = 0.0;
+  for (State::Obstacle& ob : st.obstacles) {
+    if (!ob.tree || ob.remaining == 0.0) continue;
+    if (f >= 1.0) {
+      ob.mesh.start = ob.target;
+      ob.remaining = 0.0;
+    } else {
+      ob.mesh.start += f * (ob.target - ob.mesh.start);
+      ob.remaining *= 1.0 - f;
     }
     ob.mesh.end = ob.mesh.start;
     remaining = std::max(remaining, ob.remaining);

@@ -75,6 +75,8 @@ class BarrierContactForce : public Force {
   /// new positions) is swept from its pose at the end of the last step to its pose now: each call
   /// moves it as far as additive CCD lets it with the proxy at ctx.current (docs/math.md §18.4).
   double advanceObstacles(const LoadContext& ctx) const override;
+  double jointAdvanceFraction(const LoadContext& ctx, const ControlNet& to, double obstacleFraction) const override;
+  double advanceObstaclesBy(const LoadContext& ctx, double fraction) const override;
   bool limitsSteps() const override { return true; }
   /// Checks the deviation bound and the start's clearance, adapts κ, and freezes the friction
   /// pairs (those within the barrier's reach, with their normal forces at this state).
@@ -136,9 +138,10 @@ class BarrierContactForce : public Force {
   /// The pairs the broad phase finds with `inflation` between the proxy's mesh (start to end)
   /// and each obstacle, and itself: from the kept candidates when they cover them (State).
   const std::vector<ContactCandidates>& candidatesWithin(double inflation) const;
-  /// Drops the self pairs whose primitives lie within the reach (thickness + dhat) of each other
-  /// at rest (docs/math.md §18.2): neighbours in the sheet, not contacts. Keeps the rest's order.
-  void dropNeighboursAtRest(ContactCandidates& self) const;
+  /// The self pairs of `mesh` (candidatePairs with `inflation`) but for those whose primitives
+  /// lie within the reach (thickness + dhat) of each other at rest (docs/math.md §18.2):
+  /// neighbours in the sheet, not contacts; left out before the pairs are sorted.
+  void selfCandidatesApartAtRest(const ContactMesh& mesh, double inflation, ContactCandidates& out) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
   /// when `withFriction`, for every frozen friction pair.
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,

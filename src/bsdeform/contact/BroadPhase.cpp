@@ -171,10 +171,32 @@ struct SweptBoxes {
 
 /// In index order: the pairs a sum over them visits come in an order that does not depend on
 /// how the boxes were found (a cache's wider boxes find more, never the same ones differently).
+/// Sorted as std::sort sorts them (by the first index, then the second), by buckets of the first
+/// index and a sort of each bucket: a crumpled sheet's self pairs number hundreds of thousands
+/// per search, and a comparison sort of them cost more than finding them.
+void sortPairs(std::vector<std::array<int, 2>>& pairs) {
+  if (pairs.size() < 256) {
+    std::sort(pairs.begin(), pairs.end());
+    return;
+  }
+  int largest = 0;
+  for (const auto& p : pairs) largest = std::max(largest, p[0]);
+  std::vector<size_t> start(size_t(largest) + 2, 0);
+  for (const auto& p : pairs) ++start[size_t(p[0]) + 1];
+  for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+  std::vector<std::array<int, 2>> sorted(pairs.size());
+  std::vector<size_t> next(start.begin(), start.end() - 1);
+  for (const auto& p : pairs) sorted[next[size_t(p[0])]++] = p;
+  for (size_t k = 0; k + 1 < start.size(); ++k)
+    if (start[k + 1] - start[k] > 1)
+      std::sort(sorted.begin() + std::ptrdiff_t(start[k]), sorted.begin() + std::ptrdiff_t(start[k + 1]));
+  pairs.swap(sorted);
+}
+
 void sortCandidates(ContactCandidates& c) {
-  std::sort(c.vertexTriangle.begin(), c.vertexTriangle.end());
-  std::sort(c.triangleVertex.begin(), c.triangleVertex.end());
-  std::sort(c.edgeEdge.begin(), c.edgeEdge.end());
+  sortPairs(c.vertexTriangle);
+  sortPairs(c.triangleVertex);
+  sortPairs(c.edgeEdge);
 }
 
 void toArrays(const std::vector<std::pair<int, int>>& pairs, std::vector<std::array<int, 2>>& out) {
@@ -199,22 +221,31 @@ void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation
   sortCandidates(out);
 }
 
-void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out) {
+void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out,
+                    const std::function<bool(const std::array<int, 2>&)>& keepVertexTriangle,
+                    const std::function<bool(const std::array<int, 2>&)>& keepEdgeEdge) {
   const double half = 0.5 * inflation;
   const SweptBoxes boxes(a);
   std::vector<std::pair<int, int>> pairs;
   overlappingPairs(boxes.vertices, boxes.triangles, half, pairs);
   out.vertexTriangle.clear();
   for (const auto& [v, f] : pairs)
-    if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v) out.vertexTriangle.push_back({v, f});
+    if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v &&
+        (!keepVertexTriangle || keepVertexTriangle({v, f})))
+      out.vertexTriangle.push_back({v, f});
   out.triangleVertex.clear();
   selfOverlappingPairs(boxes.edges, half, pairs);
   out.edgeEdge.clear();
   for (const auto& [e, g] : pairs) {
     const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
-    if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1) out.edgeEdge.push_back({e, g});
+    if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && (!keepEdgeEdge || keepEdgeEdge({e, g})))
+      out.edgeEdge.push_back({e, g});
   }
   sortCandidates(out);
+}
+
+void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out) {
+  candidatePairs(a, inflation, out, nullptr, nullptr);
 }
 
 }  // namespace bsdeform

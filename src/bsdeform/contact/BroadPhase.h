@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -46,6 +47,13 @@ void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation
 /// (first < second), and vertexTriangle then holds all vertex–triangle pairs (triangleVertex
 /// stays empty).
 void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out);
+
+/// As candidatePairs(a, inflation, out), keeping only the vertex–triangle and edge–edge pairs
+/// `keepVertexTriangle` and `keepEdgeEdge` accept: asked before the pairs are sorted, so pairs left
+/// out cost no sorting.
+void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out,
+                    const std::function<bool(const std::array<int, 2>&)>& keepVertexTriangle,
+                    const std::function<bool(const std::array<int, 2>&)>& keepEdgeEdge);
 
 /// The pairs of `wide` that candidatePairs(a, b, inflation) finds at the meshes' positions now,
 /// in the same (index) order: the same set when `wide` holds every one of them (pairs found with

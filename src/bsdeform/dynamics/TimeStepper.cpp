@@ -696,7 +696,29 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   // a swept obstacle: moved on as far as it goes with the surface where Newton left it, then
   // Newton again, until it is where it is to be (each pass it closes at least 90 % of the gap the
   // surface leaves it; a surface held in its way stops it short)
+  // From the second pass on, the last pass predicts the next (a secant: the surface moved Δx
+  // while the obstacles closed ΔR of their move): the obstacles go up to kPassGrowth ΔR further,
+  // or the rest of the way, with the surface moved along by as many Δx, both as far as nothing
+  // crosses (a pushed sheet moves with what pushes it; without this, each pass gains only what
+  // the barrier's gap gives, a fraction of dhat); Newton then corrects.
   constexpr int kSweepPasses = 200;
+  constexpr double kPassGrowth = 4.0;
+  ControlNet passStart;      // the unknowns before the last pass (its joint move and its solve)
+  double passAdvance = 0.0;  // the step's move its obstacles made in that pass
+  auto jointAdvance = [&](const ControlNet& from, const ControlNet& step, double obstacleFraction) {
+    const CostTimer timer(&s.costs().collisionChecks);
+    xs = from;
+    s.completeUnknowns(xs, fromNet);
+    xs = from + step;
+    s.completeUnknowns(xs, toNet);
+    const LoadContext ctx = s.loadContext(fromNet, startNet, h, tNew);
+    double fraction = 1.0;
+    for (const Force* f : stateForces)
+      fraction = std::min(fraction, f->jointAdvanceFraction(ctx, toNet, obstacleFraction));
+    if (fraction <= 0.0) return;
+    for (const Force* f : stateForces) f->advanceObstaclesBy(ctx, fraction * obstacleFraction);
+    x += fraction * step;
+  };
   for (int pass = 0; outcome.converged && sweepRemaining > 0.0; ++pass) {
     if (pass == kSweepPasses) {
       std::ostringstream os;
@@ -706,9 +728,19 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
       return reject();
     }
     if (s.components()) s.components()->complete(x);
+    const ControlNet before = x;
+    const double remainingBefore = sweepRemaining;
+    if (passAdvance > 0.0 && passStart.rows() == x.rows()) {
+      const double obstacleFraction = std::min(1.0, kPassGrowth * passAdvance / sweepRemaining);
+      const ControlNet step = (obstacleFraction * sweepRemaining / passAdvance) * (x - passStart);
+      jointAdvance(x, step, obstacleFraction);
+      if (s.components()) s.components()->complete(x);
+    }
     sweepRemaining = advanceObstacles(x);
     evaluate(x, cur);  // the obstacle moved: a new potential
     const NewtonMinimizer::Outcome more = m_newton->minimize(x, cur, problem, options);
+    passStart = before;
+    passAdvance = remainingBefore - sweepRemaining;
     outcome.converged = more.converged;
     outcome.failure = more.failure;
     m_newtonIterations += more.iterations;

@@ -142,6 +142,22 @@ class Force {
     (void)ctx;
     return 0.0;
   }
+  /// The largest fraction t in [0, 1] of a joint move that nothing crosses: the surface from the
+  /// state of `ctx` to the full net `to` while every obstacle still short of its pose (see
+  /// advanceObstacles()) moves toward it by `obstacleFraction` of what it has left. A move of the
+  /// surface alone (admissibleFraction()) for forces that sweep nothing.
+  virtual double jointAdvanceFraction(const LoadContext& ctx, const ControlNet& to, double obstacleFraction) const {
+    (void)obstacleFraction;
+    return admissibleFraction(ctx, to);
+  }
+  /// Moves every obstacle still short of its pose by `fraction` of what it has left (a fraction
+  /// jointAdvanceFraction() allowed, with the surface moved along); returns the fraction of the
+  /// step's move still to go, as advanceObstacles().
+  virtual double advanceObstaclesBy(const LoadContext& ctx, double fraction) const {
+    (void)ctx;
+    (void)fraction;
+    return 0.0;
+  }
   /// Whether admissibleFraction() can be below 1 (the implicit step then checks every trial).
   virtual bool limitsSteps() const { return false; }
   /// Called by the implicit steppers at the start of every step, at the step's start state:
