@@ -15,7 +15,7 @@ paper_sec7_central_square:1 paper_fig9_fig12_vertical_square:1 paper_fig10_fig13
 region_load:2.5 composed_scene:3 drape_over_sphere:2 pressure_bulge:3 animated_force:1.5 nonplanar_rest:3
 flag:4 curtain:4 pinned_cloth:4 tube_squeeze:4 balloon:4 torus_push:4 cone:4 cloth_on_cube:3
 cloth_on_cube_penalty:3 cloth_on_cone:2 cantilever_roll:12 slope_friction:1.5 cloth_on_terrain:2 rising_sphere:1.3 pressed_surfaces:3
-tablecloth_slide:0.5 mat_on_knives:0.3 two_sheets:1 twisted_ribbon:2.4 cloth_through_funnel:2.25 curtain_live:0.3"
+tablecloth_slide:0.5 mat_on_knives:0.3 two_sheets:1 twisted_ribbon:2.4 cloth_through_funnel:3 curtain_live:0.3"
 for shot in $shots; do
   name="${shot%%:*}"; t="${shot##*:}"
   "$run" "$root/scenes/$name.iv" --until "$t" --png-at "$t" --size 360x270 -o "$work/$name" -q
