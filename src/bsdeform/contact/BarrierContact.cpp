@@ -167,6 +167,14 @@ struct BarrierContactForce::State {
     Eigen::MatrixX3d positions;
     std::vector<ContactCandidates> pairs;
   } gathered;
+  /// The self pairs (sharing no vertex) within the reach of each other at rest, in the world
+  /// (`rest`, as restWorld was when they were found), sorted: neighbours in the sheet, left out of
+  /// the self candidates (docs/math.md §18.2). Found once instead of a distance per candidate.
+  struct RestNeighbours {
+    Eigen::MatrixX3d rest;
+    double reach = 0.0;
+    std::vector<std::array<int, 2>> vertexTriangle, edgeEdge;
+  } restNeighbours;
 };
 
 BarrierContactForce::BarrierContactForce(std::shared_ptr<const ContactWorld> world, const BarrierContactParameters& p)
@@ -410,17 +418,38 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
 
 void BarrierContactForce::selfCandidatesApartAtRest(const ContactMesh& mesh, double inflation,
                                                     ContactCandidates& out) const {
-  const State& st = *m_state;
-  const Eigen::MatrixX3d& R = st.restWorld;
-  const Eigen::MatrixX3i& T = st.mesh.triangles;
-  const Eigen::MatrixX2i& E = st.mesh.edges;
-  const double reach = m_params.offset + m_params.dhat, reach2 = reach * reach;
-  auto row = [&R](Eigen::Index i) { return Eigen::Vector3d(R.row(i).transpose()); };
-  const auto apart = [&](const std::array<int, 2>& vt) {
-    return pointTriangleDistanceSquared(row(vt[0]), row(T(vt[1], 0)), row(T(vt[1], 1)), row(T(vt[1], 2))) >= reach2;
+  State& st = *m_state;
+  State::RestNeighbours& rn = st.restNeighbours;
+  const double reach = m_params.offset + m_params.dhat;
+  if (rn.reach != reach || rn.rest.rows() != st.restWorld.rows() || rn.rest != st.restWorld) {
+    // every pair closer than the reach at rest has boxes within the reach: among these
+    const Eigen::MatrixX3d& R = st.restWorld;
+    const Eigen::MatrixX3i& T = st.mesh.triangles;
+    const Eigen::MatrixX2i& E = st.mesh.edges;
+    auto row = [&R](Eigen::Index i) { return Eigen::Vector3d(R.row(i).transpose()); };
+    ContactMesh atRest;
+    atRest.start = atRest.end = R;
+    atRest.triangles = T;
+    atRest.edges = E;
+    ContactCandidates near;
+    candidatePairs(atRest, reach, near);
+    const double reach2 = reach * reach;
+    rn.vertexTriangle.clear();
+    for (const auto& vt : near.vertexTriangle)
+      if (pointTriangleDistanceSquared(row(vt[0]), row(T(vt[1], 0)), row(T(vt[1], 1)), row(T(vt[1], 2))) < reach2)
+        rn.vertexTriangle.push_back(vt);
+    rn.edgeEdge.clear();
+    for (const auto& ee : near.edgeEdge)
+      if (edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) < reach2)
+        rn.edgeEdge.push_back(ee);
+    rn.rest = R;
+    rn.reach = reach;
+  }
+  const auto apart = [&rn](const std::array<int, 2>& vt) {
+    return !std::binary_search(rn.vertexTriangle.begin(), rn.vertexTriangle.end(), vt);
   };
-  const auto edgesApart = [&](const std::array<int, 2>& ee) {
-    return edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) >= reach2;
+  const auto edgesApart = [&rn](const std::array<int, 2>& ee) {
+    return !std::binary_search(rn.edgeEdge.begin(), rn.edgeEdge.end(), ee);
   };
   candidatePairs(mesh, inflation, out, apart, edgesApart);
 }
