@@ -624,7 +624,9 @@ TEST_CASE("BarrierContactForce: a joint move of the sheet and a moved obstacle i
   CHECK(force.jointAdvanceFraction(atStart, lifted(0.02), 1.0) == Approx((gap - kept) / 0.02).epsilon(1e-6));
   // the sheet falling 1 cm while the plate rises: the gap closes at 5 cm per unit
   CHECK(force.jointAdvanceFraction(atStart, lifted(-0.01), 1.0) == Approx((gap - kept) / 0.05).epsilon(1e-6));
-  // the query moved nothing: the plate is where the step began and sweeps from there
+  // the queries moved nothing: the plate stands where the step began (a sheet that keeps still
+  // meets nothing; a plate left swept would be met) and sweeps from there
+  CHECK(force.admissibleFraction(atStart, start) == 1.0);
   CHECK(force.advanceObstaclesBy(atStart, 0.0) == 1.0);
   // a quarter of the move with the sheet lifted 1 cm: three quarters left, the gap as it was
   const LoadContext atQuarter{s, lifted(0.01), start, 0.02, 0.0};

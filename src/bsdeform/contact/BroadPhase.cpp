@@ -2,6 +2,7 @@
 #include "bsdeform/contact/BroadPhase.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace bsdeform {
@@ -180,7 +181,10 @@ void sortPairs(std::vector<std::array<int, 2>>& pairs) {
     return;
   }
   int largest = 0;
-  for (const auto& p : pairs) largest = std::max(largest, p[0]);
+  for (const auto& p : pairs) {
+    assert(p[0] >= 0);  // indices of vertices, triangles, edges
+    largest = std::max(largest, p[0]);
+  }
   std::vector<size_t> start(size_t(largest) + 2, 0);
   for (const auto& p : pairs) ++start[size_t(p[0]) + 1];
   for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];

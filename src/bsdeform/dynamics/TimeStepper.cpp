@@ -730,11 +730,10 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     if (s.components()) s.components()->complete(x);
     const ControlNet before = x;
     const double remainingBefore = sweepRemaining;
-    if (passAdvance > 0.0 && passStart.rows() == x.rows()) {
+    if (passAdvance > 0.0) {  // (x and passStart complete: so is x + τ step, supports being affine)
       const double obstacleFraction = std::min(1.0, kPassGrowth * passAdvance / sweepRemaining);
       const ControlNet step = (obstacleFraction * sweepRemaining / passAdvance) * (x - passStart);
       jointAdvance(x, step, obstacleFraction);
-      if (s.components()) s.components()->complete(x);
     }
     sweepRemaining = advanceObstacles(x);
     evaluate(x, cur);  // the obstacle moved: a new potential
