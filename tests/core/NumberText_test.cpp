@@ -25,3 +25,14 @@ TEST_CASE("NumberText: a number as a person wrote it, and the exact double when 
     CHECK(std::stod(numberText(x)) == x);
   }
 }
+
+TEST_CASE("NumberText: a computed quantity in a message has four significant digits", "[core]") {
+  using bsdeform::measuredText;
+  CHECK(measuredText(0.004083512107596866) == "0.004084");
+  CHECK(measuredText(0.0065000000000000006) == "0.0065");
+  CHECK(measuredText(1.23456e-5) == "1.235e-05");
+  CHECK(measuredText(0.5) == "0.5");
+  CHECK(measuredText(12345.6) == "1.235e+04");
+  CHECK(measuredText(-0.30000000000000004) == "-0.3");
+  CHECK(measuredText(std::numeric_limits<double>::infinity()) == "inf");
+}

@@ -18,4 +18,13 @@ inline std::string numberText(double x) {
   return std::string(buffer, r.ptr);
 }
 
+/// How the core writes a computed quantity into a message (a distance found, a bound): four
+/// significant digits (0.004084, 1.235e-05), not the last bits of a value no user wrote.
+inline std::string measuredText(double x) {
+  char buffer[64];
+  const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, x, std::chars_format::general, 4);
+  if (r.ec != std::errc()) return "?";
+  return std::string(buffer, r.ptr);
+}
+
 }  // namespace bsdeform

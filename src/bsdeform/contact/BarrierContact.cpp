@@ -1046,7 +1046,7 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
   st.deviation = st.proxy->deviationBound(ctx.current) * stretch;
   std::ostringstream os;
   if (!(st.deviation < m_params.offset)) {
-    os << "the surface has curved so much that it may lie " << numberText(st.deviation)
+    os << "the surface has curved so much that it may lie " << measuredText(st.deviation)
        << " m from its collision proxy, as much as the contact offset thickness " << numberText(m_params.offset)
        << " m; raise proxySamples (now " << m_params.samplesPerSpan << ") or thickness";
     return os.str();
@@ -1074,7 +1074,7 @@ std::string BarrierContactForce::beginStep(const LoadContext& ctx) const {
     if (st.closestObstacle >= 0 && size_t(st.closestObstacle) < w.obstacles.size() &&
         !w.obstacles[size_t(st.closestObstacle)].name.empty())
       os << " (" << w.obstacles[size_t(st.closestObstacle)].name << ")";
-    os << " near (u, v) = (" << numberText(uv.x()) << ", " << numberText(uv.y()) << "): distance " << numberText(st.minimum)
+    os << " near (u, v) = (" << measuredText(uv.x()) << ", " << measuredText(uv.y()) << "): distance " << measuredText(st.minimum)
        << " m; start it clear of obstacles and of itself";
     return os.str();
   }
