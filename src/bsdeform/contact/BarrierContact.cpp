@@ -83,6 +83,17 @@ struct BarrierContactForce::State {
     Eigen::MatrixX3d target;   ///< its pose now (the tree's); mesh.start sweeps toward it
     Eigen::MatrixX3d origin;   ///< where the sweep began: the pose the surface last saw
     double remaining = 0.0;    ///< the fraction of the sweep still to go
+    /// Moves it by `t` of what it has left (all of it from 1 on: exactly to its target).
+    void sweepBy(double t) {
+      if (t >= 1.0) {
+        mesh.start = target;
+        remaining = 0.0;
+      } else {
+        mesh.start += t * (target - mesh.start);
+        remaining *= 1.0 - t;
+      }
+      mesh.end = mesh.start;
+    }
   };
   /// The start state of the step the obstacles' sweeps began in: a step taken again from it (a
   /// failed attempt, retaken in pieces) sweeps them again from their origins.
@@ -957,15 +968,7 @@ double BarrierContactForce::advanceObstacles(const LoadContext& ctx) const {
     ContactMesh sweep = ob.mesh;
     sweep.end = ob.target;
     const CostTimer timer(&st.costs.ccd);
-    const double t = collisionFreeFraction(st.mesh, sweep, m_params.offset);
-    if (t >= 1.0) {
-      ob.mesh.start = ob.target;
-      ob.remaining = 0.0;
-    } else {
-      ob.mesh.start += t * (ob.target - ob.mesh.start);
-      ob.remaining *= 1.0 - t;
-    }
-    ob.mesh.end = ob.mesh.start;
+    ob.sweepBy(collisionFreeFraction(st.mesh, sweep, m_params.offset));
     remaining = std::max(remaining, ob.remaining);
   }
   return remaining;
@@ -1006,14 +1009,7 @@ double BarrierContactForce::advanceObstaclesBy(const LoadContext& ctx, double fr
   double remaining = 0.0;
   for (State::Obstacle& ob : st.obstacles) {
     if (!ob.tree || ob.remaining == 0.0) continue;
-    if (f >= 1.0) {
-      ob.mesh.start = ob.target;
-      ob.remaining = 0.0;
-    } else {
-      ob.mesh.start += f * (ob.target - ob.mesh.start);
-      ob.remaining *= 1.0 - f;
-    }
-    ob.mesh.end = ob.mesh.start;
+    ob.sweepBy(f);
     remaining = std::max(remaining, ob.remaining);
   }
   return remaining;

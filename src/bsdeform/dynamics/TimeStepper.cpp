@@ -619,15 +619,20 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   for (Eigen::Index f = 0; f < x.rows(); ++f)
     for (int k = 0; k < 3; ++k)
       if (held(f, k)) x(f, k) = P(f, k);
-  // The largest fraction of the move from `from` (unknowns) by `step` that no barrier refuses.
+  // The move from `from` (unknowns) by `step` as full nets (fromNet to toNet), and the context
+  // of its start.
   ControlNet fromNet = startNet, toNet = startNet, xs;
-  auto admissible = [&](const ControlNet& from, const ControlNet& step) {
-    const CostTimer timer(&s.costs().collisionChecks);
+  auto moveContext = [&](const ControlNet& from, const ControlNet& step) {
     xs = from;
     s.completeUnknowns(xs, fromNet);
     xs = from + step;
     s.completeUnknowns(xs, toNet);
-    const LoadContext ctx = s.loadContext(fromNet, startNet, h, tNew);
+    return s.loadContext(fromNet, startNet, h, tNew);
+  };
+  // The largest fraction of the move from `from` by `step` that no barrier refuses.
+  auto admissible = [&](const ControlNet& from, const ControlNet& step) {
+    const CostTimer timer(&s.costs().collisionChecks);
+    const LoadContext ctx = moveContext(from, step);
     double fraction = 1.0;
     for (const Force* f : stateForces) fraction = std::min(fraction, f->admissibleFraction(ctx, toNet));
     return fraction;
@@ -707,11 +712,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   double passAdvance = 0.0;  // the step's move its obstacles made in that pass
   auto jointAdvance = [&](const ControlNet& from, const ControlNet& step, double obstacleFraction) {
     const CostTimer timer(&s.costs().collisionChecks);
-    xs = from;
-    s.completeUnknowns(xs, fromNet);
-    xs = from + step;
-    s.completeUnknowns(xs, toNet);
-    const LoadContext ctx = s.loadContext(fromNet, startNet, h, tNew);
+    const LoadContext ctx = moveContext(from, step);
     double fraction = 1.0;
     for (const Force* f : stateForces)
       fraction = std::min(fraction, f->jointAdvanceFraction(ctx, toNet, obstacleFraction));
