@@ -70,6 +70,34 @@ TEST_CASE("NewtonMinimizer: converges to the known minimum with a few factorisat
   CHECK(out.iterations <= 15);
 }
 
+TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergence keeps the last factorisation", "[newton]") {
+  // a barrier's Newton (chordSteps false): a new factorisation every iteration, except the last,
+  // whose step the last two full updates predict below the tolerance (quadratic convergence)
+  Quartic q(40);
+  const auto problem = q.problem();
+  NewtonMinimizer::Options o;
+  o.updateTolerance = 1e-5;  // updates 0.41, 0.31, 0.21, 0.068, 0.0017: 1e-6 predicted next
+  o.chordSteps = false;
+  auto run = [&](bool keep, ControlNet& x) {
+    x = ControlNet::Zero(40, 3);
+    NewtonPoint cur;
+    problem.evaluate(x, cur);
+    o.keptFactorNearMinimum = keep;
+    NewtonMinimizer m;
+    return m.minimize(x, cur, problem, o);
+  };
+  ControlNet full, kept;
+  const auto a = run(false, full), b = run(true, kept);
+  REQUIRE(a.converged);
+  REQUIRE(b.converged);
+  CHECK(a.factorisations == a.iterations);
+  CHECK(b.iterations == a.iterations);
+  CHECK(b.factorisations == b.iterations - 1);
+  // the kept step is below the tolerance: the minimum is as near as the tolerance says
+  CHECK((kept - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
+  CHECK((full - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
+}
+
 TEST_CASE("NewtonMinimizer: converges where the potential's change is below its rounding", "[newton]") {
   // a large constant beside f: near the minimum every change of the value is rounding, and an
   // Armijo search on the value alone refuses every step (the iteration stalls)

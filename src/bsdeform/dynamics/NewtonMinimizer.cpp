@@ -20,6 +20,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
   NewtonPoint trial;
   bool refactor = true;  // every minimize() starts with a factorisation of its own
   double lastUpdate = 0.0;
+  // the last two updates when both were full steps on a factorisation of their own (else 0)
+  double lastFull = 0.0, fullBefore = 0.0;
   bool smallBefore = false;  // quasi-Newton: the last step was below the update tolerance
   double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
   auto nextShift = [&](double s) { return s > 0.0 ? 4.0 * s : options.firstExtraShift; };
@@ -91,7 +93,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // kept one's step.
     // a factorisation made for this iteration (quasi-Newton on its own start: only the first,
     // and again after a failed search)
-    const bool fresh = qn ? ownStart && refactor : refactor || !options.chordSteps;
+    const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
+    const bool nearMinimum = options.keptFactorNearMinimum && !refactor && fullBefore > 0.0 &&
+                             lastFull * lastFull * lastFull <= updateTolerance * fullBefore * fullBefore;
+    const bool fresh = qn ? ownStart && refactor : refactor || (!options.chordSteps && !nearMinimum);
     const bool learnt = qn && !pairS.empty();
     if (fresh) {
       if (!factor()) {
@@ -111,7 +116,6 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     }
     const double slope = (step.array() * cur.g.array()).sum();
     const double stepSize = step.cwiseAbs().maxCoeff();
-    const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
     // a barrier's bound first (never try a step that crosses), then the backtracking
     double alpha = problem.maxStep ? std::min(1.0, problem.maxStep(x, step)) : 1.0;
     bool accepted = false;
@@ -183,6 +187,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     smallBefore = small && learnt;
     const double update = alpha * stepSize;
     if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
+    if (!options.chordSteps && !fresh) refactor = true;  // a kept factorisation's one step near the minimum
+    const double full = fresh && alpha == 1.0 ? update : 0.0;
+    fullBefore = full > 0.0 ? lastFull : 0.0;
+    lastFull = full;
     lastUpdate = update;
   }
   if (!std::isfinite(cur.norm)) {

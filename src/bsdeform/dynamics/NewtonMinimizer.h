@@ -73,6 +73,12 @@ class NewtonMinimizer {
     /// Keep a factorisation while the iterates contract fast with it (chord steps); false: a new
     /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).
     bool chordSteps = true;
+    /// Without chord steps: the step that confirms convergence reuses the last factorisation
+    /// when the last two full Newton updates u₋₁, u₀ predict the next below the update tolerance
+    /// (quadratic convergence: u₊₁ ≈ u₀³ / u₋₁²). Converged when that step is below the
+    /// tolerance (it estimates the distance to the minimum as Newton's would, the matrix having
+    /// moved by O(u₀)); otherwise the next iteration factorises anew.
+    bool keptFactorNearMinimum = false;
     /// L-BFGS (Liu, Bouaziz, Kavan 2017) in place of Newton's factorisations: the direction is
     /// the two-loop recursion over the last `history` pairs of updates and gradient changes,
     /// started from Problem::precondition; the same line search and the same tests. Its step

@@ -683,6 +683,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   options.updateTolerance = s.params().newtonVelocityTolerance * h;
   options.shift = massShift;
   options.chordSteps = !barrier;
+  options.keptFactorNearMinimum = barrier;
   if (s.params().nonlinearSolver == NonlinearSolver::LBFGS) {
     options.quasiNewton = true;
     options.maxIterations = 10 * s.params().maxNewtonIterations;  // each about a tenth of Newton's
