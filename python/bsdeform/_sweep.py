@@ -205,8 +205,12 @@ def run_task(scene_text, task):
         args += ["-o", out, "--quiet", "--result-lines"] if task.get("keep_outputs") else ["--result-only"]
         started = time.monotonic()
         try:
+            # one kernel thread per run unless the worker's environment says otherwise: the
+            # runs of a sweep already fill the cores beside each other
+            env = dict(os.environ)
+            env.setdefault("BSDEFORM_THREADS", "1")
             p = subprocess.run(args, stdin=subprocess.DEVNULL, capture_output=True, timeout=task.get("timeout"),
-                               cwd=work, start_new_session=True)
+                               cwd=work, start_new_session=True, env=env)
             code, stdout, stderr = p.returncode, p.stdout.decode("utf-8", "replace"), p.stderr.decode("utf-8", "replace")
         except subprocess.TimeoutExpired:
             code, stdout, stderr = None, "", "timed out after %g s" % task["timeout"]

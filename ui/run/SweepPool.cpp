@@ -68,6 +68,13 @@ Failure SweepPool::runChildren() {
   auto start = [&](int i) {
     auto* p = new QProcess(&owner);
     p->setProcessChannelMode(QProcess::SeparateChannels);
+    // the children fill the cores beside each other: one kernel thread each, unless the
+    // environment says otherwise (Parallel.h: the default is every CPU)
+    if (m_parallel > 1 && !qEnvironmentVariableIsSet("BSDEFORM_THREADS")) {
+      QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
+      env.insert(QStringLiteral("BSDEFORM_THREADS"), QStringLiteral("1"));
+      p->setProcessEnvironment(env);
+    }
     QStringList args = m_options.sweepChildArguments;
     args << QStringLiteral("--set") << m_target + QLatin1Char('=') + m_values[i] << QStringLiteral("--result-only");
     QObject::connect(p, QOverload<int, QProcess::ExitStatus>::of(&QProcess::finished), &owner,

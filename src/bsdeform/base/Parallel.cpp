@@ -31,13 +31,22 @@ namespace bsdeform {
 
 namespace {
 
+// CPUs this process may run on (its affinity mask: `taskset -c 1` gives 1).
+int availableCpus() {
+#if defined(__linux__)
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
+#endif
+  return int(std::thread::hardware_concurrency());
+}
+
 int defaultThreads() {
   if (const char* env = std::getenv("BSDEFORM_THREADS")) {
     char* end = nullptr;
     const long n = std::strtol(env, &end, 10);
     if (end != env && *end == '\0' && n >= 1) return int(std::min(n, 64L));
   }
-  return 1;  // opt-in: see Parallel.h
+  return std::clamp(availableCpus(), 1, 64);  // see Parallel.h
 }
 
 std::atomic<int> g_threads{defaultThreads()};
@@ -144,15 +153,6 @@ class Kernels {
 Kernels& kernels() {
   static Kernels& k = *new Kernels;  // never destroyed: a job during static destruction still finds it
   return k;
-}
-
-// CPUs this process may run on (its affinity mask: `taskset -c 1` gives 1).
-int availableCpus() {
-#if defined(__linux__)
-  cpu_set_t set;
-  if (sched_getaffinity(0, sizeof(set), &set) == 0) return CPU_COUNT(&set);
-#endif
-  return int(std::thread::hardware_concurrency());
 }
 
 bool defaultBackground() {

@@ -17,10 +17,13 @@
 namespace bsdeform {
 
 /// Threads the kernels may use, including the caller's. Default: the BSDEFORM_THREADS
-/// environment variable if it is a number >= 1, else 1. Not more by default: two threads make
-/// the explicit step 1.9-2.1x faster from 128^2 on when the second core is idle, but 1.45x
-/// slower when other programs keep it busy (measured on this project's shared 2-core VM,
-/// docs/benchmarks.md), and a library cannot tell which it will get.
+/// environment variable if it is a number >= 1, else the CPUs this process may run on (its
+/// affinity mask; at most 64). On this project's 2-core VM two threads take a quarter to a
+/// third off the cloth scenes' wall time when the second core is idle, and cost nothing (within
+/// 2 %) when another program keeps it busy: TBB's worker does not wait for a core that is taken
+/// (docs/benchmarks.md; the home-made pool before TBB was 1.45x slower there, which is why this
+/// used to be 1). Processes that run beside each other (bsdeform-run --sweep, bsdeform.sweep)
+/// give their children BSDEFORM_THREADS=1.
 int kernelThreads();
 /// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
 void setKernelThreads(int threads);
