@@ -365,6 +365,36 @@ class TheRunnersWriter(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(self.tmp, "out", "sweep.png")) > 1000)
 
 
+class OneThreadARun(unittest.TestCase):
+    """The runs of a sweep fill the workers' cores beside each other: each gets one kernel thread
+    (bsdeform-run's default is every CPU) unless the worker's environment names a count."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp()
+        self.addCleanup(shutil.rmtree, self.tmp, True)
+        self.child = os.path.join(self.tmp, "child.sh")
+        with open(self.child, "w") as f:
+            f.write("#!/bin/sh\nprintf 'RESULT\\tSurface\\t1\\t0\\t0\\t%s\\n' \"${BSDEFORM_THREADS:-unset}\"\n")
+        os.chmod(self.child, 0o755)
+
+    def threads_seen(self):
+        task = {"scene_name": "s.iv", "sets": [], "values": {"Surface.w10": "1"}, "surfaces": ["Surface"],
+                "steps": 1, "program": self.child}
+        (row,) = bsdeform._sweep.run_task("#Inventor V2.1 ascii\n", task).rows
+        return row.status
+
+    def test_one_thread_unless_the_environment_says(self):
+        saved = os.environ.pop("BSDEFORM_THREADS", None)
+        try:
+            self.assertEqual(self.threads_seen(), "1")
+            os.environ["BSDEFORM_THREADS"] = "3"
+            self.assertEqual(self.threads_seen(), "3")
+        finally:
+            os.environ.pop("BSDEFORM_THREADS", None)
+            if saved is not None:
+                os.environ["BSDEFORM_THREADS"] = saved
+
+
 class OnTheLocalDefault(unittest.TestCase):
     def test_client_none_starts_and_closes_a_local_cluster(self):
         tmp = tempfile.mkdtemp()

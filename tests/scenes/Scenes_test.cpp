@@ -13,6 +13,7 @@
 #include <dirent.h>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "../support/PngReadBack.h"
 #include "../support/VideoReadBack.h"
@@ -937,6 +938,35 @@ TEST_CASE("bsdeform-run: a sweep whose runs cannot start says so and stops", "[s
   CHECK(r.err.find("/nonexistent/bsdeform-run") != std::string::npos);
   CHECK(r.err.find("No such file or directory") != std::string::npos);
   CHECK(!exists(dir.path + "/sweep/sweep.csv"));
+}
+
+TEST_CASE("bsdeform-run: the runs of a sweep side by side get one kernel thread each", "[scenes]") {
+  // kernel threads default to every CPU (bsdeform/base/Parallel.h); runs that fill the cores
+  // beside each other take one each, unless the environment names a count
+  TempDir dir;
+  const std::string child = dir.path + "/child.sh";
+  {
+    std::ofstream f(child);
+    f << "#!/bin/sh\nprintf 'RESULT\\tSurface\\t1\\t0\\t0\\t%s\\n' \"${BSDEFORM_THREADS:-unset}\"\n";
+  }
+  REQUIRE(std::system(("chmod +x '" + child + "'").c_str()) == 0);
+  const bool side = std::thread::hardware_concurrency() > 1;  // QThread::idealThreadCount()
+  auto statuses = [&](const std::string& prefix) {
+    const Run r = run(scene("paper_fig2_point_force.iv") + " --steps 2 --sweep Surface.w10=1,2 --sweep-program '" +
+                          child + "' -o sweep --overwrite",
+                      dir.path, prefix);
+    INFO(r.err);
+    CHECK(r.code == 0);
+    std::vector<std::string> found;
+    std::istringstream lines(slurp(dir.path + "/sweep/sweep.csv"));
+    std::string line;
+    std::getline(lines, line);  // the header
+    while (std::getline(lines, line)) found.push_back(line.substr(line.rfind(',') + 1));
+    return found;
+  };
+  CHECK(statuses("env -u BSDEFORM_THREADS") ==
+        std::vector<std::string>(2, side ? std::string("1") : std::string("unset")));
+  CHECK(statuses("env BSDEFORM_THREADS=3") == std::vector<std::string>(2, "3"));
 }
 
 TEST_CASE("bsdeform-run --video: a frame per 1/fps of simulated time, the size asked for, atomic", "[scenes]") {
