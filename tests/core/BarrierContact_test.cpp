@@ -659,7 +659,7 @@ TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same
   for (Eigen::Index r = 0; r < net1.rows(); ++r)
     net1.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -std::sin(2.0 * r + 1.0));
   ControlNet net2 = net1;
-  net2.col(2).array() -= 0.004;  // toward the plate: CCD cuts it
+  net2.col(2).array() -= 0.0015;  // toward the plate: CCD cuts it (still within the skin of net0)
   const LoadContext at1{s, net1, net0, 0.02, 0.0};
   double phiKept = 0.0, phiFresh = 0.0;
   REQUIRE(kept.potential(at1, phiKept));
@@ -687,6 +687,59 @@ TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same
   ControlNet net3 = net0;
   net3.col(0).array() += 0.01;
   kept.potential(LoadContext{s, net3, net0, 0.02, 0.0}, unused);
+  CHECK(kept.candidateSearches() == searches + 1);
+}
+
+TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the iterates on it keep its "
+          "candidates with the same bits",
+          "[core][contact]") {
+  // a step's first CCD query spans the whole predicted move (a falling sheet: centimetres, far
+  // more than the skin); the iterates that follow lie on that segment or near it
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  auto world = worldOf(plate);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  bp.selfContact = true;
+  const ControlNet end = wavySheet(s);  // 5.8 to 6.6 mm above the plate: within reach
+  ControlNet start = end;
+  start.col(2).array() += 0.05;  // 5 cm above that
+  const BarrierContactForce kept(world, bp);
+  REQUIRE(kept.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+  const LoadContext atStart{s, start, start, 0.02, 0.0};
+  REQUIRE(kept.admissibleFraction(atStart, end) == 1.0);
+  const long searches = kept.candidateSearches();
+  // the move's end, its middle, and Newton's step from the end (0.5 to 2.5 mm down, into the
+  // offset: CCD cuts it): the kept pairs answer
+  ControlNet nearEnd = end;
+  for (Eigen::Index r = 0; r < nearEnd.rows(); ++r)
+    nearEnd.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -1.5 - std::sin(2.0 * r + 1.0));
+  const LoadContext atEnd{s, end, start, 0.02, 0.0};
+  double phiKept = 0.0, unused = 0.0;
+  REQUIRE(kept.potential(atEnd, phiKept));
+  ControlNet loadKept = ControlNet::Zero(s.numMoving(), 3);
+  kept.addLoad(atEnd, loadKept);
+  kept.potential(LoadContext{s, 0.5 * (start + end), start, 0.02, 0.0}, unused);
+  const double fractionKept = kept.admissibleFraction(atEnd, nearEnd);
+  CHECK(kept.candidateSearches() == searches);
+  // the same from a force that searches there itself
+  const BarrierContactForce fresh(world, bp);
+  REQUIRE(fresh.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+  fresh.setAdaptedState(kept.adaptedState());
+  double phiFresh = 0.0;
+  REQUIRE(fresh.potential(atEnd, phiFresh));
+  ControlNet loadFresh = ControlNet::Zero(s.numMoving(), 3);
+  fresh.addLoad(atEnd, loadFresh);
+  CHECK(phiKept > 0.0);
+  CHECK(phiKept == phiFresh);
+  CHECK(loadKept == loadFresh);
+  CHECK(fractionKept < 1.0);
+  CHECK(fractionKept == fresh.admissibleFraction(atEnd, nearEnd));
+  // off the segment by more than the skin: searched again
+  ControlNet aside = end;
+  aside.col(0).array() += 0.01;
+  kept.potential(LoadContext{s, aside, start, 0.02, 0.0}, unused);
   CHECK(kept.candidateSearches() == searches + 1);
 }
 

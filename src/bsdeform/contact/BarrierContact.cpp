@@ -150,16 +150,18 @@ struct BarrierContactForce::State {
   /// Counts the times the proxy or an obstacle's triangles were made anew (the cache below
   /// belongs to one generation).
   std::uint64_t generation = 0;
-  /// Candidate pairs kept across evaluations (a Verlet list): found around the proxy at `ref`
-  /// with the reach widened by two skins, the obstacles where they were then. While no proxy
-  /// vertex is more than a skin from `ref` (at both ends of a CCD query) and no obstacle moved,
-  /// every pair within the reach now (or within the offset along the step) is among them, and
+  /// Candidate pairs kept across evaluations (a Verlet list): found around the proxy's move
+  /// from `refStart` to `refEnd` (a query's start and end: its swept boxes) with the reach
+  /// widened by two skins, the obstacles where they were then. While no proxy vertex is more
+  /// than a skin from its segment from refStart to refEnd (at both ends of a query) and no
+  /// obstacle moved, every pair within the reach now (or within the offset along the step) is
+  /// among them (a box within a skin of a swept box lies in it grown by the skin), and
   /// narrowCandidates() picks exactly those the broad phase would find now: the same pairs in
   /// the same order, so nothing computed depends on when they were found.
   struct Candidates {
     bool valid = false;
     std::uint64_t generation = 0;
-    Eigen::MatrixX3d ref;
+    Eigen::MatrixX3d refStart, refEnd;
     std::vector<Eigen::MatrixX3d> obstacles;
     std::vector<ContactCandidates> wide, now;
     long builds = 0;
@@ -365,8 +367,16 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   const CostTimer timer(&st.costs.broadPhase);
   State::Candidates& c = st.candidates;
   const double reach = m_params.offset + m_params.dhat, skin = 0.5 * reach;
+  // every vertex within a skin of its segment from refStart to refEnd
   auto near = [&](const Eigen::MatrixX3d& x) {
-    return x.rows() == c.ref.rows() && x.rows() > 0 && (x - c.ref).rowwise().norm().maxCoeff() <= skin;
+    if (x.rows() != c.refStart.rows() || x.rows() == 0) return false;
+    const double skin2 = skin * skin;
+    for (Eigen::Index i = 0; i < x.rows(); ++i) {
+      const Eigen::RowVector3d a = c.refStart.row(i), d = c.refEnd.row(i) - a, q = x.row(i) - a;
+      const double dd = d.squaredNorm(), t = dd > 0.0 ? std::clamp(q.dot(d) / dd, 0.0, 1.0) : 0.0;
+      if (!((q - t * d).squaredNorm() <= skin2)) return false;
+    }
+    return true;
   };
   auto obstaclesAsThen = [&] {
     if (c.obstacles.size() != st.obstacles.size()) return false;
@@ -383,14 +393,19 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     }
     return true;
   };
-  if (!(c.valid && c.generation == st.generation && obstaclesAsThen() && near(st.mesh.start))) {
-    // found again around where the proxy starts, the obstacles where they are (a moving
-    // obstacle mid-sweep, start and end apart: not kept)
-    c.ref = st.mesh.start;
+  if (!(c.valid && c.generation == st.generation && obstaclesAsThen() && near(st.mesh.start) &&
+        near(st.mesh.end))) {
+    // found again around the query's move (a CCD query's from its start to its end: the
+    // iterates that follow on that segment, the step's first, cut by CCD, and Newton's near it,
+    // then keep the list), the obstacles where they are (a moving obstacle mid-sweep, start and
+    // end apart: not kept)
+    c.refStart = st.mesh.start;
+    c.refEnd = st.mesh.end;
     c.generation = st.generation;
     c.valid = true;
     ContactMesh at;
-    at.start = at.end = c.ref;
+    at.start = c.refStart;
+    at.end = c.refEnd;
     at.triangles = st.mesh.triangles;
     at.edges = st.mesh.edges;
     c.wide.assign(st.obstacles.size() + 1, ContactCandidates());
@@ -408,7 +423,7 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     ++c.builds;
   }
   c.now.resize(st.obstacles.size() + 1);
-  const bool kept = c.valid && near(st.mesh.end);
+  const bool kept = c.valid;
   for (size_t o = 0; o < st.obstacles.size(); ++o) {
     c.now[o] = ContactCandidates();
     if (!st.obstacles[o].tree) continue;
