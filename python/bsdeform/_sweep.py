@@ -208,7 +208,8 @@ def run_task(scene_text, task):
             # one kernel thread per run unless the worker's environment says otherwise: the
             # runs of a sweep already fill the cores beside each other
             env = dict(os.environ)
-            env.setdefault("BSDEFORM_THREADS", "1")
+            if not env.get("BSDEFORM_THREADS"):
+                env["BSDEFORM_THREADS"] = "1"
             p = subprocess.run(args, stdin=subprocess.DEVNULL, capture_output=True, timeout=task.get("timeout"),
                                cwd=work, start_new_session=True, env=env)
             code, stdout, stderr = p.returncode, p.stdout.decode("utf-8", "replace"), p.stderr.decode("utf-8", "replace")

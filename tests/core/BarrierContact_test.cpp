@@ -710,8 +710,8 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   const LoadContext atStart{s, start, start, 0.02, 0.0};
   REQUIRE(kept.admissibleFraction(atStart, end) == 1.0);
   const long searches = kept.candidateSearches();
-  // the move's end, its middle, and Newton's step from the end (0.5 to 2.5 mm down, into the
-  // offset: CCD cuts it): the kept pairs answer
+  // the move's end, a point on it 0.5 mm above, and Newton's step from the end (0.5 to 2.5 mm
+  // down, into the offset: CCD cuts it): the kept pairs answer
   ControlNet nearEnd = end;
   for (Eigen::Index r = 0; r < nearEnd.rows(); ++r)
     nearEnd.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -1.5 - std::sin(2.0 * r + 1.0));
@@ -720,7 +720,9 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   REQUIRE(kept.potential(atEnd, phiKept));
   ControlNet loadKept = ControlNet::Zero(s.numMoving(), 3);
   kept.addLoad(atEnd, loadKept);
-  kept.potential(LoadContext{s, 0.5 * (start + end), start, 0.02, 0.0}, unused);
+  const LoadContext atLate{s, end + 0.01 * (start - end), start, 0.02, 0.0};  // 0.5 mm above the end
+  double phiLateKept = 0.0;
+  REQUIRE(kept.potential(atLate, phiLateKept));
   const double fractionKept = kept.admissibleFraction(atEnd, nearEnd);
   CHECK(kept.candidateSearches() == searches);
   // the same from a force that searches there itself
@@ -731,9 +733,13 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   REQUIRE(fresh.potential(atEnd, phiFresh));
   ControlNet loadFresh = ControlNet::Zero(s.numMoving(), 3);
   fresh.addLoad(atEnd, loadFresh);
+  double phiLateFresh = 0.0;
+  REQUIRE(fresh.potential(atLate, phiLateFresh));
   CHECK(phiKept > 0.0);
   CHECK(phiKept == phiFresh);
   CHECK(loadKept == loadFresh);
+  CHECK(phiLateKept > 0.0);
+  CHECK(phiLateKept == phiLateFresh);
   CHECK(fractionKept < 1.0);
   CHECK(fractionKept == fresh.admissibleFraction(atEnd, nearEnd));
   // off the segment by more than the skin: searched again

@@ -74,9 +74,11 @@ TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergen
   // a barrier's Newton (chordSteps false): a new factorisation every iteration, except the last,
   // whose step the last two full updates predict below the tolerance (quadratic convergence)
   Quartic q(40);
+  for (Eigen::Index i = 0; i < q.c.rows(); ++i)  // a fixed minimum (not std::rand's state)
+    for (int k = 0; k < 3; ++k) q.c(i, k) = std::sin(1.0 + 7.0 * double(i) + 3.0 * k);
   const auto problem = q.problem();
   NewtonMinimizer::Options o;
-  o.updateTolerance = 1e-5;  // updates 0.41, 0.31, 0.21, 0.068, 0.0017: 1e-6 predicted next
+  o.updateTolerance = 1e-5;  // the last full updates predict the next below 5e-6
   o.chordSteps = false;
   auto run = [&](bool keep, ControlNet& x) {
     x = ControlNet::Zero(40, 3);
@@ -96,6 +98,33 @@ TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergen
   // the kept step is below the tolerance: the minimum is as near as the tolerance says
   CHECK((kept - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
   CHECK((full - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
+}
+
+TEST_CASE("NewtonMinimizer: L-BFGS on its own start factorises once whether chord steps are on or off", "[newton]") {
+  // with a barrier backward Euler turns chord steps off; L-BFGS there starts from the first
+  // iterate's tangent, factorised once, whatever keptFactorNearMinimum says
+  Quartic q(40);
+  for (Eigen::Index i = 0; i < q.c.rows(); ++i)
+    for (int k = 0; k < 3; ++k) q.c(i, k) = 0.5 * std::cos(2.0 + 5.0 * double(i) + k);
+  const auto problem = q.problem();
+  for (const bool chords : {true, false}) {
+    CAPTURE(chords);
+    NewtonMinimizer::Options o;
+    o.updateTolerance = 1e-9;
+    o.quasiNewton = true;
+    o.maxIterations = 300;
+    o.chordSteps = chords;
+    o.keptFactorNearMinimum = !chords;
+    ControlNet x = ControlNet::Zero(40, 3);
+    NewtonPoint cur;
+    problem.evaluate(x, cur);
+    NewtonMinimizer m;
+    const auto out = m.minimize(x, cur, problem, o);
+    REQUIRE(out.converged);
+    CHECK(out.iterations > 3);
+    CHECK(out.factorisations == 1);
+    CHECK((x - q.c).cwiseAbs().maxCoeff() < 1e-7);
+  }
 }
 
 TEST_CASE("NewtonMinimizer: converges where the potential's change is below its rounding", "[newton]") {

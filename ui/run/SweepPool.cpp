@@ -70,7 +70,7 @@ Failure SweepPool::runChildren() {
     p->setProcessChannelMode(QProcess::SeparateChannels);
     // the children fill the cores beside each other: one kernel thread each, unless the
     // environment says otherwise (Parallel.h: the default is every CPU)
-    if (m_parallel > 1 && !qEnvironmentVariableIsSet("BSDEFORM_THREADS")) {
+    if (qEnvironmentVariableIsEmpty("BSDEFORM_THREADS")) {
       QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
       env.insert(QStringLiteral("BSDEFORM_THREADS"), QStringLiteral("1"));
       p->setProcessEnvironment(env);

@@ -18,12 +18,9 @@ namespace bsdeform {
 
 /// Threads the kernels may use, including the caller's. Default: the BSDEFORM_THREADS
 /// environment variable if it is a number >= 1, else the CPUs this process may run on (its
-/// affinity mask; at most 64). On this project's 2-core VM two threads take a quarter to a
-/// third off the cloth scenes' wall time when the second core is idle, and cost nothing (within
-/// 2 %) when another program keeps it busy: TBB's worker does not wait for a core that is taken
-/// (docs/benchmarks.md; the home-made pool before TBB was 1.45x slower there, which is why this
-/// used to be 1). Processes that run beside each other (bsdeform-run --sweep, bsdeform.sweep)
-/// give their children BSDEFORM_THREADS=1.
+/// affinity mask; at most 64): a second thread costs nothing measurable when another program
+/// keeps its core busy (docs/benchmarks.md, "both cores by default"). Processes that run beside
+/// each other (bsdeform-run --sweep, bsdeform.sweep) give their children BSDEFORM_THREADS=1.
 int kernelThreads();
 /// Sets the number of kernel threads (clamped to 1..64); takes effect at the next call.
 void setKernelThreads(int threads);
@@ -62,9 +59,8 @@ class SerialOpenMp {
 /// Whether BackgroundWork hands its parts to a background thread. Default: the
 /// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this
 /// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`; a CPU
-/// quota of a container is not seen). Unlike the kernels' threads this is on by default: the
-/// caller never waits for the background thread to start (it runs the parts not yet taken
-/// itself). What a busy machine can cost: the background thread spins up to 200 us after each
+/// quota of a container is not seen). The caller never waits for the background thread to
+/// start (it runs the parts not yet taken itself). What a busy machine can cost: the background thread spins up to 200 us after each
 /// work before it sleeps (CPU time, measured in docs/benchmarks.md), and a caller may wait once
 /// for a part whose thread was descheduled before the back-off below sets in.
 bool backgroundThreadEnabled();

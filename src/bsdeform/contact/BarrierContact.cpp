@@ -370,7 +370,7 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   // every vertex within a skin of its segment from refStart to refEnd
   auto near = [&](const Eigen::MatrixX3d& x) {
     if (x.rows() != c.refStart.rows() || x.rows() == 0) return false;
-    const double skin2 = skin * skin;
+    const double skin2 = (1.0 - 1e-12) * skin * skin;  // (the argument's margin is exactly 0: no rounding's)
     for (Eigen::Index i = 0; i < x.rows(); ++i) {
       const Eigen::RowVector3d a = c.refStart.row(i), d = c.refEnd.row(i) - a, q = x.row(i) - a;
       const double dd = d.squaredNorm(), t = dd > 0.0 ? std::clamp(q.dot(d) / dd, 0.0, 1.0) : 0.0;

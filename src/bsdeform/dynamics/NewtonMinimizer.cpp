@@ -95,7 +95,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // and again after a failed search)
     const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
     const bool nearMinimum = options.keptFactorNearMinimum && !refactor && fullBefore > 0.0 &&
-                             lastFull * lastFull * lastFull <= updateTolerance * fullBefore * fullBefore;
+                             lastFull * lastFull * lastFull <= 0.5 * updateTolerance * fullBefore * fullBefore;
     const bool fresh = qn ? ownStart && refactor : refactor || (!options.chordSteps && !nearMinimum);
     const bool learnt = qn && !pairS.empty();
     if (fresh) {
@@ -179,7 +179,9 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // minimum whether or not the search took all of it (near the minimum the potential's
     // rounding can refuse a full step; far from it a shortened step is no sign of convergence)
     // quasi-Newton: two steps in a row below it, the first with a learnt pair
-    const bool small = stepSize <= updateTolerance;
+    // (a step on a kept factorisation counts below half the tolerance: its matrix is the last
+    // iterate's, which a barrier near contact can make stiffer than the current one)
+    const bool small = stepSize <= (!qn && !fresh && !options.chordSteps ? 0.5 : 1.0) * updateTolerance;
     if (small && (!qn || smallBefore)) {
       out.converged = true;
       return out;
@@ -187,7 +189,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     smallBefore = small && learnt;
     const double update = alpha * stepSize;
     if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
-    if (!options.chordSteps && !fresh) refactor = true;  // a kept factorisation's one step near the minimum
+    // a kept factorisation's one step near the minimum: the next iteration factorises anew
+    if (!qn && options.keptFactorNearMinimum && !options.chordSteps && !fresh) refactor = true;
     const double full = fresh && alpha == 1.0 ? update : 0.0;
     fullBefore = full > 0.0 ? lastFull : 0.0;
     lastFull = full;
