@@ -60,9 +60,10 @@ class SerialOpenMp {
 /// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this
 /// process may run on two or more CPUs (its affinity mask: not under `taskset -c 1`; a CPU
 /// quota of a container is not seen). The caller never waits for the background thread to
-/// start (it runs the parts not yet taken itself). What a busy machine can cost: the background thread spins up to 200 us after each
-/// work before it sleeps (CPU time, measured in docs/benchmarks.md), and a caller may wait once
-/// for a part whose thread was descheduled before the back-off below sets in.
+/// start (it runs the parts not yet taken itself). What a busy machine can cost: the background
+/// thread spins up to 200 us after each work before it sleeps (CPU time, measured in
+/// docs/benchmarks.md), and a caller may wait once for a part whose thread was descheduled
+/// before the back-off below sets in.
 bool backgroundThreadEnabled();
 /// Turns the background thread on or off for the next works, and ends a back-off (see below).
 void setBackgroundThreadEnabled(bool enabled);

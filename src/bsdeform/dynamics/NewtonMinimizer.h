@@ -75,10 +75,10 @@ class NewtonMinimizer {
     bool chordSteps = true;
     /// Without chord steps: the step that confirms convergence reuses the last factorisation
     /// when the last two full Newton updates u₋₁, u₀ predict the next below half the update
-    /// tolerance (quadratic convergence: u₊₁ ≈ u₀³ / u₋₁²). Converged when that step is below half the
-    /// tolerance (it estimates the distance to the minimum as Newton's would, the matrix having
-    /// moved by O(u₀); the half for a barrier's curvature, which grows near contact); otherwise
-    /// the next iteration factorises anew. Newton only (not quasiNewton).
+    /// tolerance (quadratic convergence: u₊₁ ≈ u₀³ / u₋₁²). Converged when that step is below
+    /// half the tolerance (it estimates the distance to the minimum as Newton's would, the
+    /// matrix having moved by O(u₀); the half for a barrier's curvature, which grows near
+    /// contact); otherwise the next iteration factorises anew. Newton only (not quasiNewton).
     bool keptFactorNearMinimum = false;
     /// L-BFGS (Liu, Bouaziz, Kavan 2017) in place of Newton's factorisations: the direction is
     /// the two-loop recursion over the last `history` pairs of updates and gradient changes,
