@@ -5,7 +5,9 @@
 // gradient), and a singular tangent (a free body's rigid motion) shifted until it factorises.
 #include <Eigen/SparseCore>
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "bsdeform/dynamics/NewtonMinimizer.h"
 
@@ -125,6 +127,75 @@ TEST_CASE("NewtonMinimizer: L-BFGS on its own start factorises once whether chor
     CHECK(out.factorisations == 1);
     CHECK((x - q.c).cwiseAbs().maxCoeff() < 1e-7);
   }
+}
+
+TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass before the projected one",
+          "[newton]") {
+  // a step's potential ½ m (x - x̂)² + W(x) per coordinate, W = ¼ (x² - 1)² a double well
+  // (W'' = 3x² - 1 < 0 near 0), m = 0.7: at x = 0 the exact tangent 0.7 - 1 is not positive
+  // definite, 1.25³ m - 1 = 0.37 is; the projected one (W'' clamped at 0) is what the dynamics
+  // fall back to otherwise
+  constexpr double m = 0.7;
+  constexpr Eigen::Index n = 6;
+  const ControlNet xhat = ControlNet::Constant(n, 3, 0.05);
+  ControlNet at;
+  Eigen::SparseMatrix<double> K;
+  std::vector<HessianMode> modes;
+  NewtonMinimizer::Problem p;
+  p.evaluate = [&](const ControlNet& x, NewtonPoint& pt) {
+    at = x;
+    const Eigen::ArrayXXd d = (x - xhat).array(), a = x.array();
+    pt.g = (m * d + a.cube() - a).matrix();
+    pt.norm = pt.g.norm();
+    const double w = (0.25 * (a.square() - 1.0).square()).sum();
+    pt.value = 0.5 * m * d.square().sum() + w;
+    pt.valueScale = std::abs(pt.value) + 1.0;
+    pt.potential = true;
+  };
+  p.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+    modes.push_back(mode);
+    K.resize(3 * n, 3 * n);
+    std::vector<Eigen::Triplet<double>> t;
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        double h = 3.0 * at(i, k) * at(i, k) - 1.0;
+        if (mode == HessianMode::Projected) h = std::max(h, 0.0);
+        t.emplace_back(int(3 * i + k), int(3 * i + k), h + shift);
+      }
+    K.setFromTriplets(t.begin(), t.end());
+    return K;
+  };
+  p.residualSmall = [](const NewtonPoint& pt) { return pt.norm == 0.0; };
+  NewtonMinimizer::Options o;
+  o.updateTolerance = 1e-12;
+  o.shift = m;
+  o.chordSteps = false;
+  auto run = [&](bool shifted) {
+    o.massRetries = shifted ? 5 : 0;
+    NewtonMinimizer::Problem q = p;
+    if (shifted) {
+      q.shiftTangent = [&](double extra) -> const Eigen::SparseMatrix<double>& {
+        for (int i = 0; i < K.rows(); ++i) K.coeffRef(i, i) += extra;
+        return K;
+      };
+    }
+    ControlNet x = ControlNet::Zero(n, 3);
+    NewtonPoint cur;
+    q.evaluate(x, cur);
+    modes.clear();
+    NewtonMinimizer minimizer;
+    const auto out = minimizer.minimize(x, cur, q, o);
+    REQUIRE(out.converged);
+    // a minimum of the step's potential: the gradient zero, the exact tangent positive
+    CHECK(cur.g.cwiseAbs().maxCoeff() < 1e-10);
+    CHECK((m + 3.0 * x.array().square() - 1.0).minCoeff() > 0.0);
+    return x;
+  };
+  const ControlNet projected = run(false);
+  CHECK(std::count(modes.begin(), modes.end(), HessianMode::Projected) > 0);
+  const ControlNet shifted = run(true);
+  CHECK(std::count(modes.begin(), modes.end(), HessianMode::Projected) == 0);
+  CHECK((shifted - projected).cwiseAbs().maxCoeff() < 1e-10);  // the same minimum
 }
 
 TEST_CASE("NewtonMinimizer: converges where the potential's change is below its rounding", "[newton]") {

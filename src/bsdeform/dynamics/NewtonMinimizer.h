@@ -45,6 +45,9 @@ class NewtonMinimizer {
     std::function<void(const ControlNet& x, NewtonPoint& p)> evaluate;
     /// The tangent at the last evaluated point, with `shift` times the mass added.
     std::function<const Eigen::SparseMatrix<double>&(HessianMode mode, double shift)> tangent;
+    /// Optional: the last tangent() with `extra` times the mass added, without assembling it
+    /// again (see Options::massRetries).
+    std::function<const Eigen::SparseMatrix<double>&(double extra)> shiftTangent;
     /// Whether p's residual is below the caller's tolerance (converged).
     std::function<bool(const NewtonPoint& p)> residualSmall;
     /// Optional: the update tolerance at the iterate x (a length), in place of
@@ -66,6 +69,11 @@ class NewtonMinimizer {
     /// (each 4 times the last).
     double firstExtraShift = 0.0;
     int shiftAttempts = 8;
+    /// With a shift of its own (the dynamics) and Problem::shiftTangent: where the exact tangent
+    /// is not positive definite, the exact tangent with the mass multiple raised 1.25 times up
+    /// to this many times, before the projected one (Levenberg–Marquardt's damping on the
+    /// inertia the step already has; the exact Hessian's curvature kept).
+    int massRetries = 0;
     /// Where the exact tangent was not positive definite, later factorisations of the same
     /// minimize() start from the projected one with a quarter of the last extra shift
     /// (Levenberg–Marquardt's lowering: a free body stays singular near its rigid motions).

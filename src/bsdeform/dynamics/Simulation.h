@@ -456,6 +456,9 @@ class Simulation {
   const Eigen::SparseMatrix<double>& tangent(const ControlNet& net, double scale, double shift, HessianMode mode,
                                              const LoadContext* forces = nullptr, double velocityScale = 0.0,
                                              double forceScale = 1.0) const;
+  /// The last tangent() with `extra` times the mass added (held coordinates kept as identity
+  /// rows): a larger mass multiple without assembling again. Only after a tangent().
+  const Eigen::SparseMatrix<double>& shiftTangent(double extra) const;
   /// dW/dP on the unknowns (numMoving x 3): ShellModelEnergy::gradient().
   void shellGradient(const ControlNet& net, ControlNet& out) const { m_energy->gradient(net, out); }
   void shellUpdateBound();

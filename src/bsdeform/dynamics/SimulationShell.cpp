@@ -8,6 +8,7 @@
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -122,6 +123,15 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
       if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
   }
   K.settlePattern();  // self-contact's couplings of points in no common element
+  K.applyHeld(m_tangentHeldMask);
+  return K.matrix();
+}
+
+const Eigen::SparseMatrix<double>& Simulation::shiftTangent(double extra) const {
+  assert(m_tangent);
+  TangentMatrix& K = *m_tangent;
+  const CostTimer timer(&m_costs.elastic);
+  K.addScalarMatrix(m_mass->matrix(), extra);
   K.applyHeld(m_tangentHeldMask);
   return K.matrix();
 }

@@ -105,6 +105,8 @@ class StepperModel {
   virtual const Eigen::SparseMatrix<double>& tangent(const ControlNet& net, double scale, double shift,
                                                      HessianMode mode, const LoadContext* forces = nullptr,
                                                      double velocityScale = 0.0, double forceScale = 1.0) const = 0;
+  /// The last tangent() with `extra` times the mass added (Simulation::shiftTangent()).
+  virtual const Eigen::SparseMatrix<double>& shiftTangent(double extra) const = 0;
   /// dW/dP on the unknowns.
   virtual void elasticGradient(const ControlNet& net, ControlNet& out) const = 0;
   /// The unknowns x (constrained coordinates completed) into the full net `net`.

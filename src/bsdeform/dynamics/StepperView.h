@@ -56,6 +56,7 @@ class Simulation::StepperView final : public StepperModel {
                                              double forceScale) const override {
     return m_s.tangent(net, scale, shift, mode, forces, velocityScale, forceScale);
   }
+  const Eigen::SparseMatrix<double>& shiftTangent(double extra) const override { return m_s.shiftTangent(extra); }
   void elasticGradient(const ControlNet& net, ControlNet& out) const override { m_s.m_energy->gradient(net, out); }
   void completeUnknowns(ControlNet& x, ControlNet& net) const override { m_s.completeUnknowns(x, net); }
   void holdPins(ControlNet& net) const override { m_s.holdPins(net); }

@@ -676,6 +676,12 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
     folded = s.components()->foldTangent(K, s.heldMask());
     return folded;
   };
+  problem.shiftTangent = [&](double extra) -> const Eigen::SparseMatrix<double>& {
+    const Eigen::SparseMatrix<double>& K = s.shiftTangent(extra);
+    if (!s.components()) return K;
+    folded = s.components()->foldTangent(K, s.heldMask());
+    return folded;
+  };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * forceScale; };
   if (barrier) problem.maxStep = admissible;
   NewtonMinimizer::Options options;
@@ -684,6 +690,7 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   options.shift = massShift;
   options.chordSteps = !barrier;
   options.keptFactorNearMinimum = barrier;
+  options.massRetries = 5;
   if (s.params().nonlinearSolver == NonlinearSolver::LBFGS) {
     options.quasiNewton = true;
     options.maxIterations = 10 * s.params().maxNewtonIterations;  // each about a tenth of Newton's
