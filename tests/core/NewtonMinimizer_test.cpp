@@ -133,8 +133,8 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
           "[newton]") {
   // a step's potential ½ m (x - x̂)² + W(x) per coordinate, W = ¼ (x² - 1)² a double well
   // (W'' = 3x² - 1 < 0 near 0), m = 0.7: at x = 0 the exact tangent 0.7 - 1 is not positive
-  // definite, 1.25³ m - 1 = 0.37 is; the projected one (W'' clamped at 0) is what the dynamics
-  // fall back to otherwise
+  // definite, 1.25 m - 1 is not either, 1.25² m - 1 = 0.094 is (the second retry); the projected
+  // one (W'' clamped at 0) is what the dynamics fall back to otherwise
   constexpr double m = 0.7;
   constexpr Eigen::Index n = 6;
   const ControlNet xhat = ControlNet::Constant(n, 3, 0.05);

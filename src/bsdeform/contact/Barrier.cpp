@@ -154,7 +154,7 @@ double pointStaticTriangleBarrier(const Eigen::Vector3d& p, const Eigen::Vector3
   const double value = bp.stiffness * barrier(s, sHat);
   if (!grad && !hess) return value;
   // g = ∇_p d², and the unit vector e that ∇²d² leaves out (an edge's direction), by class
-  Eigen::Vector3d g, e = Eigen::Vector3d::Zero();
+  Eigen::Vector3d g = Eigen::Vector3d::Zero(), e = Eigen::Vector3d::Zero();  // g: set by every class
   enum { Face, Edge, Vertex } kind = Vertex;
   auto edge = [&](const Eigen::Vector3d& e0, const Eigen::Vector3d& e1) {
     e = (e1 - e0).normalized();

@@ -30,6 +30,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
   double lastFull = 0.0, fullBefore = 0.0;
   bool smallBefore = false;  // quasi-Newton: the last step was below the update tolerance
   double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
+  bool exactFactor = false;  // the last factorisation was the exact tangent with the step's own shift
   auto nextShift = [&](double s) { return s > 0.0 ? 4.0 * s : options.firstExtraShift; };
   // L-BFGS (H0: Problem::precondition, else the tangent factorised at the first iterate) and its
   // last pairs (s, y, 1/sᵀy), oldest first
@@ -72,8 +73,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     double extra = options.rememberShift && remembered > 0.0 ? 0.25 * remembered : 0.0;
     if (extra < options.firstExtraShift || options.shift > 0.0) extra = 0.0;
     if (extra == 0.0) {
+      exactFactor = false;
       if (factorise(problem.tangent(HessianMode::Exact, options.shift))) {
         remembered = 0.0;
+        exactFactor = true;
         return true;
       }
       // then the exact tangent with more of the mass (Levenberg–Marquardt on the inertia), which
@@ -88,6 +91,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
         }
       }
     }
+    exactFactor = false;
     double total = options.shift + extra;
     for (int attempt = 0; attempt < options.shiftAttempts; ++attempt) {
       if (factorise(problem.tangent(HessianMode::Projected, total))) {
@@ -208,7 +212,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
     // a kept factorisation's one step near the minimum: the next iteration factorises anew
     if (!qn && options.keptFactorNearMinimum && !options.chordSteps && !fresh) refactor = true;
-    const double full = fresh && alpha == 1.0 ? update : 0.0;
+    // (only Newton's own steps forecast the next: a damped or projected matrix's converge linearly)
+    const double full = fresh && alpha == 1.0 && exactFactor ? update : 0.0;
     fullBefore = full > 0.0 ? lastFull : 0.0;
     lastFull = full;
     lastUpdate = update;

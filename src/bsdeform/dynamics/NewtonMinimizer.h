@@ -7,8 +7,8 @@
 /// minimize() with their own evaluation and tangent (docs/math.md §16, "One Newton solver").
 ///
 /// An iteration solves K d = -g with K the tangent at the iterate (the exact one while it is
-/// positive definite, else the element Hessians projected to PSD, then with more of the mass
-/// added), then searches along d (Armijo backtracking on the potential; on the residual's norm
+/// positive definite, else (Options::massRetries) the exact one with more of the mass, else the
+/// element Hessians projected to PSD, then with more of the mass added), then searches along d (Armijo backtracking on the potential; on the residual's norm
 /// when some load has no potential, or where the potential's change is below its rounding). A factorisation is kept while the iterates contract fast
 /// with it (chord steps: a gradient and a solve, no assembly and factorisation). Converged when
 /// the largest component of an accepted Newton step is below `updateTolerance` (a length:
@@ -82,7 +82,8 @@ class NewtonMinimizer {
     /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).
     bool chordSteps = true;
     /// Without chord steps: the step that confirms convergence reuses the last factorisation
-    /// when the last two full Newton updates u₋₁, u₀ predict the next below half the update
+    /// when the last two full Newton updates u₋₁, u₀ (on the exact tangent with the step's own
+    /// shift) predict the next below half the update
     /// tolerance (quadratic convergence: u₊₁ ≈ u₀³ / u₋₁²). Converged when that step is below
     /// half the tolerance (it estimates the distance to the minimum as Newton's would, the
     /// matrix having moved by O(u₀); the half for a barrier's curvature, which grows near
