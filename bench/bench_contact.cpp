@@ -41,23 +41,35 @@ bsdeform::TriangleMesh box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi)
   return m;
 }
 
-void ContactSecond(benchmark::State& state) {
-  const int n = int(state.range(0));
-  const int threads = int(state.range(1));
-  const int before = bsdeform::kernelThreads();
-  bsdeform::setKernelThreads(threads);  // before the obstacle's Embree device, which takes it
-  const bsdeform::ShellMaterial cotton{0.821e6, 0.243, 0.318e-3, 472.6};
+/// A cotton sheet (N x N biquadratic net, free sides, SHELL) stepped by BACKWARD_EULER with
+/// Newton at dt 0.02, as the contact scenes run it.
+bsdeform::ModelParameters cottonSheet(int n) {
   bsdeform::ModelParameters p;
   p.numU = p.numV = n;
   p.degreeU = p.degreeV = 2;
   p.boundaries = {bsdeform::Boundary::Free, bsdeform::Boundary::Free, bsdeform::Boundary::Free,
                   bsdeform::Boundary::Free};
   p.energy = bsdeform::EnergyModel::Shell;
-  p.material = cotton;
+  p.material = bsdeform::ShellMaterial{0.821e6, 0.243, 0.318e-3, 472.6};
   p.damping = 1.0;
   p.timeStep = 0.02;
   p.integrator = bsdeform::Integrator::BackwardEuler;
   p.maxNewtonIterations = 200;
+  return p;
+}
+
+/// Gravity on the sheet's own areal mass.
+void addGravity(bsdeform::Simulation& sim) {
+  const bsdeform::ShellMaterial& m = sim.parameters().material;
+  sim.addForce(std::make_shared<bsdeform::GravityForce>(m.density * m.thickness, Eigen::Vector3d(0, 0, -9.81)));
+}
+
+void ContactSecond(benchmark::State& state) {
+  const int n = int(state.range(0));
+  const int threads = int(state.range(1));
+  const int before = bsdeform::kernelThreads();
+  bsdeform::setKernelThreads(threads);  // before the obstacle's Embree device, which takes it
+  const bsdeform::ModelParameters p = cottonSheet(n);
   auto world = std::make_shared<bsdeform::ContactWorld>();
   const bsdeform::TriangleMesh cube = box(Eigen::Vector3d(0.2, 0.2, -0.7), Eigen::Vector3d(0.8, 0.8, -0.1));
   world->obstacles.push_back({std::make_shared<bsdeform::TriangleTree>(cube), bsdeform::isClosedMesh(cube)});
@@ -74,8 +86,7 @@ void ContactSecond(benchmark::State& state) {
   for (auto _ : state) {
     state.PauseTiming();
     bsdeform::Simulation sim(p);
-    const double rhoT = cotton.density * cotton.thickness;
-    sim.addForce(std::make_shared<bsdeform::GravityForce>(rhoT, Eigen::Vector3d(0, 0, -9.81)));
+    addGravity(sim);
     auto contact = std::make_shared<bsdeform::BarrierContactForce>(world, bp);
     sim.addForce(contact);
     state.ResumeTiming();
@@ -120,18 +131,7 @@ void ContactSecond(benchmark::State& state) {
 
 void PushedSheet(benchmark::State& state) {
   const int n = int(state.range(0));
-  const bsdeform::ShellMaterial cotton{0.821e6, 0.243, 0.318e-3, 472.6};
-  bsdeform::ModelParameters p;
-  p.numU = p.numV = n;
-  p.degreeU = p.degreeV = 2;
-  p.boundaries = {bsdeform::Boundary::Free, bsdeform::Boundary::Free, bsdeform::Boundary::Free,
-                  bsdeform::Boundary::Free};
-  p.energy = bsdeform::EnergyModel::Shell;
-  p.material = cotton;
-  p.damping = 1.0;
-  p.timeStep = 0.02;
-  p.integrator = bsdeform::Integrator::BackwardEuler;
-  p.maxNewtonIterations = 200;
+  const bsdeform::ModelParameters p = cottonSheet(n);
   bsdeform::BarrierContactParameters bp;
   bp.offset = 0.005;
   bp.dhat = 0.002;
@@ -147,8 +147,7 @@ void PushedSheet(benchmark::State& state) {
     auto world = std::make_shared<bsdeform::ContactWorld>();
     world->obstacles.push_back({tree, true});
     bsdeform::Simulation sim(p);
-    const double rhoT = cotton.density * cotton.thickness;
-    sim.addForce(std::make_shared<bsdeform::GravityForce>(rhoT, Eigen::Vector3d(0, 0, -9.81)));
+    addGravity(sim);
     sim.addForce(std::make_shared<bsdeform::BarrierContactForce>(world, bp));
     state.ResumeTiming();
     for (int k = 0; k < 25; ++k) {

@@ -78,6 +78,27 @@ ControlNet wavySheet(const SplineSpace& s) {
   return net;
 }
 
+/// The 2 x 2 m plate, 10 cm thick, whose top is the plane z = 0 under the test sheets.
+TriangleMesh plateUnder() { return box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0)); }
+
+/// Barrier contact with an offset and d̂, self-contact on.
+BarrierContactParameters selfContactParameters(double offset, double dhat) {
+  BarrierContactParameters bp;
+  bp.offset = offset;
+  bp.dhat = dhat;
+  bp.selfContact = true;
+  return bp;
+}
+
+/// `net` with every point moved by a millimetre in a direction of its own, and `down` lower.
+ControlNet shaken(const ControlNet& net, double down) {
+  ControlNet out = net;
+  for (Eigen::Index r = 0; r < out.rows(); ++r)
+    out.row(r) += Eigen::RowVector3d(0.001 * std::sin(3.0 * r), 0.001 * std::cos(5.0 * r),
+                                     -down - 0.001 * std::sin(2.0 * r + 1.0));
+  return out;
+}
+
 /// A Jacobian sink that records every block in the order it came.
 struct RecordedBlocks final : JacobianSink {
   std::vector<std::pair<std::pair<Eigen::Index, Eigen::Index>, Eigen::Matrix3d>> calls;
@@ -109,7 +130,7 @@ TEST_CASE("BarrierContactForce: load, potential and Hessian against differences"
   // point–edge, point–point and edge–edge pairs, all within reach of the barrier
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const ControlNet net = wavySheet(s);
-  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  TriangleMesh plate = plateUnder();
   auto world = worldOf(plate);
   BarrierContactParameters bp;
   bp.offset = 0.005;
@@ -134,7 +155,7 @@ TEST_CASE("BarrierContactForce with friction: load, potential and Hessian agains
   // every pair's slip over the step, some below the smoothing's epsilon (sticking) and some above
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const ControlNet start = wavySheet(s);
-  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  const TriangleMesh plate = plateUnder();
   BarrierContactParameters bp;
   bp.offset = 0.005;
   bp.dhat = 0.002;
@@ -645,19 +666,14 @@ TEST_CASE("BarrierContactForce: candidates kept across evaluations give the same
           "[core][contact]") {
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const ControlNet net0 = wavySheet(s);
-  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  const TriangleMesh plate = plateUnder();
   auto world = worldOf(plate);
-  BarrierContactParameters bp;
-  bp.offset = 0.005;
-  bp.dhat = 0.002;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
   const BarrierContactForce kept(world, bp);
   REQUIRE(kept.beginStep(LoadContext{s, net0, net0, 0.02, 0.0}).empty());
   const long searches = kept.candidateSearches();
   // moved by up to 1.8 mm (the skin is half the reach, 3.5 mm): answered from the kept pairs
-  ControlNet net1 = net0;
-  for (Eigen::Index r = 0; r < net1.rows(); ++r)
-    net1.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -std::sin(2.0 * r + 1.0));
+  const ControlNet net1 = shaken(net0, 0.0);
   ControlNet net2 = net1;
   net2.col(2).array() -= 0.0015;  // toward the plate: CCD cuts it (still within the skin of net0)
   const LoadContext at1{s, net1, net0, 0.02, 0.0};
@@ -696,12 +712,9 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   // a step's first CCD query spans the whole predicted move (a falling sheet: centimetres, far
   // more than the skin); the iterates that follow lie on that segment or near it
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
-  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  const TriangleMesh plate = plateUnder();
   auto world = worldOf(plate);
-  BarrierContactParameters bp;
-  bp.offset = 0.005;
-  bp.dhat = 0.002;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
   const ControlNet end = wavySheet(s);  // 5.8 to 6.6 mm above the plate: within reach
   ControlNet start = end;
   start.col(2).array() += 0.05;  // 5 cm above that
@@ -712,9 +725,7 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   const long searches = kept.candidateSearches();
   // the move's end, a point on it 0.5 mm above, and Newton's step from the end (0.5 to 2.5 mm
   // down, into the offset: CCD cuts it): the kept pairs answer
-  ControlNet nearEnd = end;
-  for (Eigen::Index r = 0; r < nearEnd.rows(); ++r)
-    nearEnd.row(r) += 0.001 * Eigen::RowVector3d(std::sin(3.0 * r), std::cos(5.0 * r), -1.5 - std::sin(2.0 * r + 1.0));
+  const ControlNet nearEnd = shaken(end, 0.0015);
   const LoadContext atEnd{s, end, start, 0.02, 0.0};
   double phiKept = 0.0, unused = 0.0;
   REQUIRE(kept.potential(atEnd, phiKept));
@@ -754,14 +765,11 @@ TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread
   ThreadSettingsGuard guard;
   const SplineSpace s(3, 3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   ControlNet net = wavySheet(s);
-  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  const TriangleMesh plate = plateUnder();
   setKernelThreads(2);  // before the obstacle's Embree device (which takes the kernels' count)
   const int available = effectiveKernelThreads();  // 2, or 1 on a machine of one CPU
   auto world = worldOf(plate);
-  BarrierContactParameters bp;
-  bp.offset = 0.005;
-  bp.dhat = 0.01;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.005, 0.01);
   bp.friction = 0.3;
   struct Result {
     double phi = 0.0, closest = 0.0;
@@ -798,7 +806,7 @@ TEST_CASE("BarrierContactForce: its potential after a load at the same nets is t
           "[core][contact]") {
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const ControlNet net = wavySheet(s);
-  const TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  const TriangleMesh plate = plateUnder();
   auto world = worldOf(plate);
   BarrierContactParameters bp;
   bp.offset = 0.005;
@@ -907,10 +915,7 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   }
   REQUIRE(s.numMoving() == s.netSize());  // free sides: net point = unknown
   const TriangleMesh far = box(Eigen::Vector3d(5.0, 5.0, 5.0), Eigen::Vector3d(6.0, 6.0, 6.0));
-  BarrierContactParameters bp;
-  bp.offset = 0.002;
-  bp.dhat = 0.001;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.002, 0.001);
   bp.samplesPerSpan = 2;
   bp.projectHessian = false;
   const BarrierContactForce force(worldOf(far), bp);
@@ -994,10 +999,7 @@ TEST_CASE("BarrierContactForce with selfContact: load, potential and Hessian aga
     net.row(r) << radius * std::cos(2.0 * kPi * turn), radius * std::sin(2.0 * kPi * turn), 0.0027 * turn;
   }
   const TriangleMesh far = box(Eigen::Vector3d(5.0, 5.0, 5.0), Eigen::Vector3d(6.0, 6.0, 6.0));
-  BarrierContactParameters bp;
-  bp.offset = 0.002;
-  bp.dhat = 0.001;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.002, 0.001);
   bp.samplesPerSpan = 2;
   bp.projectHessian = false;
   const BarrierContactForce force(worldOf(far), bp);
@@ -1017,14 +1019,11 @@ TEST_CASE("BarrierContactForce: a Jacobian at the net of the last load takes tha
           "[core][contact]") {
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const ControlNet net = wavySheet(s);
-  TriangleMesh plate = box(Eigen::Vector3d(-0.5, -0.5, -0.1), Eigen::Vector3d(1.5, 1.5, 0.0));
+  TriangleMesh plate = plateUnder();
   auto tree = std::make_shared<TriangleTree>(plate);
   auto world = std::make_shared<ContactWorld>();
   world->obstacles.push_back({tree, true});
-  BarrierContactParameters bp;
-  bp.offset = 0.005;
-  bp.dhat = 0.002;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
   // the Jacobian of a force that has seen nothing else: the reference
   auto freshJacobian = [&](const LoadContext& ctx) {
     const BarrierContactForce force(world, bp);
@@ -1075,10 +1074,7 @@ TEST_CASE("BarrierContactForce with selfContact: a flat sheet whose proxy is fin
   // a 1 m sheet, 8 proxy intervals a knot span: triangles that share no vertex lie within the
   // reach (5 + 1 cm) of each other at rest. They are neighbours in the sheet, not contacts: no
   // refusal, and no barrier pushing them apart in the sheet's own plane.
-  BarrierContactParameters bp;
-  bp.offset = 0.05;
-  bp.dhat = 0.01;
-  bp.selfContact = true;
+  BarrierContactParameters bp = selfContactParameters(0.05, 0.01);
   bp.samplesPerSpan = 8;
   Simulation sim(clothModel(6, 0.01));
   sim.addForce(std::make_shared<BarrierContactForce>(std::make_shared<ContactWorld>(), bp));
