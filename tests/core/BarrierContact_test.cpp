@@ -150,6 +150,53 @@ TEST_CASE("BarrierContactForce: load, potential and Hessian against differences"
   check.run();
 }
 
+TEST_CASE("BarrierContactForce: the Jacobian is exact unless its receiver asks for a definite one",
+          "[core][contact]") {
+  // The sheet and plate above with the default parameters (projectHessian): Newton's exact
+  // tangent gets the pairs' exact Hessians, and only a receiver that asks for a definite
+  // Jacobian (JacobianSink::definite: the projected tangent) gets them projected to PSD
+  const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  REQUIRE(s.numMoving() == s.netSize());  // free sides: net point = unknown
+  const ControlNet net = wavySheet(s);
+  BarrierContactParameters bp;
+  bp.offset = 0.005;
+  bp.dhat = 0.002;
+  REQUIRE(bp.projectHessian);
+  const BarrierContactForce force(worldOf(plateUnder()), bp);
+  const LoadContext ctx{s, net, net, 0.02, 0.0};
+  REQUIRE(force.beginStep(ctx).empty());
+  test::ForceFieldCheck check = test::forForce("barrier over a plate, default parameters", force, s, net);
+  test::useOwnDerivatives(check, force, s, net);
+  check.step = 1e-7;
+  check.tolerance = 1e-5;
+  check.run();
+  const Eigen::Index n = 3 * s.numMoving();
+  struct Dense final : JacobianSink {
+    Eigen::MatrixXd K;
+    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { K.block<3, 3>(3 * p, 3 * q) += B; }
+  };
+  auto jacobian = [&](const BarrierContactForce& f, bool definite) {
+    Dense sink;
+    sink.K = Eigen::MatrixXd::Zero(n, n);
+    sink.definite = definite;
+    f.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
+    return sink.K;
+  };
+  const Eigen::MatrixXd exact = jacobian(force, false), definite = jacobian(force, true);
+  const double scale = exact.norm();
+  REQUIRE(scale > 0.0);
+  // the exact Hessian is indefinite here (pairs against the plate's edges and corners)
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(exact).eigenvalues().minCoeff() < -1e-6 * scale);
+  CHECK(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(definite).eigenvalues().minCoeff() >= -1e-12 * scale);
+  CHECK((definite - definite.transpose()).norm() <= 1e-14 * scale);
+  // projectHessian false: the exact Hessian even for a receiver that asks for a definite one
+  BarrierContactParameters raw = bp;
+  raw.projectHessian = false;
+  const BarrierContactForce unprojected(worldOf(plateUnder()), raw);
+  REQUIRE(unprojected.beginStep(ctx).empty());
+  CHECK((jacobian(unprojected, true) - exact).norm() <= 1e-12 * scale);
+}
+
 TEST_CASE("BarrierContactForce with friction: load, potential and Hessian against differences", "[core][contact]") {
   // the wavy sheet of the case above, frozen at its start, then slid and turned over the plate:
   // every pair's slip over the step, some below the smoothing's epsilon (sticking) and some above

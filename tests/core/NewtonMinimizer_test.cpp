@@ -198,6 +198,76 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
   CHECK((shifted - projected).cwiseAbs().maxCoeff() < 1e-10);  // the same minimum
 }
 
+TEST_CASE("NewtonMinimizer: the projected tangent keeps the loads' Jacobians exact while more of the mass "
+          "makes it definite",
+          "[newton]") {
+  // per coordinate ½ m (x - x̂)² + W(x) + q cos(x): W = ¼ (x² - 1)² the energy (its Hessian
+  // projected in both Projected and Definite), q cos(x) a load whose curvature -q cos(x) only
+  // Definite clamps at 0 (a barrier's pair). At x = 0 the tangent with the mass multiple s is
+  // s + W'' - q, W'' = -1 (0 projected): with q = 2 m the projected tangent fails at s = m and
+  // factorises at 4 m with the load exact; with q = 40 m it needs more than 16 m, and after three
+  // attempts with the load exact (m, 4 m, 16 m) the load is projected too.
+  constexpr double m = 0.5;
+  constexpr Eigen::Index n = 4;
+  const ControlNet xhat = ControlNet::Constant(n, 3, 0.02);
+  double q = 0.0;
+  ControlNet at;
+  Eigen::SparseMatrix<double> K;
+  std::vector<HessianMode> modes;
+  NewtonMinimizer::Problem p;
+  p.evaluate = [&](const ControlNet& x, NewtonPoint& pt) {
+    at = x;
+    const Eigen::ArrayXXd d = (x - xhat).array(), a = x.array();
+    pt.g = (m * d + a.cube() - a - q * a.sin()).matrix();
+    pt.norm = pt.g.norm();
+    pt.value = 0.5 * m * d.square().sum() + (0.25 * (a.square() - 1.0).square()).sum() + q * a.cos().sum();
+    pt.valueScale = 0.5 * m * d.square().sum() + (0.25 * (a.square() - 1.0).square()).sum() + q * a.cos().abs().sum();
+    pt.potential = true;
+  };
+  p.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+    modes.push_back(mode);
+    K.resize(3 * n, 3 * n);
+    std::vector<Eigen::Triplet<double>> t;
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (int k = 0; k < 3; ++k) {
+        double w = 3.0 * at(i, k) * at(i, k) - 1.0, l = -q * std::cos(at(i, k));
+        if (mode != HessianMode::Exact) w = std::max(w, 0.0);
+        if (mode == HessianMode::Definite) l = std::max(l, 0.0);
+        t.emplace_back(int(3 * i + k), int(3 * i + k), w + l + shift);
+      }
+    K.setFromTriplets(t.begin(), t.end());
+    return K;
+  };
+  p.residualSmall = [](const NewtonPoint& pt) { return pt.norm <= 1e-12; };
+  NewtonMinimizer::Options o;
+  o.updateTolerance = 1e-13;
+  o.shift = m;
+  o.chordSteps = false;
+  auto run = [&](double load) {
+    q = load;
+    ControlNet x = ControlNet::Zero(n, 3);
+    NewtonPoint cur;
+    p.evaluate(x, cur);
+    modes.clear();
+    NewtonMinimizer minimizer;
+    const auto out = minimizer.minimize(x, cur, p, o);
+    CAPTURE(load, out.failure);
+    REQUIRE(out.converged);
+    CHECK(cur.g.cwiseAbs().maxCoeff() < 1e-10);  // a stationary point of the whole potential
+  };
+  run(2.0 * m);
+  REQUIRE(modes.size() >= 3);
+  CHECK(modes[0] == HessianMode::Exact);
+  CHECK(modes[1] == HessianMode::Projected);
+  CHECK(modes[2] == HessianMode::Projected);  // at 4 m, the load still exact
+  CHECK(std::count(modes.begin(), modes.end(), HessianMode::Definite) == 0);
+  run(40.0 * m);
+  REQUIRE(modes.size() >= 5);
+  const std::vector<HessianMode> first(modes.begin(), modes.begin() + 5);
+  CHECK(first == std::vector<HessianMode>{HessianMode::Exact, HessianMode::Projected, HessianMode::Projected,
+                                          HessianMode::Projected, HessianMode::Definite});
+}
+
 TEST_CASE("NewtonMinimizer: converges where the potential's change is below its rounding", "[newton]") {
   // a large constant beside f: near the minimum every change of the value is rounding, and an
   // Armijo search on the value alone refuses every step (the iteration stalls)

@@ -593,7 +593,7 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
 }
 
 void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
-                                bool withFriction) const {
+                                bool withFriction, bool projected) const {
   State& st = *m_state;
   const std::vector<ContactCandidates>& candidates = gather(ctx);
   std::optional<CostTimer> timer(&st.costs.pairs);
@@ -602,12 +602,12 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   bp.dhat = m_params.dhat;
   bp.stiffness = st.kappa;
   const Eigen::MatrixX3d& V = st.mesh.start;
-  const BarrierHessian mode = m_params.projectHessian ? BarrierHessian::ProjectedPsd : BarrierHessian::Exact;
+  const BarrierHessian mode = projected ? BarrierHessian::ProjectedPsd : BarrierHessian::Exact;
   // One pair's term (value, and derivatives up to `order`) into t; its squared distance.
   // Against an obstacle only the proxy's points move: the pair's Hessian in them (a 3 x 3, 9 x 9
-  // or 6 x 6 block of the 12 x 12) is what Newton needs, and that block is projected to PSD, not
-  // the whole (exact Newton where the block is PSD; a 3 x 3 eigenproblem instead of a 12 x 12
-  // for the common point–face pair). `first`, `n`: the moving coordinates; n = 12: self-contact.
+  // or 6 x 6 block of the 12 x 12) is what Newton needs, and where asked (`projected`) that block
+  // is projected to PSD, not the whole (exact Newton where the block is PSD; a 3 x 3 eigenproblem
+  // instead of a 12 x 12 for the common point–face pair). `first`, `n`: the moving coordinates; n = 12: self-contact.
   // Reads nothing it writes: the pairs may be computed on any threads.
   auto compute = [&bp, order, mode](const PairSite& p, Term& t) {
     Vector12d* grad = order >= 1 ? &t.grad : nullptr;
@@ -865,7 +865,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
         blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
       }
     }
-  });
+  }, true, m_params.projectHessian && sink.definite);
   if (blocks.empty()) return;
   const CostTimer timer(&m_state->costs.push);
   std::sort(blocks.begin(), blocks.end(), [](const Block& x, const Block& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });

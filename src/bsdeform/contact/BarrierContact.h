@@ -41,8 +41,10 @@ struct BarrierContactParameters {
   /// is first chosen, instead of `mass`: a model rebuilt with another mass keeps the same force
   /// (what the nodes do).
   bool modelMass = false;
-  /// false only for tests: the pair Hessians as they are (the exact Hessian of the potential for
-  /// obstacle contact), instead of projected to positive semidefinite
+  /// Whether each pair's Hessian is projected to positive semidefinite when the Jacobian's
+  /// receiver asks for a definite one (JacobianSink::definite: the Newton matrix after the exact
+  /// one failed); false (tests): the pair Hessians as they are, always (the exact Hessian of the
+  /// potential for obstacle contact).
   bool projectHessian = true;
 };
 
@@ -143,9 +145,10 @@ class BarrierContactForce : public Force {
   /// neighbours in the sheet, not contacts; left out before the pairs are sorted.
   void selfCandidatesApartAtRest(const ContactMesh& mesh, double inflation, ContactCandidates& out) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
-  /// when `withFriction`, for every frozen friction pair.
+  /// when `withFriction`, for every frozen friction pair. `projected`: each barrier pair's
+  /// Hessian projected to positive semidefinite (its moving points' block).
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
-             bool withFriction = true) const;
+             bool withFriction = true, bool projected = false) const;
   /// Freezes the friction pairs at ctx.current (beginStep()).
   void freezeFriction(const LoadContext& ctx) const;
   /// A candidate pair as terms() and freezeFriction() visit it (forEachPair()).

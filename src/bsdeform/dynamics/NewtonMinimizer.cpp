@@ -14,6 +14,10 @@ namespace {
 /// Options::massRetries: each retry's mass multiple over the last one's (1.25, five retries: up
 /// to 3.05 times the step's own; measured against 1.5 and 2, docs/benchmarks.md).
 constexpr double kMassRetryGrowth = 1.25;
+/// How many of the projected tangent's attempts (each with 4 times the mass multiple of the one
+/// before) keep the loads' Jacobians exact (HessianMode::Projected) before they are projected
+/// too (HessianMode::Definite): up to 16 times the step's own mass.
+constexpr int kExactLoadAttempts = 3;
 }  // namespace
 
 NewtonMinimizer::NewtonMinimizer() : m_solver(std::make_unique<NewtonSolver>()) {}
@@ -93,8 +97,13 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     }
     exactFactor = false;
     double total = options.shift + extra;
+    // the energy's Hessians projected at its Gauss points, the loads' Jacobians exact in the first
+    // kExactLoadAttempts attempts, then projected too (a barrier's pairs are rarely what keeps
+    // the matrix indefinite, and projecting them slows Newton to a crawl along a sliding contact,
+    // where more of the mass does not: docs/benchmarks.md)
     for (int attempt = 0; attempt < options.shiftAttempts; ++attempt) {
-      if (factorise(problem.tangent(HessianMode::Projected, total))) {
+      const HessianMode mode = attempt < kExactLoadAttempts ? HessianMode::Projected : HessianMode::Definite;
+      if (factorise(problem.tangent(mode, total))) {
         remembered = total - options.shift;
         return true;
       }

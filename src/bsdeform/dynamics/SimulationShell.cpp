@@ -119,6 +119,7 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
   timer.emplace(&m_costs.loads);
   if (forces) {
     TangentSink sink(K, forceScale);
+    sink.definite = mode == HessianMode::Definite;
     for (const auto& f : m_forces)
       if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
   }

@@ -406,7 +406,7 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
   withLaw(m_material, false, [&](const auto& law) {
-    const bool project = mode == HessianMode::Projected;
+    const bool project = mode != HessianMode::Exact;
     auto elements = [&](int s0, int s1) {
       // K_pq = Σ_d c[d][p] (Σ_e c[e][q] H_de) in 3 x 3 blocks, the upper blocks (q >= p) only,
       // mirrored at the end

@@ -56,10 +56,13 @@ struct ShellEnergies {
 };
 
 /// Which element Hessian ShellEnergy::elementHessians() gives.
+/// (A tangent's assembly passes it on: the loads' Jacobians are exact but under Definite.)
 enum class HessianMode {
   Exact,      ///< the exact second derivative of the energy (indefinite under compression)
   Projected,  ///< at each Gauss point where the exact density Hessian is not positive definite,
               ///< its nearest PSD matrix (negative eigenvalues set to zero): PSD everywhere
+  Definite,   ///< the energy's as Projected; in a tangent, the loads' Jacobians projected too where
+              ///< a load can make its own PSD (JacobianSink::definite: barrier contact's pairs)
 };
 
 class ShellEnergy {

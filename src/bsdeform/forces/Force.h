@@ -84,6 +84,12 @@ class JacobianSink {
   /// The same for a force whose whole Jacobian is symmetric and that adds every block, (q, p)
   /// as well as (p, q): a receiver that keeps one triangle can skip the symmetrisation.
   virtual void addSymmetric(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) { add(p, q, B); }
+  /// Whether the receiver asks for a positive semi-definite Jacobian where a force can make its
+  /// own so (barrier contact: each pair's Hessian projected): the Newton matrix once the exact
+  /// one was not positive definite. false: the exact Jacobian, Newton's first try (a barrier's
+  /// pairs are not convex across their distance gradient, and projecting them where the whole
+  /// matrix needs no projection slows Newton to a crawl along a sliding contact).
+  bool definite = false;
 };
 
 /// Base class of all forces. Implementations add their contribution to the load of the moving
