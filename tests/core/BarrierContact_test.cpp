@@ -808,7 +808,8 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
 }
 
 TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread and on two", "[core][contact]") {
-  // With kernel threads the pairs' terms are computed in parts and handed on in the pairs' order.
+  // With kernel threads the pairs' terms are computed in parts and handed on in the pairs' order, and
+  // the Jacobian's element pairs summed in parts, each its own sums in the same order.
   ThreadSettingsGuard guard;
   const SplineSpace s(3, 3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   ControlNet net = wavySheet(s);

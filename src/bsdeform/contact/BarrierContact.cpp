@@ -131,6 +131,19 @@ struct BarrierContactForce::State {
     Eigen::Matrix3d h;
   };
   std::vector<Block> blocks;  ///< addJacobian()'s scratch
+  /// addJacobian()'s order of the blocks: (vertex pair a · n + b, place in `blocks`), sorted
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> blockOrder;
+  /// addJacobian()'s view of each proxy vertex's weights within its element (the knot span whose
+  /// control points they lie on, named by its first net point `corner`): `count` weights from
+  /// `first` on in `slot` (the point's place among the element's L1 x L2) and `weight`. The
+  /// proxy's weights are fixed: made once per proxy (`generation`).
+  struct VertexLocals {
+    std::uint64_t generation = 0;
+    std::vector<Eigen::Index> corner;
+    std::vector<int> first, count;
+    std::vector<int> slot;
+    std::vector<double> weight;
+  } locals;
   /// terms()'s scratch with kernel threads: the pairs in visiting order, and per part of them
   /// its active terms and its smallest distance (the first pair in order that has it)
   std::vector<PairSite> sites;
@@ -147,6 +160,16 @@ struct BarrierContactForce::State {
   };
   std::vector<ElementPair> elementPairs;
   std::unordered_map<std::uint64_t, size_t> elementPairIndex;
+  /// addJacobian()'s vertex pairs: the element pair each goes to, its vertices and its block
+  /// through the frame; per element pair its vertex pairs (`pairMembers` from `pairStart[p]` to
+  /// `pairStart[p + 1]`), and the element pairs in the sink's order
+  struct VertexPair {
+    size_t pair;
+    size_t a, b;
+    Eigen::Matrix3d H;
+  };
+  std::vector<VertexPair> vertexPairs;
+  std::vector<size_t> pairStart, pairMembers, pairOrder;
   /// Counts the times the proxy or an obstacle's triangles were made anew (the cache below
   /// belongs to one generation).
   std::uint64_t generation = 0;
@@ -867,69 +890,133 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
     }
   }, true, m_params.projectHessian && sink.definite);
   if (blocks.empty()) return;
-  const CostTimer timer(&m_state->costs.push);
-  std::sort(blocks.begin(), blocks.end(), [](const Block& x, const Block& y) { return x.a != y.a ? x.a < y.a : x.b < y.b; });
+  State& st = *m_state;
+  const CostTimer timer(&st.costs.push);
+  // summed per vertex pair in the order the terms came (a stable order: keys, then places)
+  const std::uint64_t vertices = std::uint64_t(m_state->proxy->numVertices());
+  std::vector<std::pair<std::uint64_t, std::uint32_t>>& order = st.blockOrder;
+  order.resize(blocks.size());
+  for (size_t k = 0; k < blocks.size(); ++k)
+    order[k] = {std::uint64_t(blocks[k].a) * vertices + std::uint64_t(blocks[k].b), std::uint32_t(k)};
+  std::sort(order.begin(), order.end());
   // Then per pair of elements (the knot span whose control points a vertex's weights lie in,
   // named by its first net point): Σ over the pair's vertex pairs of (w_a w_bᵀ) ⊗ H_ab, dense,
   // and each control-point block of that to the sink once, as a block of a symmetric Jacobian
   // (barrier and lagged friction are Hessians): a vertex pair no longer costs 16 x 16 sink calls,
   // which had been a fifth of cloth_on_cube's run (docs/benchmarks.md, issue 35).
-  const CollisionProxy& proxy = *m_state->proxy;
+  const CollisionProxy& proxy = *st.proxy;
   const SplineSpace& space = ctx.space;
   const int cols = space.netCols(), L1 = space.degreeU() + 1, L2 = space.degreeV() + 1, L = L1 * L2;
-  struct Local {
-    Eigen::Index corner;
-    int count;
-    int slot[64];
-    double weight[64];
-  };
-  auto localOf = [&](Eigen::Index v) {
-    Local loc;
-    const std::vector<CollisionProxy::Weight>& ws = proxy.netWeights(v);
-    Eigen::Index i0 = std::numeric_limits<Eigen::Index>::max(), j0 = i0;
-    for (const auto& e : ws) {
-      i0 = std::min(i0, e.index / cols);
-      j0 = std::min(j0, e.index % cols);
-    }
-    loc.corner = i0 * cols + j0;
-    loc.count = int(ws.size());
-    assert(loc.count <= L && L <= 64);
-    for (int k = 0; k < loc.count; ++k) {
-      const Eigen::Index di = ws[size_t(k)].index / cols - i0, dj = ws[size_t(k)].index % cols - j0;
-      assert(di < L1 && dj < L2);
-      loc.slot[k] = int(di * L2 + dj);
-      loc.weight[k] = ws[size_t(k)].weight;
-    }
-    return loc;
-  };
-  std::vector<State::ElementPair>& pairs = m_state->elementPairs;
-  std::unordered_map<std::uint64_t, size_t>& pairIndex = m_state->elementPairIndex;
-  pairs.clear();
-  pairIndex.clear();
-  const std::uint64_t netSize = std::uint64_t(space.netSize());
-  for (size_t i = 0; i < blocks.size();) {
-    Eigen::Matrix3d sum = blocks[i].h;
-    size_t j = i + 1;
-    for (; j < blocks.size() && blocks[j].a == blocks[i].a && blocks[j].b == blocks[i].b; ++j) sum += blocks[j].h;
-    const Eigen::Matrix3d H = w.linear.transpose() * sum * w.linear;
-    const Local la = localOf(blocks[i].a), lb = localOf(blocks[i].b);
-    const std::uint64_t key = std::uint64_t(la.corner) * netSize + std::uint64_t(lb.corner);
-    auto [it, fresh] = pairIndex.emplace(key, pairs.size());
-    if (fresh) pairs.push_back({la.corner, lb.corner, std::vector<double>(size_t(L) * L * 9, 0.0)});
-    double* K = pairs[it->second].K.data();
-    for (int x = 0; x < la.count; ++x)
-      for (int y = 0; y < lb.count; ++y) {
-        double* k = K + (size_t(la.slot[x]) * L + size_t(lb.slot[y])) * 9;
-        const double ww = la.weight[x] * lb.weight[y];
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) k[3 * r + c] += ww * H(r, c);
+  State::VertexLocals& loc = st.locals;
+  if (loc.generation != st.generation || loc.corner.size() != size_t(vertices)) {
+    loc.generation = st.generation;
+    loc.corner.resize(size_t(vertices));
+    loc.first.resize(size_t(vertices));
+    loc.count.resize(size_t(vertices));
+    loc.slot.clear();
+    loc.weight.clear();
+    for (Eigen::Index v = 0; v < Eigen::Index(vertices); ++v) {
+      const std::vector<CollisionProxy::Weight>& ws = proxy.netWeights(v);
+      Eigen::Index i0 = std::numeric_limits<Eigen::Index>::max(), j0 = i0;
+      for (const auto& e : ws) {
+        i0 = std::min(i0, e.index / cols);
+        j0 = std::min(j0, e.index % cols);
       }
+      loc.corner[size_t(v)] = i0 * cols + j0;
+      loc.first[size_t(v)] = int(loc.slot.size());
+      loc.count[size_t(v)] = int(ws.size());
+      assert(int(ws.size()) <= L);
+      for (const auto& e : ws) {
+        const Eigen::Index di = e.index / cols - i0, dj = e.index % cols - j0;
+        assert(di < L1 && dj < L2);
+        loc.slot.push_back(int(di * L2 + dj));
+        loc.weight.push_back(e.weight);
+      }
+    }
+  }
+  // Each vertex pair's summed block through the frame, and the element pair it goes to
+  std::vector<State::ElementPair>& pairs = st.elementPairs;  // the first `used` in use
+  std::unordered_map<std::uint64_t, size_t>& pairIndex = st.elementPairIndex;
+  std::vector<State::VertexPair>& vps = st.vertexPairs;
+  pairIndex.clear();
+  vps.clear();
+  size_t used = 0;
+  const std::uint64_t netSize = std::uint64_t(space.netSize());
+  std::uint64_t lastKey = std::numeric_limits<std::uint64_t>::max();
+  size_t lastPair = 0;
+  for (size_t i = 0; i < order.size();) {
+    const Block& first = blocks[order[i].second];
+    Eigen::Matrix3d sum = first.h;
+    size_t j = i + 1;
+    for (; j < order.size() && order[j].first == order[i].first; ++j) sum += blocks[order[j].second].h;
+    const size_t a = size_t(first.a), b = size_t(first.b);
+    const std::uint64_t key = std::uint64_t(loc.corner[a]) * netSize + std::uint64_t(loc.corner[b]);
+    if (key != lastKey) {
+      auto [it, fresh] = pairIndex.emplace(key, used);
+      if (fresh) {
+        if (used == pairs.size()) pairs.emplace_back();
+        pairs[used].a = loc.corner[a];
+        pairs[used].b = loc.corner[b];
+        ++used;
+      }
+      lastKey = key;
+      lastPair = it->second;
+    }
+    vps.push_back({lastPair, a, b, w.linear.transpose() * sum * w.linear});
     i = j;
   }
-  std::sort(pairs.begin(), pairs.end(), [](const State::ElementPair& x, const State::ElementPair& y) {
-    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  // per element pair, its vertex pairs in the order above (a counting sort: stable)
+  std::vector<size_t>& start = st.pairStart;
+  std::vector<size_t>& members = st.pairMembers;
+  start.assign(used + 1, 0);
+  for (const State::VertexPair& vp : vps) ++start[vp.pair + 1];
+  for (size_t p = 0; p < used; ++p) start[p + 1] += start[p];
+  members.resize(vps.size());
+  {
+    std::vector<size_t> next(start.begin(), start.end() - 1);
+    for (size_t k = 0; k < vps.size(); ++k) members[next[vps[k].pair]++] = k;
+  }
+  // Σ (w_a w_bᵀ) ⊗ H_ab per element pair on the kernel threads: each pair's sums are its own,
+  // their terms added in the order above (the same bits for any thread count)
+  const size_t entries = size_t(L) * size_t(L) * 9;
+  auto accumulate = [&](size_t p) {
+    std::vector<double>& Kp = pairs[p].K;
+    Kp.assign(entries, 0.0);
+    double* K = Kp.data();
+    for (size_t m = start[p]; m < start[p + 1]; ++m) {
+      const State::VertexPair& vp = vps[members[m]];
+      const Eigen::Matrix3d& H = vp.H;
+      const int* sa = &loc.slot[size_t(loc.first[vp.a])];
+      const int* sb = &loc.slot[size_t(loc.first[vp.b])];
+      const double* wa = &loc.weight[size_t(loc.first[vp.a])];
+      const double* wb = &loc.weight[size_t(loc.first[vp.b])];
+      const int na = loc.count[vp.a], nb = loc.count[vp.b];
+      for (int x = 0; x < na; ++x)
+        for (int y = 0; y < nb; ++y) {
+          double* k = K + (size_t(sa[x]) * L + size_t(sb[y])) * 9;
+          const double ww = wa[x] * wb[y];
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) k[3 * r + c] += ww * H(r, c);
+        }
+    }
+  };
+  const int parts = int(std::min<size_t>(size_t(4 * kernelThreads()), used));
+  if (parts <= 1) {
+    for (size_t p = 0; p < used; ++p) accumulate(p);
+  } else {
+    runParts(parts, [&](int k) {
+      for (size_t p = used * size_t(k) / size_t(parts); p < used * size_t(k + 1) / size_t(parts); ++p) accumulate(p);
+    });
+  }
+  // to the sink in the order of the element pairs' first net points
+  std::vector<size_t>& sorted = st.pairOrder;
+  sorted.resize(used);
+  for (size_t p = 0; p < used; ++p) sorted[p] = p;
+  std::sort(sorted.begin(), sorted.end(), [&](size_t x, size_t y) {
+    return pairs[x].a != pairs[y].a ? pairs[x].a < pairs[y].a : pairs[x].b < pairs[y].b;
   });
-  for (const State::ElementPair& pair : pairs)
+  for (const size_t p : sorted) {
+    const State::ElementPair& pair = pairs[p];
     for (int x = 0; x < L; ++x)
       for (int y = 0; y < L; ++y) {
         const double* k = pair.K.data() + (size_t(x) * L + size_t(y)) * 9;
@@ -939,6 +1026,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
         const Eigen::Matrix3d B = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(k);
         sink.addSymmetric(pair.a + (x / L2) * cols + x % L2, pair.b + (y / L2) * cols + y % L2, B);
       }
+  }
 }
 
 namespace {
