@@ -670,18 +670,18 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   NewtonMinimizer::Problem problem;
   problem.evaluate = evaluate;
   Eigen::SparseMatrix<double> folded;
-  problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
-    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    const Eigen::SparseMatrix<double>& K = s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h);
+  // the tangent over the free coordinates (supports per component folded in)
+  auto unknownsTangent = [&](const Eigen::SparseMatrix<double>& K) -> const Eigen::SparseMatrix<double>& {
     if (!s.components()) return K;
     folded = s.components()->foldTangent(K, s.heldMask());
     return folded;
   };
+  problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+    const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
+    return unknownsTangent(s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h));
+  };
   problem.shiftTangent = [&](double extra) -> const Eigen::SparseMatrix<double>& {
-    const Eigen::SparseMatrix<double>& K = s.shiftTangent(extra);
-    if (!s.components()) return K;
-    folded = s.components()->foldTangent(K, s.heldMask());
-    return folded;
+    return unknownsTangent(s.shiftTangent(extra));
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * forceScale; };
   if (barrier) problem.maxStep = admissible;
