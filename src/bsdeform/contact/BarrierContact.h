@@ -60,8 +60,9 @@ class BarrierContactForce : public Force {
   /// friction potential Σ μ λ f0(|u|) of the pairs frozen at beginStep() (Friction.h), u their
   /// tangential slip from ctx.previous to ctx.current.
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
-  /// Each pair's Hessian, projected to PSD, pushed to the control points through the proxy's
-  /// weights. Self-contact pairs couple two parts of the surface that share no element: their
+  /// Each pair's Hessian (projected to PSD where the sink asks for a definite Jacobian,
+  /// JacobianSink::definite, and projectHessian is set; exact otherwise) pushed to the control
+  /// points through the proxy's weights. Self-contact pairs couple two parts of the surface that share no element: their
   /// whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
   /// them into its pattern: Newton converges quadratically in self-contact only with them).
   /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its share
