@@ -154,7 +154,7 @@ TEST_CASE("BarrierContactForce: the Jacobian is exact unless its receiver asks f
           "[core][contact]") {
   // The sheet and plate above with the default parameters (projectHessian): Newton's exact
   // tangent gets the pairs' exact Hessians, and only a receiver that asks for a definite
-  // Jacobian (JacobianSink::definite: the projected tangent) gets them projected to PSD
+  // Jacobian (JacobianSink::wantsDefinite: the projected tangent) gets them projected to PSD
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   REQUIRE(s.numMoving() == s.netSize());  // free sides: net point = unknown
   const ControlNet net = wavySheet(s);
@@ -178,7 +178,7 @@ TEST_CASE("BarrierContactForce: the Jacobian is exact unless its receiver asks f
   auto jacobian = [&](const BarrierContactForce& f, bool definite) {
     Dense sink;
     sink.K = Eigen::MatrixXd::Zero(n, n);
-    sink.definite = definite;
+    sink.wantsDefinite = definite;
     f.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
     return sink.K;
   };

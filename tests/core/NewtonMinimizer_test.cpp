@@ -159,7 +159,7 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
     for (Eigen::Index i = 0; i < n; ++i)
       for (int k = 0; k < 3; ++k) {
         double h = 3.0 * at(i, k) * at(i, k) - 1.0;
-        if (mode == HessianMode::Projected) h = std::max(h, 0.0);
+        if (mode != HessianMode::Exact) h = std::max(h, 0.0);
         t.emplace_back(int(3 * i + k), int(3 * i + k), h + shift);
       }
     K.setFromTriplets(t.begin(), t.end());
@@ -191,10 +191,13 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
     CHECK((m + 3.0 * x.array().square() - 1.0).minCoeff() > 0.0);
     return x;
   };
+  auto projectedTangents = [&] {
+    return std::count_if(modes.begin(), modes.end(), [](HessianMode m) { return m != HessianMode::Exact; });
+  };
   const ControlNet projected = run(false);
-  CHECK(std::count(modes.begin(), modes.end(), HessianMode::Projected) > 0);
+  CHECK(projectedTangents() > 0);
   const ControlNet shifted = run(true);
-  CHECK(std::count(modes.begin(), modes.end(), HessianMode::Projected) == 0);
+  CHECK(projectedTangents() == 0);
   CHECK((shifted - projected).cwiseAbs().maxCoeff() < 1e-10);  // the same minimum
 }
 

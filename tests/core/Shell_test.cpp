@@ -243,3 +243,25 @@ TEST_CASE("shell refuses a bad material and a degenerate rest surface", "[shell]
   line.col(1).setZero();  // every point on the x axis: S_v = 0
   CHECK_THROWS_WITH(ShellEnergy(s, line, material()), Catch::Contains("degenerate"));
 }
+
+TEST_CASE("shell element Hessians say whether the projection changed any Gauss point's", "[shell]") {
+  // A flat sheet stretched equally in both directions is stable: its density Hessians are
+  // positive definite and the projected mode changes none (a tangent then projects the loads
+  // instead, Simulation::tangent). Compressed, the membrane's geometric stiffness is negative
+  // out of the plane and the projection clamps them; the exact mode never projects.
+  const SplineSpace s(3, 3, 5, 5, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
+  const ControlNet rest = s.grevillePlane();
+  const ShellEnergy shell(s, rest, material());
+  long elements = 0;
+  auto count = [&elements](int, int, const double*) { ++elements; };
+  ControlNet stretched = rest, compressed = rest;
+  stretched.leftCols(2) *= 1.1;
+  compressed.leftCols(2) *= 0.9;
+  CHECK_FALSE(shell.elementHessians(stretched, HessianMode::Projected, true, count));
+  const long perCall = elements;
+  REQUIRE(perCall == long(s.basisU().numSpans()) * s.basisV().numSpans());
+  CHECK(shell.elementHessians(compressed, HessianMode::Projected, true, count));
+  CHECK(shell.elementHessians(compressed, HessianMode::Definite, false, count));  // on the kernel threads
+  CHECK_FALSE(shell.elementHessians(compressed, HessianMode::Exact, false, count));
+  CHECK(elements == 4 * perCall);
+}

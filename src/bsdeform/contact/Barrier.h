@@ -50,8 +50,8 @@ double edgeEdgeMollifier(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, c
                          const Eigen::Vector3d& b1, double threshold, Vector12d* grad, Matrix12d* hess);
 ///@}
 
-/// Which Hessian a pair barrier gives: projected to positive semidefinite (for Newton) or the exact
-/// one (for tests and for callers that project the assembled matrix themselves).
+/// Which Hessian a pair barrier gives: projected to positive semidefinite (Newton's definite
+/// fallback) or the exact one (Newton's exact tangent, tests).
 enum class BarrierHessian { ProjectedPsd, Exact };
 
 /// The potential κ b(s) of a point and a triangle, s = d² - ξ² with d² of the class Distance's

@@ -888,7 +888,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
         blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
       }
     }
-  }, true, m_params.projectHessian && sink.definite);
+  }, /*withFriction=*/true, /*projected=*/m_params.projectHessian && sink.wantsDefinite);
   if (blocks.empty()) return;
   State& st = *m_state;
   const CostTimer timer(&st.costs.push);

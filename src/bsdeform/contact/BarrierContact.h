@@ -4,7 +4,8 @@
 /// Barrier contact (Incremental Potential Contact; Li et al. 2020, C-IPC: Li, Kaufman, Jiang 2021)
 /// of a spline surface with the obstacles of a ContactWorld and, when asked, with itself,
 /// through its CollisionProxy (docs/math.md §18). A force with a potential, a gradient and a
-/// positive semidefinite Hessian, for the implicit steps, and a bound on every trial step:
+/// Hessian (exact, or each pair's projected to PSD where the receiver asks for a definite one),
+/// for the implicit steps, and a bound on every trial step:
 /// admissibleFraction() cuts a step to the largest fraction over which no proxy vertex, edge or
 /// triangle comes within the offset of an obstacle's or of another part of the proxy (additive
 /// CCD), so the line search of the implicit step never crosses.
@@ -42,7 +43,7 @@ struct BarrierContactParameters {
   /// (what the nodes do).
   bool modelMass = false;
   /// Whether each pair's Hessian is projected to positive semidefinite when the Jacobian's
-  /// receiver asks for a definite one (JacobianSink::definite: the Newton matrix after the exact
+  /// receiver asks for a definite one (JacobianSink::wantsDefinite: the Newton matrix after the exact
   /// one failed); false (tests): the pair Hessians as they are, always (the exact Hessian of the
   /// potential for obstacle contact).
   bool projectHessian = true;
@@ -61,9 +62,9 @@ class BarrierContactForce : public Force {
   /// tangential slip from ctx.previous to ctx.current.
   void addLoad(const LoadContext& ctx, ControlNet& load) const override;
   /// Each pair's Hessian (projected to PSD where the sink asks for a definite Jacobian,
-  /// JacobianSink::definite, and projectHessian is set; exact otherwise) pushed to the control
-  /// points through the proxy's weights. Self-contact pairs couple two parts of the surface that share no element: their
-  /// whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
+  /// JacobianSink::wantsDefinite, and projectHessian is set; exact otherwise) pushed to the
+  /// control points through the proxy's weights. Self-contact pairs couple two parts of the
+  /// surface that share no element: their whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
   /// them into its pattern: Newton converges quadratically in self-contact only with them).
   /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its share
   /// is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).

@@ -14,9 +14,11 @@ namespace {
 /// Options::massRetries: each retry's mass multiple over the last one's (1.25, five retries: up
 /// to 3.05 times the step's own; measured against 1.5 and 2, docs/benchmarks.md).
 constexpr double kMassRetryGrowth = 1.25;
-/// How many of the projected tangent's attempts (each with 4 times the mass multiple of the one
-/// before) keep the loads' Jacobians exact (HessianMode::Projected) before they are projected
-/// too (HessianMode::Definite): up to 16 times the step's own mass.
+/// How many of the projected tangent's attempts (each with more of the mass than the one before:
+/// 4 times the multiple in the dynamics, up to 16 times the step's own mass) keep the loads'
+/// Jacobians exact (HessianMode::Projected) before they are projected too (HessianMode::Definite).
+/// (Where the energy's projection changes nothing, a Projected tangent projects the loads
+/// itself: Simulation::tangent.)
 constexpr int kExactLoadAttempts = 3;
 }  // namespace
 

@@ -8,7 +8,9 @@
 ///
 /// An iteration solves K d = -g with K the tangent at the iterate (the exact one while it is
 /// positive definite, else (Options::massRetries) the exact one with more of the mass, else the
-/// element Hessians projected to PSD, then with more of the mass added), then searches along d (Armijo backtracking on the potential; on the residual's norm
+/// element Hessians projected to PSD with the loads' Jacobians exact (HessianMode::Projected),
+/// with more of the mass added in each attempt, the loads' projected too from the fourth
+/// (HessianMode::Definite)), then searches along d (Armijo backtracking on the potential; on the residual's norm
 /// when some load has no potential, or where the potential's change is below its rounding). A factorisation is kept while the iterates contract fast
 /// with it (chord steps: a gradient and a solve, no assembly and factorisation). Converged when
 /// the largest component of an accepted Newton step is below `updateTolerance` (a length:
@@ -76,7 +78,8 @@ class NewtonMinimizer {
     int massRetries = 0;
     /// Where the exact tangent was not positive definite, later factorisations of the same
     /// minimize() start from the projected one with a quarter of the last extra shift
-    /// (Levenberg–Marquardt's lowering: a free body stays singular near its rigid motions).
+    /// (Levenberg–Marquardt's lowering: a free body stays singular near its rigid motions), the
+    /// loads' Jacobians exact again (the static solve's: it takes no barrier contact).
     bool rememberShift = false;
     /// Keep a factorisation while the iterates contract fast with it (chord steps); false: a new
     /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).

@@ -105,9 +105,10 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
   TangentMatrix& K = *m_tangent;
   std::optional<CostTimer> timer(&m_costs.elastic);
   K.setZero();
+  bool energyProjected = false;  // whether the projection changed any of the energy's Hessians
   if (m_shell) {
     // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
-    m_shell->elementHessians(net, mode, m_space.periodicU(),
+    energyProjected = m_shell->elementHessians(net, mode, m_space.periodicU(),
                              [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
   } else {
     // the paper's energy is quadratic: its Hessian is A_II at every state (positive
@@ -119,7 +120,10 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
   timer.emplace(&m_costs.loads);
   if (forces) {
     TangentSink sink(K, forceScale);
-    sink.definite = mode == HessianMode::Definite;
+    // Projected where the energy's projection changed nothing (the paper's energy, or no Gauss
+    // point clamped): the matrix would be the exact one, so the loads are projected instead
+    sink.wantsDefinite =
+        mode == HessianMode::Definite || (mode == HessianMode::Projected && !energyProjected);
     for (const auto& f : m_forces)
       if (f->hasJacobian()) f->addJacobian(*forces, velocityScale, sink);
   }

@@ -665,7 +665,8 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   // The exact tangent while it is positive definite (the mass term M/h² usually makes it so),
   // else the exact one with up to 3.05 times the mass multiple (problem.shiftTangent), else the
   // element Hessians projected, then more of the mass (a force's Jacobian, a sphere's
-  // tangential part, can still be indefinite); each step starts with a factorisation of its own
+  // tangential part, can still be indefinite), the barrier's pairs projected too beyond 16 times
+  // the mass (NewtonMinimizer); each step starts with a factorisation of its own
   // (NewtonMinimizer), so that a run resumed from a saved state takes the same iterates.
   NewtonMinimizer::Problem problem;
   problem.evaluate = evaluate;

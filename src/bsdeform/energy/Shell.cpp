@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
 #include <utility>
 #include <cmath>
 #include <sstream>
@@ -400,8 +401,9 @@ void ShellEnergy::hessianProduct(const ControlNet& net, const ControlNet& dir, C
   });
 }
 
-void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool serial,
+bool ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool serial,
                                   const std::function<void(int, int, const double*)>& sink) const {
+  std::atomic<bool> anyProjected{false};  // whether any Gauss point's was (the same for any order)
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
@@ -429,7 +431,8 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
               for (int p = 0; p < L; ++p)
                 for (int m = 0; m < 5; ++m)
                   for (int cc = 0; cc < 3; ++cc) y[3 * m + cc] += c[m][p] * X[p][cc];
-              densityHessian(y, rest[q1 * m_qv + q2], law, m_bending, project, H);
+              if (densityHessian(y, rest[q1 * m_qv + q2], law, m_bending, project, H))
+                anyProjected.store(true, std::memory_order_relaxed);
               accumulateElement(L, c, H, HC.data(), Ke.data());
             }
           for (int p = 0; p < L; ++p)
@@ -445,6 +448,7 @@ void ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
     else
       forEachBlock([&](int, int s0, int s1) { elements(s0, s1); });
   });
+  return anyProjected.load();
 }
 
 void ShellEnergy::hessian(const ControlNet& net, bool project, std::vector<Eigen::Triplet<double>>& out) const {

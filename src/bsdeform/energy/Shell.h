@@ -60,9 +60,11 @@ struct ShellEnergies {
 enum class HessianMode {
   Exact,      ///< the exact second derivative of the energy (indefinite under compression)
   Projected,  ///< at each Gauss point where the exact density Hessian is not positive definite,
-              ///< its nearest PSD matrix (negative eigenvalues set to zero): PSD everywhere
+              ///< its nearest PSD matrix (negative eigenvalues set to zero): PSD everywhere. In
+              ///< a tangent the loads' Jacobians stay exact, unless the projection changed no
+              ///< Gauss point (the matrix would be the exact one): then as Definite
   Definite,   ///< the energy's as Projected; in a tangent, the loads' Jacobians projected too where
-              ///< a load can make its own PSD (JacobianSink::definite: barrier contact's pairs)
+              ///< a load can make its own PSD (JacobianSink::wantsDefinite: barrier contact's pairs)
 };
 
 class ShellEnergy {
@@ -97,8 +99,9 @@ class ShellEnergy {
   /// by hand (docs/math.md §16, "The tangent"; §16.1 for the neo-Hookean law's material part),
   /// not by dual numbers. Unless `serial`, sink is
   /// called from several threads at once, for elements of u-blocks that touch disjoint net rows
-  /// (each net row's contributions come in the same order for any thread count).
-  void elementHessians(const ControlNet& net, HessianMode mode, bool serial,
+  /// (each net row's contributions come in the same order for any thread count). Returns
+  /// whether the projection changed any Gauss point's Hessian (false for HessianMode::Exact).
+  bool elementHessians(const ControlNet& net, HessianMode mode, bool serial,
                        const std::function<void(int, int, const double*)>& sink) const;
   /// Lumped mass of every net point: ρ t ∫ B_k J₀ du dv (the row sums of the consistent mass).
   Eigen::VectorXd lumpedMass() const;

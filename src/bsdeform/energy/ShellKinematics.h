@@ -95,8 +95,9 @@ inline void crossMatrix(const double* x, double scale, double* out) {
 /// nearest PSD matrix; should the eigensolver fail, the material part plus the membrane's
 /// geometric part with its stress resultant made PSD). Newton on the incremental potential
 /// needs a PSD tangent for a descent direction; the residual stays exact. Hout column-major.
+/// Returns whether the projection replaced the Hessian (never without `project`).
 template <typename Law>
-void densityHessian(const double* y, const RestPoint& r, const Law& law, bool bending, bool project, double* Hout) {
+bool densityHessian(const double* y, const RestPoint& r, const Law& law, bool bending, bool project, double* Hout) {
   Matrix15 Hm = Matrix15::Zero();  // material
   Matrix15 Hg = Matrix15::Zero();  // geometric
   const Eigen::Map<const Eigen::Vector3d> a1(y), a2(y + 3);
@@ -185,6 +186,7 @@ void densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
   }
   Eigen::Map<Matrix15> H(Hout);
   H = Hm + Hg;
+  bool projected = false;
   if (project) {
     // positive definite to a relative margin: keep; else the PSD fallback
     const double scale = H.diagonal().cwiseAbs().maxCoeff();
@@ -192,6 +194,7 @@ void densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
     test.diagonal().array() += 1e-10 * scale + 1e-300;
     Eigen::LLT<Matrix15> llt(test);
     if (llt.info() != Eigen::Success) {
+      projected = true;
       // the nearest positive semidefinite matrix: negative eigenvalues to zero
       Eigen::SelfAdjointEigenSolver<Matrix15> es(0.5 * (H + H.transpose()));
       if (es.info() == Eigen::Success) {
@@ -206,6 +209,7 @@ void densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
     }
   }
   H = 0.5 * (H + H.transpose()).eval();
+  return projected;
 }
 
 }  // namespace bsdeform::shell

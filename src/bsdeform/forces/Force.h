@@ -89,7 +89,7 @@ class JacobianSink {
   /// one was not positive definite. false: the exact Jacobian, Newton's first try (a barrier's
   /// pairs are not convex across their distance gradient, and projecting them where the whole
   /// matrix needs no projection slows Newton to a crawl along a sliding contact).
-  bool definite = false;
+  bool wantsDefinite = false;
 };
 
 /// Base class of all forces. Implementations add their contribution to the load of the moving
