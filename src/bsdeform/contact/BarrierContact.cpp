@@ -136,9 +136,8 @@ struct BarrierContactForce::State {
   /// addJacobian()'s view of each proxy vertex's weights within its element (the knot span whose
   /// control points they lie on, named by its first net point `corner`): `count` weights from
   /// `first` on in `slot` (the point's place among the element's L1 x L2) and `weight`. The
-  /// proxy's weights are fixed: made once per proxy (`generation`).
+  /// proxy's weights are fixed: made once per proxy (emptied by prepare() when it makes one).
   struct VertexLocals {
-    std::uint64_t generation = 0;
     std::vector<Eigen::Index> corner;
     std::vector<int> first, count;
     std::vector<int> slot;
@@ -338,6 +337,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
     st.mesh.edges = st.proxy->edges();
     proxyWorld(ctx.restShape ? *ctx.restShape : ctx.rest ? *ctx.rest : ctx.current, st.restWorld);
     ++st.generation;
+    st.locals.corner.clear();  // addJacobian()'s view of the weights: made again
   }
   if (st.obstacles.size() != w.obstacles.size()) ++st.generation;  // one removed or added: other pairs
   st.obstacles.resize(w.obstacles.size());
@@ -896,6 +896,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
   const std::uint64_t vertices = std::uint64_t(m_state->proxy->numVertices());
   std::vector<std::pair<std::uint64_t, std::uint32_t>>& order = st.blockOrder;
   order.resize(blocks.size());
+  assert(blocks.size() <= size_t(std::numeric_limits<std::uint32_t>::max()));
   for (size_t k = 0; k < blocks.size(); ++k)
     order[k] = {std::uint64_t(blocks[k].a) * vertices + std::uint64_t(blocks[k].b), std::uint32_t(k)};
   std::sort(order.begin(), order.end());
@@ -908,8 +909,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
   const SplineSpace& space = ctx.space;
   const int cols = space.netCols(), L1 = space.degreeU() + 1, L2 = space.degreeV() + 1, L = L1 * L2;
   State::VertexLocals& loc = st.locals;
-  if (loc.generation != st.generation || loc.corner.size() != size_t(vertices)) {
-    loc.generation = st.generation;
+  if (loc.corner.size() != size_t(vertices)) {
     loc.corner.resize(size_t(vertices));
     loc.first.resize(size_t(vertices));
     loc.count.resize(size_t(vertices));
