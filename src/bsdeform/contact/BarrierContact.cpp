@@ -630,7 +630,8 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   // Against an obstacle only the proxy's points move: the pair's Hessian in them (a 3 x 3, 9 x 9
   // or 6 x 6 block of the 12 x 12) is what Newton needs, and where asked (`projected`) that block
   // is projected to PSD, not the whole (exact Newton where the block is PSD; a 3 x 3 eigenproblem
-  // instead of a 12 x 12 for the common point–face pair). `first`, `n`: the moving coordinates; n = 12: self-contact.
+  // instead of a 12 x 12 for the common point–face pair). `first`, `n`: the moving coordinates;
+  // n = 12: self-contact.
   // Reads nothing it writes: the pairs may be computed on any threads.
   auto compute = [&bp, order, mode](const PairSite& p, Term& t) {
     Vector12d* grad = order >= 1 ? &t.grad : nullptr;

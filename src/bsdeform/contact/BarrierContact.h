@@ -43,9 +43,9 @@ struct BarrierContactParameters {
   /// (what the nodes do).
   bool modelMass = false;
   /// Whether each pair's Hessian is projected to positive semidefinite when the Jacobian's
-  /// receiver asks for a definite one (JacobianSink::wantsDefinite: the Newton matrix after the exact
-  /// one failed); false (tests): the pair Hessians as they are, always (the exact Hessian of the
-  /// potential for obstacle contact).
+  /// receiver asks for a definite one (JacobianSink::wantsDefinite: the Newton matrix after the
+  /// exact one failed); false (tests): the pair Hessians as they are, always (the exact Hessian
+  /// of the potential for obstacle contact).
   bool projectHessian = true;
 };
 
@@ -64,8 +64,9 @@ class BarrierContactForce : public Force {
   /// Each pair's Hessian (projected to PSD where the sink asks for a definite Jacobian,
   /// JacobianSink::wantsDefinite, and projectHessian is set; exact otherwise) pushed to the
   /// control points through the proxy's weights. Self-contact pairs couple two parts of the
-  /// surface that share no element: their whole Hessian goes to the sink, the blocks between the two parts included (the tangent takes
-  /// them into its pattern: Newton converges quadratically in self-contact only with them).
+  /// surface that share no element: their whole Hessian goes to the sink, the blocks between the
+  /// two parts included (the tangent takes them into its pattern: Newton converges
+  /// quadratically in self-contact only with them).
   /// Friction's Hessian (PSD by construction) likewise; it is a function of the slip, so its share
   /// is velocityScale × stepSize × ∂²D/∂x² (∂²D/∂x² itself in the implicit step).
   bool hasJacobian() const override { return true; }

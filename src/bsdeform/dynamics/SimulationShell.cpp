@@ -108,8 +108,9 @@ const Eigen::SparseMatrix<double>& Simulation::tangent(const ControlNet& net, do
   bool energyProjected = false;  // whether the projection changed any of the energy's Hessians
   if (m_shell) {
     // periodic in u: the first and last u-blocks fold onto the same unknowns (one thread)
-    energyProjected = m_shell->elementHessians(net, mode, m_space.periodicU(),
-                             [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
+    energyProjected =
+        m_shell->elementHessians(net, mode, m_space.periodicU(),
+                                 [&K, scale](int e1, int e2, const double* Ke) { K.addElement(e1, e2, Ke, scale); });
   } else {
     // the paper's energy is quadratic: its Hessian is A_II at every state (positive
     // semi-definite, nothing to project)

@@ -56,7 +56,7 @@ struct ShellEnergies {
 };
 
 /// Which element Hessian ShellEnergy::elementHessians() gives.
-/// (A tangent's assembly passes it on: the loads' Jacobians are exact but under Definite.)
+/// (A tangent's assembly passes it on to the loads' Jacobians: see Projected and Definite.)
 enum class HessianMode {
   Exact,      ///< the exact second derivative of the energy (indefinite under compression)
   Projected,  ///< at each Gauss point where the exact density Hessian is not positive definite,
