@@ -105,6 +105,13 @@ struct RecordedBlocks final : JacobianSink {
   void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { calls.push_back({{p, q}, B}); }
 };
 
+/// A Jacobian sink that sums the blocks into a dense matrix (net point = unknown: free sides).
+struct DenseJacobian final : JacobianSink {
+  Eigen::MatrixXd K;
+  explicit DenseJacobian(Eigen::Index n) : K(Eigen::MatrixXd::Zero(n, n)) {}
+  void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { K.block<3, 3>(3 * p, 3 * q) += B; }
+};
+
 /// The same blocks at the same places in the same order, to the last bit.
 bool sameBlocks(const RecordedBlocks& a, const RecordedBlocks& b) {
   if (a.calls.size() != b.calls.size()) return false;
@@ -171,13 +178,8 @@ TEST_CASE("BarrierContactForce: the Jacobian is exact unless its receiver asks f
   check.tolerance = 1e-5;
   check.run();
   const Eigen::Index n = 3 * s.numMoving();
-  struct Dense final : JacobianSink {
-    Eigen::MatrixXd K;
-    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { K.block<3, 3>(3 * p, 3 * q) += B; }
-  };
   auto jacobian = [&](const BarrierContactForce& f, bool definite) {
-    Dense sink;
-    sink.K = Eigen::MatrixXd::Zero(n, n);
+    DenseJacobian sink(n);
     sink.wantsDefinite = definite;
     f.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
     return sink.K;
@@ -976,11 +978,7 @@ TEST_CASE("BarrierContactForce with selfContact: its Jacobian is every non-adjac
   REQUIRE(force.potential(ctx, phi));
   REQUIRE(phi > 0.0);  // the turns are within reach of each other
   const Eigen::Index n = 3 * s.numMoving();
-  struct Dense final : JacobianSink {
-    Eigen::MatrixXd K;
-    void add(Eigen::Index p, Eigen::Index q, const Eigen::Matrix3d& B) override { K.block<3, 3>(3 * p, 3 * q) += B; }
-  } sink;
-  sink.K = Eigen::MatrixXd::Zero(n, n);
+  DenseJacobian sink(n);
   force.addJacobian(ctx, 1.0 / ctx.stepSize, sink);
   // the brute force: every pair of the proxy sharing no vertex, its Hessian through the weights
   const CollisionProxy proxy(s, bp.samplesPerSpan);

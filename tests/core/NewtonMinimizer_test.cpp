@@ -53,6 +53,48 @@ struct Quartic {
   }
 };
 
+
+/// A step's potential per coordinate, ½ m (x - x̂)² + W(x) + q cos(x) with x̂ the same for
+/// every coordinate: W = ¼ (x² - 1)² a double well (W'' = 3x² - 1 < 0 near 0), the energy, its
+/// Hessian clamped at 0 by HessianMode::Projected and Definite; q cos(x) a load whose curvature
+/// -q cos(x) only Definite clamps (a barrier's pair). The tangent records the modes asked for.
+struct WellUnderLoad {
+  double m, q;
+  Eigen::Index n;
+  ControlNet xhat, at;
+  Eigen::SparseMatrix<double> K;
+  std::vector<HessianMode> modes;
+  WellUnderLoad(double mass, Eigen::Index points, double target, double load = 0.0)
+      : m(mass), q(load), n(points), xhat(ControlNet::Constant(points, 3, target)) {}
+  /// evaluate and tangent (the caller sets residualSmall); this object must outlive it
+  NewtonMinimizer::Problem problem() {
+    NewtonMinimizer::Problem p;
+    p.evaluate = [this](const ControlNet& x, NewtonPoint& pt) {
+      at = x;
+      const Eigen::ArrayXXd d = (x - xhat).array(), a = x.array();
+      pt.g = (m * d + a.cube() - a - q * a.sin()).matrix();
+      pt.norm = pt.g.norm();
+      pt.value = 0.5 * m * d.square().sum() + (0.25 * (a.square() - 1.0).square()).sum() + q * a.cos().sum();
+      pt.valueScale = std::abs(pt.value) + 1.0;
+      pt.potential = true;
+    };
+    p.tangent = [this](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+      modes.push_back(mode);
+      K.resize(3 * n, 3 * n);
+      std::vector<Eigen::Triplet<double>> t;
+      for (Eigen::Index i = 0; i < n; ++i)
+        for (int k = 0; k < 3; ++k) {
+          double w = 3.0 * at(i, k) * at(i, k) - 1.0, l = -q * std::cos(at(i, k));
+          if (mode != HessianMode::Exact) w = std::max(w, 0.0);
+          if (mode == HessianMode::Definite) l = std::max(l, 0.0);
+          t.emplace_back(int(3 * i + k), int(3 * i + k), w + l + shift);
+        }
+      K.setFromTriplets(t.begin(), t.end());
+      return K;
+    };
+    return p;
+  }
+};
 }  // namespace
 
 TEST_CASE("NewtonMinimizer: converges to the known minimum with a few factorisations and chord steps", "[newton]") {
@@ -137,34 +179,10 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
   // one (W'' clamped at 0) is what the dynamics fall back to otherwise
   constexpr double m = 0.7;
   constexpr Eigen::Index n = 6;
-  const ControlNet xhat = ControlNet::Constant(n, 3, 0.05);
-  ControlNet at;
-  Eigen::SparseMatrix<double> K;
-  std::vector<HessianMode> modes;
-  NewtonMinimizer::Problem p;
-  p.evaluate = [&](const ControlNet& x, NewtonPoint& pt) {
-    at = x;
-    const Eigen::ArrayXXd d = (x - xhat).array(), a = x.array();
-    pt.g = (m * d + a.cube() - a).matrix();
-    pt.norm = pt.g.norm();
-    const double w = (0.25 * (a.square() - 1.0).square()).sum();
-    pt.value = 0.5 * m * d.square().sum() + w;
-    pt.valueScale = std::abs(pt.value) + 1.0;
-    pt.potential = true;
-  };
-  p.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
-    modes.push_back(mode);
-    K.resize(3 * n, 3 * n);
-    std::vector<Eigen::Triplet<double>> t;
-    for (Eigen::Index i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        double h = 3.0 * at(i, k) * at(i, k) - 1.0;
-        if (mode != HessianMode::Exact) h = std::max(h, 0.0);
-        t.emplace_back(int(3 * i + k), int(3 * i + k), h + shift);
-      }
-    K.setFromTriplets(t.begin(), t.end());
-    return K;
-  };
+  WellUnderLoad well(m, n, 0.05);  // no load
+  Eigen::SparseMatrix<double>& K = well.K;
+  const std::vector<HessianMode>& modes = well.modes;
+  NewtonMinimizer::Problem p = well.problem();
   p.residualSmall = [](const NewtonPoint& pt) { return pt.norm == 0.0; };
   NewtonMinimizer::Options o;
   o.updateTolerance = 1e-12;
@@ -182,7 +200,7 @@ TEST_CASE("NewtonMinimizer: an indefinite exact tangent takes more of the mass b
     ControlNet x = ControlNet::Zero(n, 3);
     NewtonPoint cur;
     q.evaluate(x, cur);
-    modes.clear();
+    well.modes.clear();
     NewtonMinimizer minimizer;
     const auto out = minimizer.minimize(x, cur, q, o);
     REQUIRE(out.converged);
@@ -212,46 +230,20 @@ TEST_CASE("NewtonMinimizer: the projected tangent keeps the loads' Jacobians exa
   // attempts with the load exact (m, 4 m, 16 m) the load is projected too.
   constexpr double m = 0.5;
   constexpr Eigen::Index n = 4;
-  const ControlNet xhat = ControlNet::Constant(n, 3, 0.02);
-  double q = 0.0;
-  ControlNet at;
-  Eigen::SparseMatrix<double> K;
-  std::vector<HessianMode> modes;
-  NewtonMinimizer::Problem p;
-  p.evaluate = [&](const ControlNet& x, NewtonPoint& pt) {
-    at = x;
-    const Eigen::ArrayXXd d = (x - xhat).array(), a = x.array();
-    pt.g = (m * d + a.cube() - a - q * a.sin()).matrix();
-    pt.norm = pt.g.norm();
-    pt.value = 0.5 * m * d.square().sum() + (0.25 * (a.square() - 1.0).square()).sum() + q * a.cos().sum();
-    pt.valueScale = 0.5 * m * d.square().sum() + (0.25 * (a.square() - 1.0).square()).sum() + q * a.cos().abs().sum();
-    pt.potential = true;
-  };
-  p.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
-    modes.push_back(mode);
-    K.resize(3 * n, 3 * n);
-    std::vector<Eigen::Triplet<double>> t;
-    for (Eigen::Index i = 0; i < n; ++i)
-      for (int k = 0; k < 3; ++k) {
-        double w = 3.0 * at(i, k) * at(i, k) - 1.0, l = -q * std::cos(at(i, k));
-        if (mode != HessianMode::Exact) w = std::max(w, 0.0);
-        if (mode == HessianMode::Definite) l = std::max(l, 0.0);
-        t.emplace_back(int(3 * i + k), int(3 * i + k), w + l + shift);
-      }
-    K.setFromTriplets(t.begin(), t.end());
-    return K;
-  };
+  WellUnderLoad well(m, n, 0.02);
+  const std::vector<HessianMode>& modes = well.modes;
+  NewtonMinimizer::Problem p = well.problem();
   p.residualSmall = [](const NewtonPoint& pt) { return pt.norm <= 1e-12; };
   NewtonMinimizer::Options o;
   o.updateTolerance = 1e-13;
   o.shift = m;
   o.chordSteps = false;
   auto run = [&](double load) {
-    q = load;
+    well.q = load;
     ControlNet x = ControlNet::Zero(n, 3);
     NewtonPoint cur;
     p.evaluate(x, cur);
-    modes.clear();
+    well.modes.clear();
     NewtonMinimizer minimizer;
     const auto out = minimizer.minimize(x, cur, p, o);
     CAPTURE(load, out.failure);

@@ -182,6 +182,14 @@ void ComponentConstraints::fold(ControlNet& g) const {
   for (Eigen::Index dof : m_derived) v[dof] = 0.0;
 }
 
+const Eigen::SparseMatrix<double>& unknownsTangent(const ComponentConstraints* components,
+                                                   const Eigen::SparseMatrix<double>& K, const std::vector<char>& held,
+                                                   Eigen::SparseMatrix<double>& folded) {
+  if (!components) return K;
+  folded = components->foldTangent(K, held);
+  return folded;
+}
+
 Eigen::SparseMatrix<double> ComponentConstraints::foldTangent(const Eigen::SparseMatrix<double>& lowerK,
                                                               const std::vector<char>& held) const {
   Eigen::SparseMatrix<double> upper = lowerK.transpose();

@@ -88,4 +88,10 @@ class ComponentConstraints {
 /// "umin", "umax", "vmin", "vmax" (side 0..3), for messages.
 const char* sideName(int side);
 
+/// The tangent K over the free coordinates: K itself without supports per component
+/// (`components` null), else components->foldTangent(K, held) made in `folded`.
+const Eigen::SparseMatrix<double>& unknownsTangent(const ComponentConstraints* components,
+                                                   const Eigen::SparseMatrix<double>& K, const std::vector<char>& held,
+                                                   Eigen::SparseMatrix<double>& folded);
+
 }  // namespace bsdeform

@@ -256,9 +256,7 @@ StaticResult Simulation::solveStaticShell(double tolerance, int maxIterations, i
     const LoadContext ctx = loadContext(net, net, m_params.timeStep, 0.0);
     const Eigen::SparseMatrix<double>& K =
         jacobians ? tangent(net, 1.0, shift, mode, &ctx, 0.0, loadFactor) : tangent(net, 1.0, shift, mode);
-    if (!m_components) return K;
-    folded = m_components->foldTangent(K, m_heldMask);
-    return folded;
+    return unknownsTangent(m_components.get(), K, m_heldMask, folded);
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= tolerance * p.scale; };
   // the update against the displacement so far (whatever the load's size: a thin strip under a

@@ -346,11 +346,9 @@ bool ShellImplicitStepper::stepOf(double t, double dt) {
   Eigen::SparseMatrix<double> folded;
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctxV = s.loadContext(netV, netVPrev, 2.0 * dt, t + dt);
-    const Eigen::SparseMatrix<double>& K =
-        s.tangent(net, 0.25, shift, mode, stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25);
-    if (!s.components()) return K;
-    folded = s.components()->foldTangent(K, s.heldMask());
-    return folded;
+    return unknownsTangent(s.components(),
+                           s.tangent(net, 0.25, shift, mode, stateForces.empty() ? nullptr : &ctxV, 2.0 / dt, 0.25),
+                           s.heldMask(), folded);
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * scale; };
   problem.updateTolerance = [](const ControlNet& xi) { return 1e-11 * xi.cwiseAbs().maxCoeff(); };
@@ -671,18 +669,12 @@ bool BackwardEulerStepper::stepOf(double t, double h) {
   NewtonMinimizer::Problem problem;
   problem.evaluate = evaluate;
   Eigen::SparseMatrix<double> folded;
-  // the tangent over the free coordinates (supports per component folded in)
-  auto unknownsTangent = [&](const Eigen::SparseMatrix<double>& K) -> const Eigen::SparseMatrix<double>& {
-    if (!s.components()) return K;
-    folded = s.components()->foldTangent(K, s.heldMask());
-    return folded;
-  };
   problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
     const LoadContext ctx = s.loadContext(net, startNet, h, tNew);
-    return unknownsTangent(s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h));
+    return unknownsTangent(s.components(), s.tangent(net, 1.0, shift, mode, &ctx, 1.0 / h), s.heldMask(), folded);
   };
   problem.shiftTangent = [&](double extra) -> const Eigen::SparseMatrix<double>& {
-    return unknownsTangent(s.shiftTangent(extra));
+    return unknownsTangent(s.components(), s.shiftTangent(extra), s.heldMask(), folded);
   };
   problem.residualSmall = [&](const NewtonPoint& p) { return p.norm <= s.params().newtonTolerance * forceScale; };
   if (barrier) problem.maxStep = admissible;
