@@ -462,7 +462,7 @@ TEST_CASE("Reactions of the Scordelis-Lo quarter: a SYMMETRY plane carries no fo
   }
 }
 
-TEST_CASE("Pinched hemisphere with an 18 degree hole as a quarter with two SYMMETRY sides: 0.094", "[shell][supports]") {
+TEST_CASE("Pinched hemisphere with an 18 degree hole: 0.094 as a quarter with two SYMMETRY sides", "[shell][supports]") {
   // MacNeal and Harder 1985: R = 10, t = 0.04, E = 6.825e7, nu = 0.3, open 18 degrees round the
   // pole, free equator; loads of 2 at the equator, outward along x, inward along y (and the
   // opposite ones); the linear radial displacement under a load is 0.094 (Kirchhoff-Love). The
@@ -492,7 +492,7 @@ TEST_CASE("Pinched hemisphere with an 18 degree hole as a quarter with two SYMME
   CHECK(in == Approx(out).epsilon(1e-3));  // the two loads alike, as the linear theory has it
 }
 
-TEST_CASE("Closed pinched hemisphere as a quarter whose pole is the corner of two SYMMETRY sides: 0.0924, and "
+TEST_CASE("Closed pinched hemisphere: 0.0924 as a quarter whose pole is the corner of two SYMMETRY sides, and "
           "Newton's convergence does not depend on the load's size",
           "[shell][supports]") {
   // the hemisphere above without its hole: the radial displacement under a load is 0.0924 (the
@@ -542,8 +542,8 @@ TEST_CASE("Closed pinched hemisphere as a quarter whose pole is the corner of tw
   CHECK(first == Approx(0.0924).epsilon(1e-3));
 }
 
-TEST_CASE("BACKWARD_EULER and IMPLICIT take supports per component and SYMMETRY sides: the damped quarter roof "
-          "settles on the static equilibrium",
+TEST_CASE("Damped quarter roof with SYMMETRY sides: BACKWARD_EULER and IMPLICIT settle on the static "
+          "equilibrium (supports per component)",
           "[shell][supports][slow]") {
   const double R = 25.0, halfL = 25.0, theta = 40.0 * kPi / 180.0;
   ModelParameters p = scordelisQuarter(8, 100.0);
@@ -632,7 +632,7 @@ TEST_CASE("Supports per component on BUILT_IN sides: all three are BUILT_IN, Z a
   CHECK(sag > 1e-3);
 }
 
-TEST_CASE("The static Newton's convergence does not depend on the load's size: a thin hemisphere under 1e-6 and 1e-4 "
+TEST_CASE("Static Newton independent of the load's size: a thin hemisphere under 1e-6 and 1e-4 "
           "of its load",
           "[shell][supports]") {
   // the quarter hemisphere with an 18 degree hole (t/R = 0.004): the relative residual of a thin
