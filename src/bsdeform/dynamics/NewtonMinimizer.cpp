@@ -6,7 +6,7 @@
 #include <sstream>
 #include <vector>
 
-#include "bsdeform/dynamics/SimulationPrivate.h"
+#include "bsdeform/dynamics/SparseCholesky.h"
 
 namespace bsdeform {
 
@@ -22,7 +22,7 @@ constexpr double kMassRetryGrowth = 1.25;
 constexpr int kExactLoadAttempts = 3;
 }  // namespace
 
-NewtonMinimizer::NewtonMinimizer() : m_solver(std::make_unique<NewtonSolver>()) {}
+NewtonMinimizer::NewtonMinimizer() : m_solver(std::make_unique<SparseCholesky>()) {}
 NewtonMinimizer::~NewtonMinimizer() = default;
 
 NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& cur, const Problem& problem,
@@ -56,7 +56,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     }
     if (ownStart) {
       const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      const Eigen::VectorXd z = m_solver->llt.solve(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size()));
+      const Eigen::VectorXd z = m_solver->solve(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size())));
       q = Eigen::Map<const ControlNet>(z.data(), n, 3);
     } else {
       problem.precondition(q);  // times its own factorisation and solve (the tangent it may build: elastic)
@@ -143,7 +143,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       step = quasiNewtonStep(cur.g);
     } else {
       const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      const Eigen::VectorXd d = m_solver->llt.solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+      const Eigen::VectorXd d = m_solver->solve(Eigen::VectorXd(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size())));
       step = Eigen::Map<const ControlNet>(d.data(), n, 3);
     }
     const double slope = (step.array() * cur.g.array()).sum();

@@ -28,7 +28,7 @@
 
 namespace bsdeform {
 
-struct NewtonSolver;
+class SparseCholesky;
 
 /// The minimised function at one point.
 struct NewtonPoint {
@@ -120,7 +120,7 @@ class NewtonMinimizer {
   Outcome minimize(ControlNet& x, NewtonPoint& cur, const Problem& problem, const Options& options);
 
  private:
-  std::unique_ptr<NewtonSolver> m_solver;  ///< CHOLMOD, its symbolic analysis kept
+  std::unique_ptr<SparseCholesky> m_solver;  ///< CHOLMOD, its symbolic analysis kept
 };
 
 }  // namespace bsdeform

@@ -3,7 +3,6 @@
 // T (moving points, periodic copies, derived layers), the Newton tangent, the explicit step's
 // bound at the state, and the nonlinear static problem by Newton with load increments. Its
 // time steppers are in TimeStepper.cpp.
-#include <Eigen/CholmodSupport>
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
@@ -19,7 +18,6 @@
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/dynamics/MassMatrix.h"
 #include "bsdeform/dynamics/NewtonMinimizer.h"
-#include "bsdeform/dynamics/SimulationPrivate.h"
 #include "bsdeform/dynamics/TimeStepper.h"
 
 namespace bsdeform {

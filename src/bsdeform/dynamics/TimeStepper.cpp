@@ -5,7 +5,6 @@
 #include "bsdeform/dynamics/TimeStepper.h"
 #include "bsdeform/dynamics/MassMatrix.h"
 
-#include <Eigen/CholmodSupport>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -18,7 +17,7 @@
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/dynamics/Simulation.h"
 #include "bsdeform/dynamics/NewtonMinimizer.h"
-#include "bsdeform/dynamics/SimulationPrivate.h"
+#include "bsdeform/dynamics/SparseCholesky.h"
 
 namespace bsdeform {
 
@@ -418,7 +417,7 @@ namespace bsdeform {
 /// and unlike the tangent it does not change when the surface turns: the stiffness of the
 /// membrane in every direction, the projective-dynamics matrix of Liu, Bouaziz, Kavan (2017).
 struct BackwardEulerStepper::QuasiNewtonStart {
-  NewtonSolver solver;                   ///< H0's factorisation (its pattern is the same for every shift)
+  SparseCholesky solver;                 ///< H0's factorisation (its pattern is the same for every shift)
   Eigen::SparseMatrix<double> restPart;  ///< K̄, lower triangle
   double shift = -1.0;                    ///< the mass multiple solver was made with
 };
@@ -452,7 +451,7 @@ void BackwardEulerStepper::precondition(ControlNet& r, double h) {
     m_start->shift = shift;
   }
   const CostTimer timer(&s.costs().solve);
-  const Eigen::MatrixXd z = m_start->solver.llt.solve(Eigen::MatrixXd(r));
+  const Eigen::MatrixXd z = m_start->solver.solve(Eigen::MatrixXd(r));
   r = z;
   for (Eigen::Index f = 0; f < r.rows(); ++f)
     for (int k = 0; k < 3; ++k)

@@ -30,8 +30,6 @@
 
 namespace bsdeform {
 
-struct NewtonSolver;
-
 class TimeStepper {
  public:
   explicit TimeStepper(StepperModel& model) : m_model(model) {}
