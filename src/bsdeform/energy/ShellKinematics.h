@@ -208,7 +208,14 @@ bool densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
       }
     }
   }
-  H = 0.5 * (H + H.transpose()).eval();
+  // symmetric to the last bit: each pair of entries to its mean, once (0.5 (a + b), as
+  // 0.5 (H + Hᵀ) makes it, without that expression's temporary and strided pass)
+  for (int c = 0; c < 15; ++c)
+    for (int r = c + 1; r < 15; ++r) {
+      const double v = 0.5 * (H(r, c) + H(c, r));
+      H(r, c) = v;
+      H(c, r) = v;
+    }
   return projected;
 }
 
