@@ -56,7 +56,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     }
     if (ownStart) {
       const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      const Eigen::VectorXd z = m_solver->solve(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size())));
+      const Eigen::VectorXd z = m_solver->solve(Eigen::Map<const Eigen::VectorXd>(q.data(), q.size()));
       q = Eigen::Map<const ControlNet>(z.data(), n, 3);
     } else {
       problem.precondition(q);  // times its own factorisation and solve (the tangent it may build: elastic)
@@ -143,7 +143,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       step = quasiNewtonStep(cur.g);
     } else {
       const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      const Eigen::VectorXd d = m_solver->solve(Eigen::VectorXd(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size())));
+      const Eigen::VectorXd d = m_solver->solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
       step = Eigen::Map<const ControlNet>(d.data(), n, 3);
     }
     const double slope = (step.array() * cur.g.array()).sum();

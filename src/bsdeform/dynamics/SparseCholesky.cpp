@@ -60,7 +60,7 @@ cholmod_sparse view(const Eigen::SparseMatrix<double>& K) {
 
 }  // namespace
 
-SparseCholesky::SparseCholesky(Ordering ordering) : m_c(std::make_unique<Cholmod>()), m_ordering(ordering) {
+SparseCholesky::SparseCholesky(Ordering ordering) : m_c(std::make_unique<Cholmod>()) {
   if (ordering != Ordering::Default) {
     m_c->common.nmethods = 1;
     m_c->common.method[0].ordering = ordering == Ordering::Metis ? CHOLMOD_METIS : CHOLMOD_NESDIS;
@@ -71,10 +71,9 @@ SparseCholesky::SparseCholesky(Ordering ordering) : m_c(std::make_unique<Cholmod
 SparseCholesky::~SparseCholesky() = default;
 
 void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& K) {
-  assert(K.isCompressed() && K.rows() == K.cols());
   cholmod_common& c = m_c->common;
   m_c->clear();
-  m_factored = false;
+  m_isFactored = false;
   m_outer.clear();
   m_inner.clear();
   cholmod_sparse a = view(K);
@@ -106,13 +105,16 @@ void SparseCholesky::analyse(const Eigen::SparseMatrix<double>& K) {
 }
 
 bool SparseCholesky::factor(const Eigen::SparseMatrix<double>& K) {
+  if (!K.isCompressed() || K.rows() != K.cols())
+    throw std::invalid_argument("SparseCholesky::factor: the matrix must be square and compressed");
+  const SerialOpenMp serial;  // CHOLMOD's fixed 4-thread regions cost more than they save here
+  m_isFactored = false;
   const int* o = K.outerIndexPtr();
   const int* i = K.innerIndexPtr();
   const size_t columns = size_t(K.outerSize()) + 1, nnz = size_t(K.nonZeros());
   if (!m_c->L || m_outer.size() != columns || m_inner.size() != nnz || !std::equal(m_outer.begin(), m_outer.end(), o) ||
       !std::equal(m_inner.begin(), m_inner.end(), i))
     analyse(K);
-  const SerialOpenMp serial;  // CHOLMOD's fixed 4-thread regions cost more than they save here
   double* Sx = static_cast<double*>(m_c->S->x);
   const double* Kx = K.valuePtr();
   const int* g = m_gather.data();
@@ -121,18 +123,19 @@ bool SparseCholesky::factor(const Eigen::SparseMatrix<double>& K) {
   cholmod_common& c = m_c->common;
   if (!cholmod_super_numeric(m_c->S, nullptr, beta, m_c->L, &c)) fail(c, "the numeric factorisation");
   // not positive definite: CHOLMOD_NOT_POSDEF, L->minor the failing column
-  m_factored = c.status == CHOLMOD_OK && m_c->L->minor == m_c->L->n;
-  return m_factored;
+  m_isFactored = c.status == CHOLMOD_OK && m_c->L->minor == m_c->L->n;
+  return m_isFactored;
 }
 
-Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) {
-  if (!m_factored) throw std::logic_error("SparseCholesky::solve without a successful factorisation");
+Eigen::MatrixXd SparseCholesky::solve(const Eigen::Ref<const Eigen::MatrixXd>& B) {
+  assert(m_isFactored && "SparseCholesky::solve without a successful factorisation");
+  assert(B.rows() == Eigen::Index(m_c->L->n) && "SparseCholesky::solve: the right-hand side's size");
   cholmod_common& c = m_c->common;
   cholmod_dense b{};
   b.nrow = size_t(B.rows());
   b.ncol = size_t(B.cols());
-  b.nzmax = b.nrow * b.ncol;
-  b.d = b.nrow;
+  b.d = size_t(B.outerStride());
+  b.nzmax = b.d * b.ncol;
   b.x = const_cast<double*>(B.data());
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
@@ -143,12 +146,7 @@ Eigen::MatrixXd SparseCholesky::solve(const Eigen::MatrixXd& B) {
   return out;
 }
 
-Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& b) {
-  const Eigen::MatrixXd x = solve(Eigen::MatrixXd(Eigen::Map<const Eigen::MatrixXd>(b.data(), b.size(), 1)));
-  return x.col(0);
-}
-
-double SparseCholesky::factorNonZeros() const { return m_c->common.lnz; }
-double SparseCholesky::factorFlops() const { return m_c->common.fl; }
+double SparseCholesky::factorNonZeros() const { return m_c->L ? m_c->common.lnz : -1.0; }
+double SparseCholesky::factorFlops() const { return m_c->L ? m_c->common.fl : -1.0; }
 
 }  // namespace bsdeform

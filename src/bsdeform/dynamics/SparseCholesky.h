@@ -21,6 +21,8 @@
 
 namespace bsdeform {
 
+/// The Newton tangent's supernodal Cholesky factorisation (CHOLMOD), its symbolic analysis kept
+/// while the pattern stays; the matrix CHOLMOD factorises made by one gather (see the file's note).
 class SparseCholesky {
  public:
   /// CHOLMOD's fill-reducing orderings (the analysis's choice, or one forced: benchmarks).
@@ -36,14 +38,19 @@ class SparseCholesky {
   /// above the diagonal, if K has them, are not read). The
   /// symbolic analysis is made again only when K's pattern is not the last one's. False if K is
   /// not positive definite (then solve() must not be called until a factorisation succeeds).
+  /// K must be compressed (std::invalid_argument otherwise).
   bool factor(const Eigen::SparseMatrix<double>& K);
-  /// K⁻¹ b for the last successful factorisation; one column per right-hand side.
-  Eigen::VectorXd solve(const Eigen::VectorXd& b);
-  Eigen::MatrixXd solve(const Eigen::MatrixXd& B);
+  /// Whether the last factor() succeeded.
+  bool isFactored() const { return m_isFactored; }
+  /// K⁻¹ B for the last successful factorisation; one column per right-hand side (a vector is
+  /// one column).
+  Eigen::MatrixXd solve(const Eigen::Ref<const Eigen::MatrixXd>& B);
 
   /// How many symbolic analyses factor() has made.
   int analyses() const { return m_analyses; }
-  /// The factor's non-zeros and the flops of one numeric factorisation (CHOLMOD's own counts).
+  /// CHOLMOD's counts from the last analysis: the factor's non-zeros (its simplicial count,
+  /// without the supernodes' explicit zeros) and the flops of one numeric factorisation; -1
+  /// before the first analysis.
   double factorNonZeros() const;
   double factorFlops() const;
 
@@ -52,13 +59,12 @@ class SparseCholesky {
 
   struct Cholmod;
   std::unique_ptr<Cholmod> m_c;
-  Ordering m_ordering;
   /// The pattern of the last analysis (empty: none yet).
   std::vector<int> m_outer, m_inner;
   /// tril(P K Pᵀ)'s value j is K's value m_gather[j].
   std::vector<int> m_gather;
   int m_analyses = 0;
-  bool m_factored = false;
+  bool m_isFactored = false;
 };
 
 }  // namespace bsdeform
