@@ -4,8 +4,8 @@
 
 #include "bsdeform/base/HugePages.h"
 #include "bsdeform/dynamics/Multigrid.h"
+#include "bsdeform/dynamics/SparseCholesky.h"
 
-#include <Eigen/CholmodSupport>
 #include <Eigen/Sparse>
 #include <algorithm>
 #include <cassert>
@@ -13,10 +13,6 @@
 #include <stdexcept>
 
 namespace bsdeform {
-
-struct ImplicitSystem::Factor {
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
-};
 
 ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil& stencil,
                                const Eigen::VectorXd& massTerm, const std::vector<Eigen::Index>& pinned,
@@ -71,14 +67,10 @@ ImplicitSystem::ImplicitSystem(const SplineSpace& space, const StiffnessStencil&
     Dm.setFromTriplets(t.begin(), t.end());
     K += Dm;
     K.makeCompressed();
-    m_factor = std::make_unique<Factor>();
-    {
-      const SerialOpenMp serial;  // CHOLMOD's fixed 4-thread regions (Parallel.h)
-      m_factor->llt.compute(K);
-    }
-    if (m_factor->llt.info() != Eigen::Success)
+    m_factor = std::make_unique<SparseCholesky>();
+    if (!m_factor->factor(K))
       throw std::runtime_error("implicit integrator: Cholesky factorisation of the system matrix failed");
-    m_factorNonZeros = m_factor->llt.cholmod().lnz;
+    m_factorNonZeros = m_factor->factorNonZeros();
     return;
   }
 
@@ -246,10 +238,10 @@ void ImplicitSystem::apply(const ControlNet& x, ControlNet& y) {
 
 bool ImplicitSystem::solve(const ControlNet& b, ControlNet& x) {
   if (m_method == LinearSolver::Direct) {
-    x = m_factor->llt.solve(b);
+    x = m_factor->solve(Eigen::MatrixXd(b));
     m_lastIterations = 0;
     m_lastResidual = 0.0;
-    return m_factor->llt.info() == Eigen::Success;
+    return true;
   }
   // Conjugate gradients for each coordinate (three independent recurrences sharing the passes
   // over memory): p = z + beta p (written into the stencil's net too), q = K p, then x, r and

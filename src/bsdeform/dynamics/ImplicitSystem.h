@@ -31,6 +31,7 @@
 namespace bsdeform {
 
 class MultigridPreconditioner;
+class SparseCholesky;
 
 enum class LinearSolver {
   Automatic,          ///< Direct for small nets (at most kAutomaticDirectPoints moving points:
@@ -111,7 +112,6 @@ class ImplicitSystem {
                      bool accumulate, ControlNet& out);
 
  private:
-  struct Factor;
   /// diag(K): D + diag(A)/4, and D alone on the pinned rows.
   Eigen::VectorXd diagonal() const;
   /// Allocates m_net (the stencil's argument, held points zero) if it is not yet.
@@ -140,7 +140,7 @@ class ImplicitSystem {
   int m_maxIterations;
   double m_kappa = 1.0;
   double m_factorNonZeros = 0.0;
-  std::unique_ptr<Factor> m_factor;
+  std::unique_ptr<SparseCholesky> m_factor;  ///< Direct: CHOLMOD's factorisation of K
   std::unique_ptr<MultigridPreconditioner> m_multigrid;
   ControlNet m_net;  ///< scratch full net for the stencil (held points stay zero)
   ControlNet m_r, m_z, m_p, m_q, m_smooth;
