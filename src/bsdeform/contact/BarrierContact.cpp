@@ -209,6 +209,9 @@ struct BarrierContactForce::State {
     Eigen::MatrixX3d rest;
     double reach = 0.0;
     std::vector<std::array<int, 2>> vertexTriangle, edgeEdge;
+    /// Where each first index's pairs begin in the lists above (one more entry than vertices,
+    /// edges): a candidate is looked up among its own first index's few, not the whole list.
+    std::vector<size_t> vertexStart, edgeStart;
   } restNeighbours;
 };
 
@@ -385,6 +388,15 @@ void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& ou
   out = (local * w.linear.transpose()).rowwise() + w.offset.transpose();
 }
 
+namespace {
+/// Empties the lists, keeping their memory for the next pairs (millions of a sheet's with itself).
+void clearCandidates(ContactCandidates& c) {
+  c.vertexTriangle.clear();
+  c.triangleVertex.clear();
+  c.edgeEdge.clear();
+}
+}  // namespace
+
 const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(double inflation) const {
   State& st = *m_state;
   const CostTimer timer(&st.costs.broadPhase);
@@ -431,8 +443,9 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     at.end = c.refEnd;
     at.triangles = st.mesh.triangles;
     at.edges = st.mesh.edges;
-    c.wide.assign(st.obstacles.size() + 1, ContactCandidates());
+    c.wide.resize(st.obstacles.size() + 1);  // each list cleared as it is found again: its memory kept
     c.obstacles.assign(st.obstacles.size(), Eigen::MatrixX3d());
+    for (ContactCandidates& list : c.wide) clearCandidates(list);
     for (size_t o = 0; o < st.obstacles.size(); ++o) {
       const State::Obstacle& ob = st.obstacles[o];
       if (!ob.tree) continue;
@@ -448,14 +461,14 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   c.now.resize(st.obstacles.size() + 1);
   const bool kept = c.valid;
   for (size_t o = 0; o < st.obstacles.size(); ++o) {
-    c.now[o] = ContactCandidates();
+    clearCandidates(c.now[o]);
     if (!st.obstacles[o].tree) continue;
     if (kept)
       narrowCandidates(st.mesh, st.obstacles[o].mesh, inflation, c.wide[o], c.now[o]);
     else  // a step longer than the skin: the broad phase itself
       candidatePairs(st.mesh, st.obstacles[o].mesh, inflation, c.now[o]);
   }
-  c.now.back() = ContactCandidates();
+  clearCandidates(c.now.back());
   if (m_params.selfContact) {
     if (kept)
       narrowCandidates(st.mesh, inflation, c.wide.back(), c.now.back());
@@ -491,15 +504,24 @@ void BarrierContactForce::selfCandidatesApartAtRest(const ContactMesh& mesh, dou
     for (const auto& ee : near.edgeEdge)
       if (edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) < reach2)
         rn.edgeEdge.push_back(ee);
+    const auto starts = [](const std::vector<std::array<int, 2>>& pairs, Eigen::Index count, std::vector<size_t>& start) {
+      start.assign(size_t(count) + 1, 0);
+      for (const auto& p : pairs) ++start[size_t(p[0]) + 1];
+      for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
+    };
+    starts(rn.vertexTriangle, R.rows(), rn.vertexStart);
+    starts(rn.edgeEdge, E.rows(), rn.edgeStart);
     rn.rest = R;
     rn.reach = reach;
   }
-  const auto apart = [&rn](const std::array<int, 2>& vt) {
-    return !std::binary_search(rn.vertexTriangle.begin(), rn.vertexTriangle.end(), vt);
+  const auto among = [](const std::vector<std::array<int, 2>>& pairs, const std::vector<size_t>& start,
+                        const std::array<int, 2>& p) {
+    const auto first = pairs.begin() + std::ptrdiff_t(start[size_t(p[0])]);
+    const auto last = pairs.begin() + std::ptrdiff_t(start[size_t(p[0]) + 1]);
+    return std::binary_search(first, last, p);
   };
-  const auto edgesApart = [&rn](const std::array<int, 2>& ee) {
-    return !std::binary_search(rn.edgeEdge.begin(), rn.edgeEdge.end(), ee);
-  };
+  const auto apart = [&](const std::array<int, 2>& vt) { return !among(rn.vertexTriangle, rn.vertexStart, vt); };
+  const auto edgesApart = [&](const std::array<int, 2>& ee) { return !among(rn.edgeEdge, rn.edgeStart, ee); };
   candidatePairs(mesh, inflation, out, apart, edgesApart);
 }
 

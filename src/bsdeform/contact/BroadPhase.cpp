@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <optional>
 
 namespace bsdeform {
 
@@ -20,9 +21,10 @@ struct SweepItem {
 /// one above the other: along the sheets every box overlaps a whole strip of the other sheet,
 /// across them none). Faster than a uniform grid (cells of the median box size, keyed by sorting)
 /// on a cloth draped over a box and on the cloth against itself (docs/benchmarks.md, issue 35).
-void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inflation,
-                std::vector<std::pair<int, int>>& out) {
-  out.clear();
+/// Each pair goes to emit(i, j) (i into `a`, j into `b`; one set: i < j) as it is found, so that
+/// a caller that keeps only some of them stores no others.
+template <typename Emit>
+void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double inflation, Emit&& emit) {
   if (a.empty() || (b && b->empty())) return;
   // The pairs a sweep along `axis` scans, about: for each box, the boxes of the other list (or
   // the same) whose start lies within its interval, counted in 1024 bins of the starts.
@@ -89,8 +91,7 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
     const int n = int(x.size());
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n && x[j].lo <= x[i].hi; ++j)
-        if (overlapOthers(x[i], x[j]))
-          out.emplace_back(std::min(x[i].index, x[j].index), std::max(x[i].index, x[j].index));
+        if (overlapOthers(x[i], x[j])) emit(std::min(x[i].index, x[j].index), std::max(x[i].index, x[j].index));
     return;
   }
   // Two sorted lists: each item scans only the other list, from the first item starting at or
@@ -101,13 +102,20 @@ void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inf
     if (jy == ny || (jx < nx && x[jx].lo <= y[jy].lo)) {
       const SweepItem& item = x[jx++];
       for (int k = jy; k < ny && y[k].lo <= item.hi; ++k)
-        if (overlapOthers(item, y[k])) out.emplace_back(item.index, y[k].index);
+        if (overlapOthers(item, y[k])) emit(item.index, y[k].index);
     } else {
       const SweepItem& item = y[jy++];
       for (int k = jx; k < nx && x[k].lo <= item.hi; ++k)
-        if (overlapOthers(item, x[k])) out.emplace_back(x[k].index, item.index);
+        if (overlapOthers(item, x[k])) emit(x[k].index, item.index);
     }
   }
+}
+
+/// Every pair sweepWith finds, into `out`.
+void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inflation,
+                std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  sweepWith(a, b, inflation, [&out](int i, int j) { out.emplace_back(i, j); });
 }
 
 }  // namespace detail
@@ -185,11 +193,15 @@ void sortPairs(std::vector<std::array<int, 2>>& pairs) {
     assert(p[0] >= 0);  // indices of vertices, triangles, edges
     largest = std::max(largest, p[0]);
   }
-  std::vector<size_t> start(size_t(largest) + 2, 0);
+  // the buffers kept from the last call on this thread (the sorted list leaves in `pairs`, the
+  // one given comes back as the next call's): tens of megabytes, fresh pages each time otherwise
+  thread_local std::vector<std::array<int, 2>> sorted;
+  thread_local std::vector<size_t> start, next;
+  start.assign(size_t(largest) + 2, 0);
   for (const auto& p : pairs) ++start[size_t(p[0]) + 1];
   for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];
-  std::vector<std::array<int, 2>> sorted(pairs.size());
-  std::vector<size_t> next(start.begin(), start.end() - 1);
+  sorted.resize(pairs.size());
+  next.assign(start.begin(), start.end() - 1);
   for (const auto& p : pairs) sorted[next[size_t(p[0])]++] = p;
   for (size_t k = 0; k + 1 < start.size(); ++k)
     if (start[k + 1] - start[k] > 1)
@@ -203,25 +215,19 @@ void sortCandidates(ContactCandidates& c) {
   sortPairs(c.edgeEdge);
 }
 
-void toArrays(const std::vector<std::pair<int, int>>& pairs, std::vector<std::array<int, 2>>& out) {
-  out.clear();
-  out.reserve(pairs.size());
-  for (const auto& [i, j] : pairs) out.push_back({i, j});
-}
-
 }  // namespace
 
 void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation, ContactCandidates& out) {
   // Boxes within `inflation` of each other: each inflated by half of it.
   const double half = 0.5 * inflation;
   const SweptBoxes boxesA(a), boxesB(b);
-  std::vector<std::pair<int, int>> pairs;
-  overlappingPairs(boxesA.vertices, boxesB.triangles, half, pairs);
-  toArrays(pairs, out.vertexTriangle);
-  overlappingPairs(boxesA.triangles, boxesB.vertices, half, pairs);
-  toArrays(pairs, out.triangleVertex);
-  overlappingPairs(boxesA.edges, boxesB.edges, half, pairs);
-  toArrays(pairs, out.edgeEdge);
+  const auto into = [](std::vector<std::array<int, 2>>& list) {
+    list.clear();
+    return [&list](int i, int j) { list.push_back({i, j}); };
+  };
+  detail::sweepWith(boxesA.vertices, &boxesB.triangles, half, into(out.vertexTriangle));
+  detail::sweepWith(boxesA.triangles, &boxesB.vertices, half, into(out.triangleVertex));
+  detail::sweepWith(boxesA.edges, &boxesB.edges, half, into(out.edgeEdge));
   sortCandidates(out);
 }
 
@@ -230,21 +236,19 @@ void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& o
                     const std::function<bool(const std::array<int, 2>&)>& keepEdgeEdge) {
   const double half = 0.5 * inflation;
   const SweptBoxes boxes(a);
-  std::vector<std::pair<int, int>> pairs;
-  overlappingPairs(boxes.vertices, boxes.triangles, half, pairs);
   out.vertexTriangle.clear();
-  for (const auto& [v, f] : pairs)
+  detail::sweepWith(boxes.vertices, &boxes.triangles, half, [&](int v, int f) {
     if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v &&
         (!keepVertexTriangle || keepVertexTriangle({v, f})))
       out.vertexTriangle.push_back({v, f});
+  });
   out.triangleVertex.clear();
-  selfOverlappingPairs(boxes.edges, half, pairs);
   out.edgeEdge.clear();
-  for (const auto& [e, g] : pairs) {
+  detail::sweepWith(boxes.edges, nullptr, half, [&](int e, int g) {
     const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
     if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && (!keepEdgeEdge || keepEdgeEdge({e, g})))
       out.edgeEdge.push_back({e, g});
-  }
+  });
   sortCandidates(out);
 }
 
@@ -265,20 +269,47 @@ bool boxesMeet(const Box& x, const Box& y, double half) {
   return true;
 }
 
-/// The candidates of `wide` whose boxes meet now; the elements' boxes made from the vertices'
-/// as the pairs ask for them (a kept list names a few of a mesh's elements, and each is asked
-/// for a few times).
+/// A mesh's element boxes for narrowWith: all of them made at once when the kept list names its
+/// elements more often than it has elements (a sheet's pairs with itself: millions of pairs, tens of
+/// thousands of elements), else each made as a pair asks for it (a kept list names a few of a large
+/// obstacle's elements, and each a few times). The same boxes either way.
+class ElementBoxes {
+ public:
+  ElementBoxes(const ContactMesh& mesh, const std::vector<Box>& vertex, size_t asked)
+      : m_mesh(mesh), m_vertex(vertex) {
+    if (asked <= size_t(mesh.triangles.rows() + mesh.edges.rows())) return;
+    m_triangles.resize(size_t(mesh.triangles.rows()));
+    for (int f = 0; f < int(mesh.triangles.rows()); ++f) m_triangles[size_t(f)] = triangleBox(mesh, vertex, f);
+    m_edges.resize(size_t(mesh.edges.rows()));
+    for (int e = 0; e < int(mesh.edges.rows()); ++e) m_edges[size_t(e)] = edgeBox(mesh, vertex, e);
+  }
+  Box triangle(int f) const { return m_triangles.empty() ? triangleBox(m_mesh, m_vertex, f) : m_triangles[size_t(f)]; }
+  Box edge(int e) const { return m_edges.empty() ? edgeBox(m_mesh, m_vertex, e) : m_edges[size_t(e)]; }
+
+ private:
+  const ContactMesh& m_mesh;
+  const std::vector<Box>& m_vertex;
+  std::vector<Box> m_triangles, m_edges;
+};
+
+/// The candidates of `wide` whose boxes meet now. For one mesh against itself, `b` is `a`.
 void narrowWith(const ContactMesh& a, const std::vector<Box>& va, const ContactMesh& b, const std::vector<Box>& vb,
                 double half, const ContactCandidates& wide, ContactCandidates& out) {
   out.vertexTriangle.clear();
   out.triangleVertex.clear();
   out.edgeEdge.clear();
+  const size_t asked = wide.vertexTriangle.size() + wide.triangleVertex.size() + 2 * wide.edgeEdge.size();
+  const ElementBoxes boxesA(a, va, &a == &b ? asked : wide.triangleVertex.size() + wide.edgeEdge.size());
+  const std::optional<ElementBoxes> ownB =
+      &a == &b ? std::nullopt
+               : std::optional<ElementBoxes>(std::in_place, b, vb, wide.vertexTriangle.size() + wide.edgeEdge.size());
+  const ElementBoxes& boxesB = ownB ? *ownB : boxesA;
   for (const auto& [v, f] : wide.vertexTriangle)
-    if (boxesMeet(va[size_t(v)], triangleBox(b, vb, f), half)) out.vertexTriangle.push_back({v, f});
+    if (boxesMeet(va[size_t(v)], boxesB.triangle(f), half)) out.vertexTriangle.push_back({v, f});
   for (const auto& [f, v] : wide.triangleVertex)
-    if (boxesMeet(triangleBox(a, va, f), vb[size_t(v)], half)) out.triangleVertex.push_back({f, v});
+    if (boxesMeet(boxesA.triangle(f), vb[size_t(v)], half)) out.triangleVertex.push_back({f, v});
   for (const auto& [e, g] : wide.edgeEdge)
-    if (boxesMeet(edgeBox(a, va, e), edgeBox(b, vb, g), half)) out.edgeEdge.push_back({e, g});
+    if (boxesMeet(boxesA.edge(e), boxesB.edge(g), half)) out.edgeEdge.push_back({e, g});
 }
 }  // namespace
 
