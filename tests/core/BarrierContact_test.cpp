@@ -763,50 +763,59 @@ TEST_CASE("BarrierContactForce: a long CCD query's move is searched once and the
   const SplineSpace s(3, 3, 4, 4, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   const TriangleMesh plate = plateUnder();
   auto world = worldOf(plate);
-  BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
-  const ControlNet end = wavySheet(s);  // 5.8 to 6.6 mm above the plate: within reach
-  ControlNet start = end;
-  start.col(2).array() += 0.05;  // 5 cm above that
-  const BarrierContactForce kept(world, bp);
-  REQUIRE(kept.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
-  const LoadContext atStart{s, start, start, 0.02, 0.0};
-  REQUIRE(kept.admissibleFraction(atStart, end) == 1.0);
-  const long searches = kept.candidateSearches();
-  // the move's end, a point on it 0.5 mm above, and Newton's step from the end (0.5 to 2.5 mm
-  // down, into the offset: CCD cuts it): the kept pairs answer
-  const ControlNet nearEnd = shaken(end, 0.0015);
-  const LoadContext atEnd{s, end, start, 0.02, 0.0};
-  double phiKept = 0.0, unused = 0.0;
-  REQUIRE(kept.potential(atEnd, phiKept));
-  ControlNet loadKept = ControlNet::Zero(s.numMoving(), 3);
-  kept.addLoad(atEnd, loadKept);
-  const LoadContext atLate{s, end + 0.01 * (start - end), start, 0.02, 0.0};  // 0.5 mm above the end
-  double phiLateKept = 0.0;
-  REQUIRE(kept.potential(atLate, phiLateKept));
-  const double fractionKept = kept.admissibleFraction(atEnd, nearEnd);
-  CHECK(kept.candidateSearches() == searches);
-  // the same from a force that searches there itself
-  const BarrierContactForce fresh(world, bp);
-  REQUIRE(fresh.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
-  fresh.setAdaptedState(kept.adaptedState());
-  double phiFresh = 0.0;
-  REQUIRE(fresh.potential(atEnd, phiFresh));
-  ControlNet loadFresh = ControlNet::Zero(s.numMoving(), 3);
-  fresh.addLoad(atEnd, loadFresh);
-  double phiLateFresh = 0.0;
-  REQUIRE(fresh.potential(atLate, phiLateFresh));
-  CHECK(phiKept > 0.0);
-  CHECK(phiKept == phiFresh);
-  CHECK(loadKept == loadFresh);
-  CHECK(phiLateKept > 0.0);
-  CHECK(phiLateKept == phiLateFresh);
-  CHECK(fractionKept < 1.0);
-  CHECK(fractionKept == fresh.admissibleFraction(atEnd, nearEnd));
-  // off the segment by more than the skin: searched again
-  ControlNet aside = end;
-  aside.col(0).array() += 0.01;
-  kept.potential(LoadContext{s, aside, start, 0.02, 0.0}, unused);
-  CHECK(kept.candidateSearches() == searches + 1);
+  for (const bool self : {false, true}) {
+    CAPTURE(self);
+    BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
+    bp.selfContact = self;
+    const ControlNet end = wavySheet(s);  // 5.8 to 6.6 mm above the plate: within reach
+    ControlNet start = end;
+    start.col(2).array() += 0.05;  // 5 cm above that
+    const BarrierContactForce kept(world, bp);
+    REQUIRE(kept.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+    const LoadContext atStart{s, start, start, 0.02, 0.0};
+    REQUIRE(kept.admissibleFraction(atStart, end) == 1.0);
+    const long searches = kept.candidateSearches();
+    // the move's end and a point on it 0.5 mm above: the kept pairs answer
+    const LoadContext atEnd{s, end, start, 0.02, 0.0};
+    double phiKept = 0.0, unused = 0.0;
+    REQUIRE(kept.potential(atEnd, phiKept));
+    ControlNet loadKept = ControlNet::Zero(s.numMoving(), 3);
+    kept.addLoad(atEnd, loadKept);
+    const LoadContext atLate{s, end + 0.01 * (start - end), start, 0.02, 0.0};  // 0.5 mm above the end
+    double phiLateKept = 0.0;
+    REQUIRE(kept.potential(atLate, phiLateKept));
+    CHECK(kept.candidateSearches() == searches);
+    // Newton's step from the end (0.5 to 2.5 mm down, into the offset: CCD cuts it), up to
+    // 2.9 mm off the segment: within the skin of half the reach (3.5 mm), and beyond the eighth
+    // (0.875 mm) that a list takes after a move that left the last one by more than half the
+    // reach, with self-contact (the sheet's pairs with itself are most of its list)
+    const ControlNet nearEnd = shaken(end, 0.0015);
+    const double fractionKept = kept.admissibleFraction(atEnd, nearEnd);
+    CHECK(kept.candidateSearches() == searches + (self ? 1 : 0));
+    // the same from a force that searches there itself
+    const BarrierContactForce fresh(world, bp);
+    REQUIRE(fresh.beginStep(LoadContext{s, start, start, 0.02, 0.0}).empty());
+    fresh.setAdaptedState(kept.adaptedState());
+    double phiFresh = 0.0;
+    REQUIRE(fresh.potential(atEnd, phiFresh));
+    ControlNet loadFresh = ControlNet::Zero(s.numMoving(), 3);
+    fresh.addLoad(atEnd, loadFresh);
+    double phiLateFresh = 0.0;
+    REQUIRE(fresh.potential(atLate, phiLateFresh));
+    CHECK(phiKept > 0.0);
+    CHECK(phiKept == phiFresh);
+    CHECK(loadKept == loadFresh);
+    CHECK(phiLateKept > 0.0);
+    CHECK(phiLateKept == phiLateFresh);
+    CHECK(fractionKept < 1.0);
+    CHECK(fractionKept == fresh.admissibleFraction(atEnd, nearEnd));
+    // off the segment by more than the skin: searched again
+    const long before = kept.candidateSearches();
+    ControlNet aside = end;
+    aside.col(0).array() += 0.01;
+    kept.potential(LoadContext{s, aside, start, 0.02, 0.0}, unused);
+    CHECK(kept.candidateSearches() == before + 1);
+  }
 }
 
 TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread and on two", "[core][contact]") {

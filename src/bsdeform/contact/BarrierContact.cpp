@@ -186,6 +186,8 @@ struct BarrierContactForce::State {
     Eigen::MatrixX3d refStart, refEnd;
     std::vector<Eigen::MatrixX3d> obstacles;
     std::vector<ContactCandidates> wide, now;
+    double skin = 0.0;     ///< how far a vertex may stray from its segment
+    int narrowSkinFor = 0;  ///< lists still to find with the narrow skin
     long builds = 0;
   } candidates;
   /// What the last gather() found: the proxy's world positions at `net` and the pairs within
@@ -401,18 +403,22 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
   State& st = *m_state;
   const CostTimer timer(&st.costs.broadPhase);
   State::Candidates& c = st.candidates;
-  const double reach = m_params.offset + m_params.dhat, skin = 0.5 * reach;
-  // every vertex within a skin of its segment from refStart to refEnd
-  auto near = [&](const Eigen::MatrixX3d& x) {
-    if (x.rows() != c.refStart.rows() || x.rows() == 0) return false;
-    const double skin2 = (1.0 - 1e-12) * skin * skin;  // (the argument's margin is exactly 0: no rounding's)
+  const double reach = m_params.offset + m_params.dhat;
+  // The squared distance of the farthest vertex of x from its segment from refStart to refEnd
+  // (infinity: another mesh, or not finite).
+  auto farthest2 = [&](const Eigen::MatrixX3d& x) {
+    if (x.rows() != c.refStart.rows() || x.rows() == 0) return double(INFINITY);
+    double out = 0.0;
     for (Eigen::Index i = 0; i < x.rows(); ++i) {
       const Eigen::RowVector3d a = c.refStart.row(i), d = c.refEnd.row(i) - a, q = x.row(i) - a;
       const double dd = d.squaredNorm(), t = dd > 0.0 ? std::clamp(q.dot(d) / dd, 0.0, 1.0) : 0.0;
-      if (!((q - t * d).squaredNorm() <= skin2)) return false;
+      const double r2 = (q - t * d).squaredNorm();
+      if (!(r2 <= out)) out = std::isnan(r2) ? double(INFINITY) : r2;
     }
-    return true;
+    return out;
   };
+  // every vertex within the list's skin of its segment (the argument's margin is exactly 0: no rounding's)
+  auto near = [&](const Eigen::MatrixX3d& x) { return farthest2(x) <= (1.0 - 1e-12) * c.skin * c.skin; };
   auto obstaclesAsThen = [&] {
     if (c.obstacles.size() != st.obstacles.size()) return false;
     for (size_t o = 0; o < st.obstacles.size(); ++o) {
@@ -434,6 +440,20 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     // iterates that follow on that segment, the step's first, cut by CCD, and Newton's near it,
     // then keep the list), the obstacles where they are (a moving obstacle mid-sweep, start and
     // end apart: not kept)
+    // The skin: how far the queries that follow may stray from this one's segment and keep the
+    // list. Half the reach, unless the surface has self-contact and a query that ended one of the
+    // last 8 lists strayed beyond that: no skin this wide would have kept those lists (a sheet
+    // turned fast leaves its list at every step), and an eighth of the reach makes the sheet's
+    // pairs with itself, most of the list, fewer to narrow (the 32² twisted ribbon: 8.0 s against
+    // 5.5 s). Without self-contact a list is cheap to narrow, and finding it again against the
+    // obstacles costs more (drape_over_sphere's fall: 10–20 % slower with the narrow skin).
+    // docs/benchmarks.md, issue 35. The pairs found do not depend on the skin, only how often
+    // and among how many they are sought.
+    const bool sameMesh = c.valid && c.generation == st.generation && m_params.selfContact;
+    const double stray = sameMesh ? std::sqrt(std::max(farthest2(st.mesh.start), farthest2(st.mesh.end))) : 0.0;
+    c.narrowSkinFor = stray > 0.5 * reach ? 8 : std::max(0, c.narrowSkinFor - 1);
+    c.skin = (c.narrowSkinFor > 0 ? 0.125 : 0.5) * reach;
+    const double skin = c.skin;
     c.refStart = st.mesh.start;
     c.refEnd = st.mesh.end;
     c.generation = st.generation;
