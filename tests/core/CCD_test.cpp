@@ -14,6 +14,7 @@
 #include "bsdeform/contact/BroadPhase.h"
 #include "bsdeform/contact/Distance.h"
 #include "../support/ExactPredicates.h"
+#include "../support/ThreadSettings.h"
 
 using namespace bsdeform;
 using Eigen::Vector3d;
@@ -481,6 +482,54 @@ TEST_CASE("BroadPhase: candidate pairs of two meshes and of a mesh with itself e
   CHECK(sorted(found.vertexTriangle) == vt);
   CHECK(found.triangleVertex.empty());
   CHECK(sorted(found.edgeEdge) == ee);
+}
+
+TEST_CASE("BroadPhase: a large crumpled sheet's candidates equal brute force on one thread and two", "[contact]") {
+  // 3 600 vertices, 6 962 triangles, 10 560 edges: the sweep runs in slabs across the sheet, each
+  // cut into units of 2 048 boxes, on one kernel thread and on two (pairs gathered per part)
+  ThreadSettingsGuard guard;
+  std::mt19937 rng(23);
+  ContactMesh a = gridMesh(60, 1.0);
+  for (int v = 0; v < int(a.start.rows()); ++v) {  // a fold, then a jiggle along the move
+    const double x = a.start(v, 0), y = a.start(v, 1);
+    a.start(v, 2) = 0.05 * std::sin(9.0 * x) * std::cos(7.0 * y);
+    a.start.row(v) += randomPoint(rng, 0.004).transpose();
+    a.end.row(v) = a.start.row(v) + randomPoint(rng, 0.006).transpose();
+  }
+  const ContactMesh b = jiggled(gridMesh(40, 0.8), rng, 0.02);
+  const double inflation = 0.02;
+  const auto tri = [](const ContactMesh& m, int f) { return sweptBoxOf(m, {m.triangles(f, 0), m.triangles(f, 1), m.triangles(f, 2)}); };
+  const auto edge = [](const ContactMesh& m, int e) { return sweptBoxOf(m, {m.edges(e, 0), m.edges(e, 1)}); };
+  std::vector<std::array<int, 2>> vt, ee, vtB;
+  for (int v = 0; v < int(a.start.rows()); ++v) {
+    const Box box = sweptBoxOf(a, {v});
+    for (int f = 0; f < int(a.triangles.rows()); ++f)
+      if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v && within(box, tri(a, f), inflation))
+        vt.push_back({v, f});
+    for (int f = 0; f < int(b.triangles.rows()); ++f)
+      if (within(box, tri(b, f), inflation)) vtB.push_back({v, f});
+  }
+  std::vector<Box> edges;
+  for (int e = 0; e < int(a.edges.rows()); ++e) edges.push_back(edge(a, e));
+  for (int e = 0; e < int(a.edges.rows()); ++e)
+    for (int g = e + 1; g < int(a.edges.rows()); ++g) {
+      const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
+      if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && within(edges[size_t(e)], edges[size_t(g)], inflation))
+        ee.push_back({e, g});
+    }
+  CHECK(vt.size() > 20000);
+  CHECK(ee.size() > 20000);
+  CHECK(vtB.size() > 1000);
+  for (const int threads : {1, 2}) {
+    CAPTURE(threads);
+    setKernelThreads(threads);
+    ContactCandidates self, other;
+    candidatePairs(a, inflation, self);
+    CHECK(self.vertexTriangle == vt);  // sorted, as the candidates come
+    CHECK(self.edgeEdge == ee);
+    candidatePairs(a, b, inflation, other);
+    CHECK(other.vertexTriangle == vtB);
+  }
 }
 
 namespace {

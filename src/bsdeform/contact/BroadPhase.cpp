@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "bsdeform/contact/BroadPhase.h"
 
+#include "bsdeform/base/Parallel.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -21,10 +23,18 @@ struct SweepItem {
 /// one above the other: along the sheets every box overlaps a whole strip of the other sheet,
 /// across them none). Faster than a uniform grid (cells of the median box size, keyed by sorting)
 /// on a cloth draped over a box and on the cloth against itself (docs/benchmarks.md, issue 35).
-/// Each pair goes to emit(i, j) (i into `a`, j into `b`; one set: i < j) as it is found, so that
-/// a caller that keeps only some of them stores no others.
+///
+/// The sweep runs in slabs across the other axis along which the boxes spread most (a slab twice
+/// their mean extent wide, at most 64): a box in every slab it overlaps, a pair reported only in
+/// the slab where their overlap along that axis begins, so once. Within a slab a box scans the
+/// boxes of its slab only: across a sheet a sweep scans a whole strip of it otherwise (the 32²
+/// twisted ribbon's pairs with itself: 20 boxes scanned for each one found). The slabs' sweeps
+/// are cut into units that run on `parts` kernel threads (runParts); each pair goes to
+/// emit(part, i, j) (i into `a`, j into `b`; one set: i < j) as it is found, from the part that
+/// found it, so that a caller that keeps only some of them stores no others. The set of pairs
+/// does not depend on `parts`, their order does.
 template <typename Emit>
-void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double inflation, Emit&& emit) {
+void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double inflation, int parts, Emit&& emit) {
   if (a.empty() || (b && b->empty())) return;
   // The pairs a sweep along `axis` scans, about: for each box, the boxes of the other list (or
   // the same) whose start lies within its interval, counted in 1024 bins of the starts.
@@ -71,51 +81,139 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
       best = e;
       axis = k;
     }
-  const auto sorted = [&](const std::vector<Box>& set) {
-    const int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
+  const int axis1 = (axis + 1) % 3, axis2 = (axis + 2) % 3;
+  // The slabs: across axis1 or axis2, whichever holds more slabs twice the boxes' mean extent wide.
+  int across = 1, slabs = 1;
+  double origin = 0.0, width = 1.0;
+  for (const int k : {axis1, axis2}) {
+    double lo = INFINITY, hi = -INFINITY, extent = 0.0;
+    const auto range = [&](const std::vector<Box>& set) {
+      for (const Box& box : set) {
+        lo = std::min(lo, box.lo[k] - inflation);
+        hi = std::max(hi, box.hi[k] + inflation);
+        extent += box.hi[k] - box.lo[k] + 2.0 * inflation;
+      }
+    };
+    range(a);
+    if (b) range(*b);
+    extent /= double(a.size() + (b ? b->size() : 0));
+    const double w = 2.0 * extent;
+    if (!(std::isfinite(hi - lo) && w > 0.0 && std::isfinite(w))) continue;
+    const int n = int(std::min(64.0, std::floor((hi - lo) / w)));
+    if (n > slabs) {
+      slabs = n;
+      across = k == axis1 ? 1 : 2;
+      origin = lo;
+      width = (hi - lo) / n;
+    }
+  }
+  const auto slabOf = [&](double v) {
+    const double t = (v - origin) / width;
+    return t >= 0.0 ? (t < slabs ? int(t) : slabs - 1) : 0;  // NaN to slab 0
+  };
+  // Each list's items, by slab (an item in every slab its interval across overlaps), each slab
+  // in the order of the items' starts along the axis: items[start[s] .. start[s + 1]).
+  struct Slabbed {
     std::vector<SweepItem> items;
-    items.reserve(set.size());
+    std::vector<size_t> start;
+  };
+  const auto slabbed = [&](const std::vector<Box>& set) {
+    std::vector<SweepItem> sorted;
+    sorted.reserve(set.size());
     for (int i = 0; i < int(set.size()); ++i) {
       const Box& box = set[i];
-      items.push_back({box.lo[axis] - inflation, box.hi[axis] + inflation, box.lo[axis1] - inflation,
-                       box.hi[axis1] + inflation, box.lo[axis2] - inflation, box.hi[axis2] + inflation, i});
+      sorted.push_back({box.lo[axis] - inflation, box.hi[axis] + inflation, box.lo[axis1] - inflation,
+                        box.hi[axis1] + inflation, box.lo[axis2] - inflation, box.hi[axis2] + inflation, i});
     }
-    std::sort(items.begin(), items.end(), [](const SweepItem& x, const SweepItem& y) { return x.lo < y.lo; });
-    return items;
+    std::sort(sorted.begin(), sorted.end(), [](const SweepItem& x, const SweepItem& y) { return x.lo < y.lo; });
+    Slabbed out;
+    out.start.assign(size_t(slabs) + 1, 0);
+    const auto span = [&](const SweepItem& item) {
+      return across == 1 ? std::pair(slabOf(item.lo1), slabOf(item.hi1)) : std::pair(slabOf(item.lo2), slabOf(item.hi2));
+    };
+    for (const SweepItem& item : sorted) {
+      const auto [first, last] = span(item);
+      for (int k = first; k <= last; ++k) ++out.start[size_t(k) + 1];
+    }
+    for (size_t k = 1; k < out.start.size(); ++k) out.start[k] += out.start[k - 1];
+    out.items.resize(out.start.back());
+    std::vector<size_t> next(out.start.begin(), out.start.end() - 1);
+    for (const SweepItem& item : sorted) {
+      const auto [first, last] = span(item);
+      for (int k = first; k <= last; ++k) out.items[next[size_t(k)]++] = item;
+    }
+    return out;
   };
-  const std::vector<SweepItem> x = sorted(a), y = b ? sorted(*b) : std::vector<SweepItem>();
+  const Slabbed x = slabbed(a), y = b ? slabbed(*b) : Slabbed();
   const auto overlapOthers = [](const SweepItem& p, const SweepItem& q) {
     return p.lo1 <= q.hi1 && q.lo1 <= p.hi1 && p.lo2 <= q.hi2 && q.lo2 <= p.hi2;
   };
-  if (!b) {
-    const int n = int(x.size());
-    for (int i = 0; i < n; ++i)
-      for (int j = i + 1; j < n && x[j].lo <= x[i].hi; ++j)
-        if (overlapOthers(x[i], x[j])) emit(std::min(x[i].index, x[j].index), std::max(x[i].index, x[j].index));
+  // the slab in which a pair that overlaps across is reported: where its overlap begins
+  const auto reportedIn = [&](const SweepItem& p, const SweepItem& q) {
+    return across == 1 ? slabOf(std::max(p.lo1, q.lo1)) : slabOf(std::max(p.lo2, q.lo2));
+  };
+  // Units of work: a slab's items from `begin` to `end` scanning forward in their own list
+  // (one set), or the other list from the first item starting at or after their own start
+  // (pass 0: the first list's items scan the second; pass 1: the second's scan the first, from
+  // the first item starting strictly after theirs: ties go to the first list, so a pair is
+  // found once).
+  struct Unit {
+    int slab, pass;
+    size_t begin, end;
+  };
+  constexpr size_t kUnit = 2048;
+  std::vector<Unit> units;
+  for (int s = 0; s < slabs; ++s)
+    for (int pass = 0; pass < (b ? 2 : 1); ++pass) {
+      const Slabbed& own = pass == 0 ? x : y;
+      for (size_t k = own.start[size_t(s)]; k < own.start[size_t(s) + 1]; k += kUnit)
+        units.push_back({s, pass, k, std::min(k + kUnit, own.start[size_t(s) + 1])});
+    }
+  const auto run = [&](int part, const Unit& u) {
+    if (!b) {
+      const size_t end = x.start[size_t(u.slab) + 1];
+      for (size_t i = u.begin; i < u.end; ++i) {
+        const SweepItem& p = x.items[i];
+        for (size_t j = i + 1; j < end && x.items[j].lo <= p.hi; ++j) {
+          const SweepItem& q = x.items[j];
+          if (overlapOthers(p, q) && reportedIn(p, q) == u.slab)
+            emit(part, std::min(p.index, q.index), std::max(p.index, q.index));
+        }
+      }
+      return;
+    }
+    const Slabbed& own = u.pass == 0 ? x : y;
+    const Slabbed& other = u.pass == 0 ? y : x;
+    const auto first = other.items.begin() + std::ptrdiff_t(other.start[size_t(u.slab)]);
+    const auto last = other.items.begin() + std::ptrdiff_t(other.start[size_t(u.slab) + 1]);
+    for (size_t i = u.begin; i < u.end; ++i) {
+      const SweepItem& p = own.items[i];
+      auto k = u.pass == 0 ? std::lower_bound(first, last, p.lo, [](const SweepItem& q, double v) { return q.lo < v; })
+                           : std::upper_bound(first, last, p.lo, [](double v, const SweepItem& q) { return v < q.lo; });
+      for (; k != last && k->lo <= p.hi; ++k)
+        if (overlapOthers(p, *k) && reportedIn(p, *k) == u.slab) {
+          if (u.pass == 0)
+            emit(part, p.index, k->index);
+          else
+            emit(part, k->index, p.index);
+        }
+    }
+  };
+  parts = std::max(1, std::min(parts, int(units.size())));
+  if (parts == 1) {
+    for (const Unit& u : units) run(0, u);
     return;
   }
-  // Two sorted lists: each item scans only the other list, from the first item starting at or
-  // after its own start (ties: the first list's item scans), so a pair is found once.
-  const int nx = int(x.size()), ny = int(y.size());
-  int jx = 0, jy = 0;
-  while (jx < nx || jy < ny) {
-    if (jy == ny || (jx < nx && x[jx].lo <= y[jy].lo)) {
-      const SweepItem& item = x[jx++];
-      for (int k = jy; k < ny && y[k].lo <= item.hi; ++k)
-        if (overlapOthers(item, y[k])) emit(item.index, y[k].index);
-    } else {
-      const SweepItem& item = y[jy++];
-      for (int k = jx; k < nx && x[k].lo <= item.hi; ++k)
-        if (overlapOthers(item, x[k])) emit(x[k].index, item.index);
-    }
-  }
+  runParts(parts, [&](int part) {
+    for (size_t k = size_t(part); k < units.size(); k += size_t(parts)) run(part, units[k]);
+  });
 }
 
 /// Every pair sweepWith finds, into `out`.
 void sweepPairs(const std::vector<Box>& a, const std::vector<Box>* b, double inflation,
                 std::vector<std::pair<int, int>>& out) {
   out.clear();
-  sweepWith(a, b, inflation, [&out](int i, int j) { out.emplace_back(i, j); });
+  sweepWith(a, b, inflation, 1, [&out](int, int i, int j) { out.emplace_back(i, j); });
 }
 
 }  // namespace detail
@@ -217,17 +315,48 @@ void sortCandidates(ContactCandidates& c) {
 
 }  // namespace
 
+namespace {
+
+/// Runs a sweep (sweep(parts, emit)) on the kernel threads and gathers the pairs that
+/// keep(pair) accepts into `out`, in no particular order: on one thread straight into `out`,
+/// on more into a list per part (kept on the calling thread from one search to the next, with
+/// its memory) joined afterwards.
+template <typename Sweep, typename Keep>
+void gatherPairs(std::vector<std::array<int, 2>>& out, Sweep&& sweep, Keep&& keep) {
+  out.clear();
+  const int parts = effectiveKernelThreads();
+  if (parts <= 1) {
+    sweep(1, [&](int, int i, int j) {
+      if (keep(i, j)) out.push_back({i, j});
+    });
+    return;
+  }
+  thread_local std::vector<std::vector<std::array<int, 2>>> kept;
+  auto& lists = kept;  // the caller's: the parts name it from their own threads
+  lists.resize(size_t(parts));
+  for (auto& list : lists) list.clear();
+  sweep(parts, [&](int part, int i, int j) {
+    if (keep(i, j)) lists[size_t(part)].push_back({i, j});
+  });
+  size_t total = 0;
+  for (size_t k = 0; k < size_t(parts); ++k) total += lists[k].size();
+  out.reserve(total);
+  for (size_t k = 0; k < size_t(parts); ++k) out.insert(out.end(), lists[k].begin(), lists[k].end());
+}
+
+}  // namespace
+
 void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation, ContactCandidates& out) {
   // Boxes within `inflation` of each other: each inflated by half of it.
   const double half = 0.5 * inflation;
   const SweptBoxes boxesA(a), boxesB(b);
-  const auto into = [](std::vector<std::array<int, 2>>& list) {
-    list.clear();
-    return [&list](int i, int j) { list.push_back({i, j}); };
+  const auto between = [half](const std::vector<Box>& x, const std::vector<Box>& y) {
+    return [&x, &y, half](int parts, auto&& emit) { detail::sweepWith(x, &y, half, parts, emit); };
   };
-  detail::sweepWith(boxesA.vertices, &boxesB.triangles, half, into(out.vertexTriangle));
-  detail::sweepWith(boxesA.triangles, &boxesB.vertices, half, into(out.triangleVertex));
-  detail::sweepWith(boxesA.edges, &boxesB.edges, half, into(out.edgeEdge));
+  const auto all = [](int, int) { return true; };
+  gatherPairs(out.vertexTriangle, between(boxesA.vertices, boxesB.triangles), all);
+  gatherPairs(out.triangleVertex, between(boxesA.triangles, boxesB.vertices), all);
+  gatherPairs(out.edgeEdge, between(boxesA.edges, boxesB.edges), all);
   sortCandidates(out);
 }
 
@@ -236,19 +365,20 @@ void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& o
                     const std::function<bool(const std::array<int, 2>&)>& keepEdgeEdge) {
   const double half = 0.5 * inflation;
   const SweptBoxes boxes(a);
-  out.vertexTriangle.clear();
-  detail::sweepWith(boxes.vertices, &boxes.triangles, half, [&](int v, int f) {
-    if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v &&
-        (!keepVertexTriangle || keepVertexTriangle({v, f})))
-      out.vertexTriangle.push_back({v, f});
-  });
+  gatherPairs(
+      out.vertexTriangle,
+      [&](int parts, auto&& emit) { detail::sweepWith(boxes.vertices, &boxes.triangles, half, parts, emit); },
+      [&](int v, int f) {
+        return a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v &&
+               (!keepVertexTriangle || keepVertexTriangle({v, f}));
+      });
   out.triangleVertex.clear();
-  out.edgeEdge.clear();
-  detail::sweepWith(boxes.edges, nullptr, half, [&](int e, int g) {
-    const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
-    if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && (!keepEdgeEdge || keepEdgeEdge({e, g})))
-      out.edgeEdge.push_back({e, g});
-  });
+  gatherPairs(
+      out.edgeEdge, [&](int parts, auto&& emit) { detail::sweepWith(boxes.edges, nullptr, half, parts, emit); },
+      [&](int e, int g) {
+        const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
+        return e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && (!keepEdgeEdge || keepEdgeEdge({e, g}));
+      });
   sortCandidates(out);
 }
 
