@@ -313,10 +313,6 @@ void sortCandidates(ContactCandidates& c) {
   sortPairs(c.edgeEdge);
 }
 
-}  // namespace
-
-namespace {
-
 /// Runs a sweep (sweep(parts, emit)) on the kernel threads and gathers the pairs that
 /// keep(pair) accepts into `out`, in no particular order: on one thread straight into `out`,
 /// on more into a list per part (kept on the calling thread from one search to the next, with
