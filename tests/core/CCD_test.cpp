@@ -485,50 +485,106 @@ TEST_CASE("BroadPhase: candidate pairs of two meshes and of a mesh with itself e
 }
 
 TEST_CASE("BroadPhase: a large crumpled sheet's candidates equal brute force on one thread and two", "[contact]") {
-  // 3 600 vertices, 6 962 triangles, 10 560 edges: the sweep runs in slabs across the sheet, each
-  // cut into units of 2 048 boxes, on one kernel thread and on two (pairs gathered per part)
+  // A 60² sheet (3 600 vertices, 6 962 triangles, 10 561 edges: many slabs across it) and a
+  // 240 × 8 strip along x (few slabs, each cut into several units of 2 048 boxes), each against
+  // itself and against a jiggled sheet, on one kernel thread and on two (pairs gathered per part)
   ThreadSettingsGuard guard;
   std::mt19937 rng(23);
-  ContactMesh a = gridMesh(60, 1.0);
-  for (int v = 0; v < int(a.start.rows()); ++v) {  // a fold, then a jiggle along the move
-    const double x = a.start(v, 0), y = a.start(v, 1);
-    a.start(v, 2) = 0.05 * std::sin(9.0 * x) * std::cos(7.0 * y);
-    a.start.row(v) += randomPoint(rng, 0.004).transpose();
-    a.end.row(v) = a.start.row(v) + randomPoint(rng, 0.006).transpose();
-  }
-  const ContactMesh b = jiggled(gridMesh(40, 0.8), rng, 0.02);
-  const double inflation = 0.02;
-  const auto tri = [](const ContactMesh& m, int f) { return sweptBoxOf(m, {m.triangles(f, 0), m.triangles(f, 1), m.triangles(f, 2)}); };
-  const auto edge = [](const ContactMesh& m, int e) { return sweptBoxOf(m, {m.edges(e, 0), m.edges(e, 1)}); };
-  std::vector<std::array<int, 2>> vt, ee, vtB;
-  for (int v = 0; v < int(a.start.rows()); ++v) {
-    const Box box = sweptBoxOf(a, {v});
-    for (int f = 0; f < int(a.triangles.rows()); ++f)
-      if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v && within(box, tri(a, f), inflation))
-        vt.push_back({v, f});
-    for (int f = 0; f < int(b.triangles.rows()); ++f)
-      if (within(box, tri(b, f), inflation)) vtB.push_back({v, f});
-  }
-  std::vector<Box> edges;
-  for (int e = 0; e < int(a.edges.rows()); ++e) edges.push_back(edge(a, e));
-  for (int e = 0; e < int(a.edges.rows()); ++e)
-    for (int g = e + 1; g < int(a.edges.rows()); ++g) {
-      const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
-      if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && within(edges[size_t(e)], edges[size_t(g)], inflation))
-        ee.push_back({e, g});
+  const auto crumpled = [&](ContactMesh m) {  // a fold, then a jiggle along the move
+    for (int v = 0; v < int(m.start.rows()); ++v) {
+      const double x = m.start(v, 0), y = m.start(v, 1);
+      m.start(v, 2) = 0.05 * std::sin(9.0 * x) * std::cos(7.0 * y);
+      m.start.row(v) += randomPoint(rng, 0.004).transpose();
+      m.end.row(v) = m.start.row(v) + randomPoint(rng, 0.006).transpose();
     }
-  CHECK(vt.size() > 20000);
-  CHECK(ee.size() > 20000);
-  CHECK(vtB.size() > 1000);
-  for (const int threads : {1, 2}) {
-    CAPTURE(threads);
-    setKernelThreads(threads);
-    ContactCandidates self, other;
-    candidatePairs(a, inflation, self);
-    CHECK(self.vertexTriangle == vt);  // sorted, as the candidates come
-    CHECK(self.edgeEdge == ee);
-    candidatePairs(a, b, inflation, other);
-    CHECK(other.vertexTriangle == vtB);
+    return m;
+  };
+  ContactMesh strip = gridMesh(240, 1.0);  // 240 × 240 over [-0.5, 0.5]²: 8 of its rows kept
+  {
+    ContactMesh cut;
+    const int rows = 240, kept = 8;
+    cut.start.resize(rows * kept, 3);
+    for (int i = 0; i < rows; ++i)
+      for (int j = 0; j < kept; ++j) cut.start.row(i * kept + j) = strip.start.row(i * rows + j);
+    cut.start.col(1).array() += 0.485;  // across the middle of the other sheet
+    cut.end = cut.start;
+    std::vector<std::array<int, 3>> tris;
+    std::vector<std::array<int, 2>> edges;
+    for (int i = 0; i + 1 < rows; ++i)
+      for (int j = 0; j + 1 < kept; ++j) {
+        const int a = i * kept + j, b = (i + 1) * kept + j, c = (i + 1) * kept + j + 1, d = i * kept + j + 1;
+        tris.push_back({a, b, c});
+        tris.push_back({a, c, d});
+        edges.push_back({a, b});
+        edges.push_back({a, d});
+        edges.push_back({a, c});
+        if (i + 2 == rows) edges.push_back({b, c});
+        if (j + 2 == kept) edges.push_back({d, c});
+      }
+    cut.triangles.resize(int(tris.size()), 3);
+    for (int f = 0; f < int(tris.size()); ++f) cut.triangles.row(f) << tris[f][0], tris[f][1], tris[f][2];
+    cut.edges.resize(int(edges.size()), 2);
+    for (int e = 0; e < int(edges.size()); ++e) cut.edges.row(e) << edges[e][0], edges[e][1];
+    strip = cut;
+  }
+  const ContactMesh other = jiggled(gridMesh(40, 0.8), rng, 0.02);
+  const double inflation = 0.02;
+  const auto tri = [](const ContactMesh& m, int f) {
+    return sweptBoxOf(m, {m.triangles(f, 0), m.triangles(f, 1), m.triangles(f, 2)});
+  };
+  const auto edge = [](const ContactMesh& m, int e) { return sweptBoxOf(m, {m.edges(e, 0), m.edges(e, 1)}); };
+  for (const ContactMesh& a : {crumpled(gridMesh(60, 1.0)), crumpled(strip)}) {
+    CAPTURE(a.start.rows());
+    std::vector<std::array<int, 2>> vt, ee, vtB, tvB, eeB;
+    std::vector<Box> triangles, edges, otherTriangles, otherEdges;
+    for (int f = 0; f < int(a.triangles.rows()); ++f) triangles.push_back(tri(a, f));
+    for (int e = 0; e < int(a.edges.rows()); ++e) edges.push_back(edge(a, e));
+    for (int f = 0; f < int(other.triangles.rows()); ++f) otherTriangles.push_back(tri(other, f));
+    for (int e = 0; e < int(other.edges.rows()); ++e) otherEdges.push_back(edge(other, e));
+    for (int v = 0; v < int(a.start.rows()); ++v) {
+      const Box box = sweptBoxOf(a, {v});
+      for (int f = 0; f < int(a.triangles.rows()); ++f)
+        if (a.triangles(f, 0) != v && a.triangles(f, 1) != v && a.triangles(f, 2) != v &&
+            within(box, triangles[size_t(f)], inflation))
+          vt.push_back({v, f});
+      for (int f = 0; f < int(other.triangles.rows()); ++f)
+        if (within(box, otherTriangles[size_t(f)], inflation)) vtB.push_back({v, f});
+    }
+    for (int f = 0; f < int(a.triangles.rows()); ++f)
+      for (int v = 0; v < int(other.start.rows()); ++v)
+        if (within(triangles[size_t(f)], sweptBoxOf(other, {v}), inflation)) tvB.push_back({f, v});
+    for (int e = 0; e < int(a.edges.rows()); ++e) {
+      for (int g = e + 1; g < int(a.edges.rows()); ++g) {
+        const int e0 = a.edges(e, 0), e1 = a.edges(e, 1), g0 = a.edges(g, 0), g1 = a.edges(g, 1);
+        if (e0 != g0 && e0 != g1 && e1 != g0 && e1 != g1 && within(edges[size_t(e)], edges[size_t(g)], inflation))
+          ee.push_back({e, g});
+      }
+      for (int g = 0; g < int(other.edges.rows()); ++g)
+        if (within(edges[size_t(e)], otherEdges[size_t(g)], inflation)) eeB.push_back({e, g});
+    }
+    CHECK(vt.size() > 20000);
+    CHECK(ee.size() > 20000);
+    CHECK(vtB.size() > 100);
+    CHECK(tvB.size() > 100);
+    CHECK(eeB.size() > 100);
+    for (const int threads : {1, 2}) {
+      CAPTURE(threads);
+      setKernelThreads(threads);
+      ContactCandidates self, two;
+      candidatePairs(a, inflation, self);
+      candidatePairs(a, other, inflation, two);
+      // sorted, as the candidates come; compared as a whole (a failure prints the counts, not
+      // tens of thousands of pairs: Catch2's console would take minutes to wrap them)
+      CHECK(self.vertexTriangle.size() == vt.size());
+      CHECK(self.edgeEdge.size() == ee.size());
+      CHECK(two.vertexTriangle.size() == vtB.size());
+      CHECK(two.triangleVertex.size() == tvB.size());
+      CHECK(two.edgeEdge.size() == eeB.size());
+      const bool sameSelf = self.vertexTriangle == vt && self.edgeEdge == ee;
+      const bool sameTwo = two.vertexTriangle == vtB && two.triangleVertex == tvB && two.edgeEdge == eeB;
+      CHECK(sameSelf);
+      CHECK(sameTwo);
+    }
   }
 }
 

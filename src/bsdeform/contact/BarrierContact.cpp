@@ -446,11 +446,10 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     // list. Half the reach, unless the surface has self-contact and a query that ended one of the
     // last 8 lists strayed beyond that: no skin this wide would have kept those lists (a sheet
     // turned fast leaves its list at every step), and an eighth of the reach makes the sheet's
-    // pairs with itself, most of the list, fewer to narrow (the 32² twisted ribbon: 8.0 s against
-    // 5.5 s). Without self-contact a list is cheap to narrow, and finding it again against the
-    // obstacles costs more (drape_over_sphere's fall: 10–20 % slower with the narrow skin).
-    // docs/benchmarks.md, issue 35. The pairs found do not depend on the skin, only how often
-    // and among how many they are sought.
+    // pairs with itself, most of the list, fewer to narrow. Without self-contact a list is cheap
+    // to narrow and finding it again against the obstacles is what costs, so the wide skin stays
+    // (both measured in docs/benchmarks.md, "the self-contact broad phase"). The pairs found do
+    // not depend on the skin, only how often and among how many they are sought.
     const bool sameMesh = c.valid && c.generation == st.generation && m_params.selfContact;
     const double stray = sameMesh ? std::sqrt(std::max(farthest2(st.mesh.start), farthest2(st.mesh.end))) : 0.0;
     c.narrowSkinFor = stray > 0.5 * reach ? 8 : std::max(0, c.narrowSkinFor - 1);
@@ -505,7 +504,8 @@ void BarrierContactForce::selfCandidatesApartAtRest(const ContactMesh& mesh, dou
   State& st = *m_state;
   State::RestNeighbours& rn = st.restNeighbours;
   const double reach = m_params.offset + m_params.dhat;
-  if (rn.reach != reach || rn.rest.rows() != st.restWorld.rows() || rn.rest != st.restWorld) {
+  if (rn.reach != reach || rn.rest.rows() != st.restWorld.rows() || rn.rest != st.restWorld ||
+      rn.edgeStart.size() != size_t(st.mesh.edges.rows()) + 1) {
     // every pair closer than the reach at rest has boxes within the reach: among these
     const Eigen::MatrixX3d& R = st.restWorld;
     const Eigen::MatrixX3i& T = st.mesh.triangles;
@@ -526,7 +526,8 @@ void BarrierContactForce::selfCandidatesApartAtRest(const ContactMesh& mesh, dou
     for (const auto& ee : near.edgeEdge)
       if (edgeEdgeDistanceSquared(row(E(ee[0], 0)), row(E(ee[0], 1)), row(E(ee[1], 0)), row(E(ee[1], 1))) < reach2)
         rn.edgeEdge.push_back(ee);
-    const auto starts = [](const std::vector<std::array<int, 2>>& pairs, Eigen::Index count, std::vector<size_t>& start) {
+    const auto starts = [](const std::vector<std::array<int, 2>>& pairs, Eigen::Index count,
+                           std::vector<size_t>& start) {
       start.assign(size_t(count) + 1, 0);
       for (const auto& p : pairs) ++start[size_t(p[0]) + 1];
       for (size_t k = 1; k < start.size(); ++k) start[k] += start[k - 1];

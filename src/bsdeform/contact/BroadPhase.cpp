@@ -24,8 +24,8 @@ struct SweepItem {
 /// across them none). Faster than a uniform grid (cells of the median box size, keyed by sorting)
 /// on a cloth draped over a box and on the cloth against itself (docs/benchmarks.md, issue 35).
 ///
-/// The sweep runs in slabs across the other axis along which the boxes spread most (a slab twice
-/// their mean extent wide, at most 64): a box in every slab it overlaps, a pair reported only in
+/// The sweep runs in slabs across one of the two other axes, the one that holds more slabs twice
+/// the boxes' mean extent wide (at most 64): a box in every slab it overlaps, a pair reported only in
 /// the slab where their overlap along that axis begins, so once. Within a slab a box scans the
 /// boxes of its slab only: across a sheet a sweep scans a whole strip of it otherwise (the 32²
 /// twisted ribbon's pairs with itself: 20 boxes scanned for each one found). The slabs' sweeps
@@ -129,7 +129,8 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
     Slabbed out;
     out.start.assign(size_t(slabs) + 1, 0);
     const auto span = [&](const SweepItem& item) {
-      return across == 1 ? std::pair(slabOf(item.lo1), slabOf(item.hi1)) : std::pair(slabOf(item.lo2), slabOf(item.hi2));
+      return across == 1 ? std::pair(slabOf(item.lo1), slabOf(item.hi1))
+                         : std::pair(slabOf(item.lo2), slabOf(item.hi2));
     };
     for (const SweepItem& item : sorted) {
       const auto [first, last] = span(item);
@@ -327,8 +328,21 @@ void gatherPairs(std::vector<std::array<int, 2>>& out, Sweep&& sweep, Keep&& kee
     });
     return;
   }
+  // The caller's lists (the parts name them from their own threads). While it waits for the
+  // parts, the caller's thread may run another's task (TBB does not isolate them), and that
+  // one a search of its own: it then takes lists of its own instead.
   thread_local std::vector<std::vector<std::array<int, 2>>> kept;
-  auto& lists = kept;  // the caller's: the parts name it from their own threads
+  thread_local bool inUse = false;
+  std::vector<std::vector<std::array<int, 2>>> own;
+  const bool nested = inUse;
+  auto& lists = nested ? own : kept;
+  inUse = true;
+  struct Release {
+    bool nested;
+    ~Release() {
+      if (!nested) inUse = false;
+    }
+  } release{nested};
   lists.resize(size_t(parts));
   for (auto& list : lists) list.clear();
   sweep(parts, [&](int part, int i, int j) {

@@ -41,6 +41,8 @@ struct ContactCandidates {
 };
 
 /// Pairs whose boxes (each swept from start to end) come within `inflation` of each other.
+/// The candidate lists come sorted (by the first index, then the second), the same for any number
+/// of kernel threads. Coordinates must be finite: a box with a NaN may miss or find pairs.
 void candidatePairs(const ContactMesh& a, const ContactMesh& b, double inflation, ContactCandidates& out);
 
 /// A mesh against itself, leaving out pairs that share a vertex: each unordered edge pair once
@@ -50,7 +52,8 @@ void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& o
 
 /// As candidatePairs(a, inflation, out), keeping only the vertex–triangle and edge–edge pairs
 /// `keepVertexTriangle` and `keepEdgeEdge` accept: asked before the pairs are sorted, so pairs left
-/// out cost no sorting.
+/// out cost no sorting. They are asked from the kernel threads, several at once: they must only
+/// read.
 void candidatePairs(const ContactMesh& a, double inflation, ContactCandidates& out,
                     const std::function<bool(const std::array<int, 2>&)>& keepVertexTriangle,
                     const std::function<bool(const std::array<int, 2>&)>& keepEdgeEdge);
