@@ -419,8 +419,6 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     }
     return out;
   };
-  // every vertex within the list's skin of its segment (the argument's margin is exactly 0: no rounding's)
-  auto near = [&](const Eigen::MatrixX3d& x) { return farthest2(x) <= (1.0 - 1e-12) * c.skin * c.skin; };
   auto obstaclesAsThen = [&] {
     if (c.obstacles.size() != st.obstacles.size()) return false;
     for (size_t o = 0; o < st.obstacles.size(); ++o) {
@@ -436,8 +434,11 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     }
     return true;
   };
-  if (!(c.valid && c.generation == st.generation && obstaclesAsThen() && near(st.mesh.start) &&
-        near(st.mesh.end))) {
+  // how far the query strays from the list's segment: kept while every vertex, at both ends of
+  // the query, is within the skin (the argument's margin is exactly 0: no rounding's)
+  const double stray2 = std::max(farthest2(st.mesh.start), farthest2(st.mesh.end));
+  const bool sameMesh = c.valid && c.generation == st.generation;
+  if (!(sameMesh && obstaclesAsThen() && stray2 <= (1.0 - 1e-12) * c.skin * c.skin)) {
     // found again around the query's move (a CCD query's from its start to its end: the
     // iterates that follow on that segment, the step's first, cut by CCD, and Newton's near it,
     // then keep the list), the obstacles where they are (a moving obstacle mid-sweep, start and
@@ -450,8 +451,7 @@ const std::vector<ContactCandidates>& BarrierContactForce::candidatesWithin(doub
     // to narrow and finding it again against the obstacles is what costs, so the wide skin stays
     // (both measured in docs/benchmarks.md, "the self-contact broad phase"). The pairs found do
     // not depend on the skin, only how often and among how many they are sought.
-    const bool sameMesh = c.valid && c.generation == st.generation && m_params.selfContact;
-    const double stray = sameMesh ? std::sqrt(std::max(farthest2(st.mesh.start), farthest2(st.mesh.end))) : 0.0;
+    const double stray = sameMesh && m_params.selfContact ? std::sqrt(stray2) : 0.0;
     c.narrowSkinFor = stray > 0.5 * reach ? 8 : std::max(0, c.narrowSkinFor - 1);
     c.skin = (c.narrowSkinFor > 0 ? 0.125 : 0.5) * reach;
     const double skin = c.skin;

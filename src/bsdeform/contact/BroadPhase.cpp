@@ -4,6 +4,7 @@
 #include "bsdeform/base/Parallel.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <optional>
@@ -36,19 +37,26 @@ struct SweepItem {
 template <typename Emit>
 void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double inflation, int parts, Emit&& emit) {
   if (a.empty() || (b && b->empty())) return;
+  // Along each axis, the inflated boxes' range and their extents' sum (both lists).
+  struct Spread {
+    double lo = INFINITY, hi = -INFINITY, extent = 0.0;
+  };
+  std::array<Spread, 3> spread;
+  for (const std::vector<Box>* set : {&a, b}) {
+    if (!set) continue;
+    for (const Box& box : *set)
+      for (int k = 0; k < 3; ++k) {
+        Spread& s = spread[size_t(k)];
+        s.lo = std::min(s.lo, box.lo[k] - inflation);
+        s.hi = std::max(s.hi, box.hi[k] + inflation);
+        s.extent += box.hi[k] - box.lo[k] + 2.0 * inflation;
+      }
+  }
   // The pairs a sweep along `axis` scans, about: for each box, the boxes of the other list (or
   // the same) whose start lies within its interval, counted in 1024 bins of the starts.
   const auto estimate = [&](int axis) {
     constexpr int kBins = 1024;
-    double lo = INFINITY, hi = -INFINITY;
-    const auto range = [&](const std::vector<Box>& set) {
-      for (const Box& box : set) {
-        lo = std::min(lo, box.lo[axis] - inflation);
-        hi = std::max(hi, box.hi[axis] + inflation);
-      }
-    };
-    range(a);
-    if (b) range(*b);
+    const double lo = spread[size_t(axis)].lo, hi = spread[size_t(axis)].hi;
     if (!std::isfinite(hi - lo)) return double(INFINITY);  // not finite: the last choice
     // all at one coordinate: every interval overlaps every other along this axis
     if (!(hi > lo)) return double(a.size()) * double(b ? b->size() : a.size());
@@ -86,18 +94,8 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
   int across = 1, slabs = 1;
   double origin = 0.0, width = 1.0;
   for (const int k : {axis1, axis2}) {
-    double lo = INFINITY, hi = -INFINITY, extent = 0.0;
-    const auto range = [&](const std::vector<Box>& set) {
-      for (const Box& box : set) {
-        lo = std::min(lo, box.lo[k] - inflation);
-        hi = std::max(hi, box.hi[k] + inflation);
-        extent += box.hi[k] - box.lo[k] + 2.0 * inflation;
-      }
-    };
-    range(a);
-    if (b) range(*b);
-    extent /= double(a.size() + (b ? b->size() : 0));
-    const double w = 2.0 * extent;
+    const double lo = spread[size_t(k)].lo, hi = spread[size_t(k)].hi;
+    const double w = 2.0 * spread[size_t(k)].extent / double(a.size() + (b ? b->size() : 0));
     if (!(std::isfinite(hi - lo) && w > 0.0 && std::isfinite(w))) continue;
     const int n = int(std::min(64.0, std::floor((hi - lo) / w)));
     if (n > slabs) {
