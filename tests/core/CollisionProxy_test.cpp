@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <random>
 
 #include "bsdeform/contact/CollisionProxy.h"
@@ -64,6 +65,20 @@ TEST_CASE("CollisionProxy: vertices are surface points and loads are the transpo
     proxy.addVertexForces(f, load);
     const double work = (f.array() * (V2 - V).array()).sum();
     CHECK(std::abs(work - (load.array() * dP.array()).sum()) < 1e-10 * (1.0 + std::abs(work)));
+    // in a world frame: the fused pass equals the positions mapped afterwards, bit for bit
+    // (identity, and a rotation with a scale and an offset)
+    const Eigen::Matrix3d A = 1.7 * Eigen::AngleAxisd(0.7, Eigen::Vector3d(1.0, -2.0, 0.5).normalized()).toRotationMatrix();
+    const Eigen::Vector3d shift(0.3, -1.25, 2.0);
+    for (int frame = 0; frame < 2; ++frame) {
+      const Eigen::Matrix3d L = frame == 0 ? Eigen::Matrix3d::Identity() : A;
+      const Eigen::Vector3d o = frame == 0 ? Eigen::Vector3d::Zero() : shift;
+      Eigen::MatrixX3d W;
+      proxy.positions(moved, L, o, W);
+      const Eigen::MatrixX3d expected = (V2 * L.transpose()).rowwise() + o.transpose();
+      REQUIRE(W.rows() == expected.rows());
+      CHECK(std::memcmp(W.data(), expected.data(), sizeof(double) * size_t(W.size())) == 0);
+      CHECK((W - expected).cwiseAbs().maxCoeff() == 0.0);
+    }
   }
 }
 

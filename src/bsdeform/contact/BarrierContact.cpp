@@ -387,9 +387,7 @@ void BarrierContactForce::prepare(const LoadContext& ctx) const {
 void BarrierContactForce::proxyWorld(const ControlNet& net, Eigen::MatrixX3d& out) const {
   const CostTimer timer(&m_state->costs.proxy);
   const ContactWorld& w = *m_world;
-  Eigen::MatrixX3d local;
-  m_state->proxy->positions(net, local);
-  out = (local * w.linear.transpose()).rowwise() + w.offset.transpose();
+  m_state->proxy->positions(net, w.linear, w.offset, out);
 }
 
 namespace {

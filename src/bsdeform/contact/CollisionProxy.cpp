@@ -84,6 +84,15 @@ CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
       if ((i + 1 < nu || pu) && (j + 1 < nv || pv)) edges.emplace_back(vertex(i, j), vertex(i + 1, j + 1));
     }
   for (int p = 0; p <= std::max(space.degreeU(), space.degreeV()); ++p) m_bezier.push_back(bsplineToBezier(p));
+  m_flatStart.reserve(m_netWeights.size() + 1);
+  m_flatStart.push_back(0);
+  for (const std::vector<Weight>& ws : m_netWeights) {
+    for (const Weight& w : ws) {
+      m_flatIndex.push_back(int(w.index));
+      m_flatWeight.push_back(w.weight);
+    }
+    m_flatStart.push_back(int(m_flatIndex.size()));
+  }
   m_edges.resize(Eigen::Index(edges.size()), 2);
   for (size_t e = 0; e < edges.size(); ++e) m_edges.row(Eigen::Index(e)) = edges[e].transpose();
 }
@@ -94,6 +103,37 @@ void CollisionProxy::positions(const ControlNet& net, Eigen::MatrixX3d& out) con
     Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
     for (const Weight& w : m_netWeights[size_t(k)]) x += w.weight * net.row(w.index);
     out.row(k) = x;
+  }
+}
+
+void CollisionProxy::positions(const ControlNet& net, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset,
+                               Eigen::MatrixX3d& out) const {
+  const Eigen::Index n = numVertices();
+  out.resize(n, 3);
+  const double* X = net.data();  // row-major: point r at X[3 r .. 3 r + 2]
+  const int* start = m_flatStart.data();
+  const int* index = m_flatIndex.data();
+  const double* weight = m_flatWeight.data();
+  double* o0 = out.col(0).data();
+  double* o1 = out.col(1).data();
+  double* o2 = out.col(2).data();
+  for (Eigen::Index k = 0; k < n; ++k) {
+    double x = 0.0, y = 0.0, z = 0.0;
+    for (int e = start[k], end = start[k + 1]; e < end; ++e) {
+      const double* p = X + 3 * size_t(index[e]);
+      const double w = weight[e];
+      x += w * p[0];
+      y += w * p[1];
+      z += w * p[2];
+    }
+    double* o[3] = {o0, o1, o2};
+    for (int c = 0; c < 3; ++c) {
+      double t = 0.0;
+      t += x * linear(c, 0);
+      t += y * linear(c, 1);
+      t += z * linear(c, 2);
+      o[c][k] = (0.0 + t) + offset(c);
+    }
   }
 }
 

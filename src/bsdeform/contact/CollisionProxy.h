@@ -39,6 +39,12 @@ class CollisionProxy {
 
   /// The vertices of the surface of the full net `net`: row k = Σ weight × net row.
   void positions(const ControlNet& net, Eigen::MatrixX3d& out) const;
+  /// The same vertices mapped by x ↦ linear x + offset (a surface's world frame), in one pass
+  /// over flat weight arrays. The sums are taken in the order of positions() and of Eigen's
+  /// product of the n x 3 positions by linearᵀ (each coordinate from zero, the three columns in
+  /// order), so the values equal `(positions * linearᵀ).rowwise() + offsetᵀ` bit for bit.
+  void positions(const ControlNet& net, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset,
+                 Eigen::MatrixX3d& out) const;
   /// Net rows and weights of vertex k (zero weights left out).
   const std::vector<Weight>& netWeights(Eigen::Index k) const { return m_netWeights[size_t(k)]; }
   /// Adds Σ_k weight × f_k to the load of the moving points (numMoving x 3, order of
@@ -58,6 +64,10 @@ class CollisionProxy {
   std::vector<Eigen::Vector2d> m_params;
   std::vector<std::vector<Weight>> m_netWeights;
   std::vector<std::vector<Weight>> m_movingWeights;
+  /// m_netWeights flattened for the positions' pass: vertex k's are [m_flatStart[k], m_flatStart[k + 1])
+  std::vector<int> m_flatStart;
+  std::vector<int> m_flatIndex;
+  std::vector<double> m_flatWeight;
   Eigen::MatrixX3i m_triangles;
   Eigen::MatrixX2i m_edges;
   std::vector<std::pair<int, int>> m_triangleElement;
