@@ -167,3 +167,89 @@ TEST_CASE("SerialOpenMp: OpenMP regions run on their caller while it lives, the 
   }
   CHECK(get() == 3);
 }
+
+// GCC's entry to a parallel region, which the core defines (Parallel.cpp) ahead of libgomp's
+extern "C" void GOMP_parallel(void (*fn)(void*), void* data, unsigned threads, unsigned flags);
+
+namespace {
+// What the bodies of the regions below saw: how often they ran, on which thread, in what team.
+struct RegionLog {
+  int (*teamSize)() = nullptr;
+  int (*threadNumber)() = nullptr;
+  int (*level)() = nullptr;
+  std::atomic<int> runs{0}, onCaller{0}, teamOfOne{0}, outsideRegions{0};
+  std::thread::id caller;
+  void (*inner)(void*) = nullptr;  // a region to open from within (thread 0 only)
+  RegionLog* innerLog = nullptr;
+};
+void logRegion(void* data) {
+  auto& log = *static_cast<RegionLog*>(data);
+  log.runs.fetch_add(1);
+  if (std::this_thread::get_id() == log.caller) log.onCaller.fetch_add(1);
+  if (log.teamSize() == 1 && log.threadNumber() == 0) log.teamOfOne.fetch_add(1);
+  if (log.level() == 0) log.outsideRegions.fetch_add(1);
+  if (log.inner && log.threadNumber() == 0) {
+    const bsdeform::SerialOpenMp serial;
+    log.innerLog->caller = std::this_thread::get_id();
+    GOMP_parallel(log.inner, log.innerLog, 2, 0);
+  }
+}
+}  // namespace
+
+TEST_CASE("SerialOpenMp: a region's body runs once on its caller, through libgomp in a team or without", "[core]") {
+  auto set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
+  auto teamSize = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_num_threads"));
+  auto threadNumber = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_thread_num"));
+  auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
+  auto level = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_level"));
+  if (!set || !teamSize || !threadNumber || !get || !level) {
+    BSDEFORM_TEST_SKIP("no OpenMP runtime loaded (a CHOLMOD built without OpenMP)");
+    return;
+  }
+  const int levelsBefore = get();
+  set(3);
+  const auto fresh = [&](RegionLog& log) {
+    log.teamSize = teamSize;
+    log.threadNumber = threadNumber;
+    log.level = level;
+    log.caller = std::this_thread::get_id();
+  };
+  SECTION("serial: once, on the caller, as a team of one, without libgomp's region") {
+    RegionLog log;
+    fresh(log);
+    {
+      const bsdeform::SerialOpenMp serial;
+      GOMP_parallel(logRegion, &log, 2, 0);
+    }
+    CHECK(log.runs.load() == 1);
+    CHECK(log.onCaller.load() == 1);
+    CHECK(log.teamOfOne.load() == 1);
+    // libgomp's region, even of one thread, would count a level (and end with a futex wake)
+    CHECK(log.outsideRegions.load() == 1);
+  }
+  SECTION("without it: libgomp's team, every member once") {
+    RegionLog log;
+    fresh(log);
+    GOMP_parallel(logRegion, &log, 2, 0);
+    CHECK(log.runs.load() >= 1);
+    CHECK(log.onCaller.load() == 1);
+    // a team of two unless the runtime is limited to one thread
+    CHECK((log.runs.load() == 2 || log.teamOfOne.load() == 1));
+    CHECK(log.outsideRegions.load() == 0);
+  }
+  SECTION("inside another region: libgomp's team of one, not the outer team's share") {
+    RegionLog outer, inner;
+    fresh(outer);
+    fresh(inner);
+    outer.inner = logRegion;
+    outer.innerLog = &inner;
+    GOMP_parallel(logRegion, &outer, 2, 0);
+    CHECK(inner.runs.load() == 1);
+    CHECK(inner.onCaller.load() == 1);
+    // run directly, omp_get_num_threads() would say the outer team's two and a loop would
+    // take half its range
+    CHECK(inner.teamOfOne.load() == 1);
+    CHECK(inner.outsideRegions.load() == 0);
+  }
+  set(levelsBefore);
+}

@@ -319,19 +319,45 @@ namespace {
 struct OpenMpLevels {
   int (*get)() = nullptr;
   void (*set)(int) = nullptr;
+  int (*level)() = nullptr;  ///< omp_get_level: the parallel regions around the caller
   OpenMpLevels() {
     get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
     set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
     if (!get || !set) get = nullptr, set = nullptr;
+    level = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_level"));
   }
 };
 const OpenMpLevels& openMpLevels() {
   static const OpenMpLevels levels;
   return levels;
 }
+/// SerialOpenMp objects alive on this thread.
+thread_local int t_serialOpenMp = 0;
 }  // namespace
 
+/// GCC's entry to an OpenMP parallel region (libgomp's GOMP_parallel, GOMP_4.0), defined here so
+/// that the dynamic linker binds CHOLMOD's calls to it (this library comes before libgomp in the
+/// lookup order; where it does not, libgomp's own runs and SerialOpenMp's levels still hold).
+/// While a SerialOpenMp lives on the calling thread, outside any parallel region, the region's
+/// body runs on the caller directly: as a team of one, which is what libgomp makes of it then
+/// (omp_get_num_threads() 1, omp_get_thread_num() 0, so each loop takes its whole range), without
+/// the team's set-up and the futex wake of its closing barrier, a system call per region: CHOLMOD
+/// opens three per supernode, and on this VM they were 40 % of a 16² cloth's factorisation
+/// (docs/benchmarks.md, issue 34). Everything else goes on to libgomp's.
+extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data, unsigned threads,
+                                                                   unsigned flags) {
+  using Entry = void (*)(void (*)(void*), void*, unsigned, unsigned);
+  static const Entry next = reinterpret_cast<Entry>(dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0"));
+  const OpenMpLevels& omp = openMpLevels();
+  if (!next || (t_serialOpenMp > 0 && omp.level && omp.level() == 0)) {
+    fn(data);
+    return;
+  }
+  next(fn, data, threads, flags);
+}
+
 SerialOpenMp::SerialOpenMp() {
+  ++t_serialOpenMp;
   const OpenMpLevels& omp = openMpLevels();
   if (!omp.set) return;
   m_saved = omp.get();
@@ -339,6 +365,7 @@ SerialOpenMp::SerialOpenMp() {
 }
 
 SerialOpenMp::~SerialOpenMp() {
+  --t_serialOpenMp;
   if (m_saved >= 0) openMpLevels().set(m_saved);
 }
 

@@ -44,7 +44,10 @@ void runParts(int parts, const std::function<void(int)>& fn);
 /// microseconds, and on two cores their wake-ups cost more than the whole factorisation: 300 000
 /// context switches and 5 s of a 12.9 s cloth_on_cube run (docs/benchmarks.md, issue 34). The
 /// factor's values do not depend on them. Not for use while another thread runs OpenMP code of
-/// its own (the setting is the process's).
+/// its own (the setting is the process's). Outside any parallel region, the core's own
+/// GOMP_parallel (Parallel.cpp, bound ahead of libgomp's) runs such a region's body on the
+/// caller directly, without even libgomp's team of one, whose closing barrier made a system call
+/// per region (three per supernode).
 class SerialOpenMp {
  public:
   SerialOpenMp();

@@ -7,9 +7,11 @@
 /// E = ½(a − A) and the bending strain κ = B − b (each (11, 12, 22)), and returns
 ///   resultants(): the energy (membrane and bending part, times wJ) and the stress resultants
 ///                 n^{αβ} = ∂w/∂E_αβ and m^{αβ} = ∂w/∂κ_αβ as symmetric tensors (times wJ);
-///   tangent():    n and m again, and the material part of the 15 x 15 density Hessian,
-///                 [dE/dy dκ/dy] D [dE/dy dκ/dy]ᵀ with D = ∂²w/∂(E, κ)² (Voigt, shear counted
-///                 twice), given dE/dy (6 x 3 over a₁, a₂) and dκ/dy (15 x 3).
+///   material():   n and m again, and D = ∂²w/∂(E, κ)² (6 x 6, Voigt, shear counted twice,
+///                 times wJ): the material part of the 15 x 15 density Hessian is
+///                 [dE/dy dκ/dy] D [dE/dy dκ/dy]ᵀ, formed by the kinematics kernel from the
+///                 Jacobians' few non-zero blocks. kCoupled: whether D couples E and κ (else its
+///                 off-diagonal 3 x 3 blocks are zero and the kernel skips them).
 /// κ = nullptr: no bending strain (degree 1, or a collapsed current normal), membrane only.
 /// Private to the core (not installed).
 
@@ -25,8 +27,7 @@ namespace bsdeform::shell {
 
 using RestPoint = ShellEnergy::RestPoint;
 using Matrix15 = Eigen::Matrix<double, 15, 15>;
-using MembraneJacobian = Eigen::Matrix<double, 6, 3>;  ///< dE_i/dy over (a₁, a₂)
-using BendingJacobian = Eigen::Matrix<double, 15, 3>;  ///< dκ_i/dy
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 /// Plane-stress St. Venant–Kirchhoff: w = wJ (½ t E:C:E + ½ t³/12 κ:C:κ),
 /// C^{αβγδ} = λ̄ A^{αβ}A^{γδ} + μ(A^{αγ}A^{βδ} + A^{αδ}A^{βγ}), λ̄ = Eν/(1−ν²).
@@ -68,8 +69,9 @@ struct SaintVenantKirchhoff {
     eb = 0.5 * (m[0] * kappa[0] + 2.0 * (m[1] * kappa[1]) + m[2] * kappa[2]);
   }
 
-  void tangent(const RestPoint& r, const double* E, const double* kappa, const MembraneJacobian& G,
-               const BendingJacobian& K, double* n, double* m, Matrix15& Hm) const {
+  static constexpr bool kCoupled = false;
+
+  void material(const RestPoint& r, const double* E, const double* kappa, double* n, double* m, Matrix6& D) const {
     // W C in Voigt form (column j: the stress of the unit strain j, rows weighted 1, 2, 1)
     Eigen::Matrix3d WC;
     for (int j = 0; j < 3; ++j) {
@@ -85,16 +87,14 @@ struct SaintVenantKirchhoff {
     double S[3];
     stress(r.Ac, E, S);
     for (int i = 0; i < 3; ++i) n[i] = tm * S[i];
-    Hm.topLeftCorner<6, 6>() = tm * G * WC * G.transpose();
+    D.setZero();
+    D.topLeftCorner<3, 3>() = tm * WC;
     if (!kappa) return;
     double M[3];
     stress(r.Ac, kappa, M);
     const double tb = bending * r.wJ;
     for (int i = 0; i < 3; ++i) m[i] = tb * M[i];
-    // a 15 x 3 by 3 x 15 product by coefficients: Eigen's blocked product is slower at these
-    // sizes (docs/benchmarks.md, "Smaller kernels")
-    const BendingJacobian KW = tb * (K * WC);
-    Hm.noalias() += KW.lazyProduct(K.transpose());
+    D.bottomRightCorner<3, 3>() = tb * WC;
   }
 };
 
@@ -221,16 +221,17 @@ struct NeoHookean {
     }
   }
 
-  void tangent(const RestPoint& r, const double* E, const double* kappa, const MembraneJacobian& G,
-               const BendingJacobian& K, double* n, double* m, Matrix15& Hm) const {
+  static constexpr bool kCoupled = true;
+
+  void material(const RestPoint& r, const double* E, const double* kappa, double* n, double* m, Matrix6& D) const {
     double S[3], psi, Dz[9];
-    Eigen::Matrix<double, 6, 6> D = Eigen::Matrix<double, 6, 6>::Zero();
+    D.setZero();
     for (int i = 0; i < 3; ++i) n[i] = m[i] = 0.0;
     if (!kappa) {
       if (!point(r.A, E, S, psi, Dz)) return;  // no finite energy: no stiffness either
       const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Dm(Dz);
       for (int i = 0; i < 3; ++i) n[i] = (thickness * r.wJ) * S[i];
-      Hm.topLeftCorner<6, 6>() = (thickness * r.wJ) * G * Dm * G.transpose();
+      D.topLeftCorner<3, 3>() = (thickness * r.wJ) * Dm;
       return;
     }
     for (int k = 0; k < kThicknessPoints; ++k) {
@@ -238,6 +239,7 @@ struct NeoHookean {
       const double e[3] = {E[0] + z[k] * kappa[0], E[1] + z[k] * kappa[1], E[2] + z[k] * kappa[2]};
       if (!point(Gk, e, S, psi, Dz)) {
         for (int i = 0; i < 3; ++i) n[i] = m[i] = 0.0;
+        D.setZero();
         return;
       }
       const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Dm(Dz);
@@ -251,11 +253,6 @@ struct NeoHookean {
       D.bottomRightCorner<3, 3>() += (wk * z[k] * z[k]) * Dm;
     }
     D.bottomLeftCorner<3, 3>() = D.topRightCorner<3, 3>().transpose();
-    Eigen::Matrix<double, 15, 6> B = Eigen::Matrix<double, 15, 6>::Zero();
-    B.topLeftCorner<6, 3>() = G;
-    B.rightCols<3>() = K;
-    const Eigen::Matrix<double, 15, 6> BD = B * D;
-    Hm.noalias() = BD.lazyProduct(B.transpose());
   }
 
  private:
