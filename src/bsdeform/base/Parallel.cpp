@@ -347,9 +347,12 @@ thread_local int t_serialOpenMp = 0;
 extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data, unsigned threads,
                                                                    unsigned flags) {
   using Entry = void (*)(void (*)(void*), void*, unsigned, unsigned);
-  static const Entry next = reinterpret_cast<Entry>(dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0"));
+  static const Entry next = [] {
+    void* f = dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0");
+    return reinterpret_cast<Entry>(f ? f : dlsym(RTLD_NEXT, "GOMP_parallel"));
+  }();
   const OpenMpLevels& omp = openMpLevels();
-  if (!next || (t_serialOpenMp > 0 && omp.level && omp.level() == 0)) {
+  if (!next || (t_serialOpenMp > 0 && omp.level && omp.level() == 0)) {  // no runtime: no team either
     fn(data);
     return;
   }

@@ -19,6 +19,24 @@ struct SweepItem {
   int index;
 };
 
+/// A list's items by slab (an item in every slab its interval across overlaps), each slab in the
+/// order of the items' starts along the axis: items[start[s] .. start[s + 1]).
+struct Slabbed {
+  std::vector<SweepItem> items;
+  std::vector<size_t> start;
+};
+
+/// sweepWith's lists, kept with their memory from one sweep to the next on a thread (the items
+/// of a sheet's boxes are megabytes: fresh pages each time otherwise, 2 % of a contact run in
+/// page faults). `busy` while a sweep uses them: a sweep that starts on the same thread in the
+/// meantime (TBB may run another's task on a thread that waits for its parts) makes its own.
+struct SweepBuffers {
+  std::vector<SweepItem> sorted;
+  std::vector<size_t> next;
+  Slabbed x, y;
+  bool busy = false;
+};
+
 /// Sweep and prune along one axis; `b` null for one set against itself. The axis is the one whose
 /// sweep scans fewest pairs, estimated from histograms of the intervals' starts (two sheets lying
 /// one above the other: along the sheets every box overlaps a whole strip of the other sheet,
@@ -109,14 +127,18 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
     const double t = (v - origin) / width;
     return t >= 0.0 ? (t < slabs ? int(t) : slabs - 1) : 0;  // NaN to slab 0
   };
-  // Each list's items, by slab (an item in every slab its interval across overlaps), each slab
-  // in the order of the items' starts along the axis: items[start[s] .. start[s + 1]).
-  struct Slabbed {
-    std::vector<SweepItem> items;
-    std::vector<size_t> start;
-  };
-  const auto slabbed = [&](const std::vector<Box>& set) {
-    std::vector<SweepItem> sorted;
+  // Each list's items, by slab (Slabbed).
+  thread_local SweepBuffers kept;
+  SweepBuffers fresh;
+  SweepBuffers& buffers = kept.busy ? fresh : kept;
+  buffers.busy = true;
+  struct Release {
+    bool& busy;
+    ~Release() { busy = false; }
+  } release{buffers.busy};
+  const auto slabbed = [&](const std::vector<Box>& set, Slabbed& out) {
+    std::vector<SweepItem>& sorted = buffers.sorted;
+    sorted.clear();
     sorted.reserve(set.size());
     for (int i = 0; i < int(set.size()); ++i) {
       const Box& box = set[i];
@@ -124,7 +146,6 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
                         box.hi[axis1] + inflation, box.lo[axis2] - inflation, box.hi[axis2] + inflation, i});
     }
     std::sort(sorted.begin(), sorted.end(), [](const SweepItem& x, const SweepItem& y) { return x.lo < y.lo; });
-    Slabbed out;
     out.start.assign(size_t(slabs) + 1, 0);
     const auto span = [&](const SweepItem& item) {
       return across == 1 ? std::pair(slabOf(item.lo1), slabOf(item.hi1))
@@ -136,14 +157,17 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
     }
     for (size_t k = 1; k < out.start.size(); ++k) out.start[k] += out.start[k - 1];
     out.items.resize(out.start.back());
-    std::vector<size_t> next(out.start.begin(), out.start.end() - 1);
+    std::vector<size_t>& next = buffers.next;
+    next.assign(out.start.begin(), out.start.end() - 1);
     for (const SweepItem& item : sorted) {
       const auto [first, last] = span(item);
       for (int k = first; k <= last; ++k) out.items[next[size_t(k)]++] = item;
     }
-    return out;
   };
-  const Slabbed x = slabbed(a), y = b ? slabbed(*b) : Slabbed();
+  Slabbed& x = buffers.x;
+  Slabbed& y = buffers.y;
+  slabbed(a, x);
+  if (b) slabbed(*b, y);  // else y is not read
   const auto overlapOthers = [](const SweepItem& p, const SweepItem& q) {
     return p.lo1 <= q.hi1 && q.lo1 <= p.hi1 && p.lo2 <= q.hi2 && q.lo2 <= p.hi2;
   };
