@@ -206,6 +206,8 @@ TEST_CASE("SerialOpenMp: a region's body runs once on its caller, through libgom
     BSDEFORM_TEST_SKIP("no OpenMP runtime loaded (a CHOLMOD built without OpenMP)");
     return;
   }
+  // the dynamic linker's binding (CHOLMOD's calls): the core's entry, exported by this program
+  CHECK(dlsym(RTLD_DEFAULT, "GOMP_parallel") == reinterpret_cast<void*>(&GOMP_parallel));
   const int levelsBefore = get();
   set(3);
   const auto fresh = [&](RegionLog& log) {

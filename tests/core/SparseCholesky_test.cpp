@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "bsdeform/base/Parallel.h"
 #include "bsdeform/dynamics/SparseCholesky.h"
 
 using namespace bsdeform;
@@ -156,4 +157,16 @@ TEST_CASE("SparseCholesky: an indefinite matrix reported", "[core][cholesky]") {
   REQUIRE(chol.factor(good));  // the same pattern: the kept analysis serves after the failure
   CHECK(chol.analyses() == 1);
   CHECK((full(good) * chol.solve(b) - b).cwiseAbs().maxCoeff() < 1e-11);
+}
+
+TEST_CASE("SparseCholesky: CHOLMOD's OpenMP regions reach the core's GOMP_parallel and run on the caller",
+          "[core][cholesky]") {
+  // Debian's CHOLMOD opens an OpenMP region per loop of each supernode; the core's entry
+  // (base/Parallel.cpp) must be the one the dynamic linker bound them to
+  const Eigen::SparseMatrix<double> K = gridMatrix(16, 5);
+  const long long before = openMpRegionsRunOnCaller();
+  SparseCholesky chol;
+  REQUIRE(chol.factor(K));
+  REQUIRE(chol.factor(K));
+  CHECK(openMpRegionsRunOnCaller() > before);
 }

@@ -314,62 +314,87 @@ void BackgroundWork::finish() {
 int BackgroundWork::partsRunBeside() const { return m_task->beside.load(std::memory_order_relaxed); }
 
 namespace {
-// The OpenMP runtime's functions when one is loaded (CHOLMOD brings libgomp), found at run time
-// so that the core does not link an OpenMP runtime of its own.
-struct OpenMpLevels {
-  int (*get)() = nullptr;
-  void (*set)(int) = nullptr;
-  int (*level)() = nullptr;  ///< omp_get_level: the parallel regions around the caller
-  OpenMpLevels() {
-    get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_active_levels"));
-    set = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"));
-    if (!get || !set) get = nullptr, set = nullptr;
-    level = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_level"));
+using RegionEntry = void (*)(void (*)(void*), void*, unsigned, unsigned);
+
+// The OpenMP runtime behind GOMP_parallel (libgomp, which CHOLMOD brings), found at run time so
+// that the core does not link an OpenMP runtime of its own: its region entry (the definition
+// after the core's own, below) and, from the same library, the levels (from any runtime loaded
+// when there is no such entry).
+struct OpenMpRuntime {
+  RegionEntry parallel = nullptr;
+  int (*getLevels)() = nullptr;      ///< omp_get_max_active_levels
+  void (*setLevels)(int) = nullptr;  ///< omp_set_max_active_levels
+  int (*level)() = nullptr;          ///< omp_get_level: the parallel regions around the caller
+  OpenMpRuntime() {
+    void* entry = dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0");
+    if (!entry) entry = dlsym(RTLD_NEXT, "GOMP_parallel");
+    parallel = reinterpret_cast<RegionEntry>(entry);
+    void* library = nullptr;  // kept open for the process's life
+    Dl_info info;
+    if (entry && dladdr(entry, &info) && info.dli_fname)
+      library = dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);
+    const auto find = [library](const char* name) { return library ? dlsym(library, name) : dlsym(RTLD_DEFAULT, name); };
+    getLevels = reinterpret_cast<int (*)()>(find("omp_get_max_active_levels"));
+    setLevels = reinterpret_cast<void (*)(int)>(find("omp_set_max_active_levels"));
+    if (!getLevels || !setLevels) getLevels = nullptr, setLevels = nullptr;
+    level = reinterpret_cast<int (*)()>(find("omp_get_level"));
   }
 };
-const OpenMpLevels& openMpLevels() {
-  static const OpenMpLevels levels;
-  return levels;
+const OpenMpRuntime& openMpRuntime() {
+  static const OpenMpRuntime runtime;
+  return runtime;
 }
 /// SerialOpenMp objects alive on this thread.
 thread_local int t_serialOpenMp = 0;
+/// SerialOpenMp objects alive in the process, and the levels the first found.
+std::mutex g_levelsMutex;
+int g_serialGuards = 0;
+int g_savedLevels = 0;
+std::atomic<long long> g_regionsOnCaller{0};
 }  // namespace
 
 /// GCC's entry to an OpenMP parallel region (libgomp's GOMP_parallel, GOMP_4.0), defined here so
 /// that the dynamic linker binds CHOLMOD's calls to it (this library comes before libgomp in the
 /// lookup order; where it does not, libgomp's own runs and SerialOpenMp's levels still hold).
 /// While a SerialOpenMp lives on the calling thread, outside any parallel region, the region's
-/// body runs on the caller directly: as a team of one, which is what libgomp makes of it then
-/// (omp_get_num_threads() 1, omp_get_thread_num() 0, so each loop takes its whole range), without
-/// the team's set-up and the futex wake of its closing barrier, a system call per region: CHOLMOD
-/// opens three per supernode, and on this VM they were 40 % of a 16² cloth's factorisation
-/// (docs/benchmarks.md, issue 34). Everything else goes on to libgomp's.
+/// body runs on the caller directly, as the team of one libgomp would make of it then:
+/// omp_get_num_threads() 1 and omp_get_thread_num() 0, so each of CHOLMOD's loops takes its whole
+/// range. Unlike libgomp's team, the body sees no region around it (omp_get_level() 0,
+/// omp_in_parallel() false) and settings it changes outlive it; CHOLMOD's bodies are plain
+/// loops. What it saves is the team's set-up and the futex wake of its closing barrier, a system
+/// call per region, three per supernode (docs/benchmarks.md, issue 34). Everything else goes on
+/// to libgomp's entry.
 extern "C" __attribute__((visibility("default"))) void GOMP_parallel(void (*fn)(void*), void* data, unsigned threads,
                                                                    unsigned flags) {
-  using Entry = void (*)(void (*)(void*), void*, unsigned, unsigned);
-  static const Entry next = [] {
-    void* f = dlvsym(RTLD_NEXT, "GOMP_parallel", "GOMP_4.0");
-    return reinterpret_cast<Entry>(f ? f : dlsym(RTLD_NEXT, "GOMP_parallel"));
-  }();
-  const OpenMpLevels& omp = openMpLevels();
-  if (!next || (t_serialOpenMp > 0 && omp.level && omp.level() == 0)) {  // no runtime: no team either
+  const OpenMpRuntime& omp = openMpRuntime();
+  // no runtime: no team either
+  if (!omp.parallel || (t_serialOpenMp > 0 && omp.level && omp.level() == 0)) {
+    g_regionsOnCaller.fetch_add(1, std::memory_order_relaxed);
     fn(data);
     return;
   }
-  next(fn, data, threads, flags);
+  omp.parallel(fn, data, threads, flags);
 }
+
+long long openMpRegionsRunOnCaller() { return g_regionsOnCaller.load(std::memory_order_relaxed); }
 
 SerialOpenMp::SerialOpenMp() {
   ++t_serialOpenMp;
-  const OpenMpLevels& omp = openMpLevels();
-  if (!omp.set) return;
-  m_saved = omp.get();
-  omp.set(0);
+  const OpenMpRuntime& omp = openMpRuntime();
+  if (!omp.setLevels) return;
+  const std::lock_guard<std::mutex> lock(g_levelsMutex);
+  if (g_serialGuards++ == 0) {
+    g_savedLevels = omp.getLevels();
+    omp.setLevels(0);
+  }
 }
 
 SerialOpenMp::~SerialOpenMp() {
   --t_serialOpenMp;
-  if (m_saved >= 0) openMpLevels().set(m_saved);
+  const OpenMpRuntime& omp = openMpRuntime();
+  if (!omp.setLevels) return;
+  const std::lock_guard<std::mutex> lock(g_levelsMutex);
+  if (--g_serialGuards == 0) omp.setLevels(g_savedLevels);
 }
 
 int kernelThreads() { return g_threads.load(std::memory_order_relaxed); }

@@ -44,20 +44,22 @@ void runParts(int parts, const std::function<void(int)>& fn);
 /// microseconds, and on two cores their wake-ups cost more than the whole factorisation: 300 000
 /// context switches and 5 s of a 12.9 s cloth_on_cube run (docs/benchmarks.md, issue 34). The
 /// factor's values do not depend on them. Not for use while another thread runs OpenMP code of
-/// its own (the setting is the process's). Outside any parallel region, the core's own
-/// GOMP_parallel (Parallel.cpp, bound ahead of libgomp's) runs such a region's body on the
-/// caller directly, without even libgomp's team of one, whose closing barrier made a system call
-/// per region (three per supernode).
+/// its own (the setting is the process's while any SerialOpenMp lives; the last one restores
+/// what the first found). Outside any parallel region, the core's own GOMP_parallel
+/// (Parallel.cpp, bound ahead of libgomp's) runs such a region's body on the caller directly,
+/// without even libgomp's team of one, whose closing barrier made a system call per region
+/// (three per supernode).
 class SerialOpenMp {
  public:
   SerialOpenMp();
   ~SerialOpenMp();
   SerialOpenMp(const SerialOpenMp&) = delete;
   SerialOpenMp& operator=(const SerialOpenMp&) = delete;
-
- private:
-  int m_saved = -1;  ///< the levels before, -1: no OpenMP runtime loaded
 };
+
+/// How many OpenMP parallel regions the core's GOMP_parallel has run on their caller (under a
+/// SerialOpenMp): a diagnostic, by which the tests see that CHOLMOD's calls reach it.
+long long openMpRegionsRunOnCaller();
 
 /// Whether BackgroundWork hands its parts to a background thread. Default: the
 /// BSDEFORM_BACKGROUND environment variable if it is 0 (no) or 1 (yes), else yes when this

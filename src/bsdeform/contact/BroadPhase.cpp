@@ -28,13 +28,13 @@ struct Slabbed {
 
 /// sweepWith's lists, kept with their memory from one sweep to the next on a thread (the items
 /// of a sheet's boxes are megabytes: fresh pages each time otherwise, 2 % of a contact run in
-/// page faults). `busy` while a sweep uses them: a sweep that starts on the same thread in the
+/// page faults). `inUse` while a sweep uses them: a sweep that starts on the same thread in the
 /// meantime (TBB may run another's task on a thread that waits for its parts) makes its own.
 struct SweepBuffers {
   std::vector<SweepItem> sorted;
   std::vector<size_t> next;
   Slabbed x, y;
-  bool busy = false;
+  bool inUse = false;
 };
 
 /// Sweep and prune along one axis; `b` null for one set against itself. The axis is the one whose
@@ -130,12 +130,12 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
   // Each list's items, by slab (Slabbed).
   thread_local SweepBuffers kept;
   SweepBuffers fresh;
-  SweepBuffers& buffers = kept.busy ? fresh : kept;
-  buffers.busy = true;
+  SweepBuffers& buffers = kept.inUse ? fresh : kept;
+  buffers.inUse = true;
   struct Release {
-    bool& busy;
-    ~Release() { busy = false; }
-  } release{buffers.busy};
+    bool& inUse;
+    ~Release() { inUse = false; }
+  } release{buffers.inUse};
   const auto slabbed = [&](const std::vector<Box>& set, Slabbed& out) {
     std::vector<SweepItem>& sorted = buffers.sorted;
     sorted.clear();

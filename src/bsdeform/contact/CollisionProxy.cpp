@@ -2,6 +2,7 @@
 #include "bsdeform/contact/CollisionProxy.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -109,6 +110,7 @@ void CollisionProxy::positions(const ControlNet& net, Eigen::MatrixX3d& out) con
 void CollisionProxy::positions(const ControlNet& net, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset,
                                Eigen::MatrixX3d& out) const {
   const Eigen::Index n = numVertices();
+  assert(net.rows() == m_space.netSize() && "CollisionProxy::positions: the net of the proxy's spline space");
   out.resize(n, 3);
   const double* X = net.data();  // row-major: point r at X[3 r .. 3 r + 2]
   const int* start = m_flatStart.data();

@@ -41,8 +41,11 @@ class CollisionProxy {
   void positions(const ControlNet& net, Eigen::MatrixX3d& out) const;
   /// The same vertices mapped by x ↦ linear x + offset (a surface's world frame), in one pass
   /// over flat weight arrays. The sums are taken in the order of positions() and of Eigen's
-  /// product of the n x 3 positions by linearᵀ (each coordinate from zero, the three columns in
-  /// order), so the values equal `(positions * linearᵀ).rowwise() + offsetᵀ` bit for bit.
+  /// general product of the n x 3 positions by linearᵀ (each coordinate from zero, the three
+  /// columns in order, the product added to a zeroed destination: hence 0 + t), so the values
+  /// equal `(positions * linearᵀ).rowwise() + offsetᵀ` bit for bit in this build (the core
+  /// compiled without fused multiply–adds; a build that lets Eigen fuse them rounds its product
+  /// differently).
   void positions(const ControlNet& net, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset,
                  Eigen::MatrixX3d& out) const;
   /// Net rows and weights of vertex k (zero weights left out).

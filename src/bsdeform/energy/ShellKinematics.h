@@ -7,6 +7,8 @@
 /// density, its gradient and its 15 x 15 Hessian. The law sees only the strains; the assembly
 /// loops (Shell.cpp) see only y and the gradient or Hessian. Private to the core.
 
+#include <cassert>
+
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
@@ -141,6 +143,7 @@ bool densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
   double nr[3], mr[3];
   Matrix6 D;
   law.material(r, E, curved ? kappa : nullptr, nr, mr, D);
+  assert((Law::kCoupled || D.template topRightCorner<3, 3>().isZero(0.0)) && "a law that couples E and kappa says so");
   Eigen::Map<Matrix15> H(Hout);
   // The material part's upper blocks: with B_X = [dE/dX dκ/dX] (3 x 6), H_XY = B_X D B_Yᵀ; at
   // S_i, B = −n e_{3+i}ᵀ, so H(a_X, S_j) = −(B_X D)_{:,3+j} nᵀ and H(S_i, S_j) = D_{3+i,3+j} n nᵀ.
@@ -238,10 +241,10 @@ bool densityHessian(const double* y, const RestPoint& r, const Law& law, bool be
   // symmetric to the last bit: each pair of entries to its mean, once (0.5 (a + b), as
   // 0.5 (H + Hᵀ) makes it): all of them after the eigen-decomposition, else only the diagonal
   // blocks' (the others are mirrored)
-  const auto mean = [&H](int r, int c) {
-    const double v = 0.5 * (H(r, c) + H(c, r));
-    H(r, c) = v;
-    H(c, r) = v;
+  const auto mean = [&H](int i, int k) {
+    const double v = 0.5 * (H(i, k) + H(k, i));
+    H(i, k) = v;
+    H(k, i) = v;
   };
   if (projected) {
     for (int c = 0; c < 15; ++c)
