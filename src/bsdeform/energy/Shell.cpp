@@ -407,13 +407,19 @@ bool ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
+  // each Gauss point's coefficients, the same in every element of a uniform spline
+  struct PointCoefficients {
+    double c[5][kMaxPoints * kMaxPoints];
+  };
+  std::vector<PointCoefficients> coefficients(size_t(m_qu) * m_qv);
+  for (int q1 = 0; q1 < m_qu; ++q1)
+    for (int q2 = 0; q2 < m_qv; ++q2) pointCoefficients(tb, q1, q2, coefficients[size_t(q1 * m_qv + q2)].c);
   withLaw(m_material, false, [&](const auto& law) {
     const bool project = mode != HessianMode::Exact;
     auto elements = [&](int s0, int s1) {
       // K_pq = Σ_d c[d][p] (Σ_e c[e][q] H_de) in 3 x 3 blocks, the upper blocks (q >= p) only,
       // mirrored at the end
       std::vector<double> Ke(size_t(L) * L * 9), HC(size_t(5) * L * 9);
-      double c[5][kMaxPoints * kMaxPoints];
       alignas(32) double H[225];
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
@@ -426,7 +432,7 @@ bool ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
           }
           for (int q1 = 0; q1 < m_qu; ++q1)
             for (int q2 = 0; q2 < m_qv; ++q2) {
-              pointCoefficients(tb, q1, q2, c);
+              const double(*c)[kMaxPoints * kMaxPoints] = coefficients[size_t(q1 * m_qv + q2)].c;
               double y[15] = {};
               for (int p = 0; p < L; ++p)
                 for (int m = 0; m < 5; ++m)
