@@ -26,15 +26,39 @@ struct Slabbed {
   std::vector<size_t> start;
 };
 
-/// sweepWith's lists, kept with their memory from one sweep to the next on a thread (the items
-/// of a sheet's boxes are megabytes: fresh pages each time otherwise, 2 % of a contact run in
-/// page faults). `inUse` while a sweep uses them: a sweep that starts on the same thread in the
-/// meantime (TBB may run another's task on a thread that waits for its parts) makes its own.
+/// A T kept on each thread with its memory from one search to the next (a sheet's lists are
+/// megabytes: fresh pages each time otherwise), lent to one user at a time: while a search holds
+/// it, a search that starts on the same thread (TBB may run another's task on a thread that waits
+/// for its parts) gets a T of its own.
+template <typename T>
+class ThreadKept {
+ public:
+  ThreadKept() : m_nested(inUse()) { inUse() = true; }
+  ~ThreadKept() {
+    if (!m_nested) inUse() = false;
+  }
+  ThreadKept(const ThreadKept&) = delete;
+  ThreadKept& operator=(const ThreadKept&) = delete;
+  T& get() { return m_nested ? m_own : kept(); }
+
+ private:
+  static T& kept() {
+    thread_local T value;
+    return value;
+  }
+  static bool& inUse() {
+    thread_local bool value = false;
+    return value;
+  }
+  bool m_nested;
+  T m_own;
+};
+
+/// sweepWith's lists (ThreadKept: page faults had been 2 % of a contact run).
 struct SweepBuffers {
   std::vector<SweepItem> sorted;
   std::vector<size_t> next;
   Slabbed x, y;
-  bool inUse = false;
 };
 
 /// Sweep and prune along one axis; `b` null for one set against itself. The axis is the one whose
@@ -128,14 +152,8 @@ void sweepWith(const std::vector<Box>& a, const std::vector<Box>* b, double infl
     return t >= 0.0 ? (t < slabs ? int(t) : slabs - 1) : 0;  // NaN to slab 0
   };
   // Each list's items, by slab (Slabbed).
-  thread_local SweepBuffers kept;
-  SweepBuffers fresh;
-  SweepBuffers& buffers = kept.inUse ? fresh : kept;
-  buffers.inUse = true;
-  struct Release {
-    bool& inUse;
-    ~Release() { inUse = false; }
-  } release{buffers.inUse};
+  ThreadKept<SweepBuffers> lent;
+  SweepBuffers& buffers = lent.get();
   const auto slabbed = [&](const std::vector<Box>& set, Slabbed& out) {
     std::vector<SweepItem>& sorted = buffers.sorted;
     sorted.clear();
@@ -350,21 +368,9 @@ void gatherPairs(std::vector<std::array<int, 2>>& out, Sweep&& sweep, Keep&& kee
     });
     return;
   }
-  // The caller's lists (the parts name them from their own threads). While it waits for the
-  // parts, the caller's thread may run another's task (TBB does not isolate them), and that
-  // one a search of its own: it then takes lists of its own instead.
-  thread_local std::vector<std::vector<std::array<int, 2>>> kept;
-  thread_local bool inUse = false;
-  std::vector<std::vector<std::array<int, 2>>> own;
-  const bool nested = inUse;
-  auto& lists = nested ? own : kept;
-  inUse = true;
-  struct Release {
-    bool nested;
-    ~Release() {
-      if (!nested) inUse = false;
-    }
-  } release{nested};
+  // The caller's lists (the parts name them from their own threads), kept on its thread.
+  detail::ThreadKept<std::vector<std::vector<std::array<int, 2>>>> lent;
+  auto& lists = lent.get();
   lists.resize(size_t(parts));
   for (auto& list : lists) list.clear();
   sweep(parts, [&](int part, int i, int j) {
