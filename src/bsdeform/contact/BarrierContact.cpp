@@ -978,7 +978,7 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
     loc.slot.clear();
     loc.weight.clear();
     for (Eigen::Index v = 0; v < Eigen::Index(vertices); ++v) {
-      const std::vector<CollisionProxy::Weight>& ws = proxy.netWeights(v);
+      const CollisionProxy::Weights ws = proxy.netWeights(v);
       Eigen::Index i0 = std::numeric_limits<Eigen::Index>::max(), j0 = i0;
       for (const auto& e : ws) {
         i0 = std::min(i0, e.index / cols);

@@ -33,7 +33,8 @@ CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
   const int nu1 = space.degreeU(), nv1 = space.degreeV(), cols = space.netCols();
   const int firstU = space.movingU().first, firstV = space.movingV().first, width = space.movingV().count;
   m_params.reserve(size_t(nu) * nv);
-  m_netWeights.resize(size_t(nu) * nv);
+  m_netStart.reserve(size_t(nu) * nv + 1);
+  m_netStart.push_back(0);
   m_movingWeights.resize(size_t(nu) * nv);
   LocalBasis bu, bv;
   for (int i = 0; i < nu; ++i) {
@@ -48,8 +49,9 @@ CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
         for (int b = 0; b < bv.count; ++b) {
           const double w = bu.d[0][a] * bv.d[0][b];
           if (std::abs(w) < kZeroWeight) continue;
-          m_netWeights[k].push_back({Eigen::Index(bu.first + a + nu1) * cols + (bv.first + b + nv1), w});
+          m_netWeights.push_back({Eigen::Index(bu.first + a + nu1) * cols + (bv.first + b + nv1), w});
         }
+      m_netStart.push_back(m_netWeights.size());  // vertices come in the order of k
       std::vector<Weight>& mw = m_movingWeights[k];
       forEachMovingBasis(space, bu, bv, [&](int li, int lj, double w) {
         if (std::abs(w) < kZeroWeight) return;
@@ -85,15 +87,6 @@ CollisionProxy::CollisionProxy(const SplineSpace& space, int samplesPerSpan)
       if ((i + 1 < nu || pu) && (j + 1 < nv || pv)) edges.emplace_back(vertex(i, j), vertex(i + 1, j + 1));
     }
   for (int p = 0; p <= std::max(space.degreeU(), space.degreeV()); ++p) m_bezier.push_back(bsplineToBezier(p));
-  m_flatStart.reserve(m_netWeights.size() + 1);
-  m_flatStart.push_back(0);
-  for (const std::vector<Weight>& ws : m_netWeights) {
-    for (const Weight& w : ws) {
-      m_flatIndex.push_back(int(w.index));
-      m_flatWeight.push_back(w.weight);
-    }
-    m_flatStart.push_back(int(m_flatIndex.size()));
-  }
   m_edges.resize(Eigen::Index(edges.size()), 2);
   for (size_t e = 0; e < edges.size(); ++e) m_edges.row(Eigen::Index(e)) = edges[e].transpose();
 }
@@ -102,7 +95,7 @@ void CollisionProxy::positions(const ControlNet& net, Eigen::MatrixX3d& out) con
   out.resize(numVertices(), 3);
   for (Eigen::Index k = 0; k < numVertices(); ++k) {
     Eigen::RowVector3d x = Eigen::RowVector3d::Zero();
-    for (const Weight& w : m_netWeights[size_t(k)]) x += w.weight * net.row(w.index);
+    for (const Weight& w : netWeights(k)) x += w.weight * net.row(w.index);
     out.row(k) = x;
   }
 }
@@ -113,20 +106,16 @@ void CollisionProxy::positions(const ControlNet& net, const Eigen::Matrix3d& lin
   assert(net.rows() == m_space.netSize() && "CollisionProxy::positions: the net of the proxy's spline space");
   out.resize(n, 3);
   const double* X = net.data();  // row-major: point r at X[3 r .. 3 r + 2]
-  const int* start = m_flatStart.data();
-  const int* index = m_flatIndex.data();
-  const double* weight = m_flatWeight.data();
   double* o0 = out.col(0).data();
   double* o1 = out.col(1).data();
   double* o2 = out.col(2).data();
   for (Eigen::Index k = 0; k < n; ++k) {
     double x = 0.0, y = 0.0, z = 0.0;
-    for (int e = start[k], end = start[k + 1]; e < end; ++e) {
-      const double* p = X + 3 * size_t(index[e]);
-      const double w = weight[e];
-      x += w * p[0];
-      y += w * p[1];
-      z += w * p[2];
+    for (const Weight& e : netWeights(k)) {
+      const double* p = X + 3 * size_t(e.index);
+      x += e.weight * p[0];
+      y += e.weight * p[1];
+      z += e.weight * p[2];
     }
     double* o[3] = {o0, o1, o2};
     for (int c = 0; c < 3; ++c) {

@@ -27,8 +27,17 @@ class CollisionProxy {
   /// @throws std::invalid_argument when samplesPerSpan is outside 1..16
   CollisionProxy(const SplineSpace& space, int samplesPerSpan);
 
+  /// A vertex's weights: a range over the proxy's flat list.
+  struct Weights {
+    const Weight* first;
+    const Weight* last;
+    const Weight* begin() const { return first; }
+    const Weight* end() const { return last; }
+    size_t size() const { return size_t(last - first); }
+  };
+
   int samplesPerSpan() const { return m_samples; }
-  Eigen::Index numVertices() const { return Eigen::Index(m_netWeights.size()); }
+  Eigen::Index numVertices() const { return Eigen::Index(m_netStart.size()) - 1; }
   const Eigen::MatrixX3i& triangles() const { return m_triangles; }
   const Eigen::MatrixX2i& edges() const { return m_edges; }
   /// The (u, v) of vertex k.
@@ -39,8 +48,8 @@ class CollisionProxy {
 
   /// The vertices of the surface of the full net `net`: row k = Σ weight × net row.
   void positions(const ControlNet& net, Eigen::MatrixX3d& out) const;
-  /// The same vertices mapped by x ↦ linear x + offset (a surface's world frame), in one pass
-  /// over flat weight arrays. The sums are taken in the order of positions() and of Eigen's
+  /// The same vertices mapped by x ↦ linear x + offset (a surface's world frame), in one pass.
+  /// The sums are taken in the order of positions() and of Eigen's
   /// general product of the n x 3 positions by linearᵀ (each coordinate from zero, the three
   /// columns in order, the product added to a zeroed destination: hence 0 + t), so the values
   /// equal `(positions * linearᵀ).rowwise() + offsetᵀ` bit for bit in this build (the core
@@ -49,7 +58,9 @@ class CollisionProxy {
   void positions(const ControlNet& net, const Eigen::Matrix3d& linear, const Eigen::Vector3d& offset,
                  Eigen::MatrixX3d& out) const;
   /// Net rows and weights of vertex k (zero weights left out).
-  const std::vector<Weight>& netWeights(Eigen::Index k) const { return m_netWeights[size_t(k)]; }
+  Weights netWeights(Eigen::Index k) const {
+    return {m_netWeights.data() + m_netStart[size_t(k)], m_netWeights.data() + m_netStart[size_t(k) + 1]};
+  }
   /// Adds Σ_k weight × f_k to the load of the moving points (numMoving x 3, order of
   /// SplineSpace::movingToNet): periodic copies load the point they repeat, derived points their
   /// sources (SplineSpace::foldU()); held points nothing.
@@ -65,12 +76,11 @@ class CollisionProxy {
   const SplineSpace& m_space;
   int m_samples;
   std::vector<Eigen::Vector2d> m_params;
-  std::vector<std::vector<Weight>> m_netWeights;
+  /// Every vertex's net weights, one after the other: vertex k's from m_netStart[k] to
+  /// m_netStart[k + 1] (one flat list: the positions' pass reads it in order)
+  std::vector<Weight> m_netWeights;
+  std::vector<size_t> m_netStart;
   std::vector<std::vector<Weight>> m_movingWeights;
-  /// m_netWeights flattened for the positions' pass: vertex k's are [m_flatStart[k], m_flatStart[k + 1])
-  std::vector<int> m_flatStart;
-  std::vector<int> m_flatIndex;
-  std::vector<double> m_flatWeight;
   Eigen::MatrixX3i m_triangles;
   Eigen::MatrixX2i m_edges;
   std::vector<std::pair<int, int>> m_triangleElement;
