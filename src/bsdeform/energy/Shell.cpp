@@ -126,6 +126,18 @@ void pointCoefficients(const Tables& tb, int q1, int q2, double c[5][kMaxPoints 
       for (int b = 0; b < tb.L2; ++b) c[m][a * tb.L2 + b] = tb.u(q1, kOrderU[m], a) * tb.v(q2, kOrderV[m], b);
 }
 
+/// pointCoefficients of every Gauss point of an element (q1 Q2 + q2), the same in every element
+/// of a uniform spline: made once per pass over the elements.
+struct PointCoefficients {
+  double c[5][kMaxPoints * kMaxPoints];
+};
+std::vector<PointCoefficients> elementCoefficients(const Tables& tb) {
+  std::vector<PointCoefficients> out(size_t(tb.Q1) * tb.Q2);
+  for (int q1 = 0; q1 < tb.Q1; ++q1)
+    for (int q2 = 0; q2 < tb.Q2; ++q2) pointCoefficients(tb, q1, q2, out[size_t(q1 * tb.Q2 + q2)].c);
+  return out;
+}
+
 /// Ke[p][q] += Σ_d c[d][p] Σ_e c[e][q] H_de (3 x 3 blocks, q >= p) for one Gauss point: the
 /// element tangent's inner loops (HC: scratch, 5 L 9). H column-major 15 x 15.
 template <int LC>
@@ -407,13 +419,7 @@ bool ShellEnergy::elementHessians(const ControlNet& net, HessianMode mode, bool 
   const int S1 = m_space.basisU().numSpans(), S2 = m_space.basisV().numSpans();
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
-  // each Gauss point's coefficients, the same in every element of a uniform spline
-  struct PointCoefficients {
-    double c[5][kMaxPoints * kMaxPoints];
-  };
-  std::vector<PointCoefficients> coefficients(size_t(m_qu) * m_qv);
-  for (int q1 = 0; q1 < m_qu; ++q1)
-    for (int q2 = 0; q2 < m_qv; ++q2) pointCoefficients(tb, q1, q2, coefficients[size_t(q1 * m_qv + q2)].c);
+  const std::vector<PointCoefficients> coefficients = elementCoefficients(tb);
   withLaw(m_material, false, [&](const auto& law) {
     const bool project = mode != HessianMode::Exact;
     auto elements = [&](int s0, int s1) {
@@ -499,15 +505,15 @@ double ShellEnergy::eigenvalueBound(const ControlNet& net, const Eigen::VectorXd
   const int L1 = m_space.degreeU() + 1, L2 = m_space.degreeV() + 1, L = L1 * L2, cols = m_space.netCols();
   const Tables tb{L1, L2, m_qu, m_qv, cols, m_tu.data(), m_tv.data()};
   Eigen::VectorXd rows = Eigen::VectorXd::Zero(m_space.netSize());
+  const std::vector<PointCoefficients> coefficients = elementCoefficients(tb);
   withLaw(m_material, false, [&](const auto& law) {
     forEachBlock([&](int, int s0, int s1) {
-      double c[5][kMaxPoints * kMaxPoints];
       for (int e1 = s0; e1 < s1; ++e1)
         for (int e2 = 0; e2 < S2; ++e2) {
           const RestPoint* rest = &m_points[(size_t(e1) * S2 + e2) * m_qu * m_qv];
           for (int q1 = 0; q1 < m_qu; ++q1)
             for (int q2 = 0; q2 < m_qv; ++q2) {
-              pointCoefficients(tb, q1, q2, c);
+              const double(*c)[kMaxPoints * kMaxPoints] = coefficients[size_t(q1 * m_qv + q2)].c;
               double y[15] = {};
               for (int p = 0; p < L; ++p) {
                 const Eigen::Index r = Eigen::Index(e1 + p / L2) * cols + e2 + p % L2;
