@@ -150,6 +150,7 @@ struct BarrierContactForce::State {
   std::vector<PairSite> sites;
   struct TermPart {
     std::vector<Term> terms;
+    std::vector<size_t> inside;  ///< the places of its pairs within reach (a first call: Gathered)
     double d = 0.0;
     size_t site = 0;
   };
@@ -205,6 +206,13 @@ struct BarrierContactForce::State {
     std::vector<Eigen::MatrixX3d> obstacleStarts, obstacleEnds;
     Eigen::MatrixX3d positions;
     std::vector<ContactCandidates> pairs;
+    /// The pairs of `pairs` within the barrier's reach at these positions (d² - ξ² < ŝ), in the
+    /// visiting order, as the first terms() call here found them (`withinValid`). The kept
+    /// candidates carry a skin, and most lie beyond the reach, where a term is zero: the later
+    /// calls at the same positions (the tangent after the line search's evaluation, the
+    /// potential beside the load) visit only these.
+    bool withinValid = false;
+    std::vector<PairSite> within;
   } gathered;
   /// The self pairs (sharing no vertex) within the reach of each other at rest, in the world
   /// (`rest`, as restWorld was when they were found), sorted: neighbours in the sheet, left out of
@@ -587,6 +595,7 @@ const std::vector<ContactCandidates>& BarrierContactForce::gather(const LoadCont
   }
   g.positions = st.mesh.start;
   g.pairs = pairs;
+  g.withinValid = false;
   return g.pairs;
 }
 
@@ -720,8 +729,16 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   auto active = [order](const Term& t) {
     return t.value != 0.0 || (order >= 1 && !t.grad.isZero(0.0)) || (order >= 2 && !t.hess.isZero(0.0));
   };
+  // Beyond the reach (s >= ŝ, the barrier's own test) a pair's value, gradient and Hessian are
+  // exact zeros: the first call at these positions keeps the pairs within it (State::Gathered),
+  // the later ones visit only those. The same terms in the same order, the same bits.
+  State::Gathered& g = st.gathered;
+  const bool known = g.withinValid;
+  const double offsetSquared = bp.offset * bp.offset, sHat = barrierSquaredActivation(bp);
+  auto within = [&](double d2, const Term& t) { return d2 - offsetSquared < sHat || active(t); };
   double minimum = std::numeric_limits<double>::infinity();
-  // the smallest distance (the first pair in the visiting order that has it) and where it is
+  // the smallest distance of a pair within reach (the first pair in the visiting order that has
+  // it) and where it is
   auto closest = [&](double d, size_t where, const std::array<Eigen::Index, 4>& vertex) {
     if (d < minimum) {
       minimum = d;
@@ -733,31 +750,49 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   const int threads = kernelThreads();
 
   if (threads <= 1) {
-    forEachPair(candidates, [&](const PairSite& p) {
-      closest(std::sqrt(std::max(compute(p, term), 0.0)), p.where, p.vertex);
+    auto visit = [&](const PairSite& p) {
+      const double d2 = compute(p, term);
+      if (known || within(d2, term)) {
+        if (!known) g.within.push_back(p);
+        closest(std::sqrt(std::max(d2, 0.0)), p.where, p.vertex);
+      }
       if (active(term)) fn(term);
-    });
+    };
+    if (known) {
+      for (const PairSite& p : g.within) visit(p);
+    } else {
+      g.within.clear();
+      forEachPair(candidates, visit);
+    }
   } else {
     // With kernel threads (BSDEFORM_THREADS) the pairs are computed in parts of the visiting
-    // order, each part keeping its active terms and its smallest distance, and handed to fn in
-    // that order: the same calls with the same bits for any thread count.
-    std::vector<PairSite>& sites = st.sites;
-    sites.clear();
-    forEachPair(candidates, [&](const PairSite& p) { sites.push_back(p); });
+    // order, each part keeping its active terms, the places of its pairs within reach and its
+    // smallest distance, and handed to fn in that order: the same calls with the same bits for
+    // any thread count.
+    std::vector<PairSite>& sites = known ? g.within : st.sites;
+    if (!known) {
+      sites.clear();
+      forEachPair(candidates, [&](const PairSite& p) { sites.push_back(p); });
+    }
     const int parts = int(std::min<size_t>(size_t(8 * threads), (sites.size() + 63) / 64));
     std::vector<State::TermPart>& out = st.parts;
     out.resize(size_t(std::max(parts, 0)));
     runParts(parts, [&](int k) {
       State::TermPart& part = out[size_t(k)];
       part.terms.clear();
+      part.inside.clear();
       part.d = std::numeric_limits<double>::infinity();
       const size_t begin = sites.size() * size_t(k) / size_t(parts), end = sites.size() * size_t(k + 1) / size_t(parts);
       Term t;
       for (size_t i = begin; i < end; ++i) {
-        const double d = std::sqrt(std::max(compute(sites[i], t), 0.0));
-        if (d < part.d) {
-          part.d = d;
-          part.site = i;
+        const double d2 = compute(sites[i], t);
+        if (known || within(d2, t)) {
+          if (!known) part.inside.push_back(i);
+          const double d = std::sqrt(std::max(d2, 0.0));
+          if (d < part.d) {
+            part.d = d;
+            part.site = i;
+          }
         }
         if (active(t)) part.terms.push_back(t);
       }
@@ -767,7 +802,13 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       if (std::isfinite(part.d)) closest(part.d, sites[part.site].where, sites[part.site].vertex);
       for (const Term& t : part.terms) fn(t);
     }
+    if (!known) {
+      g.within.clear();
+      for (int k = 0; k < parts; ++k)
+        for (const size_t i : out[size_t(k)].inside) g.within.push_back(sites[i]);
+    }
   }
+  g.withinValid = g.valid;
   st.minimum = minimum;
   if (!withFriction || st.friction.empty()) return;
   // friction: each frozen pair's slip r = Σ c_k (x_k - x_k(previous)) over its moving points

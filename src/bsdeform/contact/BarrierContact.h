@@ -86,7 +86,8 @@ class BarrierContactForce : public Force {
   /// Checks the deviation bound and the start's clearance, adapts κ, and freezes the friction
   /// pairs (those within the barrier's reach, with their normal forces at this state).
   std::string beginStep(const LoadContext& ctx) const override;
-  /// {κ, its cap, the last smallest distance (-1: none yet)} once κ is set; empty before.
+  /// {κ, its cap, the last smallest distance of a pair within reach (-1: none)} once κ is set;
+  /// empty before.
   std::vector<double> adaptedState() const override;
   void setAdaptedState(const std::vector<double>& state) const override;
   /// The stiffness, its cap and the last smallest distance rounded. The obstacles' poses are the
@@ -101,7 +102,8 @@ class BarrierContactForce : public Force {
   const BarrierContactParameters& parameters() const { return m_params; }
   /// The barrier stiffness κ now (adapted between steps, docs/math.md §18).
   double stiffness() const;
-  /// The smallest distance of a pair at the last evaluation (infinity when no pair is near).
+  /// The smallest distance of a pair at the last evaluation (infinity when no pair is within
+  /// the barrier's reach, offset + dhat).
   double lastMinimumDistance() const;
   /// The proxy's deviation bound at the last beginStep().
   double lastDeviationBound() const;
