@@ -150,6 +150,14 @@ struct BarrierContactForce::State {
   std::vector<PairSite> sites;
   struct TermPart {
     std::vector<Term> terms;
+    /// a term without its Hessian (calls for the value and gradient: a twelfth of the copying)
+    struct Light {
+      std::array<Eigen::Index, 4> vertex;
+      bool friction;
+      double value;
+      Eigen::Matrix<double, 12, 1> grad;
+    };
+    std::vector<Light> light;
     std::vector<size_t> inside;  ///< the places of its pairs within reach (a first call: Gathered)
     double d = 0.0;
     size_t site = 0;
@@ -780,6 +788,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     runParts(parts, [&](int k) {
       State::TermPart& part = out[size_t(k)];
       part.terms.clear();
+      part.light.clear();
       part.inside.clear();
       part.d = std::numeric_limits<double>::infinity();
       const size_t begin = sites.size() * size_t(k) / size_t(parts), end = sites.size() * size_t(k + 1) / size_t(parts);
@@ -794,13 +803,24 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
             part.site = i;
           }
         }
-        if (active(t)) part.terms.push_back(t);
+        if (!active(t)) continue;
+        if (order >= 2)
+          part.terms.push_back(t);
+        else
+          part.light.push_back({t.vertex, t.friction, t.value, t.grad});
       }
     });
     for (int k = 0; k < parts; ++k) {
       const State::TermPart& part = out[size_t(k)];
       if (std::isfinite(part.d)) closest(part.d, sites[part.site].where, sites[part.site].vertex);
       for (const Term& t : part.terms) fn(t);
+      for (const State::TermPart::Light& l : part.light) {
+        term.vertex = l.vertex;
+        term.friction = l.friction;
+        term.value = l.value;
+        term.grad = l.grad;
+        fn(term);
+      }
     }
     if (!known) {
       g.within.clear();
