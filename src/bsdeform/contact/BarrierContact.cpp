@@ -149,8 +149,8 @@ struct BarrierContactForce::State {
   /// its active terms and its smallest distance (the first pair in order that has it)
   std::vector<PairSite> sites;
   struct TermPart {
-    std::vector<Term> terms;
-    /// a term without its Hessian (calls for the value and gradient: a twelfth of the copying)
+    /// its active terms: each without its Hessian (a value-and-gradient evaluation's: a twelfth
+    /// of the copying), and the Hessian's blocks a Jacobian reads below
     struct Light {
       std::array<Eigen::Index, 4> vertex;
       bool friction;
@@ -158,6 +158,10 @@ struct BarrierContactForce::State {
       Eigen::Matrix<double, 12, 1> grad;
     };
     std::vector<Light> light;
+    /// with a Hessian (a Jacobian's calls): its 3 x 3 blocks between the pair's moving points
+    /// (vertex >= 0, the only ones addJacobian() reads), in order, from `first[k]` in `blocks`
+    std::vector<size_t> first;
+    std::vector<double> blocks;
     std::vector<size_t> inside;  ///< the places of its pairs within reach (a first call: Gathered)
     double d = 0.0;
     size_t site = 0;
@@ -787,8 +791,9 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     out.resize(size_t(std::max(parts, 0)));
     runParts(parts, [&](int k) {
       State::TermPart& part = out[size_t(k)];
-      part.terms.clear();
       part.light.clear();
+      part.first.clear();
+      part.blocks.clear();
       part.inside.clear();
       part.d = std::numeric_limits<double>::infinity();
       const size_t begin = sites.size() * size_t(k) / size_t(parts), end = sites.size() * size_t(k + 1) / size_t(parts);
@@ -804,21 +809,33 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
           }
         }
         if (!active(t)) continue;
-        if (order >= 2)
-          part.terms.push_back(t);
-        else
-          part.light.push_back({t.vertex, t.friction, t.value, t.grad});
+        part.light.push_back({t.vertex, t.friction, t.value, t.grad});
+        if (order < 2) continue;
+        part.first.push_back(part.blocks.size());
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4 && t.vertex[size_t(a)] >= 0; ++b)
+            if (t.vertex[size_t(b)] >= 0)
+              for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 3; ++c) part.blocks.push_back(t.hess(3 * a + r, 3 * b + c));
       }
     });
     for (int k = 0; k < parts; ++k) {
       const State::TermPart& part = out[size_t(k)];
       if (std::isfinite(part.d)) closest(part.d, sites[part.site].where, sites[part.site].vertex);
-      for (const Term& t : part.terms) fn(t);
-      for (const State::TermPart::Light& l : part.light) {
+      for (size_t i = 0; i < part.light.size(); ++i) {
+        const State::TermPart::Light& l = part.light[i];
         term.vertex = l.vertex;
         term.friction = l.friction;
         term.value = l.value;
         term.grad = l.grad;
+        if (order >= 2) {
+          const double* h = part.blocks.data() + part.first[i];
+          for (int a = 0; a < 4; ++a)
+            for (int b = 0; b < 4 && l.vertex[size_t(a)] >= 0; ++b)
+              if (l.vertex[size_t(b)] >= 0)
+                for (int r = 0; r < 3; ++r)
+                  for (int c = 0; c < 3; ++c) term.hess(3 * a + r, 3 * b + c) = *h++;
+        }
         fn(term);
       }
     }

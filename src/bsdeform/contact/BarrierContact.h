@@ -151,7 +151,9 @@ class BarrierContactForce : public Force {
   void selfCandidatesApartAtRest(const ContactMesh& mesh, double inflation, ContactCandidates& out) const;
   /// fn(term) for every pair within reach at ctx.current, with derivatives up to `order`; then,
   /// when `withFriction`, for every frozen friction pair. `projected`: each barrier pair's
-  /// Hessian projected to positive semidefinite (its moving points' block).
+  /// Hessian projected to positive semidefinite (its moving points' block). Of a Hessian only
+  /// the blocks between the term's moving points (vertex >= 0) are given: on kernel threads the
+  /// others are not set.
   void terms(const LoadContext& ctx, int order, const std::function<void(const Term&)>& fn,
              bool withFriction = true, bool projected = false) const;
   /// Freezes the friction pairs at ctx.current (beginStep()).
