@@ -145,9 +145,8 @@ struct BarrierContactForce::State {
     std::vector<int> slot;
     std::vector<double> weight;
   } locals;
-  /// terms()'s scratch with kernel threads: the pairs in visiting order, and per part of them
-  /// its active terms and its smallest distance (the first pair in order that has it)
-  std::vector<PairSite> sites;
+  /// terms()'s scratch with kernel threads: per part of the pairs in visiting order its active
+  /// terms and its smallest distance within reach (the first pair in order that has it)
   struct TermPart {
     /// its active terms: each without its Hessian (a value-and-gradient evaluation's: a twelfth
     /// of the copying), and the Hessian's blocks a Jacobian reads below
@@ -162,9 +161,10 @@ struct BarrierContactForce::State {
     /// (vertex >= 0, the only ones addJacobian() reads), in order, from `first[k]` in `blocks`
     std::vector<size_t> first;
     std::vector<double> blocks;
-    std::vector<size_t> inside;  ///< the places of its pairs within reach (a first call: Gathered)
+    std::vector<PairSite> inside;  ///< its pairs within reach (a first call's: Gathered)
     double d = 0.0;
-    size_t site = 0;
+    size_t where = 0;
+    std::array<Eigen::Index, 4> vertex{};
   };
   std::vector<TermPart> parts;
   /// addJacobian()'s sums per pair of elements (first net points a, b): L x L blocks, row-major
@@ -628,13 +628,22 @@ struct BarrierContactForce::PairSite {
 };
 
 template <typename Visit>
-void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit) const {
+void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit, size_t begin,
+                                      size_t end) const {
   const State& st = *m_state;
   const Eigen::MatrixX3d& V = st.mesh.start;
   const Eigen::MatrixX3i& T = st.mesh.triangles;
   const Eigen::MatrixX2i& E = st.mesh.edges;
   auto row = [](const Eigen::MatrixX3d& M, Eigen::Index i) { return Eigen::Vector3d(M.row(i).transpose()); };
   PairSite site;
+  size_t at = 0;  // the place of the list's first pair in the visiting order
+  // the places [lo, hi) of a list of n pairs that fall in [begin, end)
+  auto range = [&](size_t n, size_t& lo, size_t& hi) {
+    lo = std::min(n, begin > at ? begin - at : size_t(0));
+    hi = std::min(n, end > at ? end - at : size_t(0));
+    at += n;
+  };
+  size_t lo = 0, hi = 0;
   for (size_t o = 0; o <= st.obstacles.size(); ++o) {
     const ContactCandidates& c = candidates[o];
     const bool self = o == st.obstacles.size();
@@ -645,7 +654,9 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
     site.self = self;
     site.threshold = 0.0;
     site.kind = PairSite::VertexTriangle;
-    for (const auto& [v, t] : c.vertexTriangle) {
+    range(c.vertexTriangle.size(), lo, hi);
+    for (size_t k = lo; k < hi; ++k) {
+      const auto& [v, t] = c.vertexTriangle[k];
       const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
       site.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
       site.index = {v, tri[0], tri[1], tri[2]};
@@ -654,7 +665,9 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
       visit(site);
     }
     site.kind = PairSite::TriangleVertex;
-    for (const auto& [t, v] : c.triangleVertex) {  // an obstacle's vertex and a proxy triangle
+    range(c.triangleVertex.size(), lo, hi);
+    for (size_t k = lo; k < hi; ++k) {  // an obstacle's vertex and a proxy triangle
+      const auto& [t, v] = c.triangleVertex[k];
       const Eigen::Vector3i tri = T.row(t).transpose();
       site.vertex = {-1, tri[0], tri[1], tri[2]};
       site.index = {v, tri[0], tri[1], tri[2]};
@@ -663,7 +676,9 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
       visit(site);
     }
     site.kind = PairSite::EdgeEdge;
-    for (const auto& [ea, eb] : c.edgeEdge) {
+    range(c.edgeEdge.size(), lo, hi);
+    for (size_t k = lo; k < hi; ++k) {
+      const auto& [ea, eb] = c.edgeEdge[k];
       const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
       const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
       site.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
@@ -781,12 +796,14 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     // order, each part keeping its active terms, the places of its pairs within reach and its
     // smallest distance, and handed to fn in that order: the same calls with the same bits for
     // any thread count.
-    std::vector<PairSite>& sites = known ? g.within : st.sites;
+    // (a first call's parts walk the candidate lists themselves: no list of every pair is made)
+    size_t count = g.within.size();
     if (!known) {
-      sites.clear();
-      forEachPair(candidates, [&](const PairSite& p) { sites.push_back(p); });
+      count = 0;
+      for (const ContactCandidates& c : candidates)
+        count += c.vertexTriangle.size() + c.triangleVertex.size() + c.edgeEdge.size();
     }
-    const int parts = int(std::min<size_t>(size_t(8 * threads), (sites.size() + 63) / 64));
+    const int parts = int(std::min<size_t>(size_t(8 * threads), (count + 63) / 64));
     std::vector<State::TermPart>& out = st.parts;
     out.resize(size_t(std::max(parts, 0)));
     runParts(parts, [&](int k) {
@@ -796,32 +813,38 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       part.blocks.clear();
       part.inside.clear();
       part.d = std::numeric_limits<double>::infinity();
-      const size_t begin = sites.size() * size_t(k) / size_t(parts), end = sites.size() * size_t(k + 1) / size_t(parts);
+      const size_t begin = count * size_t(k) / size_t(parts), end = count * size_t(k + 1) / size_t(parts);
       Term t;
-      for (size_t i = begin; i < end; ++i) {
-        const double d2 = compute(sites[i], t);
+      auto visit = [&](const PairSite& p) {
+        const double d2 = compute(p, t);
         if (known || within(d2, t)) {
-          if (!known) part.inside.push_back(i);
+          if (!known) part.inside.push_back(p);
           const double d = std::sqrt(std::max(d2, 0.0));
           if (d < part.d) {
             part.d = d;
-            part.site = i;
+            part.where = p.where;
+            part.vertex = p.vertex;
           }
         }
-        if (!active(t)) continue;
+        if (!active(t)) return;
         part.light.push_back({t.vertex, t.friction, t.value, t.grad});
-        if (order < 2) continue;
+        if (order < 2) return;
         part.first.push_back(part.blocks.size());
         for (int a = 0; a < 4; ++a)
           for (int b = 0; b < 4 && t.vertex[size_t(a)] >= 0; ++b)
             if (t.vertex[size_t(b)] >= 0)
               for (int r = 0; r < 3; ++r)
                 for (int c = 0; c < 3; ++c) part.blocks.push_back(t.hess(3 * a + r, 3 * b + c));
+      };
+      if (known) {
+        for (size_t i = begin; i < end; ++i) visit(g.within[i]);
+      } else {
+        forEachPair(candidates, visit, begin, end);
       }
     });
     for (int k = 0; k < parts; ++k) {
       const State::TermPart& part = out[size_t(k)];
-      if (std::isfinite(part.d)) closest(part.d, sites[part.site].where, sites[part.site].vertex);
+      if (std::isfinite(part.d)) closest(part.d, part.where, part.vertex);
       for (size_t i = 0; i < part.light.size(); ++i) {
         const State::TermPart::Light& l = part.light[i];
         term.vertex = l.vertex;
@@ -842,7 +865,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     if (!known) {
       g.within.clear();
       for (int k = 0; k < parts; ++k)
-        for (const size_t i : out[size_t(k)].inside) g.within.push_back(sites[i]);
+        g.within.insert(g.within.end(), out[size_t(k)].inside.begin(), out[size_t(k)].inside.end());
     }
   }
   g.withinValid = g.valid;

@@ -12,6 +12,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -162,8 +163,10 @@ class BarrierContactForce : public Force {
   struct PairSite;
   /// visit(site) for every pair of `candidates` (gather()), obstacle by obstacle and the self
   /// pairs last, in each: vertex–triangle, triangle–vertex, edge–edge. The one loop both walk.
+  /// Only the pairs at places [begin, end) of that order (a part of them, on a kernel thread).
   template <typename Visit>
-  void forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit) const;
+  void forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit, size_t begin = 0,
+                   size_t end = std::numeric_limits<size_t>::max()) const;
   std::shared_ptr<const ContactWorld> m_world;
   BarrierContactParameters m_params;
   std::shared_ptr<State> m_state;  // mutable: the proxy, κ, caches (the force is const in a step)
