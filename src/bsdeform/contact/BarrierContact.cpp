@@ -793,10 +793,10 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     }
   } else {
     // With kernel threads (BSDEFORM_THREADS) the pairs are computed in parts of the visiting
-    // order, each part keeping its active terms, the places of its pairs within reach and its
-    // smallest distance, and handed to fn in that order: the same calls with the same bits for
-    // any thread count.
-    // (a first call's parts walk the candidate lists themselves: no list of every pair is made)
+    // order, each part keeping its active terms, its pairs within reach and its smallest
+    // distance, and handed to fn in that order: the same calls with the same bits for any thread
+    // count. (A first call's parts walk the candidate lists themselves: no list of every pair is
+    // made.)
     size_t count = g.within.size();
     if (!known) {
       count = 0;
