@@ -83,7 +83,7 @@ std::vector<FieldInfo> makeTable() {
       {S, "previousNet", "Control net one sub-step earlier (state); empty: controlNet.", "length", "P(t - Δt)", "", 0, 0, 0, false, true},
       {S, "simulationTime", "Simulated time of controlNet.", "s", "t", ">= 0", 0, kOpen, 0, false, true},
       {S, "stepCount", "Steps taken since rest.", "", "", ">= 0", 0, 2147483647, 0, false, true},
-      {S, "forceState", "What the forces adapt between steps (state, written with the nets so that a resumed run takes the same steps): per force its count of values, then the values (COLLISION BARRIER: its stiffness κ, κ's cap, the last smallest distance of a pair within its reach thickness + dhat or -1, then where it last saw each obstacle: their count, and per obstacle its vertex count and coordinates); empty: as made.", "", "", "", 0, 0, 0, false, true},
+      {S, "forceState", "What the forces adapt between steps (state, written with the nets so that a resumed run takes the same steps): per force its count of values, then the values (COLLISION BARRIER: its stiffness κ, κ's cap, the last smallest distance of a pair within its reach (thickness + dhat), or -1 when none, then where it last saw each obstacle: their count, and per obstacle its vertex count and coordinates); empty: as made.", "", "", "", 0, 0, 0, false, true},
       {S, "forces", "SoForceField engines acting on the surface.", "", "f", "", 0, 0, 0, false, false},
 
       {F, "type", "The kind of force; each type reads only some of the fields below.", "", "", "UNIFORM, POINT, REGION, EXPRESSION, GRAVITY, SPRING, DRAG, PRESSURE, PLANE_COLLISION, SPHERE_COLLISION, COLLISION", 0, 0, 0, false, false},

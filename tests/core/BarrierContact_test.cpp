@@ -861,18 +861,19 @@ TEST_CASE("BarrierContactForce: its terms are the same bits on one kernel thread
   CHECK(sameBlocks(one.jacobian, two.jacobian));
 }
 
-TEST_CASE("BarrierContactForce: a Jacobian after a load at the same nets visits the pairs the load found within "
-          "reach and is the same bits as one made first there",
+TEST_CASE("BarrierContactForce: a Jacobian after an evaluation at the same nets visits only the pairs that one "
+          "found within reach and is the same bits as one made first there",
           "[core][contact]") {
   // The first evaluation at a net keeps the candidates within the barrier's reach (offset + d̂);
   // later ones at the same net visit only those. A sheet tilted over the plate, so that some of its
-  // candidates are within reach and some beyond, self-contact on, with friction.
+  // candidates are within reach and some beyond, self-contact on. Both forces start their step at
+  // `net`; the reference's Jacobian is its first evaluation at `moved`.
   ThreadSettingsGuard guard;
   const SplineSpace s(3, 3, 6, 6, Boundaries{Boundary::Free, Boundary::Free, Boundary::Free, Boundary::Free});
   ControlNet net = s.grevillePlane();
   for (Eigen::Index r = 0; r < net.rows(); ++r) net(r, 2) = 0.0058 + 0.006 * net(r, 0) + 0.0003 * std::sin(9.0 * net(r, 1));
   const TriangleMesh plate = plateUnder();
-  setKernelThreads(2);
+  setKernelThreads(2);  // before the obstacle's Embree device (which takes the kernels' count)
   auto world = worldOf(plate);
   BarrierContactParameters bp = selfContactParameters(0.005, 0.002);
   bp.friction = 0.3;
@@ -882,29 +883,42 @@ TEST_CASE("BarrierContactForce: a Jacobian after a load at the same nets visits 
   ControlNet moved = net;
   moved.col(0).array() += 0.0004;  // a slip for the friction
   const LoadContext ctx{s, moved, net, 0.02, 0.0};
-  const BarrierContactForce loadedFirst(world, bp), jacobianFirst(world, bp);
-  REQUIRE(loadedFirst.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
-  REQUIRE(jacobianFirst.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
-  ControlNet load = ControlNet::Zero(s.numMoving(), 3);
-  loadedFirst.addLoad(ctx, load);
-  REQUIRE(load.cwiseAbs().maxCoeff() > 0.0);
+  const BarrierContactForce evaluatedFirst(world, bp), reference(world, bp);
+  REQUIRE(evaluatedFirst.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+  REQUIRE(reference.beginStep(LoadContext{s, net, net, 0.02, 0.0}).empty());
+  // the value alone first (the kept list then comes from a call without derivatives)
+  double phi = 0.0;
+  const long before = evaluatedFirst.costs().pairsComputed;
+  REQUIRE(evaluatedFirst.potential(ctx, phi));
+  REQUIRE(phi > 0.0);
+  const long all = evaluatedFirst.costs().pairsComputed - before;
   RecordedBlocks kept, fresh;
-  loadedFirst.addJacobian(ctx, 50.0, kept);
-  jacobianFirst.addJacobian(ctx, 50.0, fresh);
+  evaluatedFirst.addJacobian(ctx, 50.0, kept);
+  const long within = evaluatedFirst.costs().pairsComputed - before - all;
+  const long referenceBefore = reference.costs().pairsComputed;
+  reference.addJacobian(ctx, 50.0, fresh);
   REQUIRE(fresh.calls.size() > 10);
   CHECK(sameBlocks(kept, fresh));
+  // the reference computed every candidate at `moved` (its kept list from `net` was dropped), the
+  // Jacobian after the potential only those within reach
+  CHECK(reference.costs().pairsComputed - referenceBefore == all);
+  CHECK(within > 0);
+  CHECK(within < all);
   // the smallest distance is a pair's within reach: the sheet's low side, about 5.8 mm up
-  CHECK(loadedFirst.lastMinimumDistance() == jacobianFirst.lastMinimumDistance());
-  CHECK(loadedFirst.lastMinimumDistance() < bp.offset + bp.dhat);
-  // lifted beyond the reach everywhere: no pair within it, no term, no smallest distance
+  CHECK(evaluatedFirst.lastMinimumDistance() == reference.lastMinimumDistance());
+  CHECK(evaluatedFirst.lastMinimumDistance() < bp.offset + bp.dhat);
+  // lifted beyond the reach everywhere: no pair within it, no term, no smallest distance (-1 in
+  // the adapted state)
   ControlNet high = net;
   high.col(2).array() += 0.02;
   const BarrierContactForce above(world, bp);
   REQUIRE(above.beginStep(LoadContext{s, high, high, 0.02, 0.0}).empty());
-  double phi = -1.0;
-  REQUIRE(above.potential(LoadContext{s, high, high, 0.02, 0.0}, phi));
-  CHECK(phi == 0.0);
+  double none = -1.0;
+  REQUIRE(above.potential(LoadContext{s, high, high, 0.02, 0.0}, none));
+  CHECK(none == 0.0);
   CHECK(above.lastMinimumDistance() == std::numeric_limits<double>::infinity());
+  REQUIRE(above.adaptedState().size() >= 3);
+  CHECK(above.adaptedState()[2] == -1.0);
 }
 
 TEST_CASE("BarrierContactForce: its potential after a load at the same nets is the load's terms summed, the same "

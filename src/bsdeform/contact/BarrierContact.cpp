@@ -148,8 +148,8 @@ struct BarrierContactForce::State {
   /// terms()'s scratch with kernel threads: per part of the pairs in visiting order its active
   /// terms and its smallest distance within reach (the first pair in order that has it)
   struct TermPart {
-    /// its active terms: each without its Hessian (a value-and-gradient evaluation's: a twelfth
-    /// of the copying), and the Hessian's blocks a Jacobian reads below
+    /// its active terms: each without its Hessian, and for a Jacobian the Hessian's blocks that
+    /// addJacobian() reads (between the pair's moving points)
     struct Light {
       std::array<Eigen::Index, 4> vertex;
       bool friction;
@@ -157,9 +157,9 @@ struct BarrierContactForce::State {
       Eigen::Matrix<double, 12, 1> grad;
     };
     std::vector<Light> light;
-    /// with a Hessian (a Jacobian's calls): its 3 x 3 blocks between the pair's moving points
-    /// (vertex >= 0, the only ones addJacobian() reads), in order, from `first[k]` in `blocks`
-    std::vector<size_t> first;
+    /// a Jacobian's: the k-th active term's 3 x 3 blocks between its moving points (vertex >= 0),
+    /// in order, from `blockStart[k]` in `blocks`
+    std::vector<size_t> blockStart;
     std::vector<double> blocks;
     std::vector<PairSite> inside;  ///< its pairs within reach (a first call's: Gathered)
     double d = 0.0;
@@ -627,6 +627,17 @@ struct BarrierContactForce::PairSite {
   double threshold;
 };
 
+namespace {
+/// fn(a, b) for the 3 x 3 blocks of a pair's 12 x 12 Hessian between its moving points (vertex
+/// >= 0; an obstacle's are -1), row by row: the blocks addJacobian() reads.
+template <typename Fn>
+void forMovingBlocks(const std::array<Eigen::Index, 4>& vertex, Fn&& fn) {
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4 && vertex[size_t(a)] >= 0; ++b)
+      if (vertex[size_t(b)] >= 0) fn(a, b);
+}
+}  // namespace
+
 template <typename Visit>
 void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit, size_t begin,
                                       size_t end) const {
@@ -655,8 +666,8 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
     site.threshold = 0.0;
     site.kind = PairSite::VertexTriangle;
     range(c.vertexTriangle.size(), lo, hi);
-    for (size_t k = lo; k < hi; ++k) {
-      const auto& [v, t] = c.vertexTriangle[k];
+    for (size_t n = lo; n < hi; ++n) {
+      const auto& [v, t] = c.vertexTriangle[n];
       const Eigen::Vector3i tri = ob->triangles.row(t).transpose();
       site.vertex = {v, self ? tri[0] : -1, self ? tri[1] : -1, self ? tri[2] : -1};
       site.index = {v, tri[0], tri[1], tri[2]};
@@ -666,8 +677,8 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
     }
     site.kind = PairSite::TriangleVertex;
     range(c.triangleVertex.size(), lo, hi);
-    for (size_t k = lo; k < hi; ++k) {  // an obstacle's vertex and a proxy triangle
-      const auto& [t, v] = c.triangleVertex[k];
+    for (size_t n = lo; n < hi; ++n) {  // an obstacle's vertex and a proxy triangle
+      const auto& [t, v] = c.triangleVertex[n];
       const Eigen::Vector3i tri = T.row(t).transpose();
       site.vertex = {-1, tri[0], tri[1], tri[2]};
       site.index = {v, tri[0], tri[1], tri[2]};
@@ -677,8 +688,8 @@ void BarrierContactForce::forEachPair(const std::vector<ContactCandidates>& cand
     }
     site.kind = PairSite::EdgeEdge;
     range(c.edgeEdge.size(), lo, hi);
-    for (size_t k = lo; k < hi; ++k) {
-      const auto& [ea, eb] = c.edgeEdge[k];
+    for (size_t n = lo; n < hi; ++n) {
+      const auto& [ea, eb] = c.edgeEdge[n];
       const Eigen::Index a0 = E(ea, 0), a1 = E(ea, 1);
       const Eigen::Index b0 = ob->edges(eb, 0), b1 = ob->edges(eb, 1);
       site.vertex = {a0, a1, self ? b0 : -1, self ? b1 : -1};
@@ -760,9 +771,9 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   // exact zeros: the first call at these positions keeps the pairs within it (State::Gathered),
   // the later ones visit only those. The same terms in the same order, the same bits.
   State::Gathered& g = st.gathered;
-  const bool known = g.withinValid;
+  const bool reuse = g.withinValid;
   const double offsetSquared = bp.offset * bp.offset, sHat = barrierSquaredActivation(bp);
-  auto within = [&](double d2, const Term& t) { return d2 - offsetSquared < sHat || active(t); };
+  auto withinReach = [&](double d2, const Term& t) { return d2 - offsetSquared < sHat || active(t); };
   double minimum = std::numeric_limits<double>::infinity();
   // the smallest distance of a pair within reach (the first pair in the visiting order that has
   // it) and where it is
@@ -779,13 +790,14 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   if (threads <= 1) {
     auto visit = [&](const PairSite& p) {
       const double d2 = compute(p, term);
-      if (known || within(d2, term)) {
-        if (!known) g.within.push_back(p);
+      ++st.costs.pairsComputed;
+      if (reuse || withinReach(d2, term)) {
+        if (!reuse) g.within.push_back(p);
         closest(std::sqrt(std::max(d2, 0.0)), p.where, p.vertex);
       }
       if (active(term)) fn(term);
     };
-    if (known) {
+    if (reuse) {
       for (const PairSite& p : g.within) visit(p);
     } else {
       g.within.clear();
@@ -795,10 +807,9 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     // With kernel threads (BSDEFORM_THREADS) the pairs are computed in parts of the visiting
     // order, each part keeping its active terms, its pairs within reach and its smallest
     // distance, and handed to fn in that order: the same calls with the same bits for any thread
-    // count. (A first call's parts walk the candidate lists themselves: no list of every pair is
-    // made.)
+    // count. (A first call's parts walk the candidate lists themselves.)
     size_t count = g.within.size();
-    if (!known) {
+    if (!reuse) {
       count = 0;
       for (const ContactCandidates& c : candidates)
         count += c.vertexTriangle.size() + c.triangleVertex.size() + c.edgeEdge.size();
@@ -809,7 +820,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
     runParts(parts, [&](int k) {
       State::TermPart& part = out[size_t(k)];
       part.light.clear();
-      part.first.clear();
+      part.blockStart.clear();
       part.blocks.clear();
       part.inside.clear();
       part.d = std::numeric_limits<double>::infinity();
@@ -817,8 +828,8 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       Term t;
       auto visit = [&](const PairSite& p) {
         const double d2 = compute(p, t);
-        if (known || within(d2, t)) {
-          if (!known) part.inside.push_back(p);
+        if (reuse || withinReach(d2, t)) {
+          if (!reuse) part.inside.push_back(p);
           const double d = std::sqrt(std::max(d2, 0.0));
           if (d < part.d) {
             part.d = d;
@@ -827,21 +838,21 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
           }
         }
         if (!active(t)) return;
-        part.light.push_back({t.vertex, t.friction, t.value, t.grad});
+        part.light.push_back({t.vertex, t.friction, t.value, order >= 1 ? t.grad : Vector12d::Zero().eval()});
         if (order < 2) return;
-        part.first.push_back(part.blocks.size());
-        for (int a = 0; a < 4; ++a)
-          for (int b = 0; b < 4 && t.vertex[size_t(a)] >= 0; ++b)
-            if (t.vertex[size_t(b)] >= 0)
-              for (int r = 0; r < 3; ++r)
-                for (int c = 0; c < 3; ++c) part.blocks.push_back(t.hess(3 * a + r, 3 * b + c));
+        part.blockStart.push_back(part.blocks.size());
+        forMovingBlocks(t.vertex, [&](int a, int b) {
+          for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) part.blocks.push_back(t.hess(3 * a + r, 3 * b + c));
+        });
       };
-      if (known) {
+      if (reuse) {
         for (size_t i = begin; i < end; ++i) visit(g.within[i]);
       } else {
         forEachPair(candidates, visit, begin, end);
       }
     });
+    st.costs.pairsComputed += long(count);
     for (int k = 0; k < parts; ++k) {
       const State::TermPart& part = out[size_t(k)];
       if (std::isfinite(part.d)) closest(part.d, part.where, part.vertex);
@@ -852,17 +863,16 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
         term.value = l.value;
         term.grad = l.grad;
         if (order >= 2) {
-          const double* h = part.blocks.data() + part.first[i];
-          for (int a = 0; a < 4; ++a)
-            for (int b = 0; b < 4 && l.vertex[size_t(a)] >= 0; ++b)
-              if (l.vertex[size_t(b)] >= 0)
-                for (int r = 0; r < 3; ++r)
-                  for (int c = 0; c < 3; ++c) term.hess(3 * a + r, 3 * b + c) = *h++;
+          const double* h = part.blocks.data() + part.blockStart[i];
+          forMovingBlocks(l.vertex, [&](int a, int b) {
+            for (int r = 0; r < 3; ++r)
+              for (int c = 0; c < 3; ++c) term.hess(3 * a + r, 3 * b + c) = *h++;
+          });
         }
         fn(term);
       }
     }
-    if (!known) {
+    if (!reuse) {
       g.within.clear();
       for (int k = 0; k < parts; ++k)
         g.within.insert(g.within.end(), out[size_t(k)].inside.begin(), out[size_t(k)].inside.end());
@@ -1026,13 +1036,9 @@ void BarrierContactForce::addJacobian(const LoadContext& ctx, double velocitySca
     // every block between the pair's moving points, those coupling the two primitives of a
     // self-contact pair too (points of no common element: the tangent's pattern takes them in,
     // TangentMatrix::settlePattern)
-    for (int a = 0; a < 4; ++a) {
-      if (t.vertex[size_t(a)] < 0) continue;
-      for (int b = 0; b < 4; ++b) {
-        if (t.vertex[size_t(b)] < 0) continue;
-        blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
-      }
-    }
+    forMovingBlocks(t.vertex, [&](int a, int b) {
+      blocks.push_back({t.vertex[size_t(a)], t.vertex[size_t(b)], scale * t.hess.block<3, 3>(3 * a, 3 * b)});
+    });
   }, /*withFriction=*/true, /*projected=*/m_params.projectHessian && sink.wantsDefinite);
   if (blocks.empty()) return;
   State& st = *m_state;
