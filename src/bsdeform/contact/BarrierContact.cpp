@@ -152,7 +152,6 @@ struct BarrierContactForce::State {
     /// addJacobian() reads (between the pair's moving points)
     struct Light {
       std::array<Eigen::Index, 4> vertex;
-      bool friction;
       double value;
       Eigen::Matrix<double, 12, 1> grad;
     };
@@ -838,7 +837,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
           }
         }
         if (!active(t)) return;
-        part.light.push_back({t.vertex, t.friction, t.value, order >= 1 ? t.grad : Vector12d::Zero().eval()});
+        part.light.push_back({t.vertex, t.value, order >= 1 ? t.grad : Vector12d::Zero().eval()});
         if (order < 2) return;
         part.blockStart.push_back(part.blocks.size());
         forMovingBlocks(t.vertex, [&](int a, int b) {
@@ -859,7 +858,7 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
       for (size_t i = 0; i < part.light.size(); ++i) {
         const State::TermPart::Light& l = part.light[i];
         term.vertex = l.vertex;
-        term.friction = l.friction;
+        term.friction = false;  // a barrier pair's (friction's come below)
         term.value = l.value;
         term.grad = l.grad;
         if (order >= 2) {
@@ -933,7 +932,7 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
     return row(sweep, i);
   };
   FrictionPair f;
-  forEachPair(candidates, [&](const PairSite& p) {
+  auto visit = [&](const PairSite& p) {
     const std::array<Eigen::Index, 4>& i = p.index;
     switch (p.kind) {
       case PairSite::VertexTriangle:
@@ -966,7 +965,14 @@ void BarrierContactForce::freezeFriction(const LoadContext& ctx) const {
       }
     }
     st.friction.push_back(f);
-  });
+  };
+  // beginStep()'s evaluation at this net kept the pairs within reach, in the visiting order: the
+  // only ones that can have friction (the same distances, the same test below)
+  if (st.gathered.withinValid) {
+    for (const PairSite& p : st.gathered.within) visit(p);
+  } else {
+    forEachPair(candidates, visit);
+  }
 }
 
 bool BarrierContactForce::potential(const LoadContext& ctx, double& value) const {
