@@ -144,6 +144,64 @@ TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergen
   CHECK((full - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
 }
 
+TEST_CASE("NewtonMinimizer: near the minimum the kept factorisation's direction confirms the step and a longer one is dropped", "[newton]") {
+  // f' = a d + b d³ per coordinate: from d = 10⁻³ one Newton step leaves about b d³ / a; the
+  // step factorised there solves the next direction below half the tolerance (one factorisation
+  // for the whole minimisation, where every iteration factorised before)
+  Quartic q(30);
+  for (Eigen::Index i = 0; i < q.c.rows(); ++i)
+    for (int k = 0; k < 3; ++k) q.c(i, k) = std::cos(0.5 + 3.0 * double(i) + k);
+  NewtonMinimizer::Problem problem = q.problem();
+  std::vector<ControlNet> points;  // every point evaluated, in order
+  const auto evaluate = problem.evaluate;
+  problem.evaluate = [&](const ControlNet& x, NewtonPoint& pt) {
+    points.push_back(x);
+    evaluate(x, pt);
+  };
+  NewtonMinimizer::Options o;
+  o.updateTolerance = 1e-5;
+  o.chordSteps = false;
+  auto run = [&](bool keep, const ControlNet& start, ControlNet& x, std::vector<ControlNet>& seen) {
+    points.clear();
+    x = start;
+    NewtonPoint cur;
+    problem.evaluate(x, cur);
+    o.keptFactorNearMinimum = keep;
+    NewtonMinimizer m;
+    const auto out = m.minimize(x, cur, problem, o);
+    seen = points;
+    return out;
+  };
+  ControlNet x;
+  std::vector<ControlNet> full, kept;
+  SECTION("a start near the minimum") {
+    const ControlNet start = q.c + ControlNet::Constant(30, 3, 1e-3);
+    const auto a = run(false, start, x, full);
+    const auto b = run(true, start, x, kept);
+    REQUIRE(a.converged);
+    REQUIRE(b.converged);
+    CHECK(a.iterations == 2);
+    CHECK(a.factorisations == 2);
+    CHECK(b.iterations == 2);
+    CHECK(b.factorisations == 1);
+    CHECK((x - q.c).cwiseAbs().maxCoeff() < 1e-12);
+  }
+  SECTION("a start far from it: the directions above half the tolerance are dropped, Newton's iterates kept") {
+    const ControlNet start = ControlNet::Zero(30, 3);
+    const auto a = run(false, start, x, full);
+    const auto b = run(true, start, x, kept);
+    REQUIRE(a.converged);
+    REQUIRE(b.converged);
+    REQUIRE(a.iterations >= 4);
+    CHECK(b.iterations == a.iterations);
+    CHECK(b.factorisations == a.factorisations - 1);
+    // every point up to the last iteration's is Newton's own, bit for bit
+    REQUIRE(kept.size() == full.size());
+    for (size_t i = 0; i + 1 < kept.size(); ++i) CHECK((kept[i] - full[i]).cwiseAbs().maxCoeff() == 0.0);
+    CHECK((x - q.c).cwiseAbs().maxCoeff() < 0.5 * o.updateTolerance);
+  }
+}
+
 TEST_CASE("NewtonMinimizer: L-BFGS on its own start factorises once whether chord steps are on or off", "[newton]") {
   // with a barrier backward Euler turns chord steps off; L-BFGS there starts from the first
   // iterate's tangent, factorised once, whatever keptFactorNearMinimum says

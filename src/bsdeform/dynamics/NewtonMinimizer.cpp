@@ -32,8 +32,8 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
   NewtonPoint trial;
   bool refactor = true;  // every minimize() starts with a factorisation of its own
   double lastUpdate = 0.0;
-  // the last two updates when both were full steps on a factorisation of their own (else 0)
-  double lastFull = 0.0, fullBefore = 0.0;
+  // the last update when it was a full step on an exact factorisation of its own (else 0)
+  double lastFull = 0.0;
   bool smallBefore = false;  // quasi-Newton: the last step was below the update tolerance
   double remembered = 0.0;  // the last extra shift that made a factorisation (rememberShift)
   bool exactFactor = false;  // the last factorisation was the exact tangent with the step's own shift
@@ -126,10 +126,25 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // a factorisation made for this iteration (quasi-Newton on its own start: only the first,
     // and again after a failed search)
     const double updateTolerance = problem.updateTolerance ? problem.updateTolerance(x) : options.updateTolerance;
-    const bool nearMinimum = options.keptFactorNearMinimum && !refactor && fullBefore > 0.0 &&
-                             lastFull * lastFull * lastFull <= 0.5 * updateTolerance * fullBefore * fullBefore;
-    const bool fresh = qn ? ownStart && refactor : refactor || (!options.chordSteps && !nearMinimum);
     const bool learnt = qn && !pairS.empty();
+    // Newton's direction on the factorisation at hand
+    auto solveStep = [&]() {
+      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
+      const Eigen::VectorXd d = m_solver->solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
+      return ControlNet(Eigen::Map<const ControlNet>(d.data(), n, 3));
+    };
+    bool fresh = qn ? ownStart && refactor : refactor || !options.chordSteps;
+    ControlNet step;
+    bool solved = false;
+    // keptFactorNearMinimum: after a full step on a fresh exact factorisation, that
+    // factorisation's direction here (one solve) is the step when it is below half the tolerance
+    if (fresh && !qn && !refactor && options.keptFactorNearMinimum && lastFull > 0.0) {
+      step = solveStep();
+      if (step.cwiseAbs().maxCoeff() <= 0.5 * updateTolerance) {
+        fresh = false;
+        solved = true;
+      }
+    }
     if (fresh) {
       if (!factor()) {
         out.failure = "the Newton matrix is not positive definite even with the element Hessians projected";
@@ -138,14 +153,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
       refactor = false;
       ++out.factorisations;
     }
-    ControlNet step;
-    if (qn) {
+    if (qn)
       step = quasiNewtonStep(cur.g);
-    } else {
-      const CostTimer timer(options.costs ? &options.costs->solve : nullptr);
-      const Eigen::VectorXd d = m_solver->solve(-Eigen::Map<const Eigen::VectorXd>(cur.g.data(), cur.g.size()));
-      step = Eigen::Map<const ControlNet>(d.data(), n, 3);
-    }
+    else if (!solved)
+      step = solveStep();
     const double slope = (step.array() * cur.g.array()).sum();
     const double stepSize = step.cwiseAbs().maxCoeff();
     // a barrier's bound first (never try a step that crosses), then the backtracking
@@ -224,9 +235,7 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // a kept factorisation's one step near the minimum: the next iteration factorises anew
     if (!qn && options.keptFactorNearMinimum && !options.chordSteps && !fresh) refactor = true;
     // (only Newton's own steps forecast the next: a damped or projected matrix's converge linearly)
-    const double full = fresh && alpha == 1.0 && exactFactor ? update : 0.0;
-    fullBefore = full > 0.0 ? lastFull : 0.0;
-    lastFull = full;
+    lastFull = fresh && alpha == 1.0 && exactFactor ? update : 0.0;
     lastUpdate = update;
   }
   if (!std::isfinite(cur.norm)) {

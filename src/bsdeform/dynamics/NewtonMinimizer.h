@@ -84,13 +84,14 @@ class NewtonMinimizer {
     /// Keep a factorisation while the iterates contract fast with it (chord steps); false: a new
     /// one every iteration (a barrier's Hessian changes too fast between iterates for chords).
     bool chordSteps = true;
-    /// Without chord steps: the step that confirms convergence reuses the last factorisation
-    /// when the last two full Newton updates u₋₁, u₀ (on the exact tangent with the step's own
-    /// shift) predict the next below half the update
-    /// tolerance (quadratic convergence: u₊₁ ≈ u₀³ / u₋₁²). Converged when that step is below
-    /// half the tolerance (it estimates the distance to the minimum as Newton's would, the
-    /// matrix having moved by O(u₀); the half for a barrier's curvature, which grows near
-    /// contact); otherwise the next iteration factorises anew. Newton only (not quasiNewton).
+    /// Without chord steps: the step that confirms convergence reuses the last factorisation.
+    /// After a full Newton update on a fresh factorisation of the exact tangent (with the
+    /// step's own shift), the next iteration first solves with that factorisation (one solve);
+    /// when that direction is below half the update tolerance it is the step, and converged
+    /// once the search takes it (it estimates the distance to the minimum as Newton's would,
+    /// the matrix having moved by O(u₀); the half for a barrier's curvature, which grows near
+    /// contact). Otherwise the direction is dropped and the tangent factorised anew. Newton
+    /// only (not quasiNewton).
     bool keptFactorNearMinimum = false;
     /// L-BFGS (Liu, Bouaziz, Kavan 2017) in place of Newton's factorisations: the direction is
     /// the two-loop recursion over the last `history` pairs of updates and gradient changes,
