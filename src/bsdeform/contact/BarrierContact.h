@@ -167,9 +167,11 @@ class BarrierContactForce : public Force {
   /// visit(site) for every pair of `candidates` (gather()), obstacle by obstacle and the self
   /// pairs last, in each: vertex–triangle, triangle–vertex, edge–edge. The one loop both walk.
   /// Only the pairs at places [begin, end) of that order (a part of them, on a kernel thread).
+  /// `beyond` > 0: pairs that a cheap lower bound of their distance (a plane, a line, bounding
+  /// spheres) puts farther than `beyond` are not visited.
   template <typename Visit>
   void forEachPair(const std::vector<ContactCandidates>& candidates, Visit&& visit, size_t begin = 0,
-                   size_t end = std::numeric_limits<size_t>::max()) const;
+                   size_t end = std::numeric_limits<size_t>::max(), double beyond = 0.0) const;
   std::shared_ptr<const ContactWorld> m_world;
   BarrierContactParameters m_params;
   std::shared_ptr<State> m_state;  // mutable: the proxy, κ, caches (the force is const in a step)

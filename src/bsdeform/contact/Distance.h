@@ -53,6 +53,19 @@ double edgeEdgeDistanceSquared(const Eigen::Vector3d& a0, const Eigen::Vector3d&
 double edgeEdgeDistanceSquared(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                                const Eigen::Vector3d& b1, EdgeEdgeType type);
 
+/// Whether the point is certainly farther than r from the triangle: its distance from the
+/// triangle's plane (not for a sliver), or from the triangle's bounding sphere (centroid,
+/// farthest corner), exceeds r. Both are lower bounds of the distance, so `true` is never wrong
+/// up to rounding (about 10⁻¹⁶ of the coordinates: callers give r a margin); `false` says
+/// nothing. Cheaper than a classified distance: a broad phase's last filter.
+bool pointTriangleFartherThan(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
+                              const Eigen::Vector3d& t2, double r);
+/// Whether the segments are certainly farther than r apart: the distance of their lines (edges
+/// not within 10⁻⁶ rad of parallel), or of their bounding spheres (midpoints, half lengths),
+/// exceeds r. As pointTriangleFartherThan.
+bool edgeEdgeFartherThan(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
+                         const Eigen::Vector3d& b1, double r);
+
 /// @name Gradients and Hessians of the four formulas
 /// Each returns the squared distance and writes its gradient and Hessian with respect to the
 /// coordinates of its arguments in the order given (x, y, z of the first point, then the second...).
