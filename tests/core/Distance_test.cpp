@@ -328,8 +328,9 @@ TEST_CASE("Distance: the lower bounds never call a pair within r farther than r,
   const Vector3d a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
   CHECK(pointTriangleFartherThan(Vector3d(0.2, 0.2, 0.05), a, b, c, 0.0499));
   CHECK_FALSE(pointTriangleFartherThan(Vector3d(0.2, 0.2, 0.05), a, b, c, 0.0501));
-  CHECK(edgeEdgeFartherThan(Vector3d(-1, 0, 0), Vector3d(1, 0, 0), Vector3d(0, -1, 0.03), Vector3d(0, 1, 0.03), 0.0299));
-  CHECK_FALSE(edgeEdgeFartherThan(Vector3d(-1, 0, 0), Vector3d(1, 0, 0), Vector3d(0, -1, 0.03), Vector3d(0, 1, 0.03), 0.0301));
+  const Vector3d e0(-1, 0, 0), e1(1, 0, 0), f0(0, -1, 0.03), f1(0, 1, 0.03);
+  CHECK(edgeEdgeFartherThan(e0, e1, f0, f1, 0.0299));
+  CHECK_FALSE(edgeEdgeFartherThan(e0, e1, f0, f1, 0.0301));
   // far apart: the spheres' bound, also for parallel edges and a degenerate triangle
   CHECK(edgeEdgeFartherThan(Vector3d(0, 0, 0), Vector3d(1, 0, 0), Vector3d(0, 5, 0), Vector3d(1, 5, 0), 3.0));
   CHECK(pointTriangleFartherThan(Vector3d(9, 9, 9), a, b, 0.5 * (a + b), 5.0));

@@ -144,7 +144,8 @@ TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergen
   CHECK((full - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
 }
 
-TEST_CASE("NewtonMinimizer: near the minimum the kept factorisation's direction confirms the step and a longer one is dropped", "[newton]") {
+TEST_CASE("NewtonMinimizer: near the minimum the kept factorisation's direction confirms the step and a longer one is dropped",
+          "[newton]") {
   // f' = a d + b d³ per coordinate: from d = 10⁻³ one Newton step leaves about b d³ / a; the
   // step factorised there solves the next direction below half the tolerance (one factorisation
   // for the whole minimisation, where every iteration factorised before)

@@ -123,7 +123,8 @@ bool pointTriangleFartherThan(const Eigen::Vector3d& p, const Eigen::Vector3d& t
   // above 10⁻¹²: a rounded normal of nearly parallel sides could point anywhere)
   if (n2 > 1e-12 * e1.squaredNorm() * e2.squaredNorm() && h * h > r * r * n2) return true;
   const Eigen::Vector3d m = (t0 + t1 + t2) / 3.0;
-  const double reach = r + std::sqrt(std::max({(t0 - m).squaredNorm(), (t1 - m).squaredNorm(), (t2 - m).squaredNorm()}));
+  const double radius2 = std::max({(t0 - m).squaredNorm(), (t1 - m).squaredNorm(), (t2 - m).squaredNorm()});
+  const double reach = r + std::sqrt(radius2);
   return (p - m).squaredNorm() > reach * reach;
 }
 
