@@ -116,13 +116,13 @@ TEST_CASE("NewtonMinimizer: converges to the known minimum with a few factorisat
 
 TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergence keeps the last factorisation", "[newton]") {
   // a barrier's Newton (chordSteps false): a new factorisation every iteration, except the last,
-  // whose step the last two full updates predict below the tolerance (quadratic convergence)
+  // whose direction the factorisation before it solves below half the tolerance
   Quartic q(40);
   for (Eigen::Index i = 0; i < q.c.rows(); ++i)  // a fixed minimum (not std::rand's state)
     for (int k = 0; k < 3; ++k) q.c(i, k) = std::sin(1.0 + 7.0 * double(i) + 3.0 * k);
   const auto problem = q.problem();
   NewtonMinimizer::Options o;
-  o.updateTolerance = 1e-5;  // the last full updates predict the next below 5e-6
+  o.updateTolerance = 1e-5;  // the last direction below 5e-6 on the factorisation before it
   o.chordSteps = false;
   auto run = [&](bool keep, ControlNet& x) {
     x = ControlNet::Zero(40, 3);
@@ -144,7 +144,7 @@ TEST_CASE("NewtonMinimizer: without chord steps the step that confirms convergen
   CHECK((full - q.c).cwiseAbs().maxCoeff() < o.updateTolerance);
 }
 
-TEST_CASE("NewtonMinimizer: near the minimum the kept factorisation's direction confirms the step and a longer one is dropped",
+TEST_CASE("NewtonMinimizer: the kept factorisation's short direction confirms the step and a longer one is dropped",
           "[newton]") {
   // f' = a d + b d³ per coordinate: from d = 10⁻³ one Newton step leaves about b d³ / a; the
   // step factorised there solves the next direction below half the tolerance (one factorisation
@@ -201,6 +201,37 @@ TEST_CASE("NewtonMinimizer: near the minimum the kept factorisation's direction 
     for (size_t i = 0; i + 1 < kept.size(); ++i) CHECK((kept[i] - full[i]).cwiseAbs().maxCoeff() == 0.0);
     CHECK((x - q.c).cwiseAbs().maxCoeff() < 0.5 * o.updateTolerance);
   }
+}
+
+TEST_CASE("NewtonMinimizer: no kept direction after a step on a projected tangent", "[newton]") {
+  // keptFactorNearMinimum trusts the last factorisation only after a full step on the exact
+  // tangent: after one on a projected matrix (the exact one refused here) a new one follows, even
+  // where the projected matrix's direction would be short enough
+  Quartic q(20);
+  for (Eigen::Index i = 0; i < q.c.rows(); ++i)
+    for (int k = 0; k < 3; ++k) q.c(i, k) = std::sin(0.3 + 2.0 * double(i) + k);
+  NewtonMinimizer::Problem problem = q.problem();
+  NewtonMinimizer::Options o;
+  o.updateTolerance = 1e-5;
+  o.chordSteps = false;
+  o.keptFactorNearMinimum = true;
+  o.maxIterations = 200;
+  const auto tangent = problem.tangent;
+  Eigen::SparseMatrix<double> negative;
+  problem.tangent = [&](HessianMode mode, double shift) -> const Eigen::SparseMatrix<double>& {
+    if (mode != HessianMode::Exact) return tangent(mode, shift);
+    negative = -tangent(mode, shift);  // not positive definite: the projected one follows
+    return negative;
+  };
+  ControlNet x = q.c + ControlNet::Constant(20, 3, 1e-3);  // near the minimum: a kept direction would do
+  NewtonPoint cur;
+  problem.evaluate(x, cur);
+  NewtonMinimizer m;
+  const auto out = m.minimize(x, cur, problem, o);
+  REQUIRE(out.converged);
+  CHECK(out.iterations >= 2);
+  CHECK(out.factorisations == out.iterations);
+  CHECK((x - q.c).cwiseAbs().maxCoeff() < 1e-4);
 }
 
 TEST_CASE("NewtonMinimizer: L-BFGS on its own start factorises once whether chord steps are on or off", "[newton]") {

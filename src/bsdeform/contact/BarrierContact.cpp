@@ -781,8 +781,8 @@ void BarrierContactForce::terms(const LoadContext& ctx, int order, const std::fu
   auto withinReach = [&](double d2, const Term& t) { return d2 - offsetSquared < sHat || active(t); };
   // a first call leaves out the pairs a lower bound puts beyond the reach (d² - ξ² < ŝ: d below
   // √(ŝ + ξ²)), with a relative margin of 10⁻⁶ for the bounds' rounding: their terms are zeros
-  // and they are not within it, so nothing computed changes (in drape_over_sphere three pairs in
-  // four of its candidates)
+  // and they are not within it, so nothing computed changes (most of a draped cloth's
+  // candidates: docs/benchmarks.md)
   const double beyond = (1.0 + 1e-6) * std::sqrt(sHat + offsetSquared);
   double minimum = std::numeric_limits<double>::infinity();
   // the smallest distance of a pair within reach (the first pair in the visiting order that has

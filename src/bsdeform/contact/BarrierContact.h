@@ -120,8 +120,9 @@ class BarrierContactForce : public Force {
     double pairs = 0.0;       ///< the pairs' barrier and friction terms (value, gradient, PSD Hessian)
     double push = 0.0;        ///< the Jacobian's blocks summed per element pair and handed to the tangent
     double ccd = 0.0;         ///< continuous collision checks of the candidates (line search, sweeps)
-    /// Candidate pairs whose terms were computed: every candidate at the first evaluation at a
-    /// net, the pairs within reach at the later ones
+    /// Candidate pairs whose terms were computed: at the first evaluation at a net the
+    /// candidates that the distance bounds (Distance.h) do not put beyond the reach, at the
+    /// later ones the pairs within reach
     long pairsComputed = 0;
   };
   const Costs& costs() const;

@@ -3,8 +3,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 
 #include "bsdeform/contact/ClosestPointOnTriangle.h"
 
@@ -120,8 +120,8 @@ bool pointTriangleFartherThan(const Eigen::Vector3d& p, const Eigen::Vector3d& t
   const Eigen::Vector3d e1 = t1 - t0, e2 = t2 - t0, n = e1.cross(e2);
   const double h = (p - t0).dot(n), n2 = n.squaredNorm();
   // the plane's distance |h| / |n|, where the triangle is not a sliver (sin² of its angle at t0
-  // above 10⁻¹²: a rounded normal of nearly parallel sides could point anywhere)
-  if (n2 > 1e-12 * e1.squaredNorm() * e2.squaredNorm() && h * h > r * r * n2) return true;
+  // above 10⁻⁶: the rounded normal's error grows as 1 / sin, here at most about 10⁻¹³ of |p - t0|)
+  if (n2 > 1e-6 * e1.squaredNorm() * e2.squaredNorm() && h * h > r * r * n2) return true;
   const Eigen::Vector3d m = (t0 + t1 + t2) / 3.0;
   const double radius2 = std::max({(t0 - m).squaredNorm(), (t1 - m).squaredNorm(), (t2 - m).squaredNorm()});
   const double reach = r + std::sqrt(radius2);
@@ -132,8 +132,8 @@ bool edgeEdgeFartherThan(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, c
                          const Eigen::Vector3d& b1, double r) {
   const Eigen::Vector3d da = a1 - a0, db = b1 - b0, n = da.cross(db);
   const double la2 = da.squaredNorm(), lb2 = db.squaredNorm(), n2 = n.squaredNorm(), h = (b0 - a0).dot(n);
-  // the lines' distance |h| / |n|, where the edges are not near parallel (sin² > 10⁻¹²)
-  if (n2 > 1e-12 * la2 * lb2 && h * h > r * r * n2) return true;
+  // the lines' distance |h| / |n|, where the edges are not near parallel (sin² > 10⁻⁶, as above)
+  if (n2 > 1e-6 * la2 * lb2 && h * h > r * r * n2) return true;
   const double reach = r + 0.5 * (std::sqrt(la2) + std::sqrt(lb2));
   return (0.5 * ((a0 + a1) - (b0 + b1))).squaredNorm() > reach * reach;
 }

@@ -56,12 +56,13 @@ double edgeEdgeDistanceSquared(const Eigen::Vector3d& a0, const Eigen::Vector3d&
 /// Whether the point is certainly farther than r from the triangle: its distance from the
 /// triangle's plane (not for a sliver), or from the triangle's bounding sphere (centroid,
 /// farthest corner), exceeds r. Both are lower bounds of the distance, so `true` is never wrong
-/// up to rounding (about 10⁻¹⁶ of the coordinates: callers give r a margin); `false` says
+/// up to rounding, about 10⁻¹⁶ of the coordinates and 10⁻¹³ of |p − t0| (the plane is used where
+/// the triangle's angle at t0 has sin above 10⁻³): callers give r a margin. `false` says
 /// nothing. Cheaper than a classified distance: a broad phase's last filter.
 bool pointTriangleFartherThan(const Eigen::Vector3d& p, const Eigen::Vector3d& t0, const Eigen::Vector3d& t1,
                               const Eigen::Vector3d& t2, double r);
 /// Whether the segments are certainly farther than r apart: the distance of their lines (edges
-/// not within 10⁻⁶ rad of parallel), or of their bounding spheres (midpoints, half lengths),
+/// not within 10⁻³ rad of parallel), or of their bounding spheres (midpoints, half lengths),
 /// exceeds r. As pointTriangleFartherThan.
 bool edgeEdgeFartherThan(const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, const Eigen::Vector3d& b0,
                          const Eigen::Vector3d& b1, double r);

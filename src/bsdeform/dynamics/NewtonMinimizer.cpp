@@ -234,7 +234,9 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
     // a kept factorisation's one step near the minimum: the next iteration factorises anew
     if (!qn && options.keptFactorNearMinimum && !options.chordSteps && !fresh) refactor = true;
-    // (only Newton's own steps forecast the next: a damped or projected matrix's converge linearly)
+    // (keptFactorNearMinimum: only after Newton's own full step, on the exact tangent, is the next
+    // direction that small where the minimum is near: a damped or projected matrix's converge
+    // linearly, a shortened step was far from it)
     lastFull = fresh && alpha == 1.0 && exactFactor ? update : 0.0;
     lastUpdate = update;
   }

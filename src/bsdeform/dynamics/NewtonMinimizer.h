@@ -89,8 +89,8 @@ class NewtonMinimizer {
     /// step's own shift), the next iteration first solves with that factorisation (one solve);
     /// when that direction is below half the update tolerance it is the step, and converged
     /// once the search takes it (it estimates the distance to the minimum as Newton's would,
-    /// the matrix having moved by O(u₀); the half for a barrier's curvature, which grows near
-    /// contact). Otherwise the direction is dropped and the tangent factorised anew. Newton
+    /// the matrix having moved by the order of the last update; the half for a barrier's
+    /// curvature, which grows near contact). Otherwise the direction is dropped and the tangent factorised anew. Newton
     /// only (not quasiNewton).
     bool keptFactorNearMinimum = false;
     /// L-BFGS (Liu, Bouaziz, Kavan 2017) in place of Newton's factorisations: the direction is
