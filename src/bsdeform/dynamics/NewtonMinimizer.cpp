@@ -222,9 +222,10 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     // minimum whether or not the search took all of it (near the minimum the potential's
     // rounding can refuse a full step; far from it a shortened step is no sign of convergence)
     // quasi-Newton: two steps in a row below it, the first with a learnt pair
-    // (a step on a kept factorisation counts below half the tolerance: its matrix is the last
-    // iterate's, which a barrier near contact can make stiffer than the current one)
-    const bool small = stepSize <= (!qn && !fresh && !options.chordSteps ? 0.5 : 1.0) * updateTolerance;
+    // (keptFactorNearMinimum takes a kept factorisation's direction only below half the
+    // tolerance: its matrix is the last iterate's, which a barrier near contact can make stiffer
+    // than the current one; so such a step always ends here)
+    const bool small = stepSize <= updateTolerance;
     if (small && (!qn || smallBefore)) {
       out.converged = true;
       return out;
@@ -232,8 +233,6 @@ NewtonMinimizer::Outcome NewtonMinimizer::minimize(ControlNet& x, NewtonPoint& c
     smallBefore = small && learnt;
     const double update = alpha * stepSize;
     if (!qn && !fresh && lastUpdate > 0.0 && update > 0.5 * lastUpdate) refactor = true;
-    // a kept factorisation's one step near the minimum: the next iteration factorises anew
-    if (!qn && options.keptFactorNearMinimum && !options.chordSteps && !fresh) refactor = true;
     // (keptFactorNearMinimum: only after Newton's own full step, on the exact tangent, is the next
     // direction that small where the minimum is near: a damped or projected matrix's converge
     // linearly, a shortened step was far from it)
